@@ -1,0 +1,39 @@
+# sdftrace — the two Quick-start commands:
+#   make demo   install what is missing, build, render the default scene
+#   make test   install what is missing, build with sanitizers, run every test
+# Debian packages live in one list: .ci/debian-packages.
+
+PACKAGES := $(shell cat .ci/debian-packages)
+JOBS ?= $(shell nproc)
+
+.PHONY: all deps build demo test bench clean
+
+all: build
+
+deps:
+	@missing=$$(for p in $(PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "installing:" $$missing; \
+	  if [ "$$(id -u)" -ne 0 ]; then SUDO=sudo; fi; \
+	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+
+build: deps
+	cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+	cmake --build build -j $(JOBS)
+
+demo: build
+	@mkdir -p out
+	./build/sdftrace render --scene temple -o out/temple.exr --png out/temple.png
+	@echo "wrote out/temple.exr and out/temple.png"
+
+test: deps
+	cmake -S . -B build-test -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSDFT_SANITIZE=ON -DSDFT_WERROR=ON
+	cmake --build build-test -j $(JOBS)
+	cd build-test && ctest --output-on-failure -j $(JOBS)
+
+bench: build
+	./bench/run.sh
+
+clean:
+	rm -rf build build-test out

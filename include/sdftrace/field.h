@@ -1,0 +1,75 @@
+/* sdftrace — a signed distance field as the tracer sees it.
+ *
+ * A field is data plus one function: `distance` returns a signed distance
+ * bound at a world point (negative inside; |f(p)| never exceeds the true
+ * distance to the surface, so a sphere of radius f(p) around p is empty).
+ * Procedural scenes, a user's own SDF and discrete grids are all fields, and
+ * every tracing variant and the renderer accept any of them unchanged.
+ *
+ * Thread safety follows Open VKL's volume/sampler split: the field itself is
+ * immutable and shared by all threads; each thread owns an `sdft_scratch`
+ * (its sampler: e.g. a NanoVDB read accessor), initialised once with
+ * sdft_scratch_init() and passed to every call. Nothing is global and nothing
+ * is allocated on the trace path. */
+#ifndef SDFTRACE_FIELD_H
+#define SDFTRACE_FIELD_H
+
+#include "vec3.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Axis-aligned box in world units; the field's surface lies inside it. */
+typedef struct sdft_aabb {
+    sdft_vec3 lo, hi;
+} sdft_aabb;
+
+/* Per-thread mutable state of a field (its sampler). Plain bytes, so it can
+ * live on a thread's stack; SDFT_SCRATCH_BYTES bounds every field's need. */
+#define SDFT_SCRATCH_BYTES 192
+typedef struct sdft_scratch {
+    _Alignas(16) unsigned char bytes[SDFT_SCRATCH_BYTES];
+} sdft_scratch;
+
+typedef struct sdft_field {
+    /* Signed distance bound at world point p. `ctx` is the shared, read-only
+     * data below; `scratch` is the calling thread's own state. Required. */
+    float (*distance)(const void *ctx, sdft_scratch *scratch, sdft_vec3 p);
+    /* Unit outward normal at p (e.g. a grid's own gradient). Optional: NULL
+     * means tetrahedral differences of `distance` (sdft_field_normal). */
+    sdft_vec3 (*normal)(const void *ctx, sdft_scratch *scratch, sdft_vec3 p);
+    /* Prepares a thread's scratch. Optional: NULL when the field needs none. */
+    void (*scratch_init)(const void *ctx, sdft_scratch *scratch);
+    /* Shared data; owned by whoever made the field, must outlive it. */
+    const void *ctx;
+    /* Every point with distance <= 0 lies in this box; rays are clipped to it. */
+    sdft_aabb bounds;
+    /* Length scale for numerical differences (normals), world units; 0 picks
+     * 1e-4 of the box diagonal. Grids set one voxel. */
+    float feature_size;
+} sdft_field;
+
+static inline void sdft_scratch_init(const sdft_field *f, sdft_scratch *s)
+{
+    if (f->scratch_init)
+        f->scratch_init(f->ctx, s);
+}
+
+static inline float sdft_field_distance(const sdft_field *f, sdft_scratch *s, sdft_vec3 p)
+{
+    return f->distance(f->ctx, s, p);
+}
+
+/* Unit normal at p: the field's own `normal`, else tetrahedral differences
+ * (four evaluations, step = feature_size). */
+sdft_vec3 sdft_field_normal(const sdft_field *f, sdft_scratch *s, sdft_vec3 p);
+
+/* Ray-box slab test: on overlap sets [*t0, *t1] (clamped to [tnear, tfar])
+ * and returns 1; returns 0 when the ray misses the box within that range. */
+int sdft_aabb_clip(sdft_aabb box, sdft_vec3 org, sdft_vec3 dir, float tnear, float tfar, float *t0, float *t1);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

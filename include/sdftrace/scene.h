@@ -1,0 +1,32 @@
+/* sdftrace — the procedural scenes of scenes/: each is a field, a default
+ * camera and a point light. The registry is static, read-only data. */
+#ifndef SDFTRACE_SCENE_H
+#define SDFTRACE_SCENE_H
+
+#include <stddef.h>
+
+#include "camera.h"
+#include "field.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct sdft_scene {
+    const char *name;        /* "temple", "figure", "dodecahedron", "city" */
+    const char *description; /* one line, for `sdftrace scenes` */
+    sdft_field field;        /* procedural: ctx NULL, no scratch */
+    sdft_camera camera;      /* default view */
+    sdft_vec3 light;         /* point light position, world units */
+} sdft_scene;
+
+/* All scenes, in listing order; *count receives their number. */
+const sdft_scene *const *sdft_scenes(size_t *count);
+
+/* The scene called `name`, or NULL. */
+const sdft_scene *sdft_scene_find(const char *name);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,95 @@
+/* sdftrace — the tracing variants.
+ *
+ * Four ways to find the first root of f(o + t d) along a ray, each a short
+ * function that reads like its listing in the papers (../shared/seeds):
+ *   SDFT_SPHERE   Hart's sphere tracing         (Bán–Valasek Algorithm 1)
+ *   SDFT_RELAXED  Keinert et al. over-relaxed  (Algorithm 2, Keinert Listing 2), omega in [1, 2)
+ *   SDFT_ENHANCED Bálint–Valasek enhanced       (Algorithm 3), omega in (0, 1]
+ *   SDFT_AUTO     Bán–Valasek auto-relaxed      (Algorithm 4), beta in (0, 1)
+ *
+ * All four share one termination rule so their counts compare: with (t, r)
+ * the accepted point and its distance, stop with a hit when r <= eps(t), a
+ * miss when t + r >= tfar, and "not converged" after max_steps evaluations,
+ * where eps(t) = eps + pixel_radius * t (pixel_radius = 0: a constant eps;
+ * eps = 0, pixel_radius > 0: Keinert's screen-space criterion). */
+#ifndef SDFTRACE_TRACE_H
+#define SDFTRACE_TRACE_H
+
+#include <stdint.h>
+
+#include "field.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* A ray: plain data. `dir` must be unit length; t is in world units. */
+typedef struct sdft_ray {
+    sdft_vec3 org;
+    float tnear;
+    sdft_vec3 dir;
+    float tfar;
+} sdft_ray;
+
+typedef enum sdft_method {
+    SDFT_SPHERE = 0,
+    SDFT_RELAXED,
+    SDFT_ENHANCED,
+    SDFT_AUTO,
+    SDFT_METHOD_COUNT
+} sdft_method;
+
+typedef enum sdft_status {
+    SDFT_HIT = 0,
+    SDFT_MISS,
+    SDFT_NOT_CONVERGED
+} sdft_status;
+
+typedef struct sdft_trace_params {
+    sdft_method method;
+    float omega;        /* relaxed: [1, 2); enhanced: (0, 1] */
+    float beta;         /* auto: (0, 1) */
+    float eps;          /* absolute convergence radius, world units (>= 0) */
+    float pixel_radius; /* screen-space criterion: half a pixel's footprint at t = 1; 0 = off */
+    uint32_t max_steps; /* i_max: most SDF evaluations while marching (>= 1) */
+} sdft_trace_params;
+
+/* What a trace found. */
+typedef struct sdft_hit {
+    float t;             /* hit: refined surface parameter; not converged: last point
+                          * (or, with pixel_radius > 0, the best screen-space candidate);
+                          * miss: the t where marching stopped */
+    float distance;      /* f at t */
+    sdft_status status;
+    uint32_t steps;      /* SDF evaluations, refinement included */
+    uint32_t fallbacks;  /* relaxed steps rejected: consecutive unbounding spheres disjoint */
+} sdft_hit;
+
+/* The defaults of the papers' measurements: auto, beta 0.3, 1000 steps,
+ * omega 1.5 / 0.88 for relaxed / enhanced when chosen, eps 1e-4, no screen-space. */
+sdft_trace_params sdft_trace_defaults(void);
+
+/* Default omega of a method (relaxed 1.5, enhanced 0.88, else 1). */
+float sdft_default_omega(sdft_method m);
+
+/* Checks a parameter set; on error returns non-zero and writes one line to msg. */
+int sdft_trace_params_check(const sdft_trace_params *p, char *msg, unsigned msg_len);
+
+/* Traces one ray: clips it to the field's bounds, then runs the chosen
+ * variant. Thread-safe given a per-thread scratch; allocates nothing. */
+sdft_hit sdft_trace(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p);
+
+/* The variants themselves, on the unclipped ray [ray->tnear, ray->tfar]. */
+sdft_hit sdft_trace_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p);
+sdft_hit sdft_trace_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p);
+sdft_hit sdft_trace_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p);
+sdft_hit sdft_trace_auto(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p);
+
+/* "sphere" / "relaxed" / "enhanced" / "auto" and back; -1 if unknown. */
+const char *sdft_method_name(sdft_method m);
+int sdft_method_parse(const char *name);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

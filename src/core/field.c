@@ -1,0 +1,45 @@
+/* sdftrace — what every field gets for free: normals by tetrahedral
+ * differences and clipping rays to its bounds. */
+#include "sdftrace/field.h"
+
+sdft_vec3 sdft_field_normal(const sdft_field *f, sdft_scratch *s, sdft_vec3 p)
+{
+    if (f->normal)
+        return f->normal(f->ctx, s, p);
+    float h = f->feature_size;
+    if (!(h > 0.0f))
+        h = 1e-4f * sdft_length(sdft_sub(f->bounds.hi, f->bounds.lo));
+    /* The four corners (1,-1,-1), (-1,-1,1), (-1,1,-1), (1,1,1) of a
+     * tetrahedron: their weighted sum is the central-difference gradient. */
+    static const sdft_vec3 k[4] = {{1, -1, -1}, {-1, -1, 1}, {-1, 1, -1}, {1, 1, 1}};
+    sdft_vec3 g = {0, 0, 0};
+    for (int i = 0; i < 4; i++)
+        g = sdft_madd(g, k[i], f->distance(f->ctx, s, sdft_madd(p, k[i], h)));
+    return sdft_normalize(g);
+}
+
+int sdft_aabb_clip(sdft_aabb box, sdft_vec3 org, sdft_vec3 dir, float tnear, float tfar, float *t0, float *t1)
+{
+    const float o[3] = {org.x, org.y, org.z}, d[3] = {dir.x, dir.y, dir.z};
+    const float lo[3] = {box.lo.x, box.lo.y, box.lo.z}, hi[3] = {box.hi.x, box.hi.y, box.hi.z};
+    float a = tnear, b = tfar;
+    for (int k = 0; k < 3; k++) {
+        if (d[k] == 0.0f) {
+            if (o[k] < lo[k] || o[k] > hi[k])
+                return 0;
+            continue;
+        }
+        float inv = 1.0f / d[k];
+        float ta = (lo[k] - o[k]) * inv, tb = (hi[k] - o[k]) * inv;
+        if (ta > tb) {
+            float tmp = ta;
+            ta = tb, tb = tmp;
+        }
+        a = fmaxf(a, ta);
+        b = fminf(b, tb);
+    }
+    if (a > b)
+        return 0;
+    *t0 = a, *t1 = b;
+    return 1;
+}
