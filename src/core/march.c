@@ -2,24 +2,25 @@
  * shared by every tracing variant. */
 #include "march.h"
 
-enum { REFINE_STEPS = 2 };
+enum { REFINE_STEPS = 3 };
 
-/* Secant steps towards F(t) = 0 through the last two samples. Each step is
- * clamped to what the unbounding spheres allow: ahead of a point outside
- * (r > 0) the root is no nearer than r, since |F'| <= 1, so a step of r is
- * always safe; we step in [r, 4r]. Behind a point inside (r < 0) the root is
- * at least |r| back and no farther back than the last outside sample. A step
- * that does not bring |F| down is discarded. */
-static void refine(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, float t0, float r0, float *t,
-                   float *r, uint32_t *steps)
+/* Secant steps towards F(t) = 0 through the last two samples, until |F| is a
+ * thousandth of eps(t). Each step is clamped to what the unbounding spheres
+ * allow: ahead of a point outside (r > 0) the root is no nearer than r, since
+ * |F'| <= 1, and we step at most 32 r, so a grazing hit (slope down to 1/32)
+ * still lands on the surface while the step stays within a few eps; behind a
+ * point inside (r < 0) the root is at least |r| back and no farther back than
+ * the last outside sample. A step that does not bring |F| down is discarded. */
+static void refine(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p, float t0,
+                   float r0, float *t, float *r, uint32_t *steps)
 {
-    for (int k = 0; k < REFINE_STEPS && *r != 0.0f; k++) {
+    for (int k = 0; k < REFINE_STEPS && fabsf(*r) > 1e-3f * march_eps(p, *t); k++) {
         float t1 = *t, r1 = *r;
         float dt = (r1 != r0) ? -r1 * (t1 - t0) / (r1 - r0) : r1;
         if (!isfinite(dt))
             dt = r1;
         if (r1 > 0.0f)
-            dt = fminf(fmaxf(dt, r1), 4.0f * r1);
+            dt = fminf(fmaxf(dt, r1), 32.0f * r1);
         else
             dt = (r0 > 0.0f && t0 < t1) ? fminf(fmaxf(dt, t0 - t1), r1) : r1;
         float tn = t1 + dt, rn = march_eval(f, s, ray, tn);
@@ -38,7 +39,7 @@ sdft_hit march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray,
     sdft_hit hit = {.t = t, .distance = r, .steps = steps, .fallbacks = fallbacks};
     if (r <= march_eps(p, t)) {
         hit.status = SDFT_HIT;
-        refine(f, s, ray, t0, r0, &hit.t, &hit.distance, &hit.steps);
+        refine(f, s, ray, p, t0, r0, &hit.t, &hit.distance, &hit.steps);
     } else if (t + r >= ray->tfar || !isfinite(r)) {
         hit.status = SDFT_MISS;
     } else {

@@ -1,0 +1,429 @@
+/* Tests of the four tracing variants (src/core/trace*.c) against
+ * independent truth: analytic ray intersections, a field that counts its own
+ * evaluations, and brute-force marching through every scene. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "sdftrace/scene.h"
+#include "sdftrace/trace.h"
+#include "testutil.h"
+
+/* ---- analytic fields: a sphere, a plane and a box --------------------- */
+
+typedef struct shape {
+    sdft_vec3 centre;
+    float radius;       /* sphere */
+    sdft_vec3 half;     /* box half extents */
+    sdft_vec3 normal;   /* plane through centre */
+    int counter_offset; /* unused padding for clarity */
+} shape;
+
+/* Every field also counts its evaluations in the thread's scratch, so the
+ * count test can compare the tracer's `steps` with the truth. */
+static uint64_t *counter(sdft_scratch *s) { return (uint64_t *)s->bytes; }
+
+static float sphere_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    const shape *sh = ctx;
+    ++*counter(s);
+    return sdft_length(sdft_sub(p, sh->centre)) - sh->radius;
+}
+
+static float plane_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    const shape *sh = ctx;
+    ++*counter(s);
+    return sdft_dot(sdft_sub(p, sh->centre), sh->normal);
+}
+
+static float box_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    const shape *sh = ctx;
+    ++*counter(s);
+    sdft_vec3 q = sdft_sub(sdft_abs3(sdft_sub(p, sh->centre)), sh->half);
+    return sdft_length(sdft_max3(q, 0.0f)) + fminf(sdft_maxcomp(q), 0.0f);
+}
+
+static void zero_counter(const void *ctx, sdft_scratch *s)
+{
+    (void)ctx;
+    *counter(s) = 0;
+}
+
+static const sdft_aabb world = {{-50, -50, -50}, {50, 50, 50}};
+
+static sdft_field make_field(float (*distance)(const void *, sdft_scratch *, sdft_vec3), const shape *sh)
+{
+    return (sdft_field){.distance = distance, .scratch_init = zero_counter, .ctx = sh, .bounds = world};
+}
+
+/* Analytic first intersection of a ray with a sphere; INFINITY if none. */
+static float ray_sphere(sdft_vec3 o, sdft_vec3 d, sdft_vec3 c, float r)
+{
+    sdft_vec3 oc = sdft_sub(o, c);
+    double b = sdft_dot(oc, d), cc = (double)sdft_dot(oc, oc) - (double)r * r;
+    double disc = b * b - cc;
+    if (disc < 0)
+        return INFINITY;
+    double t = -b - sqrt(disc);
+    return t >= 0 ? (float)t : INFINITY;
+}
+
+/* Analytic slab test against an axis-aligned box; INFINITY if none. */
+static float ray_box(sdft_vec3 o, sdft_vec3 d, sdft_vec3 c, sdft_vec3 h)
+{
+    float t0, t1;
+    sdft_aabb b = {sdft_sub(c, h), sdft_add(c, h)};
+    if (!sdft_aabb_clip(b, o, d, 0.0f, INFINITY, &t0, &t1))
+        return INFINITY;
+    return t0;
+}
+
+static sdft_vec3 random_direction(tu_rng *rng)
+{
+    for (;;) {
+        sdft_vec3 v = {tu_uniform(rng, -1, 1), tu_uniform(rng, -1, 1), tu_uniform(rng, -1, 1)};
+        float len = sdft_length(v);
+        if (len > 0.1f && len <= 1.0f)
+            return sdft_scale(v, 1.0f / len);
+    }
+}
+
+static sdft_trace_params params_for(sdft_method m, float omega)
+{
+    sdft_trace_params p = sdft_trace_defaults();
+    p.method = m;
+    p.omega = omega;
+    p.eps = 1e-4f;
+    return p;
+}
+
+/* Every variant with the papers' parameters, plus the most aggressive legal
+ * over-relaxation to stress the fallback. */
+static const struct {
+    sdft_method method;
+    float omega, beta;
+} variants[] = {
+    {SDFT_SPHERE, 1.0f, 0.3f},   {SDFT_RELAXED, 1.2f, 0.3f}, {SDFT_RELAXED, 1.5f, 0.3f},
+    {SDFT_RELAXED, 1.95f, 0.3f}, {SDFT_ENHANCED, 0.88f, 0.3f}, {SDFT_ENHANCED, 1.0f, 0.3f},
+    {SDFT_AUTO, 1.0f, 0.3f},     {SDFT_AUTO, 1.0f, 0.2f},     {SDFT_AUTO, 1.0f, 0.9f},
+};
+enum { VARIANT_COUNT = sizeof variants / sizeof variants[0] };
+
+static sdft_trace_params variant_params(int v)
+{
+    sdft_trace_params p = params_for(variants[v].method, variants[v].omega);
+    p.beta = variants[v].beta;
+    return p;
+}
+
+/* ---- hits at the analytic t -------------------------------------------- */
+
+/* Rays from random origins outside the shape towards random targets near
+ * it. A hit must be at the analytic t (within eps) and an analytic miss must
+ * be a miss. Near-tangent rays are skipped: there "hit within eps of the
+ * surface" and "analytic miss" are both right. */
+static void check_shape(float (*distance)(const void *, sdft_scratch *, sdft_vec3), const shape *sh,
+                        float (*truth)(sdft_vec3, sdft_vec3, const shape *), uint64_t seed)
+{
+    sdft_field f = make_field(distance, sh);
+    tu_rng rng = tu_rng_seed(seed);
+    int hits = 0, misses = 0;
+    for (int n = 0; n < 400; n++) {
+        sdft_ray ray;
+        ray.org = sdft_add(sh->centre, sdft_scale(random_direction(&rng), tu_uniform(&rng, 3.0f, 8.0f)));
+        sdft_scratch s;
+        sdft_scratch_init(&f, &s);
+        if (distance(sh, &s, ray.org) < 0.0f) /* start outside: a plane's lower half-space is inside */
+            ray.org = sdft_sub(ray.org, sdft_scale(sh->normal, 2 * sdft_dot(sdft_sub(ray.org, sh->centre), sh->normal)));
+        sdft_vec3 target = sdft_add(sh->centre, sdft_scale(random_direction(&rng), tu_uniform(&rng, 0.0f, 2.5f)));
+        /* half the rays aim near the shape, half go anywhere */
+        ray.dir = n % 2 ? sdft_normalize(sdft_sub(target, ray.org)) : random_direction(&rng);
+        ray.tnear = 0.0f;
+        ray.tfar = 40.0f;
+        float t_true = truth(ray.org, ray.dir, sh);
+        if (t_true > ray.tfar)
+            t_true = INFINITY;
+
+        /* Skip rays that pass within 1e-2 of the surface without a clear
+         * crossing: the minimum of f along the ray, found by fine sampling. */
+        float fmin = INFINITY;
+        for (float t = 0; t < 20.0f; t += 2e-3f)
+            fmin = fminf(fmin, distance(sh, &s, sdft_madd(ray.org, ray.dir, t)));
+        if (fmin > -1e-2f && fmin < 1e-2f)
+            continue;
+        /* and grazing hits, where t is ill-conditioned (slope of f along the ray tiny) */
+        if (isfinite(t_true)) {
+            sdft_vec3 q = sdft_madd(ray.org, ray.dir, t_true);
+            float h = 1e-3f;
+            float slope = (distance(sh, &s, sdft_madd(q, ray.dir, h)) - distance(sh, &s, sdft_madd(q, ray.dir, -h))) /
+                          (2 * h);
+            if (slope > -0.05f)
+                continue;
+        }
+
+        for (int v = 0; v < VARIANT_COUNT; v++) {
+            sdft_trace_params p = variant_params(v);
+            sdft_hit hit = sdft_trace(&f, &s, &ray, &p);
+            if (isfinite(t_true)) {
+                if (hit.status != SDFT_HIT || fabsf(hit.t - t_true) > p.eps)
+                    fail_msg("%s omega %g beta %g: status %d t %.6f, analytic t %.6f (ray %d)",
+                             sdft_method_name(p.method), p.omega, p.beta, hit.status, hit.t, t_true, n);
+            } else if (hit.status != SDFT_MISS) {
+                fail_msg("%s omega %g: status %d at t %.6f, analytic miss (ray %d)", sdft_method_name(p.method),
+                         p.omega, hit.status, hit.t, n);
+            }
+        }
+        isfinite(t_true) ? hits++ : misses++;
+    }
+    /* The sample must exercise both outcomes. */
+    assert_true(hits > 50);
+    assert_true(misses > 50);
+}
+
+static float truth_sphere(sdft_vec3 o, sdft_vec3 d, const shape *sh) { return ray_sphere(o, d, sh->centre, sh->radius); }
+static float truth_box(sdft_vec3 o, sdft_vec3 d, const shape *sh) { return ray_box(o, d, sh->centre, sh->half); }
+static float truth_plane(sdft_vec3 o, sdft_vec3 d, const shape *sh)
+{
+    float denom = sdft_dot(d, sh->normal);
+    float t = -sdft_dot(sdft_sub(o, sh->centre), sh->normal) / denom;
+    return (denom < 0 && t >= 0) ? t : INFINITY;
+}
+
+static void test_hits_sphere(void **state)
+{
+    (void)state;
+    shape sh = {.centre = {0.3f, -0.2f, 0.1f}, .radius = 1.3f};
+    check_shape(sphere_distance, &sh, truth_sphere, 1);
+}
+
+static void test_hits_box(void **state)
+{
+    (void)state;
+    shape sh = {.centre = {-0.1f, 0.2f, 0.0f}, .half = {1.2f, 0.7f, 1.0f}};
+    check_shape(box_distance, &sh, truth_box, 2);
+}
+
+static void test_hits_plane(void **state)
+{
+    (void)state;
+    shape sh = {.centre = {0.0f, -0.5f, 0.0f}, .normal = sdft_normalize(sdft_v3(0.2f, 1.0f, -0.1f))};
+    check_shape(plane_distance, &sh, truth_plane, 3);
+}
+
+/* ---- counts ------------------------------------------------------------- */
+
+static void test_steps_count_evaluations(void **state)
+{
+    (void)state;
+    shape sh = {.centre = {0, 0, 0}, .half = {1, 0.5f, 0.8f}};
+    sdft_field f = make_field(box_distance, &sh);
+    tu_rng rng = tu_rng_seed(7);
+    for (int n = 0; n < 300; n++) {
+        sdft_ray ray = {.org = sdft_scale(random_direction(&rng), 6.0f), .tnear = 0, .tfar = 40};
+        ray.dir = sdft_normalize(sdft_sub(sdft_scale(random_direction(&rng), 1.5f), ray.org));
+        for (int v = 0; v < VARIANT_COUNT; v++) {
+            sdft_trace_params p = variant_params(v);
+            p.max_steps = 1 + n % 40; /* hit every termination: converged, miss, i_max */
+            sdft_scratch s;
+            sdft_scratch_init(&f, &s);
+            sdft_hit hit = sdft_trace(&f, &s, &ray, &p);
+            assert_int_equal(hit.steps, *counter(&s));
+            if (hit.status == SDFT_NOT_CONVERGED)
+                assert_int_equal(hit.steps, p.max_steps);
+            if (p.method == SDFT_SPHERE)
+                assert_int_equal(hit.fallbacks, 0);
+        }
+    }
+}
+
+/* Rays towards a plane: sphere tracing converges geometrically (ratio
+ * 1 - cos theta); auto-relaxation learns the slope and needs fewer
+ * evaluations. (Perpendicular to the plane both need exactly two.) */
+static void test_auto_fewer_steps_than_sphere_on_plane(void **state)
+{
+    (void)state;
+    shape sh = {.centre = {0, 0, 0}, .normal = {0, 1, 0}};
+    sdft_field f = make_field(plane_distance, &sh);
+    const float angles[] = {45, 60, 75, 85};
+    for (unsigned a = 0; a < sizeof angles / sizeof angles[0]; a++) {
+        float th = angles[a] * 3.14159265f / 180.0f;
+        sdft_ray ray = {.org = {0, 2, 0}, .dir = {sinf(th), -cosf(th), 0}, .tnear = 0, .tfar = 1000};
+        sdft_scratch s;
+        sdft_scratch_init(&f, &s);
+        sdft_trace_params ps = params_for(SDFT_SPHERE, 1), pa = params_for(SDFT_AUTO, 1);
+        sdft_hit hs = sdft_trace(&f, &s, &ray, &ps), ha = sdft_trace(&f, &s, &ray, &pa);
+        assert_int_equal(hs.status, SDFT_HIT);
+        assert_int_equal(ha.status, SDFT_HIT);
+        assert_true(ha.steps < hs.steps);
+        float t_true = 2.0f / cosf(th);
+        assert_float_equal(ha.t, t_true, 1e-4f * t_true);
+        assert_float_equal(hs.t, t_true, 1e-4f * t_true);
+    }
+}
+
+/* ---- termination rules -------------------------------------------------- */
+
+static void test_ray_missing_bounds_costs_nothing(void **state)
+{
+    (void)state;
+    shape sh = {.centre = {0, 0, 0}, .radius = 1};
+    sdft_field f = make_field(sphere_distance, &sh);
+    f.bounds = (sdft_aabb){{-1, -1, -1}, {1, 1, 1}};
+    sdft_ray ray = {.org = {5, 5, 5}, .dir = {1, 0, 0}, .tnear = 0, .tfar = INFINITY};
+    sdft_scratch s;
+    sdft_scratch_init(&f, &s);
+    sdft_trace_params p = sdft_trace_defaults();
+    sdft_hit hit = sdft_trace(&f, &s, &ray, &p);
+    assert_int_equal(hit.status, SDFT_MISS);
+    assert_int_equal(hit.steps, 0);
+    assert_int_equal(*counter(&s), 0);
+}
+
+/* With the screen-space criterion a ray that runs out of steps returns the
+ * point of smallest r / t along its way (Keinert §3.2), not the last one. */
+static void test_screen_space_candidate(void **state)
+{
+    (void)state;
+    shape sh = {.centre = {0, 0, 0}, .radius = 1};
+    sdft_field f = make_field(sphere_distance, &sh);
+    /* grazes the sphere at distance 1.001: many small steps near x = 0 */
+    sdft_ray ray = {.org = {-10, 1.001f, 0}, .dir = {1, 0, 0}, .tnear = 0, .tfar = 40};
+    for (int m = 0; m < SDFT_METHOD_COUNT; m++) {
+        sdft_trace_params p = params_for((sdft_method)m, sdft_default_omega((sdft_method)m));
+        p.eps = 0.0f;
+        p.pixel_radius = 1e-5f;
+        p.max_steps = 60;
+        sdft_scratch s;
+        sdft_scratch_init(&f, &s);
+        sdft_hit hit = sdft_trace(&f, &s, &ray, &p);
+        if (hit.status == SDFT_NOT_CONVERGED) {
+            /* the candidate is near the point of closest approach, t = 10 */
+            assert_float_equal(hit.t, 10.0f, 1.0f);
+            assert_float_equal(hit.distance, 0.001f, 0.01f);
+        } else {
+            assert_int_equal(hit.status, SDFT_MISS);
+        }
+    }
+}
+
+static void test_params_check(void **state)
+{
+    (void)state;
+    char msg[128];
+    sdft_trace_params p = sdft_trace_defaults();
+    assert_int_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
+    p.method = SDFT_RELAXED, p.omega = 2.0f;
+    assert_int_not_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
+    assert_non_null(strstr(msg, "omega"));
+    p.omega = 0.99f;
+    assert_int_not_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
+    p.method = SDFT_ENHANCED, p.omega = 0.0f;
+    assert_int_not_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
+    p.omega = 1.0f;
+    assert_int_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
+    p.method = SDFT_AUTO, p.beta = 1.0f;
+    assert_int_not_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
+    p.beta = NAN;
+    assert_int_not_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
+    p.beta = 0.3f, p.eps = NAN;
+    assert_int_not_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
+    p.eps = 1e-4f, p.max_steps = 0;
+    assert_int_not_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
+    assert_int_equal(sdft_method_parse("enhanced"), SDFT_ENHANCED);
+    assert_int_equal(sdft_method_parse("hart"), -1);
+}
+
+/* ---- safety through every scene ----------------------------------------- */
+
+/* The first t in [t0, t1] where f changes sign, marching with a fixed step
+ * no larger than `step`; INFINITY if none. Independent of every tracer. */
+static float brute_first_crossing(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, float t0, float t1,
+                                  float step)
+{
+    float prev = f->distance(f->ctx, s, sdft_madd(ray->org, ray->dir, t0));
+    if (prev <= 0)
+        return t0;
+    for (float t = t0 + step; t <= t1 + step; t += step) {
+        float d = f->distance(f->ctx, s, sdft_madd(ray->org, ray->dir, t));
+        if (d <= 0)
+            return t;
+    }
+    return INFINITY;
+}
+
+static void test_no_hit_beyond_first_crossing_in_scenes(void **state)
+{
+    (void)state;
+    size_t count;
+    const sdft_scene *const *scenes = sdft_scenes(&count);
+    assert_true(count >= 4);
+    for (size_t k = 0; k < count; k++) {
+        const sdft_scene *sc = scenes[k];
+        const sdft_field *f = &sc->field;
+        sdft_scratch s;
+        sdft_scratch_init(f, &s);
+        float diag = sdft_length(sdft_sub(f->bounds.hi, f->bounds.lo));
+        float eps = 2e-5f * diag, step = eps;
+        tu_rng rng = tu_rng_seed(100 + k);
+        int checked = 0, tunnel_checks = 0;
+        for (int n = 0; n < 48; n++) {
+            /* primary rays through random pixels of the default camera */
+            sdft_ray ray = sdft_camera_ray(&sc->camera, 320, 180, tu_uniform(&rng, 0, 320), tu_uniform(&rng, 0, 180));
+            float t0, t1;
+            if (!sdft_aabb_clip(f->bounds, ray.org, ray.dir, ray.tnear, fminf(ray.tfar, 4 * diag), &t0, &t1))
+                continue;
+            float truth = INFINITY;
+            int truth_known = 0;
+            for (int v = 0; v < VARIANT_COUNT; v++) {
+                sdft_trace_params p = variant_params(v);
+                p.eps = eps;
+                sdft_hit hit = sdft_trace(f, &s, &ray, &p);
+                if (hit.status == SDFT_NOT_CONVERGED)
+                    continue;
+                if (!truth_known) {
+                    /* marching the whole clipped ray is costly: up to the hit suffices for hits */
+                    float end = hit.status == SDFT_HIT ? fminf(hit.t + 4 * step, t1) : t1;
+                    truth = brute_first_crossing(f, &s, &ray, t0, end, step);
+                    truth_known = hit.status != SDFT_HIT || isfinite(truth);
+                    if (hit.status != SDFT_HIT)
+                        tunnel_checks++;
+                }
+                if (hit.status == SDFT_HIT) {
+                    if (hit.t > truth + 2 * step + eps)
+                        fail_msg("%s: %s omega %g beta %g hit at t %.5f beyond the first crossing %.5f (ray %d)",
+                                 sc->name, sdft_method_name(p.method), p.omega, p.beta, hit.t, truth, n);
+                    checked++;
+                } else if (truth_known && isfinite(truth)) {
+                    fail_msg("%s: %s omega %g beta %g missed a crossing at %.5f (tunnelled, ray %d)", sc->name,
+                             sdft_method_name(p.method), p.omega, p.beta, truth, n);
+                }
+            }
+        }
+        assert_true(checked > 0);
+        (void)tunnel_checks;
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_hits_sphere),
+        cmocka_unit_test(test_hits_box),
+        cmocka_unit_test(test_hits_plane),
+        cmocka_unit_test(test_steps_count_evaluations),
+        cmocka_unit_test(test_auto_fewer_steps_than_sphere_on_plane),
+        cmocka_unit_test(test_ray_missing_bounds_costs_nothing),
+        cmocka_unit_test(test_screen_space_candidate),
+        cmocka_unit_test(test_params_check),
+        cmocka_unit_test(test_no_hit_beyond_first_crossing_in_scenes),
+    };
+    return cmocka_run_group_tests_name("trace", tests, NULL, NULL);
+}
