@@ -1,0 +1,37 @@
+/* sdftrace — the pinhole camera: an orthonormal frame from (from, at, up)
+ * and a vertical field of view. */
+#include <math.h>
+
+#include "sdftrace/camera.h"
+
+/* Right, up and forward unit vectors. An up hint parallel to the view
+ * direction is replaced by the world axis least aligned with it. */
+static void camera_frame(const sdft_camera *c, sdft_vec3 *u, sdft_vec3 *v, sdft_vec3 *w)
+{
+    *w = sdft_normalize(sdft_sub(c->at, c->from));
+    sdft_vec3 right = sdft_cross(*w, c->up);
+    if (!(sdft_length(right) > 1e-6f))
+        right = sdft_cross(*w, fabsf(w->y) < 0.9f ? sdft_v3(0, 1, 0) : sdft_v3(1, 0, 0));
+    *u = sdft_normalize(right);
+    *v = sdft_cross(*u, *w);
+}
+
+/* tan(fov / 2): half the image height at unit distance. */
+static float camera_half_height(const sdft_camera *c) { return tanf(0.5f * c->fov_deg * 3.14159265358979f / 180.0f); }
+
+sdft_ray sdft_camera_ray(const sdft_camera *c, int width, int height, float px, float py)
+{
+    sdft_vec3 u, v, w;
+    camera_frame(c, &u, &v, &w);
+    float th = camera_half_height(c);
+    float x = (2.0f * px / (float)width - 1.0f) * th * (float)width / (float)height;
+    float y = (1.0f - 2.0f * py / (float)height) * th;
+    sdft_vec3 dir = sdft_normalize(sdft_add(w, sdft_add(sdft_scale(u, x), sdft_scale(v, y))));
+    return (sdft_ray){.org = c->from, .tnear = 0.0f, .dir = dir, .tfar = INFINITY};
+}
+
+float sdft_camera_pixel_radius(const sdft_camera *c, int height)
+{
+    /* A pixel is 2 tan(fov/2) / height tall at unit distance; half of it. */
+    return camera_half_height(c) / (float)height;
+}

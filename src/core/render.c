@@ -1,0 +1,245 @@
+/* sdftrace — the whole-image function.
+ *
+ * Each pixel is independent: a primary ray with the chosen variant, the
+ * normal at the hit, and a hard shadow ray to the point light traced with
+ * the same variant and parameters (as in the papers' measurements). Tiles of
+ * TILE x TILE pixels are handed out dynamically to OpenMP threads; each
+ * thread owns one scratch, and statistics are summed per tile, then over the
+ * tiles in a fixed order, so the image and the counts do not depend on the
+ * thread count. Nothing is allocated per ray. */
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sdftrace/render.h"
+
+enum { TILE = 16 };
+
+/* Shading constants: a warm grey surface, a blue sky. */
+static const sdft_vec3 ALBEDO = {0.80f, 0.76f, 0.70f};
+static const float AMBIENT = 0.12f;
+static const sdft_vec3 SKY_HORIZON = {0.78f, 0.85f, 0.95f};
+static const sdft_vec3 SKY_ZENITH = {0.30f, 0.50f, 0.85f};
+
+sdft_render_params sdft_render_defaults(void)
+{
+    return (sdft_render_params){
+        .trace = sdft_trace_defaults(),
+        .width = 1280,
+        .height = 720,
+        .camera = {.from = {0.0f, 1.0f, 5.0f}, .at = {0.0f, 0.0f, 0.0f}, .up = {0.0f, 1.0f, 0.0f}, .fov_deg = 45.0f},
+        .light = {5.0f, 10.0f, 5.0f},
+        .shadows = 1,
+        .screen_space = 0,
+        .threads = 0,
+    };
+}
+
+int sdft_image_alloc(sdft_image *img, int width, int height)
+{
+    memset(img, 0, sizeof *img);
+    if (width < 1 || height < 1 || (size_t)width > SIZE_MAX / 16 / (size_t)height)
+        return -1;
+    size_t n = (size_t)width * (size_t)height;
+    img->width = width, img->height = height;
+    img->rgb = malloc(3 * n * sizeof *img->rgb);
+    img->depth = malloc(n * sizeof *img->depth);
+    img->normal = malloc(3 * n * sizeof *img->normal);
+    img->steps = malloc(n * sizeof *img->steps);
+    img->fallbacks = malloc(n * sizeof *img->fallbacks);
+    img->status = malloc(n * sizeof *img->status);
+    if (!img->rgb || !img->depth || !img->normal || !img->steps || !img->fallbacks || !img->status) {
+        sdft_image_free(img);
+        return -1;
+    }
+    return 0;
+}
+
+void sdft_image_free(sdft_image *img)
+{
+    free(img->rgb);
+    free(img->depth);
+    free(img->normal);
+    free(img->steps);
+    free(img->fallbacks);
+    free(img->status);
+    memset(img, 0, sizeof *img);
+}
+
+static sdft_vec3 sky(sdft_vec3 dir)
+{
+    float k = fminf(fmaxf(dir.y, 0.0f), 1.0f);
+    return sdft_add(sdft_scale(SKY_HORIZON, 1.0f - k), sdft_scale(SKY_ZENITH, k));
+}
+
+/* The normal-difference step the field uses (field.h's feature_size rule). */
+static float feature_step(const sdft_field *f)
+{
+    return f->feature_size > 0.0f ? f->feature_size : 1e-4f * sdft_length(sdft_sub(f->bounds.hi, f->bounds.lo));
+}
+
+/* What one pixel contributes to the image and the counts. */
+typedef struct pixel_result {
+    sdft_vec3 rgb, normal;
+    float depth;
+    uint32_t steps, fallbacks, rays;
+    sdft_status status;
+} pixel_result;
+
+/* 1 when the point light is visible from surface point p (normal n): a
+ * shadow ray from p lifted off the surface by `lift`, ending at the light. */
+static int light_visible(const sdft_field *f, sdft_scratch *s, const sdft_trace_params *tp, sdft_vec3 p, sdft_vec3 n,
+                         float lift, sdft_vec3 light, pixel_result *out)
+{
+    sdft_vec3 org = sdft_madd(p, n, lift);
+    sdft_vec3 to_light = sdft_sub(light, org);
+    float dist = sdft_length(to_light);
+    if (!(dist > 0.0f))
+        return 1;
+    sdft_ray ray = {.org = org, .tnear = 0.0f, .dir = sdft_scale(to_light, 1.0f / dist), .tfar = dist};
+    sdft_hit h = sdft_trace(f, s, &ray, tp);
+    out->steps += h.steps;
+    out->fallbacks += h.fallbacks;
+    out->rays++;
+    return h.status != SDFT_HIT;
+}
+
+static pixel_result shade_pixel(const sdft_field *f, sdft_scratch *s, const sdft_render_params *rp,
+                                const sdft_trace_params *tp, float feature, int x, int y)
+{
+    pixel_result out = {.depth = INFINITY};
+    sdft_ray ray = sdft_camera_ray(&rp->camera, rp->width, rp->height, (float)x + 0.5f, (float)y + 0.5f);
+    sdft_hit h = sdft_trace(f, s, &ray, tp);
+    out.steps = h.steps, out.fallbacks = h.fallbacks, out.rays = 1, out.status = h.status;
+    /* A non-converged ray is shaded as a hit only with the screen-space
+     * criterion, whose best candidate is meant to be used (Keinert §3.2). */
+    int surface = h.status == SDFT_HIT || (h.status == SDFT_NOT_CONVERGED && tp->pixel_radius > 0.0f);
+    if (!surface) {
+        out.rgb = sky(ray.dir);
+        return out;
+    }
+    sdft_vec3 p = sdft_madd(ray.org, ray.dir, h.t);
+    sdft_vec3 n = sdft_field_normal(f, s, p);
+    if (!sdft_isfinite3(n) || !(sdft_length(n) > 0.5f))
+        n = sdft_scale(ray.dir, -1.0f);
+    out.depth = h.t, out.normal = n;
+
+    sdft_vec3 l = sdft_normalize(sdft_sub(rp->light, p));
+    float diffuse = fmaxf(sdft_dot(n, l), 0.0f);
+    if (diffuse > 0.0f && rp->shadows) {
+        /* Lift the shadow ray's origin past the convergence radius at this
+         * hit and the normal's difference step, so it does not re-hit its
+         * own surface at t = 0. */
+        float lift = 4.0f * (tp->eps + tp->pixel_radius * h.t) + 2.0f * feature;
+        if (!light_visible(f, s, tp, p, n, lift, rp->light, &out))
+            diffuse = 0.0f;
+    }
+    out.rgb = sdft_scale(ALBEDO, AMBIENT + (1.0f - AMBIENT) * diffuse);
+    return out;
+}
+
+/* Sums over one tile, added up in tile order after the parallel loop. */
+typedef struct tile_stats {
+    uint64_t rays, steps, fallbacks, hits, nonconverged;
+} tile_stats;
+
+static void render_tile(const sdft_field *f, sdft_scratch *s, const sdft_render_params *rp,
+                        const sdft_trace_params *tp, float feature, int tile, sdft_image *img, tile_stats *ts)
+{
+    int tiles_x = (rp->width + TILE - 1) / TILE;
+    int x0 = (tile % tiles_x) * TILE, y0 = (tile / tiles_x) * TILE;
+    int x1 = x0 + TILE < rp->width ? x0 + TILE : rp->width;
+    int y1 = y0 + TILE < rp->height ? y0 + TILE : rp->height;
+    *ts = (tile_stats){0};
+    for (int y = y0; y < y1; y++) {
+        for (int x = x0; x < x1; x++) {
+            pixel_result px = shade_pixel(f, s, rp, tp, feature, x, y);
+            size_t i = (size_t)y * (size_t)rp->width + (size_t)x;
+            img->rgb[3 * i + 0] = px.rgb.x, img->rgb[3 * i + 1] = px.rgb.y, img->rgb[3 * i + 2] = px.rgb.z;
+            img->normal[3 * i + 0] = px.normal.x, img->normal[3 * i + 1] = px.normal.y;
+            img->normal[3 * i + 2] = px.normal.z;
+            img->depth[i] = px.depth;
+            img->steps[i] = px.steps;
+            img->fallbacks[i] = px.fallbacks;
+            img->status[i] = (uint8_t)px.status;
+            ts->rays += px.rays, ts->steps += px.steps, ts->fallbacks += px.fallbacks;
+            ts->hits += px.status == SDFT_HIT;
+            ts->nonconverged += px.status == SDFT_NOT_CONVERGED;
+        }
+    }
+}
+
+static const char *render_params_problem(const sdft_field *f, const sdft_render_params *rp, const sdft_image *img)
+{
+    const sdft_camera *c = &rp->camera;
+    if (!f || !f->distance)
+        return "the field has no distance function";
+    if (rp->width < 1 || rp->height < 1)
+        return "width and height must be at least 1";
+    if (!img || img->width != rp->width || img->height != rp->height || !img->rgb)
+        return "the image is not allocated at the render size";
+    if (!sdft_isfinite3(c->from) || !sdft_isfinite3(c->at) || !sdft_isfinite3(c->up))
+        return "camera from, at and up must be finite";
+    if (!(sdft_length(sdft_sub(c->at, c->from)) > 0.0f))
+        return "camera from and at must differ";
+    if (!(c->fov_deg > 0.0f && c->fov_deg < 180.0f))
+        return "field of view must be in (0, 180) degrees";
+    if (!sdft_isfinite3(rp->light))
+        return "light position must be finite";
+    if (rp->threads < 0)
+        return "threads must be >= 0";
+    return NULL;
+}
+
+int sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_image *img, sdft_render_stats *stats,
+                char *msg, unsigned msg_len)
+{
+    const char *why = render_params_problem(f, params, img);
+    if (why) {
+        if (msg && msg_len)
+            snprintf(msg, msg_len, "%s", why);
+        return -1;
+    }
+    sdft_trace_params tp = params->trace;
+    if (params->screen_space)
+        tp.pixel_radius = sdft_camera_pixel_radius(&params->camera, params->height);
+    if (sdft_trace_params_check(&tp, msg, msg_len))
+        return -1;
+
+    int tiles_x = (params->width + TILE - 1) / TILE, tiles_y = (params->height + TILE - 1) / TILE;
+    int tiles = tiles_x * tiles_y;
+    tile_stats *per_tile = malloc((size_t)tiles * sizeof *per_tile);
+    if (!per_tile) {
+        if (msg && msg_len)
+            snprintf(msg, msg_len, "out of memory for %d tiles", tiles);
+        return -1;
+    }
+    float feature = feature_step(f);
+    int threads = params->threads > 0 ? params->threads : omp_get_max_threads();
+
+    double t0 = omp_get_wtime();
+#pragma omp parallel num_threads(threads)
+    {
+        sdft_scratch scratch;
+        sdft_scratch_init(f, &scratch);
+#pragma omp for schedule(dynamic, 1)
+        for (int tile = 0; tile < tiles; tile++)
+            render_tile(f, &scratch, params, &tp, feature, tile, img, &per_tile[tile]);
+    }
+    double t1 = omp_get_wtime();
+
+    sdft_render_stats st = {.ms = 1000.0 * (t1 - t0), .primary_rays = (uint64_t)params->width * (uint64_t)params->height};
+    for (int tile = 0; tile < tiles; tile++) {
+        st.rays += per_tile[tile].rays;
+        st.steps += per_tile[tile].steps;
+        st.fallbacks += per_tile[tile].fallbacks;
+        st.hits += per_tile[tile].hits;
+        st.nonconverged += per_tile[tile].nonconverged;
+    }
+    free(per_tile);
+    if (stats)
+        *stats = st;
+    return 0;
+}

@@ -1,0 +1,270 @@
+/* sdftrace tests — the camera and the whole-image renderer, against an
+ * analytic sphere (and a sphere over a plane for shadows). */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "sdftrace/render.h"
+
+/* A sphere of radius `radius` at `centre`, optionally over the plane y = floor_y;
+ * counts its own evaluations when `calls` is set (single-threaded use). */
+typedef struct test_scene {
+    sdft_vec3 centre;
+    float radius;
+    int has_floor;
+    float floor_y;
+    unsigned long *calls;
+} test_scene;
+
+static float test_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    (void)s;
+    const test_scene *sc = ctx;
+    if (sc->calls)
+        (*sc->calls)++;
+    float d = sdft_length(sdft_sub(p, sc->centre)) - sc->radius;
+    return sc->has_floor ? fminf(d, p.y - sc->floor_y) : d;
+}
+
+static sdft_field test_field(const test_scene *sc)
+{
+    float r = sc->radius;
+    sdft_aabb box = {sdft_sub(sc->centre, sdft_v3(r, r, r)), sdft_add(sc->centre, sdft_v3(r, r, r))};
+    if (sc->has_floor)
+        box = (sdft_aabb){sdft_v3(-20, sc->floor_y - 1, -20), sdft_v3(20, sc->centre.y + r + 1, 20)};
+    return (sdft_field){.distance = test_distance, .ctx = sc, .bounds = box};
+}
+
+/* The first t > 0 where the ray meets the sphere, or INFINITY. */
+static float ray_sphere(sdft_ray ray, sdft_vec3 c, float r, float *disc_out)
+{
+    sdft_vec3 oc = sdft_sub(ray.org, c);
+    float b = sdft_dot(oc, ray.dir), cc = sdft_dot(oc, oc) - r * r;
+    float disc = b * b - cc;
+    *disc_out = disc;
+    if (disc < 0.0f)
+        return INFINITY;
+    float t = -b - sqrtf(disc);
+    return t > 0.0f ? t : INFINITY;
+}
+
+static sdft_render_params small_params(void)
+{
+    sdft_render_params p = sdft_render_defaults();
+    p.width = 64, p.height = 48;
+    p.camera = (sdft_camera){.from = {0, 0, 4}, .at = {0, 0, 0}, .up = {0, 1, 0}, .fov_deg = 40};
+    p.light = sdft_v3(3, 5, 4);
+    return p;
+}
+
+static void test_camera_frame(void **state)
+{
+    (void)state;
+    sdft_camera cam = {.from = {1, 2, 3}, .at = {1, 2, -7}, .up = {0, 1, 0}, .fov_deg = 90};
+    /* Centre of a 2x2 image: straight ahead. */
+    sdft_ray r = sdft_camera_ray(&cam, 2, 2, 1.0f, 1.0f);
+    assert_true(fabsf(r.dir.x) < 1e-6f && fabsf(r.dir.y) < 1e-6f && fabsf(r.dir.z + 1.0f) < 1e-6f);
+    assert_true(r.tnear == 0.0f && isinf(r.tfar));
+    /* fov 90: the top edge of the image is 45 degrees up; y grows downwards. */
+    r = sdft_camera_ray(&cam, 2, 2, 1.0f, 0.0f);
+    assert_true(fabsf(r.dir.y - sqrtf(0.5f)) < 1e-5f && fabsf(r.dir.z + sqrtf(0.5f)) < 1e-5f);
+    /* The right edge of a 4:2 image: x = aspect * tan(45) = 2 at unit distance. */
+    r = sdft_camera_ray(&cam, 4, 2, 4.0f, 1.0f);
+    assert_true(fabsf(r.dir.x / -r.dir.z - 2.0f) < 1e-5f);
+    /* Half a pixel's height at unit distance: tan(45) / height. */
+    assert_true(fabsf(sdft_camera_pixel_radius(&cam, 100) - 0.01f) < 1e-6f);
+    /* An up hint parallel to the view still gives a unit frame. */
+    sdft_camera down = {.from = {0, 5, 0}, .at = {0, 0, 0}, .up = {0, 1, 0}, .fov_deg = 60};
+    r = sdft_camera_ray(&down, 8, 8, 3.0f, 5.0f);
+    assert_true(fabsf(sdft_length(r.dir) - 1.0f) < 1e-5f && r.dir.y < 0.0f);
+}
+
+/* Depth equals the analytic ray-sphere intersection for every variant. */
+static void test_depth_is_analytic(void **state)
+{
+    (void)state;
+    test_scene sc = {.centre = {0.2f, -0.1f, 0.0f}, .radius = 1.0f};
+    sdft_field f = test_field(&sc);
+    for (int m = 0; m < SDFT_METHOD_COUNT; m++) {
+        sdft_render_params p = small_params();
+        p.trace.method = (sdft_method)m;
+        p.trace.omega = sdft_default_omega((sdft_method)m);
+        sdft_image img;
+        assert_int_equal(sdft_image_alloc(&img, p.width, p.height), 0);
+        sdft_render_stats st;
+        char msg[128] = "";
+        assert_int_equal(sdft_render(&f, &p, &img, &st, msg, sizeof msg), 0);
+        int hits = 0;
+        for (int y = 0; y < p.height; y++) {
+            for (int x = 0; x < p.width; x++) {
+                size_t i = (size_t)y * (size_t)p.width + (size_t)x;
+                sdft_ray ray = sdft_camera_ray(&p.camera, p.width, p.height, x + 0.5f, y + 0.5f);
+                float disc, t = ray_sphere(ray, sc.centre, sc.radius, &disc);
+                if (fabsf(disc) < 0.02f)
+                    continue; /* grazing the silhouette: either answer is right */
+                if (isinf(t)) {
+                    assert_int_equal(img.status[i], SDFT_MISS);
+                    assert_true(isinf(img.depth[i]));
+                    assert_true(img.normal[3 * i] == 0.0f && img.normal[3 * i + 1] == 0.0f);
+                    continue;
+                }
+                hits++;
+                assert_int_equal(img.status[i], SDFT_HIT);
+                assert_true(fabsf(img.depth[i] - t) < 1e-3f);
+                /* The normal is the sphere's radial direction. */
+                sdft_vec3 q = sdft_madd(ray.org, ray.dir, t);
+                sdft_vec3 n = sdft_normalize(sdft_sub(q, sc.centre));
+                sdft_vec3 got = {img.normal[3 * i], img.normal[3 * i + 1], img.normal[3 * i + 2]};
+                assert_true(sdft_dot(n, got) > 0.999f);
+            }
+        }
+        assert_true(hits > 300);
+        assert_true(st.hits >= (uint64_t)hits && st.primary_rays == (uint64_t)p.width * p.height);
+        sdft_image_free(&img);
+    }
+}
+
+static int images_equal(const sdft_image *a, const sdft_image *b)
+{
+    size_t n = (size_t)a->width * (size_t)a->height;
+    return memcmp(a->rgb, b->rgb, 3 * n * sizeof(float)) == 0 &&
+           memcmp(a->depth, b->depth, n * sizeof(float)) == 0 &&
+           memcmp(a->normal, b->normal, 3 * n * sizeof(float)) == 0 &&
+           memcmp(a->steps, b->steps, n * sizeof(uint32_t)) == 0 &&
+           memcmp(a->fallbacks, b->fallbacks, n * sizeof(uint32_t)) == 0 && memcmp(a->status, b->status, n) == 0;
+}
+
+/* Bit-for-bit the same image and counts with 1, 2 and 3 threads. */
+static void test_thread_count_invariant(void **state)
+{
+    (void)state;
+    test_scene sc = {.centre = {0, 0, 0}, .radius = 0.8f, .has_floor = 1, .floor_y = -0.8f};
+    sdft_field f = test_field(&sc);
+    sdft_render_params p = small_params();
+    p.width = 77, p.height = 53; /* partial tiles on both edges */
+    p.trace.method = SDFT_RELAXED, p.trace.omega = 1.5f;
+    sdft_image img[3];
+    sdft_render_stats st[3];
+    for (int k = 0; k < 3; k++) {
+        p.threads = k + 1;
+        assert_int_equal(sdft_image_alloc(&img[k], p.width, p.height), 0);
+        assert_int_equal(sdft_render(&f, &p, &img[k], &st[k], NULL, 0), 0);
+    }
+    for (int k = 1; k < 3; k++) {
+        assert_true(images_equal(&img[0], &img[k]));
+        assert_true(st[0].rays == st[k].rays && st[0].steps == st[k].steps && st[0].hits == st[k].hits &&
+                    st[0].fallbacks == st[k].fallbacks && st[0].nonconverged == st[k].nonconverged);
+    }
+    for (int k = 0; k < 3; k++)
+        sdft_image_free(&img[k]);
+}
+
+/* The floor under the sphere is in shadow; shadow rays are counted, and the
+ * reported steps are exactly the field's calls minus the normals'. */
+static void test_shadows_and_counts(void **state)
+{
+    (void)state;
+    unsigned long calls = 0;
+    test_scene sc = {.centre = {0, 0.5f, 0}, .radius = 0.5f, .has_floor = 1, .floor_y = -0.5f, .calls = &calls};
+    sdft_field f = test_field(&sc);
+    sdft_render_params p = small_params();
+    p.camera = (sdft_camera){.from = {0, 6, 0.01f}, .at = {0, 0, 0}, .up = {0, 0, -1}, .fov_deg = 30};
+    p.light = sdft_v3(6, 6, 0); /* the shadow falls around x = -1.09, z = 0 */
+    p.threads = 1;
+    sdft_image img;
+    assert_int_equal(sdft_image_alloc(&img, p.width, p.height), 0);
+    sdft_render_stats st;
+    assert_int_equal(sdft_render(&f, &p, &img, &st, NULL, 0), 0);
+
+    uint64_t steps = 0, surfaces = 0, shadowed = 0, lit_floor = 0;
+    for (int y = 0; y < p.height; y++) {
+        for (int x = 0; x < p.width; x++) {
+            size_t i = (size_t)y * (size_t)p.width + (size_t)x;
+            steps += img.steps[i];
+            surfaces += img.status[i] == SDFT_HIT;
+            if (img.status[i] != SDFT_HIT || img.normal[3 * i + 1] < 0.99f)
+                continue;
+            sdft_ray ray = sdft_camera_ray(&p.camera, p.width, p.height, x + 0.5f, y + 0.5f);
+            sdft_vec3 q = sdft_madd(ray.org, ray.dir, img.depth[i]);
+            if (q.y > -0.45f)
+                continue; /* the sphere's top, not the floor */
+            if (q.x > -1.25f && q.x < -0.95f && fabsf(q.z) < 0.25f) { /* in the shadow: only ambient light */
+                shadowed++;
+                assert_true(img.rgb[3 * i + 1] < 0.15f);
+            } else if (q.x > 0.8f) { /* the side facing the light */
+                lit_floor++;
+                assert_true(img.rgb[3 * i + 1] > 0.5f);
+            }
+        }
+    }
+    assert_true(shadowed > 10 && lit_floor > 100);
+    assert_int_equal(steps, st.steps);
+    assert_true(st.rays > st.primary_rays && st.rays <= st.primary_rays + surfaces);
+    /* Every evaluation is a trace step, except four per normal. */
+    assert_int_equal(calls, st.steps + 4 * surfaces);
+    sdft_image_free(&img);
+}
+
+static void test_screen_space(void **state)
+{
+    (void)state;
+    test_scene sc = {.centre = {0, 0, 0}, .radius = 1.0f};
+    sdft_field f = test_field(&sc);
+    sdft_render_params p = small_params();
+    p.screen_space = 1;
+    p.trace.eps = 0.0f;
+    sdft_image img;
+    assert_int_equal(sdft_image_alloc(&img, p.width, p.height), 0);
+    sdft_render_stats st;
+    assert_int_equal(sdft_render(&f, &p, &img, &st, NULL, 0), 0);
+    assert_true(st.hits > 300);
+    /* Without it, eps 0 alone is rejected by the parameter check. */
+    p.screen_space = 0;
+    char msg[128] = "";
+    assert_int_not_equal(sdft_render(&f, &p, &img, &st, msg, sizeof msg), 0);
+    assert_true(strlen(msg) > 0 && strchr(msg, '\n') == NULL);
+    sdft_image_free(&img);
+}
+
+static void test_bad_params(void **state)
+{
+    (void)state;
+    test_scene sc = {.centre = {0, 0, 0}, .radius = 1.0f};
+    sdft_field f = test_field(&sc);
+    sdft_render_params good = small_params();
+    sdft_image img;
+    assert_int_equal(sdft_image_alloc(&img, good.width, good.height), 0);
+    sdft_render_params bad[6];
+    for (int k = 0; k < 6; k++)
+        bad[k] = good;
+    bad[0].width = 0;
+    bad[1].trace.method = SDFT_RELAXED, bad[1].trace.omega = 2.0f;
+    bad[2].trace.beta = NAN;
+    bad[3].camera.fov_deg = 180.0f;
+    bad[4].camera.at = bad[4].camera.from;
+    bad[5].width = good.width + 1; /* not the image's size */
+    for (int k = 0; k < 6; k++) {
+        char msg[128] = "";
+        assert_int_not_equal(sdft_render(&f, &bad[k], &img, NULL, msg, sizeof msg), 0);
+        assert_true(strlen(msg) > 0);
+    }
+    sdft_image_free(&img);
+    assert_int_not_equal(sdft_image_alloc(&img, 0, 5), 0);
+    assert_null(img.rgb);
+    sdft_image_free(&img);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_camera_frame),       cmocka_unit_test(test_depth_is_analytic),
+        cmocka_unit_test(test_thread_count_invariant), cmocka_unit_test(test_shadows_and_counts),
+        cmocka_unit_test(test_screen_space),       cmocka_unit_test(test_bad_params),
+    };
+    return cmocka_run_group_tests_name("render", tests, NULL, NULL);
+}
