@@ -1,0 +1,105 @@
+/* sdftrace io — 8-bit PNGs through libpng: the sRGB preview of a render,
+ * and the shared writer the heatmap uses. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <png.h>
+#include <setjmp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "atomic_file.h"
+#include "image_io.h"
+#include "png_write.h"
+
+/* libpng reports errors by longjmp; keep its message for ours. */
+typedef struct png_errors {
+    char text[200];
+} png_errors;
+
+static void png_error_cb(png_structp png, png_const_charp text)
+{
+    png_errors *e = png_get_error_ptr(png);
+    snprintf(e->text, sizeof e->text, "%s", text);
+    png_longjmp(png, 1);
+}
+
+static void png_warning_cb(png_structp png, png_const_charp text)
+{
+    (void)png, (void)text; /* the library never prints */
+}
+
+/* Separate from the setjmp frame, so no local is clobbered by longjmp. */
+static int png_encode(FILE *fp, const unsigned char *rgb, int width, int height, int srgb, png_errors *errors)
+{
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, errors, png_error_cb, png_warning_cb);
+    if (!png)
+        return -1;
+    png_infop info = png_create_info_struct(png);
+    if (!info || setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, &info);
+        return -1;
+    }
+    png_init_io(png, fp);
+    png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    if (srgb)
+        png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+    png_write_info(png, info);
+    for (int y = 0; y < height; y++)
+        png_write_row(png, rgb + (size_t)3 * (size_t)width * (size_t)y);
+    png_write_end(png, info);
+    png_destroy_write_struct(&png, &info);
+    return 0;
+}
+
+int io_write_png_rgb8(const char *path, const unsigned char *rgb, int width, int height, int srgb, char *msg,
+                      unsigned msg_len)
+{
+    atomic_file af;
+    if (atomic_begin(&af, path, msg, msg_len))
+        return -1;
+    FILE *fp = fdopen(af.fd, "wb");
+    if (!fp) {
+        snprintf(msg, msg_len, "cannot write %s", path);
+        atomic_abort(&af);
+        return -1;
+    }
+    png_errors errors = {{0}};
+    int rc = png_encode(fp, rgb, width, height, srgb, &errors);
+    if (fflush(fp) != 0)
+        rc = -1;
+    /* The stream owns the descriptor now; keep it open for the commit. */
+    af.fd = dup(fileno(fp));
+    fclose(fp);
+    if (rc != 0) {
+        snprintf(msg, msg_len, "cannot write %s: %s", path, errors.text[0] ? errors.text : "write failed");
+        atomic_abort(&af);
+        return -1;
+    }
+    return atomic_commit(&af, msg, msg_len);
+}
+
+/* Linear [0, 1] to the sRGB transfer curve, 8 bits. */
+static unsigned char srgb8(float linear)
+{
+    float c = fminf(fmaxf(linear, 0.0f), 1.0f);
+    float s = c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f;
+    return (unsigned char)(s * 255.0f + 0.5f);
+}
+
+int sdft_write_png(const char *path, const sdft_image *img, char *msg, unsigned msg_len)
+{
+    size_t n = (size_t)img->width * (size_t)img->height;
+    unsigned char *rgb = malloc(3 * n);
+    if (!rgb) {
+        snprintf(msg, msg_len, "out of memory writing %s", path);
+        return -1;
+    }
+    for (size_t i = 0; i < 3 * n; i++)
+        rgb[i] = srgb8(img->rgb[i]);
+    int rc = io_write_png_rgb8(path, rgb, img->width, img->height, 1, msg, msg_len);
+    free(rgb);
+    return rc;
+}

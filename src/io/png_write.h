@@ -1,0 +1,11 @@
+/* sdftrace io — the PNG writer shared by the preview and the heatmap.
+ * Internal to src/io. */
+#ifndef SDFTRACE_PNG_WRITE_H
+#define SDFTRACE_PNG_WRITE_H
+
+/* Writes width x height 8-bit RGB rows (row-major, no padding) to path,
+ * atomically; srgb tags the file as sRGB. 0, or -1 with msg. */
+int io_write_png_rgb8(const char *path, const unsigned char *rgb, int width, int height, int srgb, char *msg,
+                      unsigned msg_len);
+
+#endif
