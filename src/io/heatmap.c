@@ -54,8 +54,8 @@ static void draw_number(canvas *c, unsigned long value, int x, int y, const unsi
     int len = snprintf(text, sizeof text, "%lu", value);
     int advance = 4 * GLYPH_SCALE, text_w = len * advance - GLYPH_SCALE;
     int left = x - text_w / 2;
-    if (left + text_w > c->width)
-        left = c->width - text_w;
+    if (left + text_w > c->width - 2)
+        left = c->width - 2 - text_w;
     if (left < 0)
         left = 0;
     for (int i = 0; i < len; i++)

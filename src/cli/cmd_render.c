@@ -1,0 +1,317 @@
+/* sdftrace render — a field (today a procedural scene) through the renderer
+ * to OpenEXR, with an optional PNG preview, count heatmaps and a JSON line
+ * of statistics. The steps: parse the options, check them, open the field,
+ * check the outputs can be written, render, write, report. */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "args.h"
+#include "commands.h"
+#include "image_io.h"
+#include "sdftrace/render.h"
+#include "sdftrace/scene.h"
+
+enum { MAX_SIDE = 16384, MAX_STEPS = 10000000, MAX_THREADS = 1024 };
+static const long MAX_PIXELS = 64l * 1024 * 1024;
+
+typedef struct render_opts {
+    const char *scene;       /* --scene NAME */
+    int method;              /* --method, sdft_method */
+    int omega_set;           /* --omega given; else the method's default */
+    float omega, beta, eps;
+    long max_steps, width, height, threads;
+    int camera_set, fov_set; /* override the scene's view */
+    float camera[6], fov;
+    int shadows, screen_space, json;
+    const char *out, *png, *heatmap;
+    sdft_heatmap_kind heatmap_kind;
+} render_opts;
+
+/* What is rendered: a field, its default view and light, and whatever must
+ * be released afterwards (a grid's buffer, later). */
+typedef struct render_source {
+    sdft_field field;
+    sdft_camera camera;
+    sdft_vec3 light;
+    const char *name; /* for the JSON report */
+} render_source;
+
+void cmd_render_help(FILE *out)
+{
+    sdft_render_params d = sdft_render_defaults();
+    fprintf(out,
+            "usage: sdftrace render --scene NAME -o OUT.exr [options]\n"
+            "  --scene NAME          procedural scene (sdftrace scenes lists them); required\n"
+            "  -o OUT.exr            OpenEXR output: R,G,B, Z, N.X,N.Y,N.Z, steps, fallbacks; required\n"
+            "  --method M            sphere | relaxed | enhanced | auto (default %s)\n"
+            "  --omega W             relaxed: [1, 2), default %g; enhanced: (0, 1], default %g\n"
+            "  --beta B              auto: (0, 1) (default %g)\n"
+            "  --eps E               convergence radius, world units (default %g)\n"
+            "  --max-steps N         most SDF evaluations per ray (default %u)\n"
+            "  --width W             image width, pixels (default %d)\n"
+            "  --height H            image height, pixels (default %d)\n"
+            "  --camera FX,FY,FZ,AX,AY,AZ  eye and look-at point (default: the scene's)\n"
+            "  --fov DEG             vertical field of view, (0, 180) (default: the scene's)\n"
+            "  --no-shadows          no shadow rays (default: a shadow ray per lit hit)\n"
+            "  --screen-space        Keinert's screen-space criterion: eps grows by half a pixel per unit t (default off)\n"
+            "  --threads N           OpenMP threads, 0 = all cores (default 0)\n"
+            "  --png OUT.png         sRGB preview (default none)\n"
+            "  --heatmap steps|fallbacks OUT.png  false-colour map of the per-pixel counts (default none)\n"
+            "  --json                print one JSON object of statistics on stdout (default off)\n",
+            sdft_method_name(d.trace.method), sdft_default_omega(SDFT_RELAXED), sdft_default_omega(SDFT_ENHANCED),
+            d.trace.beta, d.trace.eps, d.trace.max_steps, d.width, d.height);
+}
+
+static render_opts default_opts(void)
+{
+    sdft_render_params d = sdft_render_defaults();
+    return (render_opts){
+        .method = d.trace.method, .beta = d.trace.beta, .eps = d.trace.eps, .max_steps = d.trace.max_steps,
+        .width = d.width, .height = d.height, .threads = 0, .shadows = 1,
+    };
+}
+
+/* Fills opts from argv; 0, 1 (--help printed), or -1 with msg. */
+static int parse_opts(int argc, char **argv, render_opts *o, char *msg, unsigned len)
+{
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0)
+            return 1;
+        if (strcmp(a, "--no-shadows") == 0) {
+            o->shadows = 0;
+            continue;
+        }
+        if (strcmp(a, "--screen-space") == 0) {
+            o->screen_space = 1;
+            continue;
+        }
+        if (strcmp(a, "--json") == 0) {
+            o->json = 1;
+            continue;
+        }
+        int known = !strcmp(a, "--scene") || !strcmp(a, "-o") || !strcmp(a, "--method") || !strcmp(a, "--omega") ||
+                    !strcmp(a, "--beta") || !strcmp(a, "--eps") || !strcmp(a, "--max-steps") ||
+                    !strcmp(a, "--width") || !strcmp(a, "--height") || !strcmp(a, "--camera") ||
+                    !strcmp(a, "--fov") || !strcmp(a, "--threads") || !strcmp(a, "--png") ||
+                    !strcmp(a, "--heatmap");
+        if (!known) {
+            snprintf(msg, len, "unknown option '%s' (try: sdftrace render --help)", a);
+            return -1;
+        }
+        int needs = !strcmp(a, "--heatmap") ? 2 : 1;
+        if (i + needs >= argc) {
+            snprintf(msg, len, "%s needs %s", a, needs == 2 ? "a kind and a file" : "a value");
+            return -1;
+        }
+        const char *v = argv[++i];
+        long n = 0;
+        int rc = 0;
+        if (!strcmp(a, "--scene"))
+            o->scene = v;
+        else if (!strcmp(a, "-o"))
+            o->out = v;
+        else if (!strcmp(a, "--png"))
+            o->png = v;
+        else if (!strcmp(a, "--method")) {
+            o->method = sdft_method_parse(v);
+            if (o->method < 0) {
+                snprintf(msg, len, "unknown method '%s' (sphere, relaxed, enhanced or auto)", v);
+                return -1;
+            }
+        } else if (!strcmp(a, "--omega")) {
+            rc = arg_float(a, v, -1e30f, 1e30f, &o->omega, msg, len);
+            o->omega_set = 1;
+        } else if (!strcmp(a, "--beta"))
+            rc = arg_float(a, v, -1e30f, 1e30f, &o->beta, msg, len);
+        else if (!strcmp(a, "--eps"))
+            rc = arg_float(a, v, 0.0f, 1e30f, &o->eps, msg, len);
+        else if (!strcmp(a, "--fov")) {
+            rc = arg_float(a, v, 0.0f, 180.0f, &o->fov, msg, len);
+            if (!rc && !(o->fov > 0.0f && o->fov < 180.0f)) {
+                snprintf(msg, len, "--fov must be in (0, 180) degrees, got %s", v);
+                rc = -1;
+            }
+            o->fov_set = 1;
+        } else if (!strcmp(a, "--camera")) {
+            rc = arg_floats(a, v, 6, o->camera, msg, len);
+            o->camera_set = 1;
+        } else if (!strcmp(a, "--max-steps")) {
+            rc = arg_long(a, v, 1, MAX_STEPS, &n, msg, len);
+            o->max_steps = n;
+        } else if (!strcmp(a, "--width")) {
+            rc = arg_long(a, v, 1, MAX_SIDE, &n, msg, len);
+            o->width = n;
+        } else if (!strcmp(a, "--height")) {
+            rc = arg_long(a, v, 1, MAX_SIDE, &n, msg, len);
+            o->height = n;
+        } else if (!strcmp(a, "--threads")) {
+            rc = arg_long(a, v, 0, MAX_THREADS, &n, msg, len);
+            o->threads = n;
+        } else if (!strcmp(a, "--heatmap")) {
+            if (strcmp(v, "steps") && strcmp(v, "fallbacks")) {
+                snprintf(msg, len, "--heatmap needs 'steps' or 'fallbacks', got '%s'", v);
+                return -1;
+            }
+            o->heatmap_kind = strcmp(v, "steps") ? SDFT_HEATMAP_FALLBACKS : SDFT_HEATMAP_STEPS;
+            o->heatmap = argv[++i];
+        }
+        if (rc)
+            return -1;
+    }
+    return 0;
+}
+
+/* The checks that need all the options at once. */
+static int check_opts(const render_opts *o, char *msg, unsigned len)
+{
+    if (!o->scene)
+        snprintf(msg, len, "--scene is required (sdftrace scenes lists them)");
+    else if (!o->out)
+        snprintf(msg, len, "-o OUT.exr is required");
+    else if (o->width * o->height > MAX_PIXELS)
+        snprintf(msg, len, "%ldx%ld is more than %ld pixels", o->width, o->height, MAX_PIXELS);
+    else if (o->camera_set && o->camera[0] == o->camera[3] && o->camera[1] == o->camera[4] &&
+             o->camera[2] == o->camera[5])
+        snprintf(msg, len, "--camera: the eye and the look-at point must differ");
+    else
+        return 0;
+    return -1;
+}
+
+/* The field to render, with its default camera and light. The one place a
+ * new kind of source (a grid file) comes in. */
+static int open_field(const render_opts *o, render_source *src, char *msg, unsigned len)
+{
+    const sdft_scene *scene = sdft_scene_find(o->scene);
+    if (!scene) {
+        snprintf(msg, len, "unknown scene '%s' (sdftrace scenes lists them)", o->scene);
+        return -1;
+    }
+    *src = (render_source){.field = scene->field, .camera = scene->camera, .light = scene->light, .name = scene->name};
+    return 0;
+}
+
+static void close_field(render_source *src) { (void)src; }
+
+static sdft_render_params make_params(const render_opts *o, const render_source *src)
+{
+    sdft_render_params p = sdft_render_defaults();
+    p.trace.method = (sdft_method)o->method;
+    p.trace.omega = o->omega_set ? o->omega : sdft_default_omega((sdft_method)o->method);
+    p.trace.beta = o->beta;
+    p.trace.eps = o->eps;
+    p.trace.max_steps = (uint32_t)o->max_steps;
+    p.width = (int)o->width, p.height = (int)o->height;
+    p.camera = src->camera;
+    if (o->camera_set) {
+        p.camera.from = sdft_v3(o->camera[0], o->camera[1], o->camera[2]);
+        p.camera.at = sdft_v3(o->camera[3], o->camera[4], o->camera[5]);
+    }
+    if (o->fov_set)
+        p.camera.fov_deg = o->fov;
+    p.light = src->light;
+    p.shadows = o->shadows;
+    p.screen_space = o->screen_space;
+    p.threads = (int)o->threads;
+    return p;
+}
+
+/* Writes every requested file; on a failure removes the ones this run
+ * already wrote, so the outputs appear together or not at all. */
+static int write_outputs(const render_opts *o, const sdft_image *img, char *msg, unsigned len)
+{
+    if (sdft_write_exr(o->out, img, msg, len))
+        return -1;
+    if (o->png && sdft_write_png(o->png, img, msg, len)) {
+        remove(o->out);
+        return -1;
+    }
+    if (o->heatmap && sdft_write_heatmap(o->heatmap, img, o->heatmap_kind, msg, len)) {
+        remove(o->out);
+        if (o->png)
+            remove(o->png);
+        return -1;
+    }
+    return 0;
+}
+
+static void json_string(const char *s)
+{
+    putchar('"');
+    for (; *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\')
+            printf("\\%c", c);
+        else if (c < 0x20)
+            printf("\\u%04x", c);
+        else
+            putchar(c);
+    }
+    putchar('"');
+}
+
+static void print_json(const render_source *src, const sdft_render_params *p, const sdft_render_stats *st)
+{
+    double primary = (double)st->primary_rays;
+    printf("{\"scene\": ");
+    json_string(src->name);
+    printf(", \"method\": \"%s\", \"omega\": %.6g, \"beta\": %.6g, \"eps\": %.6g, \"max_steps\": %u, "
+           "\"width\": %d, \"height\": %d, \"shadows\": %s, \"screen_space\": %s, \"threads\": %d, "
+           "\"ms\": %.3f, \"rays\": %llu, \"primary_rays\": %llu, \"steps\": %llu, \"fallbacks\": %llu, "
+           "\"mean_steps\": %.4f, \"mean_fallbacks\": %.4f, \"nonconverged\": %.6f, \"hit_fraction\": %.6f}\n",
+           sdft_method_name(p->trace.method), p->trace.omega, p->trace.beta, p->trace.eps, p->trace.max_steps,
+           p->width, p->height, p->shadows ? "true" : "false", p->screen_space ? "true" : "false", p->threads,
+           st->ms, (unsigned long long)st->rays, (unsigned long long)st->primary_rays,
+           (unsigned long long)st->steps, (unsigned long long)st->fallbacks, (double)st->steps / primary,
+           (double)st->fallbacks / primary, (double)st->nonconverged / primary, (double)st->hits / primary);
+}
+
+int cmd_render(int argc, char **argv)
+{
+    char msg[512] = "";
+    render_opts o = default_opts();
+    int parsed = parse_opts(argc, argv, &o, msg, sizeof msg);
+    if (parsed == 1) {
+        cmd_render_help(stdout);
+        return 0;
+    }
+    if (parsed || check_opts(&o, msg, sizeof msg)) {
+        cli_error("render", msg);
+        return 2;
+    }
+    render_source src;
+    if (open_field(&o, &src, msg, sizeof msg)) {
+        cli_error("render", msg);
+        return 2;
+    }
+    sdft_render_params p = make_params(&o, &src);
+    if (sdft_trace_params_check(&p.trace, msg, sizeof msg) ||
+        sdft_check_writable(o.out, msg, sizeof msg) || (o.png && sdft_check_writable(o.png, msg, sizeof msg)) ||
+        (o.heatmap && sdft_check_writable(o.heatmap, msg, sizeof msg))) {
+        cli_error("render", msg);
+        close_field(&src);
+        return 2;
+    }
+
+    sdft_image img;
+    sdft_render_stats st;
+    int rc = 0;
+    if (sdft_image_alloc(&img, p.width, p.height)) {
+        snprintf(msg, sizeof msg, "out of memory for a %dx%d image", p.width, p.height);
+        rc = 1;
+    } else if (sdft_render(&src.field, &p, &img, &st, msg, sizeof msg)) {
+        rc = 2; /* parameters the renderer rejects, e.g. a degenerate camera */
+    } else if (write_outputs(&o, &img, msg, sizeof msg)) {
+        rc = 1;
+    }
+    if (rc)
+        cli_error("render", msg);
+    else if (o.json)
+        print_json(&src, &p, &st);
+    sdft_image_free(&img);
+    close_field(&src);
+    return rc;
+}

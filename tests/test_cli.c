@@ -1,0 +1,184 @@
+/* sdftrace tests — the command line: help, scenes, every bad-input case
+ * (non-zero exit, one line, no file), and the --json report's consistency. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "testutil.h"
+
+static char out[1 << 16];
+
+static int lines(const char *s)
+{
+    int n = 0;
+    for (; *s; s++)
+        n += *s == '\n';
+    return n;
+}
+
+static void test_help_lists_every_option(void **state)
+{
+    (void)state;
+    static const char *const flags[] = {"--scene", "--method", "--omega", "--beta", "--eps", "--max-steps",
+                                        "--width", "--height", "--camera", "--fov", "--no-shadows",
+                                        "--threads", "-o ", "--png", "--json", "--heatmap", "--screen-space"};
+    for (int which = 0; which < 2; which++) {
+        assert_int_equal(tu_run(out, sizeof out, "%s %s", SDFT_CLI, which ? "render --help" : "--help"), 0);
+        for (size_t i = 0; i < sizeof flags / sizeof flags[0]; i++)
+            assert_non_null(strstr(out, flags[i]));
+        assert_non_null(strstr(out, "default auto"));
+        assert_non_null(strstr(out, "default 0.3"));
+        assert_non_null(strstr(out, "default 1000"));
+        assert_non_null(strstr(out, "default 1280"));
+        assert_non_null(strstr(out, "default 720"));
+    }
+    assert_int_not_equal(tu_run(out, sizeof out, "%s", SDFT_CLI), 0);
+    assert_int_not_equal(tu_run(out, sizeof out, "%s frobnicate", SDFT_CLI), 0);
+    assert_int_equal(lines(out), 1);
+}
+
+static void test_scenes(void **state)
+{
+    (void)state;
+    assert_int_equal(tu_run(out, sizeof out, "%s scenes", SDFT_CLI), 0);
+    assert_int_equal(lines(out), 4);
+    static const char *const names[] = {"temple", "figure", "dodecahedron", "city"};
+    for (int i = 0; i < 4; i++)
+        assert_non_null(strstr(out, names[i]));
+}
+
+/* Every case: non-zero exit, exactly one line (stdout + stderr), no file. */
+static void test_bad_input(void **state)
+{
+    (void)state;
+    static const char *const cases[] = {
+        "--scene nosuch",
+        "--method foo",
+        "--method relaxed --omega 2",
+        "--method relaxed --omega 0.9",
+        "--method enhanced --omega 1.5",
+        "--method enhanced --omega 0",
+        "--beta 1",
+        "--beta 0",
+        "--beta nan",
+        "--omega inf --method relaxed",
+        "--width 0",
+        "--width -5",
+        "--width 12abc",
+        "--height 100000",
+        "--width 16384 --height 16384",
+        "--eps -1",
+        "--eps nan",
+        "--eps 0",
+        "--max-steps 0",
+        "--max-steps 2.5",
+        "--fov 0",
+        "--fov 180",
+        "--fov NaN",
+        "--camera 1,2,3",
+        "--camera 1,2,3,1,2,3",
+        "--camera 1,2,3,4,5,x",
+        "--threads -1",
+        "--bogus",
+        "--heatmap bogus " SDFT_TEST_TMP "/cli_bad_heat.png",
+        "--png " SDFT_TEST_TMP "/no/such/dir/x.png",
+        "--heatmap steps " SDFT_TEST_TMP "/no/such/dir/h.png",
+        "--width",
+    };
+    char exr[512];
+    tu_tmp(exr, sizeof exr, "cli_bad.exr");
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        remove(exr);
+        const char *scene = strstr(cases[i], "--scene") ? "" : "--scene dodecahedron";
+        int rc = tu_run(out, sizeof out, "%s render %s --width 16 --height 9 -o %s %s", SDFT_CLI, scene, exr, cases[i]);
+        if (rc == 0 || lines(out) != 1 || tu_file_exists(exr))
+            fail_msg("case '%s': rc %d, output '%s'", cases[i], rc, out);
+    }
+    assert_false(tu_file_exists(SDFT_TEST_TMP "/cli_bad_heat.png"));
+    /* Missing -o, missing --scene, unwritable output. */
+    assert_int_not_equal(tu_run(out, sizeof out, "%s render --scene city --width 8 --height 8", SDFT_CLI), 0);
+    assert_int_equal(lines(out), 1);
+    assert_int_not_equal(tu_run(out, sizeof out, "%s render -o %s --width 8 --height 8", SDFT_CLI, exr), 0);
+    assert_int_equal(lines(out), 1);
+    assert_false(tu_file_exists(exr));
+    assert_int_not_equal(
+        tu_run(out, sizeof out, "%s render --scene city -o %s/none/x.exr --width 8 --height 8", SDFT_CLI, SDFT_TEST_TMP),
+        0);
+    assert_int_equal(lines(out), 1);
+    assert_false(tu_file_exists(SDFT_TEST_TMP "/none/x.exr"));
+}
+
+/* The number after "key": in a one-line JSON object; NAN when absent. */
+static double json_number(const char *json, const char *key)
+{
+    char pattern[64];
+    snprintf(pattern, sizeof pattern, "\"%s\": ", key);
+    const char *p = strstr(json, pattern);
+    return p ? strtod(p + strlen(pattern), NULL) : NAN;
+}
+
+static void render_json(const char *args, char *json, size_t len)
+{
+    char exr[512], png[512], heat[512];
+    tu_tmp(exr, sizeof exr, "cli_json.exr");
+    tu_tmp(png, sizeof png, "cli_json.png");
+    tu_tmp(heat, sizeof heat, "cli_json_heat.png");
+    remove(exr), remove(png), remove(heat);
+    /* stdout only: stderr of the inner command goes to /dev/null */
+    int rc = tu_run(json, len, "{ %s render %s -o %s --png %s --heatmap fallbacks %s --json 2>/dev/null; }", SDFT_CLI,
+                    args, exr, png, heat);
+    assert_int_equal(rc, 0);
+    assert_true(tu_file_exists(exr) && tu_file_exists(png) && tu_file_exists(heat));
+}
+
+static void test_json_report(void **state)
+{
+    (void)state;
+    char json[4096];
+    render_json("--scene temple --method relaxed --width 48 --height 27 --threads 2", json, sizeof json);
+    assert_int_equal(lines(json), 1);
+    assert_true(json[0] == '{' && strstr(json, "}\n") != NULL);
+    assert_non_null(strstr(json, "\"method\": \"relaxed\""));
+    assert_true(json_number(json, "omega") == 1.5);
+    assert_true(fabs(json_number(json, "beta") - 0.3) < 1e-6);
+    assert_true(json_number(json, "width") == 48 && json_number(json, "height") == 27);
+    double primary = 48 * 27, rays = json_number(json, "rays"), hit = json_number(json, "hit_fraction");
+    double nc = json_number(json, "nonconverged"), mean = json_number(json, "mean_steps");
+    assert_true(json_number(json, "primary_rays") == primary);
+    assert_true(rays >= primary && rays <= 2 * primary);
+    assert_true(hit > 0.0 && hit <= 1.0 && nc >= 0.0 && nc <= 1.0 && hit + nc <= 1.0);
+    assert_true(mean >= 1.0 && fabs(mean * primary - json_number(json, "steps")) < 1.0);
+    assert_true(json_number(json, "mean_fallbacks") >= 0.0 && json_number(json, "ms") >= 0.0);
+
+    /* The same counts with one thread. */
+    char again[4096];
+    render_json("--scene temple --method relaxed --width 48 --height 27 --threads 1", again, sizeof again);
+    assert_true(json_number(again, "steps") == json_number(json, "steps"));
+    assert_true(json_number(again, "fallbacks") == json_number(json, "fallbacks"));
+
+    /* No shadows: one ray per pixel. Options override the defaults. */
+    render_json("--scene dodecahedron --no-shadows --width 20 --height 10 --method enhanced --eps 0.001 --max-steps 64 "
+                "--camera 0,2,9,0,0,0 --fov 50 --screen-space",
+                json, sizeof json);
+    assert_true(json_number(json, "rays") == 200);
+    assert_true(fabs(json_number(json, "omega") - 0.88) < 1e-6 && json_number(json, "max_steps") == 64);
+    assert_non_null(strstr(json, "\"screen_space\": true"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_help_lists_every_option),
+        cmocka_unit_test(test_scenes),
+        cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_json_report),
+    };
+    return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
+}
