@@ -167,9 +167,7 @@ static int parse_opts(int argc, char **argv, render_opts *o, char *msg, unsigned
 /* The checks that need all the options at once. */
 static int check_opts(const render_opts *o, char *msg, unsigned len)
 {
-    if (!o->scene)
-        snprintf(msg, len, "--scene is required (sdftrace scenes lists them)");
-    else if (!o->out)
+    if (!o->out)
         snprintf(msg, len, "-o OUT.exr is required");
     else if (o->width * o->height > MAX_PIXELS)
         snprintf(msg, len, "%ldx%ld is more than %ld pixels", o->width, o->height, MAX_PIXELS);
@@ -181,10 +179,14 @@ static int check_opts(const render_opts *o, char *msg, unsigned len)
     return -1;
 }
 
-/* The field to render, with its default camera and light. The one place a
- * new kind of source (a grid file) comes in. */
+/* The field to render, with its default camera and light: the one place a
+ * new kind of source (a grid file) comes in, with its release in close_field. */
 static int open_field(const render_opts *o, render_source *src, char *msg, unsigned len)
 {
+    if (!o->scene) {
+        snprintf(msg, len, "--scene is required (sdftrace scenes lists them)");
+        return -1;
+    }
     const sdft_scene *scene = sdft_scene_find(o->scene);
     if (!scene) {
         snprintf(msg, len, "unknown scene '%s' (sdftrace scenes lists them)", o->scene);
