@@ -71,6 +71,6 @@ const sdft_scene sdft_scene_city = {
     .field = {.distance = city_distance,
               .bounds = {{-EXTENT - 0.02f, -0.12f, -EXTENT - 0.02f}, {EXTENT + 0.02f, TALLEST, EXTENT + 0.02f}},
               .feature_size = 1e-3f},
-    .camera = {.from = {1.0f, 1.7f, 76.0f}, .at = {1.0f, 2.4f, 0.0f}, .up = {0, 1, 0}, .fov_deg = 50.0f},
+    .camera = {.from = {1.0f, 4.2f, 79.0f}, .at = {1.0f, 2.0f, 0.0f}, .up = {0, 1, 0}, .fov_deg = 50.0f},
     .light = {60.0f, 120.0f, 90.0f},
 };

@@ -22,7 +22,7 @@ static float beads(sdft_vec3 p)
 {
     float a = sdft_sd_sphere(sdft_translate(p, sdft_v3(2.3f, 0.5f, 0.7f)), 0.5f);
     float b = sdft_sd_sphere(sdft_translate(p, sdft_v3(-2.0f, 0.35f, 1.1f)), 0.35f);
-    float c = sdft_sd_sphere(sdft_translate(p, sdft_v3(-1.3f, 0.7f, -2.2f)), 0.7f);
+    float c = sdft_sd_sphere(sdft_translate(p, sdft_v3(-2.6f, 0.7f, -1.5f)), 0.7f);
     return fminf(a, fminf(b, c));
 }
 
