@@ -100,6 +100,6 @@ const sdft_scene sdft_scene_temple = {
     .field = {.distance = temple_distance,
               .bounds = {{-14.02f, -1.42f, -18.02f}, {14.02f, RIDGE + 0.2f, 18.02f}},
               .feature_size = 1e-3f},
-    .camera = {.from = {11.0f, 3.5f, 21.0f}, .at = {0.0f, 2.2f, 0.0f}, .up = {0, 1, 0}, .fov_deg = 45.0f},
+    .camera = {.from = {12.0f, 3.0f, 24.0f}, .at = {0.0f, 2.0f, 0.0f}, .up = {0, 1, 0}, .fov_deg = 42.0f},
     .light = {20.0f, 30.0f, 25.0f},
 };

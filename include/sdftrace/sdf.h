@@ -172,7 +172,7 @@ static inline float sdft_repeat1(float x, float period)
 
 /* Infinite repetition with cells of size `period` (per axis; <= 0: none),
  * centred on multiples of it. Exact when the shape lies inside its cell and
- * is mirror-symmetric about the cell's mid-planes; otherwise use sdft_cell. */
+ * is mirror-symmetric about the cell's mid-planes; otherwise use sdft_cell_locate. */
 static inline sdft_vec3 sdft_op_repeat(sdft_vec3 p, sdft_vec3 period)
 {
     return sdft_v3(sdft_repeat1(p.x, period.x), sdft_repeat1(p.y, period.y), sdft_repeat1(p.z, period.z));
