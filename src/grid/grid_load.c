@@ -1,0 +1,453 @@
+/* sdftrace — NanoVDB grids in: `.nvdb` files and in-memory buffers, read in
+ * plain C. Every size and offset is checked against the bytes actually
+ * present before PNanoVDB.h follows it, so a corrupt or truncated input is
+ * an error with a reason, never a wild read. */
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "grid_internal.h"
+
+int grid_fail(char *msg, unsigned msg_len, int code, const char *fmt, ...)
+{
+    if (msg && msg_len) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(msg, msg_len, fmt, ap);
+        va_end(ap);
+    }
+    return code;
+}
+
+/* ---- what a grid holds ------------------------------------------------ */
+
+static int type_is_scalar(uint32_t type)
+{
+    return type == PNANOVDB_GRID_TYPE_FLOAT || type == PNANOVDB_GRID_TYPE_DOUBLE || type == PNANOVDB_GRID_TYPE_FP4 ||
+           type == PNANOVDB_GRID_TYPE_FP8 || type == PNANOVDB_GRID_TYPE_FP16 || type == PNANOVDB_GRID_TYPE_FPN;
+}
+
+static const char *type_name(uint32_t type)
+{
+    static const char *const names[PNANOVDB_GRID_TYPE_END] = {
+        "unknown", "float", "double", "int16", "int32", "int64", "vec3f", "vec3d", "mask", "half",
+        "uint32",  "bool",  "rgba8",  "fp4",   "fp8",   "fp16",  "fpN",   "vec4f", "vec4d", "index"};
+    return type < PNANOVDB_GRID_TYPE_END ? names[type] : "unknown";
+}
+
+static const char *class_name(uint32_t cls)
+{
+    static const char *const names[PNANOVDB_GRID_CLASS_END] = {
+        "unknown", "level set", "fog volume", "staggered", "point index", "point data", "topology", "voxel volume",
+        "index grid"};
+    return cls < PNANOVDB_GRID_CLASS_END ? names[cls] : "unknown";
+}
+
+/* ---- structural checks ------------------------------------------------- */
+
+typedef struct span {
+    uint64_t size; /* bytes of the grid */
+} span;
+
+static int fits(span s, uint64_t at, uint64_t len) { return at <= s.size && len <= s.size - at && (at & 3u) == 0; }
+
+/* Bytes of a leaf node: fixed part, plus the variable code table of FpN. */
+static uint64_t leaf_bytes(const sdft_grid *g, uint64_t at, span s)
+{
+    uint64_t fixed = PNANOVDB_GRID_TYPE_GET(g->type, leaf_size);
+    if (g->type != PNANOVDB_GRID_TYPE_FPN || !fits(s, at, fixed))
+        return fixed;
+    uint32_t flags = pnanovdb_read_uint32(g->buf, pnanovdb_address_offset64((pnanovdb_address_t){0}, at + PNANOVDB_LEAF_OFF_BBOX_DIF_AND_FLAGS)) >> 24u;
+    uint32_t log_bits = flags >> 5u;
+    if (log_bits > 4u)
+        return UINT64_MAX;
+    return fixed + (512u << log_bits) / 8u;
+}
+
+/* Walks root -> upper -> lower -> leaf and checks that every child lies
+ * wholly inside the grid's bytes. Linear in the node count. */
+static int check_tree(const sdft_grid *g, uint64_t root_at, char *msg, unsigned msg_len)
+{
+    const pnanovdb_grid_type_t t = g->type;
+    span s = {g->size};
+    uint32_t tiles = pnanovdb_root_get_tile_count(g->buf, g->root);
+    uint64_t tile_size = PNANOVDB_GRID_TYPE_GET(t, root_tile_size);
+    uint64_t root_size = PNANOVDB_GRID_TYPE_GET(t, root_size);
+    if (!fits(s, root_at, root_size + (uint64_t)tiles * tile_size))
+        return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "grid '%s' is corrupt: root table runs past the grid", g->name);
+    uint64_t upper_size = PNANOVDB_GRID_TYPE_GET(t, upper_size), lower_size = PNANOVDB_GRID_TYPE_GET(t, lower_size);
+    for (uint32_t i = 0; i < tiles; i++) {
+        pnanovdb_root_tile_handle_t tile = pnanovdb_root_get_tile(t, g->root, i);
+        int64_t child = pnanovdb_root_tile_get_child(g->buf, tile);
+        if (child == 0)
+            continue;
+        uint64_t up = root_at + (uint64_t)child;
+        if (child < 0 || !fits(s, up, upper_size))
+            return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "grid '%s' is corrupt: upper node outside the grid", g->name);
+        pnanovdb_upper_handle_t upper = {{up}};
+        for (uint32_t n = 0; n < 32768u; n++) {
+            if (!pnanovdb_upper_get_child_mask(g->buf, upper, n))
+                continue;
+            int64_t off = pnanovdb_upper_get_table_child(t, g->buf, upper, n);
+            uint64_t lo = up + (uint64_t)off;
+            if (off <= 0 || !fits(s, lo, lower_size))
+                return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "grid '%s' is corrupt: lower node outside the grid", g->name);
+            pnanovdb_lower_handle_t lower = {{lo}};
+            for (uint32_t m = 0; m < 4096u; m++) {
+                if (!pnanovdb_lower_get_child_mask(g->buf, lower, m))
+                    continue;
+                int64_t loff = pnanovdb_lower_get_table_child(t, g->buf, lower, m);
+                uint64_t leaf = lo + (uint64_t)loff;
+                if (loff <= 0 || !fits(s, leaf, leaf_bytes(g, leaf, s)))
+                    return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "grid '%s' is corrupt: leaf node outside the grid", g->name);
+            }
+        }
+    }
+    return SDFT_GRID_OK;
+}
+
+/* Gershgorin: the largest eigenvalue of A^T A is at most its largest
+ * absolute row sum, so sqrt of that bounds the spectral norm of A from
+ * above (exactly, for a diagonal A). */
+static float spectral_bound(const double a[9])
+{
+    double m[9], worst = 0;
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++)
+            m[3 * r + c] = a[r] * a[c] + a[3 + r] * a[3 + c] + a[6 + r] * a[6 + c];
+    for (int r = 0; r < 3; r++)
+        worst = fmax(worst, fabs(m[3 * r]) + fabs(m[3 * r + 1]) + fabs(m[3 * r + 2]));
+    return (float)sqrt(worst);
+}
+
+int grid_init(sdft_grid *g, char *msg, unsigned msg_len)
+{
+    g->buf = pnanovdb_make_buf(g->words, g->size / 4);
+    g->grid.address.byte_offset = 0;
+    if (g->size < PNANOVDB_GRID_SIZE + PNANOVDB_TREE_SIZE)
+        return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "not a NanoVDB grid: only %zu bytes", g->size);
+    if (pnanovdb_grid_get_magic(g->buf, g->grid) != PNANOVDB_MAGIC_NUMBER)
+        return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "not a NanoVDB grid: bad magic number");
+    uint32_t major = pnanovdb_grid_get_version(g->buf, g->grid) >> 21u;
+    if (major != PNANOVDB_MAJOR_VERSION_NUMBER)
+        return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "NanoVDB grid version %u, this build reads version %u", major,
+                         PNANOVDB_MAJOR_VERSION_NUMBER);
+    memcpy(g->name, (const char *)g->words + PNANOVDB_GRID_OFF_GRID_NAME, sizeof g->name - 1);
+    g->name[sizeof g->name - 1] = '\0';
+    uint64_t grid_size = pnanovdb_grid_get_grid_size(g->buf, g->grid);
+    if (grid_size > g->size || grid_size < PNANOVDB_GRID_SIZE + PNANOVDB_TREE_SIZE)
+        return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "grid '%s' is truncated: %llu of %llu bytes", g->name,
+                         (unsigned long long)g->size, (unsigned long long)grid_size);
+    g->size = grid_size;
+    g->buf = pnanovdb_make_buf(g->words, g->size / 4);
+    g->type = pnanovdb_grid_get_grid_type(g->buf, g->grid);
+    g->grid_class = pnanovdb_grid_get_grid_class(g->buf, g->grid);
+    if (!type_is_scalar(g->type))
+        return grid_fail(msg, msg_len, SDFT_GRID_ENOTSCALAR, "grid '%s' holds %s values, not scalar distances", g->name,
+                         type_name(g->type));
+
+    pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
+    uint64_t root_at = PNANOVDB_GRID_SIZE + pnanovdb_tree_get_node_offset_root(g->buf, tree);
+    if (!fits((span){g->size}, root_at, PNANOVDB_GRID_TYPE_GET(g->type, root_size)))
+        return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "grid '%s' is corrupt: root node outside the grid", g->name);
+    g->root = pnanovdb_tree_get_root(g->buf, tree);
+    int rc = check_tree(g, root_at, msg, msg_len);
+    if (rc)
+        return rc;
+    if (pnanovdb_tree_get_voxel_count(g->buf, tree) == 0)
+        return grid_fail(msg, msg_len, SDFT_GRID_EEMPTY, "grid '%s' is empty: no active voxels", g->name);
+
+    /* The transform, in floats for the sampler. */
+    pnanovdb_map_handle_t map = pnanovdb_grid_get_map(g->buf, g->grid);
+    double mat[9], inv[9];
+    for (int i = 0; i < 9; i++) {
+        mat[i] = pnanovdb_map_get_matd(g->buf, map, (uint32_t)i);
+        inv[i] = pnanovdb_map_get_invmatd(g->buf, map, (uint32_t)i);
+        g->i2w[i] = (float)mat[i];
+        g->w2i[i] = (float)inv[i];
+    }
+    for (int k = 0; k < 3; k++) {
+        double v = pnanovdb_map_get_vecd(g->buf, map, (uint32_t)k);
+        g->i2w_t[k] = (float)v;
+        g->w2i_t[k] = (float)-(inv[3 * k] * pnanovdb_map_get_vecd(g->buf, map, 0) +
+                               inv[3 * k + 1] * pnanovdb_map_get_vecd(g->buf, map, 1) +
+                               inv[3 * k + 2] * pnanovdb_map_get_vecd(g->buf, map, 2));
+    }
+    g->sigma_max = spectral_bound(mat);
+    float inv_norm = spectral_bound(inv);
+    g->sigma_min = inv_norm > 0 ? 1.0f / inv_norm : 0.0f;
+    if (!(g->sigma_min > 0) || !isfinite(g->sigma_max) || !isfinite(g->sigma_min))
+        return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "grid '%s' has a singular transform", g->name);
+    g->voxel_size = sdft_v3((float)pnanovdb_grid_get_voxel_size(g->buf, g->grid, 0),
+                            (float)pnanovdb_grid_get_voxel_size(g->buf, g->grid, 1),
+                            (float)pnanovdb_grid_get_voxel_size(g->buf, g->grid, 2));
+
+    pnanovdb_address_t bg = pnanovdb_address_offset(g->root.address, PNANOVDB_GRID_TYPE_GET(g->type, root_off_background));
+    g->background = g->type == PNANOVDB_GRID_TYPE_DOUBLE ? (float)pnanovdb_read_double(g->buf, bg) : pnanovdb_read_float(g->buf, bg);
+
+    pnanovdb_coord_t lo = pnanovdb_root_get_bbox_min(g->buf, g->root), hi = pnanovdb_root_get_bbox_max(g->buf, g->root);
+    g->ilo[0] = lo.x, g->ilo[1] = lo.y, g->ilo[2] = lo.z;
+    g->ihi[0] = hi.x, g->ihi[1] = hi.y, g->ihi[2] = hi.z;
+    if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z)
+        return grid_fail(msg, msg_len, SDFT_GRID_EEMPTY, "grid '%s' is empty: no active bounding box", g->name);
+    /* World box of the active cells [lo - 1/2, hi + 1/2]: the corners' hull. */
+    sdft_vec3 wlo = sdft_v3(INFINITY, INFINITY, INFINITY), whi = sdft_scale(wlo, -1.0f);
+    for (int c = 0; c < 8; c++) {
+        float x[3] = {(c & 1) ? hi.x + 0.5f : lo.x - 0.5f, (c & 2) ? hi.y + 0.5f : lo.y - 0.5f,
+                      (c & 4) ? hi.z + 0.5f : lo.z - 0.5f};
+        sdft_vec3 w;
+        w.x = g->i2w[0] * x[0] + g->i2w[1] * x[1] + g->i2w[2] * x[2] + g->i2w_t[0];
+        w.y = g->i2w[3] * x[0] + g->i2w[4] * x[1] + g->i2w[5] * x[2] + g->i2w_t[1];
+        w.z = g->i2w[6] * x[0] + g->i2w[7] * x[1] + g->i2w[8] * x[2] + g->i2w_t[2];
+        wlo = sdft_min_v(wlo, w), whi = sdft_max_v(whi, w);
+    }
+    g->bounds = (sdft_aabb){wlo, whi};
+    return SDFT_GRID_OK;
+}
+
+/* ---- choosing a grid --------------------------------------------------- */
+
+typedef struct grid_entry {
+    uint64_t offset, size; /* where its bytes start in the source, how many */
+    uint32_t type, grid_class;
+    char name[256];
+} grid_entry;
+
+/* By name, else the first scalar level set, else the first scalar grid. */
+static int choose(const grid_entry *e, size_t n, const char *name, const char *what, size_t *pick, char *msg,
+                  unsigned msg_len)
+{
+    if (n == 0)
+        return grid_fail(msg, msg_len, SDFT_GRID_ENOTFOUND, "%s holds no grids", what);
+    if (name) {
+        for (size_t i = 0; i < n; i++)
+            if (strcmp(e[i].name, name) == 0) {
+                *pick = i;
+                return SDFT_GRID_OK;
+            }
+        return grid_fail(msg, msg_len, SDFT_GRID_ENOTFOUND, "%s has no grid named '%s'", what, name);
+    }
+    for (int pass = 0; pass < 2; pass++)
+        for (size_t i = 0; i < n; i++)
+            if (type_is_scalar(e[i].type) && (pass == 1 || e[i].grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET)) {
+                *pick = i;
+                return SDFT_GRID_OK;
+            }
+    return grid_fail(msg, msg_len, SDFT_GRID_ENOTSCALAR, "%s holds no scalar grid (first grid '%s' is %s)", what,
+                     e[0].name, type_name(e[0].type));
+}
+
+static sdft_grid *grid_alloc(uint64_t size)
+{
+    sdft_grid *g = calloc(1, sizeof *g);
+    if (!g)
+        return NULL;
+    size_t padded = (size_t)((size + 31u) & ~(uint64_t)31u);
+    g->words = padded ? aligned_alloc(32, padded) : NULL;
+    if (!g->words) {
+        free(g);
+        return NULL;
+    }
+    memset((char *)g->words + size, 0, padded - size);
+    g->size = (size_t)size;
+    return g;
+}
+
+void sdft_grid_free(sdft_grid *g)
+{
+    if (g) {
+        free(g->words);
+        free(g);
+    }
+}
+
+static int finish(sdft_grid *g, sdft_grid **out, char *msg, unsigned msg_len)
+{
+    int rc = grid_init(g, msg, msg_len);
+    if (rc) {
+        sdft_grid_free(g);
+        return rc;
+    }
+    *out = g;
+    return SDFT_GRID_OK;
+}
+
+int sdft_grid_from_buffer(const void *data, size_t size, const char *name, sdft_grid **out, char *msg,
+                          unsigned msg_len)
+{
+    *out = NULL;
+    grid_entry entries[64];
+    size_t n = 0;
+    const unsigned char *bytes = data;
+    /* A GridHandle's buffer: grids back to back, each with its own size. */
+    for (uint64_t at = 0; at < size && n < 64;) {
+        if (size - at < PNANOVDB_GRID_SIZE)
+            return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "buffer is truncated: %zu bytes after grid %zu", (size_t)(size - at), n);
+        uint64_t magic, gsize;
+        uint32_t type, cls;
+        memcpy(&magic, bytes + at + PNANOVDB_GRID_OFF_MAGIC, 8);
+        memcpy(&gsize, bytes + at + PNANOVDB_GRID_OFF_GRID_SIZE, 8);
+        memcpy(&type, bytes + at + PNANOVDB_GRID_OFF_GRID_TYPE, 4);
+        memcpy(&cls, bytes + at + PNANOVDB_GRID_OFF_GRID_CLASS, 4);
+        if (magic != PNANOVDB_MAGIC_NUMBER)
+            return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "not a NanoVDB buffer: bad magic number");
+        if (gsize < PNANOVDB_GRID_SIZE || gsize > size - at)
+            return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "buffer is truncated: grid %zu needs %llu bytes", n,
+                             (unsigned long long)gsize);
+        entries[n] = (grid_entry){.offset = at, .size = gsize, .type = type, .grid_class = cls};
+        memcpy(entries[n].name, bytes + at + PNANOVDB_GRID_OFF_GRID_NAME, 255);
+        entries[n].name[255] = '\0';
+        n++;
+        at += gsize;
+    }
+    size_t pick;
+    int rc = choose(entries, n, name, "buffer", &pick, msg, msg_len);
+    if (rc)
+        return rc;
+    sdft_grid *g = grid_alloc(entries[pick].size);
+    if (!g)
+        return grid_fail(msg, msg_len, SDFT_GRID_ENOMEM, "out of memory for a %llu-byte grid", (unsigned long long)entries[pick].size);
+    memcpy(g->words, bytes + entries[pick].offset, entries[pick].size);
+    return finish(g, out, msg, msg_len);
+}
+
+/* ---- .nvdb files --------------------------------------------------------
+ * As nanovdb/util/IO.h writes them: one or more segments, each
+ *   header   magic u64, version u32, grid count u16, codec u16   (16 bytes)
+ *   metadata per grid: 176 bytes (IO.h's MetaData) + its name
+ *   the grids' bytes, each `fileSize` long (== gridSize when uncompressed). */
+
+enum { NVDB_HEADER = 16, NVDB_META = 176 };
+
+static int read_exact(FILE *f, void *dst, size_t n) { return fread(dst, 1, n, f) == n; }
+
+int sdft_grid_load_nvdb(const char *path, const char *name, sdft_grid **out, char *msg, unsigned msg_len)
+{
+    *out = NULL;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return grid_fail(msg, msg_len, SDFT_GRID_EIO, "cannot open %s: %s", path, strerror(errno));
+    if (fseek(f, 0, SEEK_END) != 0) {
+        fclose(f);
+        return grid_fail(msg, msg_len, SDFT_GRID_EIO, "cannot read %s: not a regular file", path);
+    }
+    long end = ftell(f);
+    rewind(f);
+    grid_entry entries[64];
+    size_t n = 0;
+    int rc = SDFT_GRID_OK;
+    uint64_t at = 0;
+    while (at < (uint64_t)end && !rc) {
+        unsigned char head[NVDB_HEADER];
+        uint64_t magic;
+        uint32_t version;
+        uint16_t count, codec;
+        if (!read_exact(f, head, sizeof head)) {
+            rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s is truncated: incomplete segment header", path);
+            break;
+        }
+        memcpy(&magic, head, 8), memcpy(&version, head + 8, 4), memcpy(&count, head + 12, 2), memcpy(&codec, head + 14, 2);
+        if (magic != PNANOVDB_MAGIC_NUMBER) {
+            rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s is not a NanoVDB file (bad magic number)", path);
+            break;
+        }
+        if (version >> 21u != PNANOVDB_MAJOR_VERSION_NUMBER) {
+            rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s is NanoVDB version %u; this build reads %u", path,
+                           version >> 21u, PNANOVDB_MAJOR_VERSION_NUMBER);
+            break;
+        }
+        if (codec != 0) {
+            rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s is compressed (codec %u); write it uncompressed", path, codec);
+            break;
+        }
+        at += NVDB_HEADER;
+        size_t first = n;
+        for (uint16_t i = 0; i < count && !rc; i++) {
+            unsigned char meta[NVDB_META];
+            uint32_t name_size;
+            if (n == 64) {
+                rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s holds more than 64 grids", path);
+                break;
+            }
+            if (!read_exact(f, meta, sizeof meta)) {
+                rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s is truncated: incomplete grid metadata", path);
+                break;
+            }
+            grid_entry *e = &entries[n];
+            memset(e, 0, sizeof *e);
+            uint64_t file_size;
+            memcpy(&e->size, meta, 8), memcpy(&file_size, meta + 8, 8);
+            memcpy(&e->type, meta + 32, 4), memcpy(&e->grid_class, meta + 36, 4);
+            memcpy(&name_size, meta + 136, 4);
+            if (file_size != e->size || name_size == 0 || name_size > 1u << 20) {
+                rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s is corrupt: bad sizes in grid metadata", path);
+                break;
+            }
+            char tmp[256];
+            size_t keep = name_size < sizeof tmp ? name_size : sizeof tmp;
+            if (!read_exact(f, tmp, keep) || fseek(f, (long)(name_size - keep), SEEK_CUR) != 0) {
+                rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s is truncated: incomplete grid name", path);
+                break;
+            }
+            tmp[keep - 1] = '\0';
+            memcpy(e->name, tmp, keep);
+            at += NVDB_META + name_size;
+            n++;
+        }
+        for (size_t i = first; i < n && !rc; i++) {
+            entries[i].offset = at;
+            if (entries[i].size > (uint64_t)end - at)
+                rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s is truncated: grid '%s' needs %llu bytes, %llu left",
+                               path, entries[i].name, (unsigned long long)entries[i].size,
+                               (unsigned long long)((uint64_t)end - at));
+            at += entries[i].size;
+        }
+        if (!rc && fseek(f, (long)at, SEEK_SET) != 0)
+            rc = grid_fail(msg, msg_len, SDFT_GRID_EIO, "cannot seek in %s", path);
+    }
+    size_t pick = 0;
+    if (!rc)
+        rc = choose(entries, n, name, path, &pick, msg, msg_len);
+    sdft_grid *g = NULL;
+    if (!rc && !(g = grid_alloc(entries[pick].size)))
+        rc = grid_fail(msg, msg_len, SDFT_GRID_ENOMEM, "out of memory for a %llu-byte grid", (unsigned long long)entries[pick].size);
+    if (!rc && (fseek(f, (long)entries[pick].offset, SEEK_SET) != 0 || !read_exact(f, g->words, g->size)))
+        rc = grid_fail(msg, msg_len, SDFT_GRID_EIO, "cannot read grid '%s' from %s", entries[pick].name, path);
+    fclose(f);
+    if (rc) {
+        sdft_grid_free(g);
+        return rc;
+    }
+    return finish(g, out, msg, msg_len);
+}
+
+/* ---- queries ------------------------------------------------------------ */
+
+const char *sdft_grid_name(const sdft_grid *g) { return g->name; }
+const char *sdft_grid_type_name(const sdft_grid *g) { return type_name(g->type); }
+const char *sdft_grid_class_name(const sdft_grid *g) { return class_name(g->grid_class); }
+int sdft_grid_is_level_set(const sdft_grid *g) { return g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET; }
+sdft_vec3 sdft_grid_voxel_size(const sdft_grid *g) { return g->voxel_size; }
+float sdft_grid_background(const sdft_grid *g) { return g->background; }
+sdft_aabb sdft_grid_world_bounds(const sdft_grid *g) { return g->bounds; }
+
+uint64_t sdft_grid_active_voxels(const sdft_grid *g)
+{
+    return pnanovdb_tree_get_voxel_count(g->buf, pnanovdb_grid_get_tree(g->buf, g->grid));
+}
+
+void sdft_grid_index_bounds(const sdft_grid *g, int32_t lo[3], int32_t hi[3])
+{
+    memcpy(lo, g->ilo, sizeof g->ilo);
+    memcpy(hi, g->ihi, sizeof g->ihi);
+}
+
+const void *sdft_grid_data(const sdft_grid *g, size_t *size)
+{
+    if (size)
+        *size = g->size;
+    return g->words;
+}

@@ -1,0 +1,201 @@
+/* sdftrace — a NanoVDB grid as a field: trilinear sampling in index space
+ * through the grid's transform, one read accessor per thread (kept in the
+ * caller's sdft_scratch), normals from the grid's gradient, and beyond the
+ * narrow band a lower bound on the distance taken from the tree itself.
+ *
+ * THE TREE BOUND. An OpenVDB/NanoVDB level set stores distances only in a
+ * narrow band; a tile (an 8^3, 128^3 or 4096^3 block the tree keeps as one
+ * value) and the region outside every root tile hold one value v, which for a
+ * level set is +-background. The level-set convention, which our bake
+ * guarantees (src/vdb/bake.cpp), is that each voxel centre c covered by such
+ * a value has a true distance |s(c)| >= |v| (background is the band's
+ * half-width: every voxel nearer the surface than that is stored in a leaf).
+ * Let B be the box spanned by those centres, [a, a + D - 1]^3 in index space,
+ * and x any point, in index units.
+ *   1. Every point y of B is within sqrt(3)/2 index units of a centre of B
+ *      (round each coordinate), so |s(y)| >= |v| - s_max sqrt(3)/2 where
+ *      s_max bounds the world length of a unit index step (the transform's
+ *      largest singular value). The surface therefore avoids the set
+ *      B (+) {world ball of radius r0 = |v| - s_max sqrt(3)/2}.
+ *   2. If x lies in B at index depth h >= 0 from B's faces, the index ball of
+ *      radius h around x lies in B, and its image contains the world ball of
+ *      radius s_min h (s_min: the smallest singular value). So the surface is
+ *      at least s_min h + r0 away from x.
+ *   3. If x lies outside B at index distance e, its nearest point y of B is
+ *      at most s_max e away in world units, so |s(x)| >= r0 - s_max e.
+ * Hence |s(x)| >= |v| - s_max sqrt(3)/2 + (h >= 0 ? s_min h : s_max h), with
+ * h the signed depth of x in B, and the sign of v gives the side. We look up
+ * the node holding the voxel nearest x, so e <= sqrt(3)/2 and the bound is at
+ * least |v| - s_max sqrt(3) (1.27 voxels for the default 3-voxel band); when
+ * a thin band makes it smaller than half a voxel we fall back to trilinear.
+ * s_min and s_max are exact for a uniform scale and conservative otherwise
+ * (grid_load.c). The bound grows with the depth inside the node, so one
+ * step crosses most of an empty 128^3 tile instead of 3 voxels at a time.
+ *
+ * Inside leaves the field is the trilinear interpolant of the stored values
+ * (inactive voxels hold +-background): the discrete SDF the papers trace. */
+#include <math.h>
+
+#include "grid_internal.h"
+
+_Static_assert(sizeof(pnanovdb_readaccessor_t) <= SDFT_SCRATCH_BYTES, "a read accessor must fit a thread's scratch");
+
+static inline pnanovdb_readaccessor_t *accessor(sdft_scratch *s) { return (pnanovdb_readaccessor_t *)(void *)s->bytes; }
+
+static void grid_scratch_init(const void *ctx, sdft_scratch *s)
+{
+    const sdft_grid *g = ctx;
+    pnanovdb_readaccessor_init(accessor(s), g->root);
+}
+
+/* The stored value at voxel ijk and the tree level it came from
+ * (0 leaf, 1 lower-node tile, 2 upper-node tile, 3 root tile, 4 background). */
+static inline float read_value(const sdft_grid *g, pnanovdb_readaccessor_t *acc, pnanovdb_coord_t ijk, uint32_t *level)
+{
+    pnanovdb_address_t a = pnanovdb_readaccessor_get_value_address_and_level(g->type, g->buf, acc, &ijk, level);
+    switch (g->type) {
+    case PNANOVDB_GRID_TYPE_FLOAT: return pnanovdb_read_float(g->buf, a);
+    case PNANOVDB_GRID_TYPE_DOUBLE: return (float)pnanovdb_read_double(g->buf, a);
+    case PNANOVDB_GRID_TYPE_FP16: return pnanovdb_root_fp16_read_float(g->buf, a, &ijk, *level);
+    case PNANOVDB_GRID_TYPE_FP8: return pnanovdb_root_fp8_read_float(g->buf, a, &ijk, *level);
+    case PNANOVDB_GRID_TYPE_FP4: return pnanovdb_root_fp4_read_float(g->buf, a, &ijk, *level);
+    default: return pnanovdb_root_fpn_read_float(g->buf, a, &ijk, *level);
+    }
+}
+
+static inline void to_index(const sdft_grid *g, sdft_vec3 p, float x[3])
+{
+    const float *m = g->w2i;
+    x[0] = m[0] * p.x + m[1] * p.y + m[2] * p.z + g->w2i_t[0];
+    x[1] = m[3] * p.x + m[4] * p.y + m[5] * p.z + g->w2i_t[1];
+    x[2] = m[6] * p.x + m[7] * p.y + m[8] * p.z + g->w2i_t[2];
+}
+
+/* The bound of the comment above for the node of `level` holding voxel c,
+ * whose value is v; world units. */
+static float tree_bound(const sdft_grid *g, const float x[3], pnanovdb_coord_t c, uint32_t level, float v)
+{
+    static const int log2_dim[5] = {0, 3, 7, 12, 12};
+    const int32_t dim = 1 << log2_dim[level];
+    const int32_t cc[3] = {c.x, c.y, c.z};
+    float depth = INFINITY, out2 = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        float lo = (float)(cc[k] & ~(dim - 1)), hi = lo + (float)(dim - 1);
+        float inside = fminf(x[k] - lo, hi - x[k]);
+        depth = fminf(depth, inside);
+        if (inside < 0.0f)
+            out2 += inside * inside;
+    }
+    float h = depth >= 0.0f ? g->sigma_min * depth : -g->sigma_max * sqrtf(out2);
+    return fabsf(v) - g->sigma_max * 0.8660254f + h;
+}
+
+static inline float lerp(float a, float b, float t) { return a + (b - a) * t; }
+
+/* The field at index point x: trilinear in leaves, the tree bound in tiles. */
+static float sample_index(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const float x[3], int *level_out)
+{
+    const float fx = floorf(x[0]), fy = floorf(x[1]), fz = floorf(x[2]);
+    if (!(fabsf(fx) < 1e9f && fabsf(fy) < 1e9f && fabsf(fz) < 1e9f)) { /* NaN or absurdly far: background */
+        if (level_out)
+            *level_out = 4;
+        return g->background;
+    }
+    const pnanovdb_coord_t i0 = {(int32_t)fx, (int32_t)fy, (int32_t)fz};
+    const float tx = x[0] - fx, ty = x[1] - fy, tz = x[2] - fz;
+    /* The voxel nearest x is the cell corner on x's side of each midpoint. */
+    const int near = (tx >= 0.5f) | (ty >= 0.5f) << 1 | (tz >= 0.5f) << 2;
+    const pnanovdb_coord_t c = {i0.x + (near & 1), i0.y + (near >> 1 & 1), i0.z + (near >> 2 & 1)};
+    uint32_t level;
+    float v[8];
+    v[near] = read_value(g, acc, c, &level);
+    if (level > 0) {
+        float b = tree_bound(g, x, c, level, v[near]);
+        if (b > 0.5f * g->sigma_min) {
+            if (level_out)
+                *level_out = (int)level;
+            return copysignf(b, v[near]);
+        }
+    }
+    for (int k = 0; k < 8; k++) {
+        if (k == near)
+            continue;
+        uint32_t lk;
+        v[k] = read_value(g, acc, (pnanovdb_coord_t){i0.x + (k & 1), i0.y + (k >> 1 & 1), i0.z + (k >> 2 & 1)}, &lk);
+    }
+    if (level_out)
+        *level_out = 0;
+    float x00 = lerp(v[0], v[1], tx), x10 = lerp(v[2], v[3], tx);
+    float x01 = lerp(v[4], v[5], tx), x11 = lerp(v[6], v[7], tx);
+    return lerp(lerp(x00, x10, ty), lerp(x01, x11, ty), tz);
+}
+
+float sdft_grid_sample(const sdft_grid *g, sdft_scratch *s, sdft_vec3 p, int *level)
+{
+    float x[3];
+    to_index(g, p, x);
+    return sample_index(g, accessor(s), x, level);
+}
+
+static float grid_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    const sdft_grid *g = ctx;
+    float x[3];
+    to_index(g, p, x);
+    return sample_index(g, accessor(s), x, NULL);
+}
+
+/* The gradient by central differences one voxel apart in index space,
+ * taken to world space by the inverse transform's transpose. */
+static sdft_vec3 grid_normal(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    const sdft_grid *g = ctx;
+    pnanovdb_readaccessor_t *acc = accessor(s);
+    float x[3], d[3];
+    to_index(g, p, x);
+    for (int k = 0; k < 3; k++) {
+        float a[3] = {x[0], x[1], x[2]}, b[3] = {x[0], x[1], x[2]};
+        a[k] += 1.0f, b[k] -= 1.0f;
+        d[k] = sample_index(g, acc, a, NULL) - sample_index(g, acc, b, NULL);
+    }
+    const float *m = g->w2i;
+    sdft_vec3 n = sdft_v3(m[0] * d[0] + m[3] * d[1] + m[6] * d[2], m[1] * d[0] + m[4] * d[1] + m[7] * d[2],
+                          m[2] * d[0] + m[5] * d[1] + m[8] * d[2]);
+    return sdft_normalize(n);
+}
+
+sdft_field sdft_grid_field(const sdft_grid *g)
+{
+    sdft_vec3 vs = g->voxel_size;
+    return (sdft_field){
+        .distance = grid_distance,
+        .normal = grid_normal,
+        .scratch_init = grid_scratch_init,
+        .ctx = g,
+        .bounds = g->bounds,
+        .feature_size = fminf(vs.x, fminf(vs.y, vs.z)),
+    };
+}
+
+float sdft_grid_voxel(const sdft_grid *g, int32_t i, int32_t j, int32_t k, int *active)
+{
+    pnanovdb_readaccessor_t acc;
+    pnanovdb_readaccessor_init(&acc, g->root);
+    pnanovdb_coord_t ijk = {i, j, k};
+    uint32_t level;
+    float v = read_value(g, &acc, ijk, &level);
+    if (active) {
+        switch (level) {
+        case 0: *active = pnanovdb_leaf_get_value_mask(g->buf, acc.leaf, pnanovdb_leaf_coord_to_offset(&ijk)); break;
+        case 1: *active = pnanovdb_lower_get_value_mask(g->buf, acc.lower, pnanovdb_lower_coord_to_offset(&ijk)); break;
+        case 2: *active = pnanovdb_upper_get_value_mask(g->buf, acc.upper, pnanovdb_upper_coord_to_offset(&ijk)); break;
+        case 3: {
+            pnanovdb_root_tile_handle_t t = pnanovdb_root_find_tile(g->type, g->buf, g->root, &ijk);
+            *active = (int)pnanovdb_root_tile_get_state(g->buf, t);
+            break;
+        }
+        default: *active = 0;
+        }
+    }
+    return v;
+}

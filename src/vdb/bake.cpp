@@ -1,0 +1,314 @@
+// sdftrace — baking a field into an OpenVDB level set.
+//
+// The grid has cubic voxels over the field's bounding box, `res` voxels on
+// its longest edge, voxel (i, j, k) centred at lo + (i + 1/2, j + 1/2, k + 1/2) h.
+// A narrow-band bake never visits all res^3 voxels: it walks the tree's own
+// blocks top down (128^3 blocks, the upper nodes' tiles, then 8^3 blocks, the
+// leaves) and evaluates the field once at a block's centre c. Every voxel
+// centre of the block lies within its half-diagonal r = sqrt(3) (D - 1) h / 2
+// of c, and the field is a distance bound (1-Lipschitz), so when
+// |f(c)| > r + band every voxel of the block is farther than the band from
+// the surface: the block becomes one inactive tile, +-background by the sign
+// of f(c) (only inside tiles are stored; outside is the background). This is
+// exactly the invariant the tracer's tree bound relies on (src/grid/grid_sample.c):
+// every voxel a tile covers has |s| >= |tile value|. Leaves that survive are
+// evaluated voxel by voxel: |f| < band active with f, else inactive +-band.
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <nanovdb/util/IO.h>
+#include <nanovdb/util/OpenToNanoVDB.h>
+#include <openvdb/openvdb.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "vdb.h"
+#include "vdb_internal.h"
+
+using sdft_vdb::fail;
+using LeafT = openvdb::FloatTree::LeafNodeType;
+
+namespace {
+
+struct Tile {
+    openvdb::Coord origin;
+    openvdb::Index level; // 1: 8^3 (in a lower node), 2: 128^3 (in an upper node)
+    float value;
+};
+
+struct Baker {
+    const sdft_field *f;
+    sdft_vec3 lo;
+    float h, band; // voxel size and band half-width, world units
+    int n[3];
+    bool full;
+
+    std::atomic<uint64_t> evaluations{0};
+
+    openvdb::Vec3f centre(const openvdb::Coord &ijk) const
+    {
+        return {lo.x + (ijk.x() + 0.5f) * h, lo.y + (ijk.y() + 0.5f) * h, lo.z + (ijk.z() + 0.5f) * h};
+    }
+
+    float eval(sdft_scratch *s, float x, float y, float z) const { return f->distance(f->ctx, s, sdft_v3(x, y, z)); }
+
+    bool in_domain(const openvdb::Coord &o) const { return o.x() < n[0] && o.y() < n[1] && o.z() < n[2]; }
+
+    // Value at a block of dim D at `o` when the whole block is farther than
+    // the band from the surface; 0 when it must be subdivided.
+    float skip_value(sdft_scratch *s, const openvdb::Coord &o, int dim) const
+    {
+        const float half = 0.5f * float(dim - 1);
+        float v = eval(s, lo.x + (o.x() + half + 0.5f) * h, lo.y + (o.y() + half + 0.5f) * h,
+                       lo.z + (o.z() + half + 0.5f) * h);
+        return std::fabs(v) > 1.7320508f * half * h + band ? std::copysign(band, v) : 0.0f;
+    }
+
+    // All 512 voxels of the leaf at o; nullptr (and maybe a tile) when none
+    // is active and all share a sign.
+    LeafT *leaf(sdft_scratch *s, const openvdb::Coord &o, std::vector<Tile> &tiles) const
+    {
+        auto *leaf = new LeafT(o, band, false);
+        int active = 0, neg = 0;
+        for (openvdb::Index i = 0; i < LeafT::SIZE; i++) {
+            const openvdb::Coord ijk = leaf->offsetToGlobalCoord(i);
+            const openvdb::Vec3f p = centre(ijk);
+            const float v = eval(s, p.x(), p.y(), p.z());
+            neg += v < 0.0f;
+            if (in_domain(ijk) && (full || std::fabs(v) < band)) {
+                leaf->setValueOn(i, v);
+                active++;
+            } else {
+                leaf->setValueOff(i, std::copysign(band, v));
+            }
+        }
+        if (active == 0 && (neg == 0 || neg == int(LeafT::SIZE))) {
+            if (neg)
+                tiles.push_back({o, 1, -band});
+            delete leaf;
+            return nullptr;
+        }
+        return leaf;
+    }
+};
+
+struct Progress {
+    bool on;
+    std::atomic<uint64_t> done{0};
+    std::atomic<int> shown{-1};
+    uint64_t total = 1;
+    const char *what = "bake";
+    void step()
+    {
+        if (!on)
+            return;
+        int pct = int(100 * (done.fetch_add(1) + 1) / total);
+        int old = shown.load();
+        if (pct > old && shown.compare_exchange_strong(old, pct))
+            std::fprintf(stderr, "\r%s: %3d%%", what, pct);
+    }
+    void finish()
+    {
+        if (on)
+            std::fprintf(stderr, "\r%s: done\n", what);
+    }
+};
+
+int write_file(openvdb::FloatGrid::Ptr grid, const sdft_bake_params *p, const char *path, char *msg, unsigned msg_len)
+{
+    const char *dot = std::strrchr(path, '.');
+    const bool nvdb = dot && std::strcmp(dot, ".nvdb") == 0;
+    std::string tmp = std::string(path) + ".tmp-XXXXXX";
+    int fd = mkstemp(&tmp[0]);
+    if (fd < 0)
+        return fail(msg, msg_len, SDFT_GRID_EIO, std::string("cannot write ") + path + ": " + std::strerror(errno));
+    close(fd);
+    try {
+        if (nvdb) {
+            auto handle = p->fp16 ? nanovdb::openToNanoVDB<nanovdb::HostBuffer, openvdb::FloatTree, nanovdb::Fp16>(*grid)
+                                  : nanovdb::openToNanoVDB<nanovdb::HostBuffer, openvdb::FloatTree, float>(*grid);
+            nanovdb::io::writeGrid(tmp, handle);
+        } else {
+            grid->setSaveFloatAsHalf(p->fp16 != 0);
+            openvdb::io::File file(tmp);
+            file.write({grid});
+            file.close();
+        }
+    } catch (const std::exception &e) {
+        unlink(tmp.c_str());
+        return fail(msg, msg_len, SDFT_GRID_EIO, std::string("cannot write ") + path + ": " + e.what());
+    }
+    if (std::rename(tmp.c_str(), path) != 0) {
+        int err = errno;
+        unlink(tmp.c_str());
+        return fail(msg, msg_len, SDFT_GRID_EIO, std::string("cannot write ") + path + ": " + std::strerror(err));
+    }
+    return SDFT_GRID_OK;
+}
+
+} // namespace
+
+extern "C" sdft_bake_params sdft_bake_defaults(void)
+{
+    sdft_bake_params p;
+    std::memset(&p, 0, sizeof p);
+    p.res = 256;
+    p.band = 3.0f;
+    return p;
+}
+
+extern "C" int sdft_bake(const sdft_field *f, const sdft_bake_params *p, const char *path, sdft_grid **grid_out,
+                         sdft_bake_stats *stats, char *msg, unsigned msg_len)
+{
+    if (grid_out)
+        *grid_out = nullptr;
+    if (p->res < 1 || p->res > SDFT_BAKE_MAX_RES)
+        return fail(msg, msg_len, SDFT_GRID_EFORMAT,
+                    "resolution must be in 1.." + std::to_string(SDFT_BAKE_MAX_RES) + ", got " + std::to_string(p->res));
+    if (!p->full && !(p->band > 0.0f && p->band <= 1000.0f))
+        return fail(msg, msg_len, SDFT_GRID_EFORMAT, "band must be a number of voxels in (0, 1000]");
+    if (path) {
+        const char *dot = std::strrchr(path, '.');
+        if (!dot || (std::strcmp(dot, ".vdb") != 0 && std::strcmp(dot, ".nvdb") != 0))
+            return fail(msg, msg_len, SDFT_GRID_EFORMAT, std::string(path) + ": output must end in .vdb or .nvdb");
+    }
+    const sdft_aabb b = f->bounds;
+    const sdft_vec3 ext = sdft_sub(b.hi, b.lo);
+    const float longest = sdft_maxcomp(ext);
+    if (!sdft_isfinite3(ext) || !(longest > 0.0f))
+        return fail(msg, msg_len, SDFT_GRID_EFORMAT, "the field's bounding box is empty or infinite");
+
+    const auto t0 = std::chrono::steady_clock::now();
+    Baker bk;
+    bk.f = f;
+    bk.lo = b.lo;
+    bk.h = longest / float(p->res);
+    bk.band = (p->full ? 3.0f : p->band) * bk.h;
+    bk.full = p->full != 0;
+    const float e[3] = {ext.x, ext.y, ext.z};
+    for (int k = 0; k < 3; k++)
+        bk.n[k] = std::clamp(int(std::ceil(e[k] / bk.h - 1e-3f)), 1, p->res);
+
+    // 1. Blocks of 128^3: tiles, or the 8^3 leaf blocks to evaluate.
+    const int nb[3] = {(bk.n[0] + 127) / 128, (bk.n[1] + 127) / 128, (bk.n[2] + 127) / 128};
+    const size_t blocks = size_t(nb[0]) * nb[1] * nb[2];
+    std::vector<std::vector<openvdb::Coord>> todo(blocks);
+    std::vector<std::vector<Tile>> tiles(blocks);
+    std::atomic<uint64_t> evals{0};
+
+    tbb::task_arena arena(p->threads > 0 ? p->threads : tbb::task_arena::automatic);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t> &r) {
+            sdft_scratch s;
+            sdft_scratch_init(f, &s);
+            uint64_t count = 0;
+            for (size_t bi = r.begin(); bi != r.end(); ++bi) {
+                const openvdb::Coord o(int(bi % nb[0]) * 128, int(bi / nb[0] % nb[1]) * 128, int(bi / nb[0] / nb[1]) * 128);
+                if (!bk.full) {
+                    count++;
+                    if (float v = bk.skip_value(&s, o, 128)) {
+                        if (v < 0.0f)
+                            tiles[bi].push_back({o, 2, v});
+                        continue;
+                    }
+                }
+                for (int z = 0; z < 128; z += 8)
+                    for (int y = 0; y < 128; y += 8)
+                        for (int x = 0; x < 128; x += 8) {
+                            const openvdb::Coord lo = o.offsetBy(x, y, z);
+                            if (!bk.in_domain(lo))
+                                continue;
+                            if (!bk.full) {
+                                count++;
+                                if (float v = bk.skip_value(&s, lo, 8)) {
+                                    if (v < 0.0f)
+                                        tiles[bi].push_back({lo, 1, v});
+                                    continue;
+                                }
+                            }
+                            todo[bi].push_back(lo);
+                        }
+            }
+            evals += count;
+        });
+    });
+    std::vector<openvdb::Coord> leaf_origins;
+    for (auto &t : todo) {
+        leaf_origins.insert(leaf_origins.end(), t.begin(), t.end());
+        std::vector<openvdb::Coord>().swap(t);
+    }
+
+    // 2. The leaves, voxel by voxel.
+    Progress progress;
+    progress.on = p->progress && isatty(2);
+    progress.total = std::max<uint64_t>(1, leaf_origins.size());
+    std::vector<LeafT *> leaves(leaf_origins.size(), nullptr);
+    std::mutex tiles_mutex;
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, leaf_origins.size(), 64), [&](const tbb::blocked_range<size_t> &r) {
+            sdft_scratch s;
+            sdft_scratch_init(f, &s);
+            std::vector<Tile> local;
+            for (size_t i = r.begin(); i != r.end(); ++i) {
+                leaves[i] = bk.leaf(&s, leaf_origins[i], local);
+                progress.step();
+            }
+            evals += uint64_t(r.size()) * LeafT::SIZE;
+            if (!local.empty()) {
+                std::lock_guard<std::mutex> lock(tiles_mutex);
+                tiles.push_back(std::move(local));
+            }
+        });
+    });
+    progress.finish();
+
+    // 3. The tree: inside tiles, then the leaves (the tree takes them).
+    openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(bk.band);
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(bk.h));
+    grid->transform().postTranslate(openvdb::Vec3d(b.lo.x + 0.5 * bk.h, b.lo.y + 0.5 * bk.h, b.lo.z + 0.5 * bk.h));
+    grid->setGridClass(openvdb::GRID_LEVEL_SET);
+    grid->setName(p->grid_name ? p->grid_name : "sdf");
+    auto &tree = grid->tree();
+    for (auto &list : tiles)
+        for (const Tile &t : list)
+            tree.addTile(t.level, t.origin, t.value, false);
+    uint64_t kept = 0;
+    for (LeafT *leaf : leaves)
+        if (leaf) {
+            tree.addLeaf(leaf);
+            kept++;
+        }
+    const auto t1 = std::chrono::steady_clock::now();
+
+    if (stats) {
+        stats->ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+        stats->evaluations = evals.load();
+        stats->leaves = kept;
+        stats->active_voxels = tree.activeVoxelCount();
+        std::memcpy(stats->dims, bk.n, sizeof bk.n);
+        stats->voxel_size = bk.h;
+    }
+    if (tree.activeVoxelCount() == 0)
+        return fail(msg, msg_len, SDFT_GRID_EEMPTY, "the bake holds no surface: no voxel within the band");
+    try {
+        int rc = SDFT_GRID_OK;
+        if (path)
+            rc = write_file(grid, p, path, msg, msg_len);
+        if (!rc && grid_out)
+            rc = sdft_vdb::to_nano(*grid, p->fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE, grid_out, msg, msg_len);
+        return rc;
+    } catch (const std::exception &ex) {
+        return fail(msg, msg_len, SDFT_GRID_EIO, std::string("bake failed: ") + ex.what());
+    }
+}

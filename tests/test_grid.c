@@ -1,0 +1,402 @@
+/* sdftrace tests — discrete grids: trilinear sampling, the tree bound, a
+ * grid render against the procedural one, file round trips, every error. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "sdftrace/grid.h"
+#include "sdftrace/render.h"
+#include "sdftrace/scene.h"
+#include "testutil.h"
+#include "vdb.h"
+
+/* ---- fields of our own ---------------------------------------------------- */
+
+/* f(p) = n . p + c with |n| = 1: a plane's exact SDF, linear. */
+typedef struct linear {
+    sdft_vec3 n;
+    float c;
+} linear;
+
+static float linear_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    (void)s;
+    const linear *l = ctx;
+    return sdft_dot(l->n, p) + l->c;
+}
+
+/* Union of spheres: exact outside every sphere, a bound inside. */
+static const float spheres[4][4] = {{0, 0, 0, 0.6f}, {0.7f, 0.2f, 0.1f, 0.35f}, {-0.5f, -0.4f, 0.3f, 0.3f}, {0.1f, 0.6f, -0.5f, 0.25f}};
+
+static float spheres_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    (void)ctx, (void)s;
+    float d = INFINITY;
+    for (int i = 0; i < 4; i++)
+        d = fminf(d, sdft_length(sdft_sub(p, sdft_v3(spheres[i][0], spheres[i][1], spheres[i][2]))) - spheres[i][3]);
+    return d;
+}
+
+static sdft_field spheres_field(void)
+{
+    return (sdft_field){.distance = spheres_distance, .bounds = {{-1.2f, -1.2f, -1.2f}, {1.2f, 1.2f, 1.2f}}};
+}
+
+static sdft_grid *bake(const sdft_field *f, int res, int full, const char *path)
+{
+    sdft_bake_params p = sdft_bake_defaults();
+    p.res = res;
+    p.full = full;
+    sdft_grid *g = NULL;
+    char msg[256] = "";
+    int rc = sdft_bake(f, &p, path, &g, NULL, msg, sizeof msg);
+    if (rc)
+        print_error("bake: %s\n", msg);
+    assert_int_equal(rc, 0);
+    assert_non_null(g);
+    return g;
+}
+
+/* ---- trilinear sampling ----------------------------------------------------- */
+
+static void test_linear_field_is_exact(void **state)
+{
+    (void)state;
+    linear l = {sdft_normalize(sdft_v3(0.3f, -0.5f, 0.8f)), 0.1f};
+    sdft_field f = {.distance = linear_distance, .ctx = &l, .bounds = {{-1, -1, -1}, {1, 1, 1}}};
+    sdft_grid *g = bake(&f, 32, 1, NULL);
+    sdft_field gf = sdft_grid_field(g);
+    sdft_scratch s;
+    sdft_scratch_init(&gf, &s);
+    tu_rng r = tu_rng_seed(1);
+    float worst = 0;
+    for (int i = 0; i < 20000; i++) {
+        /* Stay half a voxel inside the box's voxel centres so all 8 corners exist. */
+        sdft_vec3 p = sdft_v3(tu_uniform(&r, -0.9f, 0.9f), tu_uniform(&r, -0.9f, 0.9f), tu_uniform(&r, -0.9f, 0.9f));
+        int level;
+        float v = sdft_grid_sample(g, &s, p, &level);
+        assert_int_equal(level, 0);
+        worst = fmaxf(worst, fabsf(v - linear_distance(&l, NULL, p)));
+        /* The field, its gradient normal: the plane's normal. */
+        sdft_vec3 n = sdft_field_normal(&gf, &s, p);
+        assert_true(sdft_dot(n, l.n) > 0.9999f);
+    }
+    assert_true(worst < 2e-6f);
+    sdft_grid_free(g);
+}
+
+static float lerpf(float a, float b, float t) { return a + (b - a) * t; }
+
+static void test_trilinear_matches_brute_force(void **state)
+{
+    (void)state;
+    sdft_field f = spheres_field();
+    sdft_grid *g = bake(&f, 48, 0, NULL);
+    sdft_field gf = sdft_grid_field(g);
+    sdft_scratch s;
+    sdft_scratch_init(&gf, &s);
+    /* Index = (world - lo) / h - 1/2 for a bake (voxel centres at lo + (i + 1/2) h). */
+    const float h = sdft_grid_voxel_size(g).x;
+    tu_rng r = tu_rng_seed(2);
+    int checked = 0;
+    for (int i = 0; i < 20000; i++) {
+        sdft_vec3 p = sdft_v3(tu_uniform(&r, -1.1f, 1.1f), tu_uniform(&r, -1.1f, 1.1f), tu_uniform(&r, -1.1f, 1.1f));
+        int level;
+        float v = sdft_grid_sample(g, &s, p, &level);
+        if (level != 0)
+            continue;
+        float x[3] = {(p.x + 1.2f) / h - 0.5f, (p.y + 1.2f) / h - 0.5f, (p.z + 1.2f) / h - 0.5f};
+        int32_t i0[3] = {(int32_t)floorf(x[0]), (int32_t)floorf(x[1]), (int32_t)floorf(x[2])};
+        float c[8];
+        for (int k = 0; k < 8; k++)
+            c[k] = sdft_grid_voxel(g, i0[0] + (k & 1), i0[1] + (k >> 1 & 1), i0[2] + (k >> 2 & 1), NULL);
+        float t[3] = {x[0] - i0[0], x[1] - i0[1], x[2] - i0[2]};
+        float ref = lerpf(lerpf(lerpf(c[0], c[1], t[0]), lerpf(c[2], c[3], t[0]), t[1]),
+                          lerpf(lerpf(c[4], c[5], t[0]), lerpf(c[6], c[7], t[0]), t[1]), t[2]);
+        assert_true(fabsf(v - ref) < 1e-5f);
+        checked++;
+    }
+    assert_true(checked > 1000);
+    sdft_grid_free(g);
+}
+
+/* ---- the tree bound ----------------------------------------------------------- */
+
+/* Wherever the field answers from a tile or the background, |value| must not
+ * exceed the distance to the surface and the sign must be the side. Points
+ * range over the box grown by `margin` of its size on each side: a grid only
+ * knows the surface inside the box it was baked over, so a scene whose
+ * surface leaves its box (a ground plane) is checked inside it. */
+static void check_bound(const sdft_field *truth, const sdft_grid *g, float margin, int exact_inside, uint64_t seed,
+                        int *tiles_seen)
+{
+    sdft_field gf = sdft_grid_field(g);
+    sdft_scratch s;
+    sdft_scratch_init(&gf, &s);
+    sdft_aabb b = truth->bounds;
+    sdft_vec3 e = sdft_sub(b.hi, b.lo);
+    tu_rng r = tu_rng_seed(seed);
+    for (int i = 0; i < 200000; i++) {
+        sdft_vec3 p = sdft_v3(tu_uniform(&r, b.lo.x - margin * e.x, b.hi.x + margin * e.x),
+                              tu_uniform(&r, b.lo.y - margin * e.y, b.hi.y + margin * e.y),
+                              tu_uniform(&r, b.lo.z - margin * e.z, b.hi.z + margin * e.z));
+        int level;
+        float v = sdft_grid_sample(g, &s, p, &level);
+        if (level == 0)
+            continue;
+        float d = truth->distance(truth->ctx, NULL, p);
+        (*tiles_seen)++;
+        if (!(d * v > 0.0f) || (fabsf(v) > fabsf(d) * (1 + 1e-6f) && (d > 0 || exact_inside)))
+            fail_msg("tree bound %g at (%g, %g, %g), level %d, exceeds the distance %g", v, p.x, p.y, p.z, level, d);
+    }
+}
+
+static void test_tree_bound_never_exceeds_distance(void **state)
+{
+    (void)state;
+    sdft_field f = spheres_field();
+    sdft_grid *g = bake(&f, 128, 0, NULL);
+    int tiles = 0;
+    check_bound(&f, g, 0.5f, 0, 3, &tiles); /* far outside the band and the box */
+    assert_true(tiles > 10000);
+    sdft_grid_free(g);
+}
+
+static void test_tree_bound_on_a_scene(void **state)
+{
+    (void)state;
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    sdft_grid *g = bake(&sc->field, 96, 0, NULL);
+    int tiles = 0;
+    check_bound(&sc->field, g, 0.0f, 1, 4, &tiles);
+    assert_true(tiles > 10000);
+    sdft_grid_free(g);
+}
+
+/* ---- a grid renders like its scene ------------------------------------------------ */
+
+static void test_grid_render_matches_procedural(void **state)
+{
+    (void)state;
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    sdft_grid *g = bake(&sc->field, 256, 0, NULL);
+    sdft_field gf = sdft_grid_field(g);
+    const float h = sdft_grid_voxel_size(g).x;
+
+    sdft_render_params rp = sdft_render_defaults();
+    rp.width = 240, rp.height = 135;
+    rp.camera = sc->camera;
+    rp.light = sc->light;
+    rp.shadows = 0;
+    char msg[256];
+    sdft_image a, b;
+    assert_int_equal(sdft_image_alloc(&a, rp.width, rp.height), 0);
+    assert_int_equal(sdft_image_alloc(&b, rp.width, rp.height), 0);
+    assert_int_equal(sdft_render(&sc->field, &rp, &a, NULL, msg, sizeof msg), 0);
+    assert_int_equal(sdft_render(&gf, &rp, &b, NULL, msg, sizeof msg), 0);
+    int both = 0, close = 0, one = 0, n = rp.width * rp.height;
+    for (int i = 0; i < n; i++) {
+        int ha = a.status[i] == SDFT_HIT, hb = b.status[i] == SDFT_HIT;
+        if (ha && hb) {
+            both++;
+            close += fabsf(a.depth[i] - b.depth[i]) <= 1.5f * h;
+        } else if (ha != hb) {
+            one++;
+        }
+    }
+    print_message("grid vs procedural: %d of %d both-hit pixels within 1.5 voxels, %d hit in one only\n", close, both, one);
+    assert_true(both > n / 20);
+    assert_true(close >= 0.99 * both);
+    assert_true(one <= 0.005 * n);
+    sdft_image_free(&a);
+    sdft_image_free(&b);
+    sdft_grid_free(g);
+}
+
+/* ---- round trips ------------------------------------------------------------------- */
+
+static void same_voxels(const sdft_grid *a, const sdft_grid *b)
+{
+    int32_t lo[3], hi[3], lo2[3], hi2[3];
+    sdft_grid_index_bounds(a, lo, hi);
+    sdft_grid_index_bounds(b, lo2, hi2);
+    assert_memory_equal(lo, lo2, sizeof lo);
+    assert_memory_equal(hi, hi2, sizeof hi);
+    assert_int_equal(sdft_grid_active_voxels(a), sdft_grid_active_voxels(b));
+    assert_true(sdft_grid_background(a) == sdft_grid_background(b));
+    for (int32_t k = lo[2] - 2; k <= hi[2] + 2; k++)
+        for (int32_t j = lo[1] - 2; j <= hi[1] + 2; j++)
+            for (int32_t i = lo[0] - 2; i <= hi[0] + 2; i++) {
+                int aa, ab;
+                float va = sdft_grid_voxel(a, i, j, k, &aa), vb = sdft_grid_voxel(b, i, j, k, &ab);
+                if (va != vb || aa != ab)
+                    fail_msg("voxel (%d, %d, %d): %g/%d in memory, %g/%d from the file", i, j, k, va, aa, vb, ab);
+            }
+}
+
+static void round_trip(const char *file)
+{
+    char path[512], msg[256];
+    tu_tmp(path, sizeof path, file);
+    remove(path);
+    sdft_field f = spheres_field();
+    sdft_grid *mem = bake(&f, 40, 0, path);
+    assert_true(tu_file_exists(path));
+    sdft_grid *disk = NULL;
+    int rc = sdft_grid_open(path, NULL, &disk, msg, sizeof msg);
+    if (rc)
+        print_error("%s\n", msg);
+    assert_int_equal(rc, 0);
+    assert_string_equal(sdft_grid_name(disk), "sdf");
+    assert_true(sdft_grid_is_level_set(disk));
+    same_voxels(mem, disk);
+    sdft_grid_free(mem);
+    sdft_grid_free(disk);
+}
+
+static void test_round_trip_vdb(void **state)
+{
+    (void)state;
+    round_trip("roundtrip.vdb");
+}
+
+static void test_round_trip_nvdb(void **state)
+{
+    (void)state;
+    round_trip("roundtrip.nvdb");
+}
+
+/* ---- errors -------------------------------------------------------------------------- */
+
+static void expect_error(const char *path, const char *name, int code, const char *needle)
+{
+    sdft_grid *g = (sdft_grid *)1;
+    char msg[512] = "";
+    int rc = sdft_grid_open(path, name, &g, msg, sizeof msg);
+    print_message("%s -> %d: %s\n", path, rc, msg);
+    assert_int_equal(rc, code);
+    assert_null(g);
+    assert_null(strchr(msg, '\n'));
+    assert_non_null(strstr(msg, needle));
+}
+
+/* Writes the first `keep` bytes of src to dst, or garbage when keep is 0. */
+static void copy_prefix(const char *src, const char *dst, long keep, int garble)
+{
+    FILE *in = fopen(src, "rb"), *out = fopen(dst, "wb");
+    assert_non_null(in);
+    assert_non_null(out);
+    fseek(in, 0, SEEK_END);
+    long size = ftell(in);
+    rewind(in);
+    char *buf = malloc((size_t)size);
+    assert_int_equal(fread(buf, 1, (size_t)size, in), (size_t)size);
+    if (garble)
+        for (long i = keep; i < size; i += 7)
+            buf[i] ^= 0x5a;
+    fwrite(buf, 1, (size_t)(garble ? size : keep), out);
+    free(buf);
+    fclose(in);
+    fclose(out);
+}
+
+static void test_errors(void **state)
+{
+    (void)state;
+    char good_vdb[512], good_nvdb[512], bad[512], cmd_out[4096];
+    sdft_field f = spheres_field();
+    sdft_grid_free(bake(&f, 32, 0, tu_tmp(good_vdb, sizeof good_vdb, "good.vdb")));
+    sdft_grid_free(bake(&f, 32, 0, tu_tmp(good_nvdb, sizeof good_nvdb, "good.nvdb")));
+
+    expect_error(tu_tmp(bad, sizeof bad, "missing.vdb"), NULL, SDFT_GRID_EIO, "cannot open");
+    expect_error(tu_tmp(bad, sizeof bad, "missing.nvdb"), NULL, SDFT_GRID_EIO, "cannot open");
+    expect_error(good_vdb, "nosuch", SDFT_GRID_ENOTFOUND, "no grid named 'nosuch'");
+    expect_error(good_nvdb, "nosuch", SDFT_GRID_ENOTFOUND, "no grid named 'nosuch'");
+
+    copy_prefix(good_vdb, tu_tmp(bad, sizeof bad, "truncated.vdb"), 600, 0);
+    expect_error(bad, NULL, SDFT_GRID_EFORMAT, "cannot read");
+    copy_prefix(good_vdb, tu_tmp(bad, sizeof bad, "corrupt.vdb"), 0, 1);
+    expect_error(bad, NULL, SDFT_GRID_EFORMAT, "cannot read");
+    copy_prefix(good_nvdb, tu_tmp(bad, sizeof bad, "truncated.nvdb"), 2000, 0);
+    expect_error(bad, NULL, SDFT_GRID_EFORMAT, "truncated");
+    copy_prefix(good_nvdb, tu_tmp(bad, sizeof bad, "header.nvdb"), 100, 0);
+    expect_error(bad, NULL, SDFT_GRID_EFORMAT, "truncated");
+    copy_prefix(good_nvdb, tu_tmp(bad, sizeof bad, "corrupt.nvdb"), 0, 1);
+    expect_error(bad, NULL, SDFT_GRID_EFORMAT, "");
+
+    /* A Vec3f grid (the sphere's gradient), written by OpenVDB's own tools. */
+    char vec[512], vecn[512];
+    tu_tmp(vec, sizeof vec, "vec3.vdb");
+    tu_tmp(vecn, sizeof vecn, "vec3.nvdb");
+    remove(vec), remove(vecn);
+    int rc = tu_run(cmd_out, sizeof cmd_out, "vdb_tool -quiet -sphere radius=1 dim=32 name=ball -grad keep=0 -o %s && "
+                                             "nanovdb_convert -f %s %s", vec, vec, vecn);
+    if (rc)
+        print_error("%s\n", cmd_out);
+    assert_int_equal(rc, 0);
+    expect_error(vec, NULL, SDFT_GRID_ENOTSCALAR, "no scalar grid");
+    expect_error(vecn, NULL, SDFT_GRID_ENOTSCALAR, "no scalar grid");
+
+    /* An empty level set: a sphere eroded away. */
+    char empty[512];
+    tu_tmp(empty, sizeof empty, "empty.vdb");
+    remove(empty);
+    rc = tu_run(cmd_out, sizeof cmd_out, "vdb_tool -quiet -sphere radius=0.1 voxel=0.05 name=gone -erode radius=4 -o %s", empty);
+    assert_int_equal(rc, 0);
+    expect_error(empty, NULL, SDFT_GRID_EEMPTY, "empty");
+
+    sdft_grid *g = NULL;
+    char msg[256];
+    assert_int_not_equal(sdft_grid_open("plain.txt", NULL, &g, msg, sizeof msg), 0);
+}
+
+static void test_bake_errors(void **state)
+{
+    (void)state;
+    sdft_field f = spheres_field();
+    sdft_bake_params p = sdft_bake_defaults();
+    char msg[256], path[512];
+    tu_tmp(path, sizeof path, "never.vdb");
+    remove(path);
+    p.res = 0;
+    assert_int_not_equal(sdft_bake(&f, &p, path, NULL, NULL, msg, sizeof msg), 0);
+    assert_non_null(strstr(msg, "resolution"));
+    p.res = 1025;
+    assert_int_not_equal(sdft_bake(&f, &p, path, NULL, NULL, msg, sizeof msg), 0);
+    p.res = 16;
+    assert_int_not_equal(sdft_bake(&f, &p, "/nonexistent-dir/x.vdb", NULL, NULL, msg, sizeof msg), 0);
+    assert_non_null(strstr(msg, "cannot write"));
+    assert_int_not_equal(sdft_bake(&f, &p, tu_tmp(path, sizeof path, "x.exr"), NULL, NULL, msg, sizeof msg), 0);
+    assert_false(tu_file_exists(path));
+    /* A box holding no surface bakes nothing, and says so. */
+    sdft_field far = f;
+    far.bounds = (sdft_aabb){{5, 5, 5}, {6, 6, 6}};
+    tu_tmp(path, sizeof path, "never.vdb");
+    assert_int_equal(sdft_bake(&far, &p, path, NULL, NULL, msg, sizeof msg), SDFT_GRID_EEMPTY);
+    assert_false(tu_file_exists(path));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_linear_field_is_exact),
+        cmocka_unit_test(test_trilinear_matches_brute_force),
+        cmocka_unit_test(test_tree_bound_never_exceeds_distance),
+        cmocka_unit_test(test_tree_bound_on_a_scene),
+        cmocka_unit_test(test_grid_render_matches_procedural),
+        cmocka_unit_test(test_round_trip_vdb),
+        cmocka_unit_test(test_round_trip_nvdb),
+        cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_bake_errors),
+    };
+    return cmocka_run_group_tests_name("grid", tests, NULL, NULL);
+}
