@@ -12,12 +12,14 @@
 #include "image_io.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
+#include "vdb.h"
 
 enum { MAX_SIDE = 16384, MAX_STEPS = 10000000, MAX_THREADS = 1024 };
 static const long MAX_PIXELS = 64l * 1024 * 1024;
 
 typedef struct render_opts {
     const char *scene;       /* --scene NAME */
+    const char *grid, *grid_name; /* --grid FILE, --grid-name NAME */
     int method;              /* --method, sdft_method */
     int omega_set;           /* --omega given; else the method's default */
     float omega, beta, eps;
@@ -36,14 +38,17 @@ typedef struct render_source {
     sdft_camera camera;
     sdft_vec3 light;
     const char *name; /* for the JSON report */
+    sdft_grid *grid;  /* --grid: owned, freed by close_field */
 } render_source;
 
 void cmd_render_help(FILE *out)
 {
     sdft_render_params d = sdft_render_defaults();
     fprintf(out,
-            "usage: sdftrace render --scene NAME -o OUT.exr [options]\n"
-            "  --scene NAME          procedural scene (sdftrace scenes lists them); required\n"
+            "usage: sdftrace render --scene NAME | --grid FILE -o OUT.exr [options]\n"
+            "  --scene NAME          procedural scene (sdftrace scenes lists them); required without --grid\n"
+            "  --grid FILE           render a level set (.vdb or .nvdb); with --scene, from that scene's camera and light\n"
+            "  --grid-name NAME      the grid of FILE to render (default: the first scalar level set)\n"
             "  -o OUT.exr            OpenEXR output: R,G,B, Z, N.X,N.Y,N.Z, steps, fallbacks; required\n"
             "  --method M            sphere | relaxed | enhanced | auto (default %s)\n"
             "  --omega W             relaxed: [1, 2), default %g; enhanced: (0, 1], default %g\n"
@@ -96,7 +101,7 @@ static int parse_opts(int argc, char **argv, render_opts *o, char *msg, unsigned
                     !strcmp(a, "--beta") || !strcmp(a, "--eps") || !strcmp(a, "--max-steps") ||
                     !strcmp(a, "--width") || !strcmp(a, "--height") || !strcmp(a, "--camera") ||
                     !strcmp(a, "--fov") || !strcmp(a, "--threads") || !strcmp(a, "--png") ||
-                    !strcmp(a, "--heatmap");
+                    !strcmp(a, "--heatmap") || !strcmp(a, "--grid") || !strcmp(a, "--grid-name");
         if (!known) {
             snprintf(msg, len, "unknown option '%s' (try: sdftrace render --help)", a);
             return -1;
@@ -113,6 +118,10 @@ static int parse_opts(int argc, char **argv, render_opts *o, char *msg, unsigned
             o->scene = v;
         else if (!strcmp(a, "-o"))
             o->out = v;
+        else if (!strcmp(a, "--grid"))
+            o->grid = v;
+        else if (!strcmp(a, "--grid-name"))
+            o->grid_name = v;
         else if (!strcmp(a, "--png"))
             o->png = v;
         else if (!strcmp(a, "--method")) {
@@ -181,8 +190,12 @@ static int check_opts(const render_opts *o, char *msg, unsigned len)
 
 /* The field to render, with its default camera and light: the one place a
  * new kind of source (a grid file) comes in, with its release in close_field. */
+static int open_grid(const render_opts *o, render_source *src, char *msg, unsigned len);
+
 static int open_field(const render_opts *o, render_source *src, char *msg, unsigned len)
 {
+    if (o->grid)
+        return open_grid(o, src, msg, len);
     if (!o->scene) {
         snprintf(msg, len, "--scene is required (sdftrace scenes lists them)");
         return -1;
@@ -196,7 +209,34 @@ static int open_field(const render_opts *o, render_source *src, char *msg, unsig
     return 0;
 }
 
-static void close_field(render_source *src) { (void)src; }
+/* A grid file as the field. Its view: the scene's, given --scene, else a
+ * camera in front of (+z) the active bounding box framing it, a light above. */
+static int open_grid(const render_opts *o, render_source *src, char *msg, unsigned len)
+{
+    const sdft_scene *scene = NULL;
+    if (o->scene && !(scene = sdft_scene_find(o->scene))) {
+        snprintf(msg, len, "unknown scene '%s' (sdftrace scenes lists them)", o->scene);
+        return -1;
+    }
+    sdft_grid *g = NULL;
+    if (sdft_grid_open(o->grid, o->grid_name, &g, msg, len))
+        return -1;
+    *src = (render_source){.field = sdft_grid_field(g), .name = sdft_grid_name(g), .grid = g};
+    if (scene) {
+        src->camera = scene->camera, src->light = scene->light;
+        return 0;
+    }
+    sdft_aabb b = sdft_grid_world_bounds(g);
+    sdft_vec3 c = sdft_scale(sdft_add(b.lo, b.hi), 0.5f), e = sdft_scale(sdft_sub(b.hi, b.lo), 0.5f);
+    const float fov = 40.0f, aspect = (float)o->width / (float)o->height;
+    float half = fmaxf(e.y, e.x / aspect) * 1.15f;
+    float dist = e.z + half / tanf(0.5f * fov * 3.14159265f / 180.0f);
+    src->camera = (sdft_camera){.from = sdft_v3(c.x, c.y, c.z + dist), .at = c, .up = sdft_v3(0, 1, 0), .fov_deg = fov};
+    src->light = sdft_v3(c.x, c.y + 2.0f * dist, c.z + dist);
+    return 0;
+}
+
+static void close_field(render_source *src) { sdft_grid_free(src->grid); }
 
 static sdft_render_params make_params(const render_opts *o, const render_source *src)
 {

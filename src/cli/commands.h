@@ -21,4 +21,7 @@ void cmd_scenes_help(FILE *out);
 int cmd_render(int argc, char **argv);
 void cmd_render_help(FILE *out);
 
+int cmd_bake(int argc, char **argv);
+void cmd_bake_help(FILE *out);
+
 #endif

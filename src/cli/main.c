@@ -8,6 +8,7 @@
 static const sdft_command commands[] = {
     {"scenes", "list the procedural scenes, one per line", cmd_scenes, cmd_scenes_help},
     {"render", "render a scene to OpenEXR (and PNG, heatmaps, JSON statistics)", cmd_render, cmd_render_help},
+    {"bake", "sample a scene into an OpenVDB level set (.vdb) or NanoVDB grid (.nvdb)", cmd_bake, cmd_bake_help},
 };
 enum { COMMAND_COUNT = sizeof commands / sizeof commands[0] };
 
