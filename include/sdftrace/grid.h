@@ -58,6 +58,10 @@ void sdft_grid_free(sdft_grid *g);
  * smallest voxel edge. */
 sdft_field sdft_grid_field(const sdft_grid *g);
 
+/* The same field without the tree bound (trilinear everywhere, +-background
+ * beyond the band): for measuring what the bound saves. */
+sdft_field sdft_grid_field_without_bound(const sdft_grid *g);
+
 /* Queries. Strings are owned by the grid. */
 const char *sdft_grid_name(const sdft_grid *g);
 const char *sdft_grid_type_name(const sdft_grid *g);  /* "float", "fp16", "fp8", "fp4", "fpN" */

@@ -93,7 +93,7 @@ static float tree_bound(const sdft_grid *g, const float x[3], pnanovdb_coord_t c
 static inline float lerp(float a, float b, float t) { return a + (b - a) * t; }
 
 /* The field at index point x: trilinear in leaves, the tree bound in tiles. */
-static float sample_index(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const float x[3], int *level_out)
+static float sample_index(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const float x[3], int *level_out, int bound)
 {
     const float fx = floorf(x[0]), fy = floorf(x[1]), fz = floorf(x[2]);
     if (!(fabsf(fx) < 1e9f && fabsf(fy) < 1e9f && fabsf(fz) < 1e9f)) { /* NaN or absurdly far: background */
@@ -109,7 +109,7 @@ static float sample_index(const sdft_grid *g, pnanovdb_readaccessor_t *acc, cons
     uint32_t level;
     float v[8];
     v[near] = read_value(g, acc, c, &level);
-    if (level > 0) {
+    if (level > 0 && bound) {
         float b = tree_bound(g, x, c, level, v[near]);
         if (b > 0.5f * g->sigma_min) {
             if (level_out)
@@ -134,7 +134,7 @@ float sdft_grid_sample(const sdft_grid *g, sdft_scratch *s, sdft_vec3 p, int *le
 {
     float x[3];
     to_index(g, p, x);
-    return sample_index(g, accessor(s), x, level);
+    return sample_index(g, accessor(s), x, level, 1);
 }
 
 static float grid_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
@@ -142,7 +142,17 @@ static float grid_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
     const sdft_grid *g = ctx;
     float x[3];
     to_index(g, p, x);
-    return sample_index(g, accessor(s), x, NULL);
+    return sample_index(g, accessor(s), x, NULL, 1);
+}
+
+/* The same without the tree bound: trilinear everywhere, so +-background
+ * beyond the band. Only to measure what the bound saves. */
+static float grid_distance_flat(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    const sdft_grid *g = ctx;
+    float x[3];
+    to_index(g, p, x);
+    return sample_index(g, accessor(s), x, NULL, 0);
 }
 
 /* The gradient by central differences one voxel apart in index space,
@@ -156,7 +166,7 @@ static sdft_vec3 grid_normal(const void *ctx, sdft_scratch *s, sdft_vec3 p)
     for (int k = 0; k < 3; k++) {
         float a[3] = {x[0], x[1], x[2]}, b[3] = {x[0], x[1], x[2]};
         a[k] += 1.0f, b[k] -= 1.0f;
-        d[k] = sample_index(g, acc, a, NULL) - sample_index(g, acc, b, NULL);
+        d[k] = sample_index(g, acc, a, NULL, 1) - sample_index(g, acc, b, NULL, 1);
     }
     const float *m = g->w2i;
     sdft_vec3 n = sdft_v3(m[0] * d[0] + m[3] * d[1] + m[6] * d[2], m[1] * d[0] + m[4] * d[1] + m[7] * d[2],
@@ -175,6 +185,13 @@ sdft_field sdft_grid_field(const sdft_grid *g)
         .bounds = g->bounds,
         .feature_size = fminf(vs.x, fminf(vs.y, vs.z)),
     };
+}
+
+sdft_field sdft_grid_field_without_bound(const sdft_grid *g)
+{
+    sdft_field f = sdft_grid_field(g);
+    f.distance = grid_distance_flat;
+    return f;
 }
 
 float sdft_grid_voxel(const sdft_grid *g, int32_t i, int32_t j, int32_t k, int *active)
