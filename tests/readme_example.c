@@ -48,8 +48,8 @@ int main(void)
         sdft_image_free(&img);
         return 1;
     }
-    printf("%.1f%% of pixels hit, %.1f evaluations per pixel\n", 100.0 * (double)stats.hits / (double)stats.primary_rays,
-           (double)stats.steps / (double)stats.primary_rays);
+    printf("%.1f%% of pixels hit, %.1f evaluations per pixel\n",
+           100.0 * (double)stats.hits / (double)stats.primary_rays, (double)stats.steps / (double)stats.primary_rays);
     sdft_image_free(&img);
     return hit.status == SDFT_HIT && fabsf(hit.t - (sqrtf(5.0f) - 0.25f)) < 1e-3f ? 0 : 1;
 }

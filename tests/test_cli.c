@@ -26,9 +26,9 @@ static int lines(const char *s)
 static void test_help_lists_every_option(void **state)
 {
     (void)state;
-    static const char *const flags[] = {"--scene", "--method", "--omega", "--beta", "--eps", "--max-steps",
-                                        "--width", "--height", "--camera", "--fov", "--no-shadows",
-                                        "--threads", "-o ", "--png", "--json", "--heatmap", "--screen-space"};
+    static const char *const flags[] = {"--scene", "--method", "--omega",  "--beta",    "--eps",         "--max-steps",
+                                        "--width", "--height", "--camera", "--fov",     "--no-shadows",  "--threads",
+                                        "-o ",     "--png",    "--json",   "--heatmap", "--screen-space"};
     for (int which = 0; which < 2; which++) {
         assert_int_equal(tu_run(out, sizeof out, "%s %s", SDFT_CLI, which ? "render --help" : "--help"), 0);
         for (size_t i = 0; i < sizeof flags / sizeof flags[0]; i++)
@@ -108,9 +108,9 @@ static void test_bad_input(void **state)
     assert_int_not_equal(tu_run(out, sizeof out, "%s render -o %s --width 8 --height 8", SDFT_CLI, exr), 0);
     assert_int_equal(lines(out), 1);
     assert_false(tu_file_exists(exr));
-    assert_int_not_equal(
-        tu_run(out, sizeof out, "%s render --scene city -o %s/none/x.exr --width 8 --height 8", SDFT_CLI, SDFT_TEST_TMP),
-        0);
+    assert_int_not_equal(tu_run(out, sizeof out, "%s render --scene city -o %s/none/x.exr --width 8 --height 8",
+                                SDFT_CLI, SDFT_TEST_TMP),
+                         0);
     assert_int_equal(lines(out), 1);
     assert_false(tu_file_exists(SDFT_TEST_TMP "/none/x.exr"));
 }

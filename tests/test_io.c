@@ -238,9 +238,9 @@ static void test_colour_scale(void **state)
     sdft_heatmap_colour(5, 10, mid);
     sdft_heatmap_colour(10, 10, hi);
     sdft_heatmap_colour(50, 10, over);
-    assert_true(lo[0] == 0 && lo[1] > 150);              /* green */
-    assert_true(mid[0] == 255 && mid[1] > 150);          /* yellow */
-    assert_true(hi[0] == 255 && hi[1] == 0);             /* red */
+    assert_true(lo[0] == 0 && lo[1] > 150);     /* green */
+    assert_true(mid[0] == 255 && mid[1] > 150); /* yellow */
+    assert_true(hi[0] == 255 && hi[1] == 0);    /* red */
     assert_memory_equal(hi, over, 3);
 }
 
@@ -280,8 +280,10 @@ static void test_failed_writes_leave_nothing(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_exr_round_trip), cmocka_unit_test(test_png_is_srgb),
-        cmocka_unit_test(test_heatmap),        cmocka_unit_test(test_colour_scale),
+        cmocka_unit_test(test_exr_round_trip),
+        cmocka_unit_test(test_png_is_srgb),
+        cmocka_unit_test(test_heatmap),
+        cmocka_unit_test(test_colour_scale),
         cmocka_unit_test(test_failed_writes_leave_nothing),
     };
     return cmocka_run_group_tests_name("io", tests, NULL, NULL);

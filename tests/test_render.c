@@ -132,8 +132,7 @@ static void test_depth_is_analytic(void **state)
 static int images_equal(const sdft_image *a, const sdft_image *b)
 {
     size_t n = (size_t)a->width * (size_t)a->height;
-    return memcmp(a->rgb, b->rgb, 3 * n * sizeof(float)) == 0 &&
-           memcmp(a->depth, b->depth, n * sizeof(float)) == 0 &&
+    return memcmp(a->rgb, b->rgb, 3 * n * sizeof(float)) == 0 && memcmp(a->depth, b->depth, n * sizeof(float)) == 0 &&
            memcmp(a->normal, b->normal, 3 * n * sizeof(float)) == 0 &&
            memcmp(a->steps, b->steps, n * sizeof(uint32_t)) == 0 &&
            memcmp(a->fallbacks, b->fallbacks, n * sizeof(uint32_t)) == 0 && memcmp(a->status, b->status, n) == 0;
@@ -192,7 +191,7 @@ static void test_shadows_and_counts(void **state)
             sdft_ray ray = sdft_camera_ray(&p.camera, p.width, p.height, x + 0.5f, y + 0.5f);
             sdft_vec3 q = sdft_madd(ray.org, ray.dir, img.depth[i]);
             if (q.y > -0.45f)
-                continue; /* the sphere's top, not the floor */
+                continue;                                             /* the sphere's top, not the floor */
             if (q.x > -1.25f && q.x < -0.95f && fabsf(q.z) < 0.25f) { /* in the shadow: only ambient light */
                 shadowed++;
                 assert_true(img.rgb[3 * i + 1] < 0.15f);
@@ -262,9 +261,9 @@ static void test_bad_params(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_camera_frame),       cmocka_unit_test(test_depth_is_analytic),
+        cmocka_unit_test(test_camera_frame),           cmocka_unit_test(test_depth_is_analytic),
         cmocka_unit_test(test_thread_count_invariant), cmocka_unit_test(test_shadows_and_counts),
-        cmocka_unit_test(test_screen_space),       cmocka_unit_test(test_bad_params),
+        cmocka_unit_test(test_screen_space),           cmocka_unit_test(test_bad_params),
     };
     return cmocka_run_group_tests_name("render", tests, NULL, NULL);
 }

@@ -59,8 +59,7 @@ int arg_floats(const char *flag, const char *text, int n, float *out, char *msg,
         double v;
         const char *end;
         if (parse_double(p, &end, &v) || (i + 1 < n ? *end != ',' : *end != '\0')) {
-            snprintf(msg, msg_len, "%s needs %d comma-separated finite numbers, got '%s'", flag, n,
-                     text ? text : "");
+            snprintf(msg, msg_len, "%s needs %d comma-separated finite numbers, got '%s'", flag, n, text ? text : "");
             return -1;
         }
         out[i] = (float)v;

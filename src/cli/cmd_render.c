@@ -18,10 +18,10 @@ enum { MAX_SIDE = 16384, MAX_STEPS = 10000000, MAX_THREADS = 1024 };
 static const long MAX_PIXELS = 64l * 1024 * 1024;
 
 typedef struct render_opts {
-    const char *scene;       /* --scene NAME */
+    const char *scene;            /* --scene NAME */
     const char *grid, *grid_name; /* --grid FILE, --grid-name NAME */
-    int method;              /* --method, sdft_method */
-    int omega_set;           /* --omega given; else the method's default */
+    int method;                   /* --method, sdft_method */
+    int omega_set;                /* --omega given; else the method's default */
     float omega, beta, eps;
     long max_steps, width, height, threads;
     int camera_set, fov_set; /* override the scene's view */
@@ -44,37 +44,44 @@ typedef struct render_source {
 void cmd_render_help(FILE *out)
 {
     sdft_render_params d = sdft_render_defaults();
-    fprintf(out,
-            "usage: sdftrace render --scene NAME | --grid FILE -o OUT.exr [options]\n"
-            "  --scene NAME          procedural scene (sdftrace scenes lists them); required without --grid\n"
-            "  --grid FILE           render a level set (.vdb or .nvdb); with --scene, from that scene's camera and light\n"
-            "  --grid-name NAME      the grid of FILE to render (default: the first scalar level set)\n"
-            "  -o OUT.exr            OpenEXR output: R,G,B, Z, N.X,N.Y,N.Z, steps, fallbacks; required\n"
-            "  --method M            sphere | relaxed | enhanced | auto (default %s)\n"
-            "  --omega W             relaxed: [1, 2), default %g; enhanced: (0, 1], default %g\n"
-            "  --beta B              auto: (0, 1) (default %g)\n"
-            "  --eps E               convergence radius, world units (default %g)\n"
-            "  --max-steps N         most SDF evaluations per ray (default %u)\n"
-            "  --width W             image width, pixels (default %d)\n"
-            "  --height H            image height, pixels (default %d)\n"
-            "  --camera FX,FY,FZ,AX,AY,AZ  eye and look-at point (default: the scene's)\n"
-            "  --fov DEG             vertical field of view, (0, 180) (default: the scene's)\n"
-            "  --no-shadows          no shadow rays (default: a shadow ray per lit hit)\n"
-            "  --screen-space        Keinert's screen-space criterion: eps grows by half a pixel per unit t (default off)\n"
-            "  --threads N           OpenMP threads, 0 = all cores (default 0)\n"
-            "  --png OUT.png         sRGB preview (default none)\n"
-            "  --heatmap steps|fallbacks OUT.png  false-colour map of the per-pixel counts (default none)\n"
-            "  --json                print one JSON object of statistics on stdout (default off)\n",
-            sdft_method_name(d.trace.method), sdft_default_omega(SDFT_RELAXED), sdft_default_omega(SDFT_ENHANCED),
-            d.trace.beta, d.trace.eps, d.trace.max_steps, d.width, d.height);
+    fprintf(
+        out,
+        "usage: sdftrace render --scene NAME | --grid FILE -o OUT.exr [options]\n"
+        "  --scene NAME          procedural scene (sdftrace scenes lists them); required without --grid\n"
+        "  --grid FILE           render a level set (.vdb or .nvdb); with --scene, from that scene's camera and light\n"
+        "  --grid-name NAME      the grid of FILE to render (default: the first scalar level set)\n"
+        "  -o OUT.exr            OpenEXR output: R,G,B, Z, N.X,N.Y,N.Z, steps, fallbacks; required\n"
+        "  --method M            sphere | relaxed | enhanced | auto (default %s)\n"
+        "  --omega W             relaxed: [1, 2), default %g; enhanced: (0, 1], default %g\n"
+        "  --beta B              auto: (0, 1) (default %g)\n"
+        "  --eps E               convergence radius, world units (default %g)\n"
+        "  --max-steps N         most SDF evaluations per ray (default %u)\n"
+        "  --width W             image width, pixels (default %d)\n"
+        "  --height H            image height, pixels (default %d)\n"
+        "  --camera FX,FY,FZ,AX,AY,AZ  eye and look-at point (default: the scene's)\n"
+        "  --fov DEG             vertical field of view, (0, 180) (default: the scene's)\n"
+        "  --no-shadows          no shadow rays (default: a shadow ray per lit hit)\n"
+        "  --screen-space        Keinert's screen-space criterion: eps grows by half a pixel per unit t (default off)\n"
+        "  --threads N           OpenMP threads, 0 = all cores (default 0)\n"
+        "  --png OUT.png         sRGB preview (default none)\n"
+        "  --heatmap steps|fallbacks OUT.png  false-colour map of the per-pixel counts (default none)\n"
+        "  --json                print one JSON object of statistics on stdout (default off)\n",
+        sdft_method_name(d.trace.method), sdft_default_omega(SDFT_RELAXED), sdft_default_omega(SDFT_ENHANCED),
+        d.trace.beta, d.trace.eps, d.trace.max_steps, d.width, d.height);
 }
 
 static render_opts default_opts(void)
 {
     sdft_render_params d = sdft_render_defaults();
     return (render_opts){
-        .method = d.trace.method, .beta = d.trace.beta, .eps = d.trace.eps, .max_steps = d.trace.max_steps,
-        .width = d.width, .height = d.height, .threads = 0, .shadows = 1,
+        .method = d.trace.method,
+        .beta = d.trace.beta,
+        .eps = d.trace.eps,
+        .max_steps = d.trace.max_steps,
+        .width = d.width,
+        .height = d.height,
+        .threads = 0,
+        .shadows = 1,
     };
 }
 
@@ -98,10 +105,10 @@ static int parse_opts(int argc, char **argv, render_opts *o, char *msg, unsigned
             continue;
         }
         int known = !strcmp(a, "--scene") || !strcmp(a, "-o") || !strcmp(a, "--method") || !strcmp(a, "--omega") ||
-                    !strcmp(a, "--beta") || !strcmp(a, "--eps") || !strcmp(a, "--max-steps") ||
-                    !strcmp(a, "--width") || !strcmp(a, "--height") || !strcmp(a, "--camera") ||
-                    !strcmp(a, "--fov") || !strcmp(a, "--threads") || !strcmp(a, "--png") ||
-                    !strcmp(a, "--heatmap") || !strcmp(a, "--grid") || !strcmp(a, "--grid-name");
+                    !strcmp(a, "--beta") || !strcmp(a, "--eps") || !strcmp(a, "--max-steps") || !strcmp(a, "--width") ||
+                    !strcmp(a, "--height") || !strcmp(a, "--camera") || !strcmp(a, "--fov") ||
+                    !strcmp(a, "--threads") || !strcmp(a, "--png") || !strcmp(a, "--heatmap") || !strcmp(a, "--grid") ||
+                    !strcmp(a, "--grid-name");
         if (!known) {
             snprintf(msg, len, "unknown option '%s' (try: sdftrace render --help)", a);
             return -1;
@@ -304,11 +311,11 @@ static void print_json(const render_source *src, const sdft_render_params *p, co
            "\"width\": %d, \"height\": %d, \"shadows\": %s, \"screen_space\": %s, \"threads\": %d, "
            "\"ms\": %.3f, \"rays\": %llu, \"primary_rays\": %llu, \"steps\": %llu, \"fallbacks\": %llu, "
            "\"mean_steps\": %.4f, \"mean_fallbacks\": %.4f, \"nonconverged\": %.6f, \"hit_fraction\": %.6f}\n",
-           sdft_method_name(p->trace.method), p->trace.omega, p->trace.beta, p->trace.eps, p->trace.max_steps,
-           p->width, p->height, p->shadows ? "true" : "false", p->screen_space ? "true" : "false", p->threads,
-           st->ms, (unsigned long long)st->rays, (unsigned long long)st->primary_rays,
-           (unsigned long long)st->steps, (unsigned long long)st->fallbacks, (double)st->steps / primary,
-           (double)st->fallbacks / primary, (double)st->nonconverged / primary, (double)st->hits / primary);
+           sdft_method_name(p->trace.method), p->trace.omega, p->trace.beta, p->trace.eps, p->trace.max_steps, p->width,
+           p->height, p->shadows ? "true" : "false", p->screen_space ? "true" : "false", p->threads, st->ms,
+           (unsigned long long)st->rays, (unsigned long long)st->primary_rays, (unsigned long long)st->steps,
+           (unsigned long long)st->fallbacks, (double)st->steps / primary, (double)st->fallbacks / primary,
+           (double)st->nonconverged / primary, (double)st->hits / primary);
 }
 
 int cmd_render(int argc, char **argv)
@@ -330,8 +337,8 @@ int cmd_render(int argc, char **argv)
         return 2;
     }
     sdft_render_params p = make_params(&o, &src);
-    if (sdft_trace_params_check(&p.trace, msg, sizeof msg) ||
-        sdft_check_writable(o.out, msg, sizeof msg) || (o.png && sdft_check_writable(o.png, msg, sizeof msg)) ||
+    if (sdft_trace_params_check(&p.trace, msg, sizeof msg) || sdft_check_writable(o.out, msg, sizeof msg) ||
+        (o.png && sdft_check_writable(o.png, msg, sizeof msg)) ||
         (o.heatmap && sdft_check_writable(o.heatmap, msg, sizeof msg))) {
         cli_error("render", msg);
         close_field(&src);

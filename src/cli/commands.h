@@ -10,9 +10,9 @@
 
 typedef struct sdft_command {
     const char *name;
-    const char *summary;                /* one line for `sdftrace --help` */
+    const char *summary; /* one line for `sdftrace --help` */
     int (*run)(int argc, char **argv);
-    void (*help)(FILE *out);            /* usage and every option with its default */
+    void (*help)(FILE *out); /* usage and every option with its default */
 } sdft_command;
 
 int cmd_scenes(int argc, char **argv);

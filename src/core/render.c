@@ -145,8 +145,8 @@ typedef struct tile_stats {
     uint64_t rays, steps, fallbacks, hits, nonconverged;
 } tile_stats;
 
-static void render_tile(const sdft_field *f, sdft_scratch *s, const sdft_render_params *rp,
-                        const sdft_trace_params *tp, float feature, int tile, sdft_image *img, tile_stats *ts)
+static void render_tile(const sdft_field *f, sdft_scratch *s, const sdft_render_params *rp, const sdft_trace_params *tp,
+                        float feature, int tile, sdft_image *img, tile_stats *ts)
 {
     int tiles_x = (rp->width + TILE - 1) / TILE;
     int x0 = (tile % tiles_x) * TILE, y0 = (tile / tiles_x) * TILE;
@@ -230,7 +230,8 @@ int sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_imag
     }
     double t1 = omp_get_wtime();
 
-    sdft_render_stats st = {.ms = 1000.0 * (t1 - t0), .primary_rays = (uint64_t)params->width * (uint64_t)params->height};
+    sdft_render_stats st = {.ms = 1000.0 * (t1 - t0),
+                            .primary_rays = (uint64_t)params->width * (uint64_t)params->height};
     for (int tile = 0; tile < tiles; tile++) {
         st.rays += per_tile[tile].rays;
         st.steps += per_tile[tile].steps;

@@ -96,10 +96,14 @@ int sdft_write_exr(const char *path, const sdft_image *img, char *msg, unsigned 
             split[(3 + k) * n + i] = img->normal[3 * i + k];
         }
     const exr_plane planes[EXR_CHANNELS] = {
-        {"R", EXR_PIXEL_FLOAT, split},          {"G", EXR_PIXEL_FLOAT, split + n},
-        {"B", EXR_PIXEL_FLOAT, split + 2 * n},  {"Z", EXR_PIXEL_FLOAT, img->depth},
-        {"N.X", EXR_PIXEL_FLOAT, split + 3 * n}, {"N.Y", EXR_PIXEL_FLOAT, split + 4 * n},
-        {"N.Z", EXR_PIXEL_FLOAT, split + 5 * n}, {"steps", EXR_PIXEL_UINT, img->steps},
+        {"R", EXR_PIXEL_FLOAT, split},
+        {"G", EXR_PIXEL_FLOAT, split + n},
+        {"B", EXR_PIXEL_FLOAT, split + 2 * n},
+        {"Z", EXR_PIXEL_FLOAT, img->depth},
+        {"N.X", EXR_PIXEL_FLOAT, split + 3 * n},
+        {"N.Y", EXR_PIXEL_FLOAT, split + 4 * n},
+        {"N.Z", EXR_PIXEL_FLOAT, split + 5 * n},
+        {"steps", EXR_PIXEL_UINT, img->steps},
         {"fallbacks", EXR_PIXEL_UINT, img->fallbacks},
     };
 

@@ -10,9 +10,9 @@
 #include "png_write.h"
 
 enum {
-    LEGEND_H = 40,  /* rows added below the image */
-    MARGIN = 10,    /* left/right margin of the bar */
-    BAR_Y = 6,      /* bar top, from the legend's top */
+    LEGEND_H = 40, /* rows added below the image */
+    MARGIN = 10,   /* left/right margin of the bar */
+    BAR_Y = 6,     /* bar top, from the legend's top */
     BAR_H = 12,
     TICK_H = 4,
     GLYPH_SCALE = 2, /* font pixels per glyph cell */
