@@ -15,9 +15,9 @@
 #include "scenes.h"
 #include "sdftrace/sdf.h"
 
-#define CELL 2.0f     /* block pitch, metres */
-#define BLOCKS 40     /* cells -40..40 along x and z */
-#define MARGIN 0.3f   /* half street: CELL / 2 - widest half footprint */
+#define CELL 2.0f   /* block pitch, metres */
+#define BLOCKS 40   /* cells -40..40 along x and z */
+#define MARGIN 0.3f /* half street: CELL / 2 - widest half footprint */
 #define EXTENT ((BLOCKS + 0.5f) * CELL)
 #define TALLEST 10.2f /* 0.5 + 2.5 + 4 storeys of tower, 30% setback, 1 m antenna */
 
@@ -33,7 +33,8 @@ static float block_hash(int ix, int iz, unsigned salt)
  * empty lot. Footprint half-widths 0.45..0.7 (<= CELL / 2 - MARGIN). */
 static float building(sdft_vec3 q, int ix, int iz)
 {
-    float h = block_hash(ix, iz, 1), wx = 0.45f + 0.25f * block_hash(ix, iz, 2), wz = 0.45f + 0.25f * block_hash(ix, iz, 3);
+    float h = block_hash(ix, iz, 1), wx = 0.45f + 0.25f * block_hash(ix, iz, 2),
+          wz = 0.45f + 0.25f * block_hash(ix, iz, 3);
     if (h < 0.06f)
         return INFINITY;
     float height = 0.5f + 2.5f * h + (h > 0.93f ? 4.0f : 0.0f);

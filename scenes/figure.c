@@ -26,7 +26,8 @@ static float body(sdft_vec3 p)
     float bell = ellipsoid_at(p, 0.0f, 0.56f, 0.0f, sdft_v3(0.27f, 0.4f, 0.24f));
     float skirt = sdft_op_intersect(bell, 0.56f - p.y); /* the upper half of the bell, hem at y = 0.56 */
     float trunk = sdft_op_smooth_union(sdft_op_smooth_union(torso, hips, 0.08f), skirt, 0.05f);
-    float top = sdft_op_smooth_union(sdft_op_smooth_union(head, nose, 0.02f), sdft_op_smooth_union(hair, bun, 0.04f), 0.02f);
+    float top =
+        sdft_op_smooth_union(sdft_op_smooth_union(head, nose, 0.02f), sdft_op_smooth_union(hair, bun, 0.04f), 0.02f);
     return sdft_op_smooth_union(sdft_op_smooth_union(trunk, neck, 0.05f), top, 0.04f);
 }
 

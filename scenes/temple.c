@@ -12,11 +12,11 @@
 #include "scenes.h"
 #include "sdftrace/sdf.h"
 
-#define SPACING 1.6f   /* column axis to axis */
-#define HALF_X 4.0f    /* |x| of the side rows */
-#define HALF_Z 8.8f    /* |z| of the front and back rows */
-#define TOP 4.08f      /* top of a column's abacus */
-#define RIDGE 6.4f     /* height of the roof ridge */
+#define SPACING 1.6f /* column axis to axis */
+#define HALF_X 4.0f  /* |x| of the side rows */
+#define HALF_Z 8.8f  /* |z| of the front and back rows */
+#define TOP 4.08f    /* top of a column's abacus */
+#define RIDGE 6.4f   /* height of the roof ridge */
 
 static sdft_vec3 at(sdft_vec3 p, float x, float y, float z) { return sdft_translate(p, sdft_v3(x, y, z)); }
 
@@ -37,7 +37,8 @@ static float column(sdft_vec3 p)
 static float colonnade(sdft_vec3 p)
 {
     sdft_vec3 m = sdft_mirror_z(sdft_mirror_x(p));
-    sdft_vec3 front = sdft_op_repeat_limited(at(m, 0.5f * SPACING, 0, HALF_Z), sdft_v3(SPACING, 0, 0), sdft_v3(2, 0, 0));
+    sdft_vec3 front =
+        sdft_op_repeat_limited(at(m, 0.5f * SPACING, 0, HALF_Z), sdft_v3(SPACING, 0, 0), sdft_v3(2, 0, 0));
     sdft_vec3 side = sdft_op_repeat_limited(at(m, HALF_X, 0, 0.5f * SPACING), sdft_v3(0, 0, SPACING), sdft_v3(0, 0, 4));
     return fminf(column(front), column(side));
 }

@@ -23,6 +23,9 @@ static float field_at(const sdft_scene *s, sdft_vec3 p)
     return sdft_field_distance(&s->field, &scratch, p);
 }
 
+/* Component `axis` (0, 1, 2) of v, by address. */
+static float *component(sdft_vec3 *v, int axis) { return axis == 0 ? &v->x : axis == 1 ? &v->y : &v->z; }
+
 static sdft_vec3 box_size(const sdft_scene *s) { return sdft_sub(s->field.bounds.hi, s->field.bounds.lo); }
 
 /* A random point of the bounds grown by `grow` of their size each side. */
@@ -140,8 +143,9 @@ static void test_empty_spheres(void **state)
         tu_rng rng = tu_rng_seed(200 + k);
         int checked = 0;
         for (int i = 0; i < 3000; i++) {
-            sdft_vec3 p = i % 2 ? point_in_bounds(&rng, s[k], 0.05f)
-                                : sdft_madd(point_near_surface(&rng, s[k]), unit_vector(&rng), tu_uniform(&rng, 0, 0.2f));
+            sdft_vec3 p = point_in_bounds(&rng, s[k], 0.05f);
+            if (i % 2) /* half of them just off the surface */
+                p = sdft_madd(point_near_surface(&rng, s[k]), unit_vector(&rng), tu_uniform(&rng, 0, 0.2f));
             float f = field_at(s[k], p);
             if (!(f > 1e-4f))
                 continue;
@@ -179,13 +183,9 @@ static void test_bounds(void **state)
             if (i % 2) {
                 int axis = i % 3, hi = (i / 2) % 2;
                 float off = expf(tu_uniform(&rng, logf(1e-4f), 0.0f));
-                float *c = axis == 0 ? &p.x : axis == 1 ? &p.y : &p.z;
-                float lo_c = axis == 0 ? b.lo.x : axis == 1 ? b.lo.y : b.lo.z;
-                float hi_c = axis == 0 ? b.hi.x : axis == 1 ? b.hi.y : b.hi.z;
-                *c = hi ? hi_c + off : lo_c - off;
+                *component(&p, axis) = hi ? *component(&b.hi, axis) + off : *component(&b.lo, axis) - off;
             }
-            int outside = p.x < b.lo.x || p.y < b.lo.y || p.z < b.lo.z || p.x > b.hi.x || p.y > b.hi.y ||
-                          p.z > b.hi.z;
+            int outside = p.x < b.lo.x || p.y < b.lo.y || p.z < b.lo.z || p.x > b.hi.x || p.y > b.hi.y || p.z > b.hi.z;
             if (outside && !(field_at(s[k], p) > 0.0f))
                 print_error("%s: f = %g outside the box at %g %g %g\n", s[k]->name, (double)field_at(s[k], p),
                             (double)p.x, (double)p.y, (double)p.z);
@@ -197,17 +197,10 @@ static void test_bounds(void **state)
             float best = INFINITY;
             for (int i = 0; i < 40000; i++) {
                 sdft_vec3 p = point_in_bounds(&rng, s[k], 0.0f);
-                float v = face % 2 ? (axis == 0 ? b.hi.x : axis == 1 ? b.hi.y : b.hi.z)
-                                   : (axis == 0 ? b.lo.x : axis == 1 ? b.lo.y : b.lo.z);
-                if (axis == 0)
-                    p.x = v;
-                else if (axis == 1)
-                    p.y = v;
-                else
-                    p.z = v;
+                *component(&p, axis) = *component(face % 2 ? &b.hi : &b.lo, axis);
                 best = fminf(best, field_at(s[k], p));
             }
-            float extent = axis == 0 ? size.x : axis == 1 ? size.y : size.z;
+            float extent = *component(&size, axis);
             if (!(best <= 0.05f * extent))
                 print_error("%s: face %d of the box is %g from the surface\n", s[k]->name, face, (double)best);
             assert_true(best <= 0.05f * extent);
@@ -255,9 +248,8 @@ static void test_camera_sees_scene(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_registry),     cmocka_unit_test(test_lipschitz),
-        cmocka_unit_test(test_empty_spheres), cmocka_unit_test(test_bounds),
-        cmocka_unit_test(test_camera_sees_scene),
+        cmocka_unit_test(test_registry), cmocka_unit_test(test_lipschitz),         cmocka_unit_test(test_empty_spheres),
+        cmocka_unit_test(test_bounds),   cmocka_unit_test(test_camera_sees_scene),
     };
     return cmocka_run_group_tests_name("scenes", tests, NULL, NULL);
 }

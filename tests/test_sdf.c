@@ -18,13 +18,13 @@
 #define PI 3.14159265358979323846
 
 /* Fails with the numbers when |got - want| > tol. */
-#define assert_close(got, want, tol)                                                                           \
-    do {                                                                                                       \
-        double g_ = (got), w_ = (want);                                                                        \
-        if (!(fabs(g_ - w_) <= (tol))) {                                                                       \
-            print_error("%s = %.7g, want %.7g (tol %.2g) at line %d\n", #got, g_, w_, (double)(tol), __LINE__); \
-            fail();                                                                                            \
-        }                                                                                                      \
+#define assert_close(got, want, tol)                                                                                   \
+    do {                                                                                                               \
+        double g_ = (got), w_ = (want);                                                                                \
+        if (!(fabs(g_ - w_) <= (tol))) {                                                                               \
+            print_error("%s = %.7g, want %.7g (tol %.2g) at line %d\n", #got, g_, w_, (double)(tol), __LINE__);        \
+            fail();                                                                                                    \
+        }                                                                                                              \
     } while (0)
 
 static sdft_vec3 rand_point(tu_rng *r, float extent)
@@ -247,9 +247,9 @@ static void test_ellipsoid_is_a_bound(void **state)
 /* ---- the dodecahedron, built independently from its 20 vertices -------- */
 
 typedef struct face {
-    sdft_vec3 n;       /* unit outward normal */
-    double offset;     /* plane: dot(p, n) = offset */
-    sdft_vec3 v[5];    /* corners in order around n */
+    sdft_vec3 n;    /* unit outward normal */
+    double offset;  /* plane: dot(p, n) = offset */
+    sdft_vec3 v[5]; /* corners in order around n */
 } face;
 
 static int build_dodecahedron(face faces[12], float inradius)
@@ -276,7 +276,10 @@ static int build_dodecahedron(face faces[12], float inradius)
                 int on = 0, above = 0;
                 for (int m = 0; m < 20; m++) {
                     double e = sdft_dot(n, v[m]) - off;
-                    on += fabs(e) < 1e-4, above += e > 1e-4;
+                    if (fabs(e) < 1e-4)
+                        on++;
+                    else if (e > 0)
+                        above++;
                 }
                 if (above || on != 5)
                     continue;
@@ -530,7 +533,11 @@ static void test_repetition(void **state)
 /* Boxes that differ per cell (sizes by cell index), each >= 0.25 inside its
  * 2-wide cell: the cell-wall bound never exceeds the distance to the nearest
  * box of any cell, has the right sign, and is 1-Lipschitz. */
-static sdft_vec3 cell_box(int ix, int iz) { return sdft_v3(0.3f + 0.1f * (float)((ix * 7 + iz * 3) & 3), 0.2f + 0.3f * (float)((ix + 5 * iz) & 3), 0.75f - 0.1f * (float)((ix * 5 + iz) & 3)); }
+static sdft_vec3 cell_box(int ix, int iz)
+{
+    return sdft_v3(0.3f + 0.1f * (float)((ix * 7 + iz * 3) & 3), 0.2f + 0.3f * (float)((ix + 5 * iz) & 3),
+                   0.75f - 0.1f * (float)((ix * 5 + iz) & 3));
+}
 
 static float cell_field(sdft_vec3 p)
 {

@@ -82,7 +82,7 @@ static inline float sdft_sd_ellipsoid(sdft_vec3 p, sdft_vec3 radii)
 static inline float sdft_sd_dodecahedron(sdft_vec3 p, float r)
 {
     const float phi = 1.6180340f, inv_len = 0.5257311f; /* golden ratio, 1 / sqrt(1 + phi^2) */
-    sdft_vec3 a = sdft_abs3(p); /* |p . n| maximised over the sign choices of each normal */
+    sdft_vec3 a = sdft_abs3(p);                         /* |p . n| maximised over the sign choices of each normal */
     return fmaxf(a.y + phi * a.z, fmaxf(a.z + phi * a.x, a.x + phi * a.y)) * inv_len - r;
 }
 
@@ -165,10 +165,7 @@ static inline sdft_vec3 sdft_mirror_z(sdft_vec3 p) { return sdft_v3(p.x, p.y, fa
 
 /* Coordinate x folded into the cell of width `period` centred on the
  * nearest multiple of it; period <= 0 leaves x alone. */
-static inline float sdft_repeat1(float x, float period)
-{
-    return period > 0.0f ? x - period * roundf(x / period) : x;
-}
+static inline float sdft_repeat1(float x, float period) { return period > 0.0f ? x - period * roundf(x / period) : x; }
 
 /* Infinite repetition with cells of size `period` (per axis; <= 0: none),
  * centred on multiples of it. Exact when the shape lies inside its cell and
@@ -195,9 +192,9 @@ sdft_vec3 sdft_op_repeat_angular_y(sdft_vec3 p, int n);
  * the other copy's cell and crossing its margin. At a shared wall both sides
  * give `margin` (d_own >= margin there), so it is also continuous. */
 typedef struct sdft_cell {
-    sdft_vec3 q;     /* p in the cell's frame, centred on the cell */
-    int ix, iy, iz;  /* cell index per axis, 0 on axes not repeated */
-    float wall;      /* distance to the nearest wall shared with another cell; INFINITY if none */
+    sdft_vec3 q;    /* p in the cell's frame, centred on the cell */
+    int ix, iy, iz; /* cell index per axis, 0 on axes not repeated */
+    float wall;     /* distance to the nearest wall shared with another cell; INFINITY if none */
 } sdft_cell;
 
 /* Locates p among cells -count..count (count < 0: unlimited) of size
