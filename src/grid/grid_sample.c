@@ -117,12 +117,22 @@ static float sample_index(const sdft_grid *g, pnanovdb_readaccessor_t *acc, cons
             return copysignf(b, v[near]);
         }
     }
+    if (level == 0 && g->type == PNANOVDB_GRID_TYPE_FLOAT && (i0.x & 7) != 7 && (i0.y & 7) != 7 && (i0.z & 7) != 7) {
+        /* The whole cell lies in the leaf the accessor just found: read the
+         * eight floats from its table (x strides 64, y 8, z 1). */
+        pnanovdb_address_t t = pnanovdb_leaf_get_table_address(PNANOVDB_GRID_TYPE_FLOAT, g->buf, acc->leaf,
+                                                               pnanovdb_leaf_coord_to_offset(&i0));
+        for (int k = 0; k < 8; k++)
+            v[k] = pnanovdb_read_float(g->buf, pnanovdb_address_offset(t, 4u * (64u * (k & 1) + 8u * (k >> 1 & 1) + (k >> 2 & 1))));
+        goto interpolate;
+    }
     for (int k = 0; k < 8; k++) {
         if (k == near)
             continue;
         uint32_t lk;
         v[k] = read_value(g, acc, (pnanovdb_coord_t){i0.x + (k & 1), i0.y + (k >> 1 & 1), i0.z + (k >> 2 & 1)}, &lk);
     }
+interpolate:
     if (level_out)
         *level_out = 0;
     float x00 = lerp(v[0], v[1], tx), x10 = lerp(v[2], v[3], tx);

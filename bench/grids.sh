@@ -1,0 +1,47 @@
+#!/bin/sh
+# sdftrace's grid benchmark (issue 3):
+#  1. bake temple and figure at RES^3 (default 1024) with a 3-voxel narrow
+#     band: wall time and peak memory from /usr/bin/time -v;
+#  2. trace one .vdb (temple) at WIDTHxHEIGHT from the scene's camera three
+#     ways in one run: sdftrace's four variants and NanoVDB's own HDDA
+#     level-set caster (bench/hdda_caster, primary rays, same process), then
+#     OpenVDB's vdb_render on the same file and view (its own timer, -v).
+#
+# usage: bench/grids.sh [RES [WIDTH HEIGHT]]        (default 1024 1280 720)
+# env:   BUILD  the build folder holding sdftrace and bench/hdda_caster
+#               (default build); OUT  where the grids go (default a temp dir)
+set -eu
+
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${BUILD:-$root/build}
+res=${1:-1024}
+width=${2:-1280}
+height=${3:-720}
+bin=$build/sdftrace
+caster=$build/bench/hdda_caster
+for tool in "$bin" "$caster" /usr/bin/time vdb_render; do
+    command -v "$tool" >/dev/null 2>&1 || { echo "grids.sh: missing $tool" >&2; exit 1; }
+done
+out=${OUT:-$(mktemp -d)}
+mkdir -p "$out"
+
+echo "== bake at ${res}^3, narrow band 3 voxels ($(nproc) cores)"
+printf '%-8s %10s %12s  %s\n' scene wall_s peak_MiB summary
+for scene in temple figure; do
+    /usr/bin/time -v "$bin" bake --scene "$scene" --res "$res" -o "$out/$scene.vdb" >"$out/$scene.bake" 2>"$out/$scene.time"
+    wall=$(awk -F': ' '/Elapsed \(wall clock\)/ { n = split($2, a, ":"); s = 0; for (i = 1; i <= n; i++) s = s * 60 + a[i]; print s }' "$out/$scene.time")
+    rss=$(awk -F': ' '/Maximum resident set size/ { printf "%.0f", $2 / 1024 }' "$out/$scene.time")
+    printf '%-8s %10s %12s  %s\n' "$scene" "$wall" "$rss" "$(cat "$out/$scene.bake")"
+done
+
+echo
+echo "== temple.vdb traced at ${width}x${height} from the scene's camera"
+"$caster" "$out/temple.vdb" temple "$width" "$height" "$out/temple_hdda.pfm" | tee "$out/trace.txt"
+hdda_ms=$(awk '$1 == "nanovdb-hdda" { print $2 }' "$out/trace.txt")
+view=$(sed -n 's/^# vdb_render //p' "$out/trace.txt")
+# shellcheck disable=SC2086 # $view is a list of options
+vdb_render "$out/temple.vdb" "$out/temple_vdb_render.exr" $view -shader position -v >"$out/vdb_render.log" 2>&1
+vr_ms=$(awk '/[Rr]ender/ && /sec/ { for (i = 1; i <= NF; i++) if ($i ~ /^[0-9.]+$/) v = $i } END { if (v != "") printf "%.1f", v * 1000 }' "$out/vdb_render.log")
+printf '%-24s %10s %8s\n' "openvdb-vdb_render" "${vr_ms:-?}" \
+    "$(awk -v a="${vr_ms:-0}" -v b="$hdda_ms" 'BEGIN { if (a > 0) printf "%.2f", a / b; else print "?" }')"
+echo "(vdb_render's log: $out/vdb_render.log; grids and depth maps in $out)"
