@@ -1,3 +1,4 @@
+#define _POSIX_C_SOURCE 200809L /* popen, pclose */
 #include "testutil.h"
 
 #include <stdarg.h>
