@@ -20,16 +20,40 @@
 
 static sdft_vec3 at(sdft_vec3 p, float x, float y, float z) { return sdft_translate(p, sdft_v3(x, y, z)); }
 
+/* Bounding-volume early-out (sdf.h): the detail is evaluated only within
+ * NEAR of a volume that encloses it. */
+#define NEAR 0.05f
+
+static float within(float bound, float (*detail)(sdft_vec3), sdft_vec3 p)
+{
+    return bound > NEAR ? bound : sdft_op_near_bound(bound, detail(p), NEAR);
+}
+
+/* A shaft with 16 flutes cut in. Cutting only removes material, so the
+ * plain cylinder is a bound on the fluted one. */
+static float fluted_shaft(sdft_vec3 p)
+{
+    float shaft = sdft_sd_cylinder(at(p, 0, 2.0f, 0), 0.3f, 1.85f);
+    if (shaft > NEAR)
+        return shaft;
+    float flute = sdft_sd_cylinder(at(sdft_op_repeat_angular_y(p, 16), 0.31f, 2.0f, 0), 0.045f, 1.7f);
+    return sdft_op_near_bound(shaft, sdft_op_subtract(flute, shaft), NEAR);
+}
+
 /* One column standing at the origin: plinth, torus, fluted shaft, capital. */
-static float column(sdft_vec3 p)
+static float column_detail(sdft_vec3 p)
 {
     float plinth = sdft_sd_box(at(p, 0, 0.06f, 0), sdft_v3(0.38f, 0.06f, 0.38f));
     float torus = sdft_sd_torus(at(p, 0, 0.17f, 0), 0.3f, 0.06f);
-    float shaft = sdft_sd_cylinder(at(p, 0, 2.0f, 0), 0.3f, 1.85f);
-    float flute = sdft_sd_cylinder(at(sdft_op_repeat_angular_y(p, 16), 0.31f, 2.0f, 0), 0.045f, 1.7f);
     float echinus = sdft_sd_cylinder(at(p, 0, 3.86f, 0), 0.36f, 0.06f);
     float abacus = sdft_sd_box(at(p, 0, 4.0f, 0), sdft_v3(0.42f, 0.08f, 0.42f));
-    return fminf(fminf(plinth, torus), fminf(sdft_op_subtract(flute, shaft), fminf(echinus, abacus)));
+    return fminf(fminf(plinth, torus), fminf(fluted_shaft(p), fminf(echinus, abacus)));
+}
+
+/* Every part of a column lies in the box |x|, |z| <= 0.42, 0 <= y <= 4.08. */
+static float column(sdft_vec3 p)
+{
+    return within(sdft_sd_box(at(p, 0, 0.5f * TOP, 0), sdft_v3(0.42f, 0.5f * TOP, 0.42f)), column_detail, p);
 }
 
 /* Front and back rows of six (x = +-0.8, +-2.4, +-4.0), side rows of five
@@ -88,11 +112,17 @@ static float fence(sdft_vec3 p)
 
 static float ground(sdft_vec3 p) { return sdft_sd_box(at(p, 0, -1.3f, 0), sdft_v3(14.0f, 0.1f, 18.0f)); }
 
+static float building(sdft_vec3 p) { return fminf(fminf(platform(p), colonnade(p)), fminf(cella(p), roof(p))); }
+
 static float temple_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
 {
     (void)ctx, (void)s;
-    float building = fminf(fminf(platform(p), colonnade(p)), fminf(cella(p), roof(p)));
-    return fminf(building, fminf(fence(p), ground(p)));
+    /* The building (lowest step to roof plates) lies in |x| <= 6.1,
+     * -1.2 <= y <= 6.6, |z| <= 10.9; the fence in |x| <= 6.02, -1.2 <= y <=
+     * -0.18, |z - 13.35| <= 0.02. */
+    float building_box = sdft_sd_box(at(p, 0, 2.7f, 0), sdft_v3(6.2f, 4.0f, 11.0f));
+    float fence_box = sdft_sd_box(at(p, 0, -0.7f, 13.35f), sdft_v3(6.1f, 0.55f, 0.1f));
+    return fminf(fminf(within(building_box, building, p), within(fence_box, fence, p)), ground(p));
 }
 
 const sdft_scene sdft_scene_temple = {
