@@ -41,7 +41,8 @@ hdda_ms=$(awk '$1 == "nanovdb-hdda" { print $2 }' "$out/trace.txt")
 view=$(sed -n 's/^# vdb_render //p' "$out/trace.txt")
 # shellcheck disable=SC2086 # $view is a list of options
 vdb_render "$out/temple.vdb" "$out/temple_vdb_render.exr" $view -shader position -v >"$out/vdb_render.log" 2>&1
-vr_ms=$(awk '/[Rr]ender/ && /sec/ { for (i = 1; i <= NF; i++) if ($i ~ /^[0-9.]+$/) v = $i } END { if (v != "") printf "%.1f", v * 1000 }' "$out/vdb_render.log")
+# vdb_render -v prints "ray-tracing NAME..." then "...completed in S sec".
+vr_ms=$(awk '/ray-tracing/ { t = 1; next } t && /completed in/ { printf "%.1f", $(NF - 1) * 1000; exit }' "$out/vdb_render.log")
 printf '%-24s %10s %8s\n' "openvdb-vdb_render" "${vr_ms:-?}" \
     "$(awk -v a="${vr_ms:-0}" -v b="$hdda_ms" 'BEGIN { if (a > 0) printf "%.2f", a / b; else print "?" }')"
 echo "(vdb_render's log: $out/vdb_render.log; grids and depth maps in $out)"
