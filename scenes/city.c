@@ -42,9 +42,9 @@ static float building(sdft_vec3 q, int ix, int iz)
     if (height > 2.5f) {
         float top = 0.15f * height;
         sdft_vec3 setback = sdft_translate(q, sdft_v3(0, height + top, 0));
-        d = fminf(d, sdft_sd_box(setback, sdft_v3(0.6f * wx, top, 0.6f * wz)));
+        d = sdft_minf(d, sdft_sd_box(setback, sdft_v3(0.6f * wx, top, 0.6f * wz)));
         if (height > 4.0f)
-            d = fminf(d, sdft_sd_capsule(q, sdft_v3(0, height, 0), sdft_v3(0, 1.3f * height + 1.0f, 0), 0.02f));
+            d = sdft_minf(d, sdft_sd_capsule(q, sdft_v3(0, height, 0), sdft_v3(0, 1.3f * height + 1.0f, 0), 0.02f));
     }
     return d;
 }
@@ -63,7 +63,7 @@ static float ground(sdft_vec3 p)
 static float city_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
 {
     (void)ctx, (void)s;
-    return fminf(buildings(p), ground(p));
+    return sdft_minf(buildings(p), ground(p));
 }
 
 const sdft_scene sdft_scene_city = {

@@ -23,7 +23,7 @@ static float beads(sdft_vec3 p)
     float a = sdft_sd_sphere(sdft_translate(p, sdft_v3(2.3f, 0.5f, 0.7f)), 0.5f);
     float b = sdft_sd_sphere(sdft_translate(p, sdft_v3(-2.0f, 0.35f, 1.1f)), 0.35f);
     float c = sdft_sd_sphere(sdft_translate(p, sdft_v3(-2.6f, 0.7f, -1.5f)), 0.7f);
-    return fminf(a, fminf(b, c));
+    return sdft_minf(a, sdft_minf(b, c));
 }
 
 static float ground(sdft_vec3 p) { return sdft_sd_box(sdft_translate(p, sdft_v3(0, -0.05f, 0)), sdft_v3(6, 0.05f, 6)); }
@@ -31,7 +31,7 @@ static float ground(sdft_vec3 p) { return sdft_sd_box(sdft_translate(p, sdft_v3(
 static float dodecahedron_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
 {
     (void)ctx, (void)s;
-    return fminf(gem(p), fminf(beads(p), ground(p)));
+    return sdft_minf(gem(p), sdft_minf(beads(p), ground(p)));
 }
 
 const sdft_scene sdft_scene_dodecahedron = {

@@ -40,7 +40,7 @@ static float limbs(sdft_vec3 p)
     sdft_vec3 hip = {0.09f, 0.86f, 0.0f}, knee = {0.1f, 0.48f, 0.03f}, ankle = {0.1f, 0.09f, -0.01f};
     float leg = sdft_op_smooth_union(limb(p, hip, knee, 0.075f), limb(p, knee, ankle, 0.05f), 0.03f);
     float foot = ellipsoid_at(p, 0.1f, 0.045f, 0.05f, sdft_v3(0.048f, 0.04f, 0.11f));
-    return fminf(sdft_op_smooth_union(arm, hand, 0.03f), sdft_op_smooth_union(leg, foot, 0.04f));
+    return sdft_minf(sdft_op_smooth_union(arm, hand, 0.03f), sdft_op_smooth_union(leg, foot, 0.04f));
 }
 
 static float pedestal(sdft_vec3 p) { return sdft_sd_cylinder(sdft_translate(p, sdft_v3(0, -0.04f, 0)), 1.1f, 0.04f); }
@@ -49,7 +49,7 @@ static float figure_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
 {
     (void)ctx, (void)s;
     float character = sdft_op_smooth_union(body(p), limbs(sdft_mirror_x(p)), 0.06f);
-    return fminf(character, pedestal(p));
+    return sdft_minf(character, pedestal(p));
 }
 
 const sdft_scene sdft_scene_figure = {

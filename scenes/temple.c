@@ -21,23 +21,22 @@
 static sdft_vec3 at(sdft_vec3 p, float x, float y, float z) { return sdft_translate(p, sdft_v3(x, y, z)); }
 
 /* Bounding-volume early-out (sdf.h): the detail is evaluated only within
- * NEAR of a volume that encloses it. */
-#define NEAR 0.05f
-
-static float within(float bound, float (*detail)(sdft_vec3), sdft_vec3 p)
+ * `near` of a volume that encloses it. */
+static float within(float bound, float near, float (*detail)(sdft_vec3), sdft_vec3 p)
 {
-    return bound > NEAR ? bound : sdft_op_near_bound(bound, detail(p), NEAR);
+    return bound >= near ? bound : sdft_op_near_bound(bound, detail(p), near);
 }
 
 /* A shaft with 16 flutes cut in. Cutting only removes material, so the
  * plain cylinder is a bound on the fluted one. */
 static float fluted_shaft(sdft_vec3 p)
 {
+    const float near = 0.05f;
     float shaft = sdft_sd_cylinder(at(p, 0, 2.0f, 0), 0.3f, 1.85f);
-    if (shaft > NEAR)
+    if (shaft >= near)
         return shaft;
     float flute = sdft_sd_cylinder(at(sdft_op_repeat_angular_y(p, 16), 0.31f, 2.0f, 0), 0.045f, 1.7f);
-    return sdft_op_near_bound(shaft, sdft_op_subtract(flute, shaft), NEAR);
+    return sdft_op_near_bound(shaft, sdft_op_subtract(flute, shaft), near);
 }
 
 /* One column standing at the origin: plinth, torus, fluted shaft, capital. */
@@ -47,13 +46,13 @@ static float column_detail(sdft_vec3 p)
     float torus = sdft_sd_torus(at(p, 0, 0.17f, 0), 0.3f, 0.06f);
     float echinus = sdft_sd_cylinder(at(p, 0, 3.86f, 0), 0.36f, 0.06f);
     float abacus = sdft_sd_box(at(p, 0, 4.0f, 0), sdft_v3(0.42f, 0.08f, 0.42f));
-    return fminf(fminf(plinth, torus), fminf(fluted_shaft(p), fminf(echinus, abacus)));
+    return sdft_minf(sdft_minf(plinth, torus), sdft_minf(fluted_shaft(p), sdft_minf(echinus, abacus)));
 }
 
 /* Every part of a column lies in the box |x|, |z| <= 0.42, 0 <= y <= 4.08. */
 static float column(sdft_vec3 p)
 {
-    return within(sdft_sd_box(at(p, 0, 0.5f * TOP, 0), sdft_v3(0.42f, 0.5f * TOP, 0.42f)), column_detail, p);
+    return within(sdft_sd_box(at(p, 0, 0.5f * TOP, 0), sdft_v3(0.42f, 0.5f * TOP, 0.42f)), 0.1f, column_detail, p);
 }
 
 /* Front and back rows of six (x = +-0.8, +-2.4, +-4.0), side rows of five
@@ -64,7 +63,7 @@ static float colonnade(sdft_vec3 p)
     sdft_vec3 front =
         sdft_op_repeat_limited(at(m, 0.5f * SPACING, 0, HALF_Z), sdft_v3(SPACING, 0, 0), sdft_v3(2, 0, 0));
     sdft_vec3 side = sdft_op_repeat_limited(at(m, HALF_X, 0, 0.5f * SPACING), sdft_v3(0, 0, SPACING), sdft_v3(0, 0, 4));
-    return fminf(column(front), column(side));
+    return sdft_minf(column(front), column(side));
 }
 
 /* Six steps of 0.2 rise and 0.25 run down from the platform top at y = 0. */
@@ -72,7 +71,7 @@ static float platform(sdft_vec3 p)
 {
     float d = INFINITY;
     for (int i = 0; i < 6; i++)
-        d = fminf(d, sdft_sd_box(at(p, 0, -0.1f - 0.2f * i, 0), sdft_v3(4.8f + 0.25f * i, 0.1f, 9.6f + 0.25f * i)));
+        d = sdft_minf(d, sdft_sd_box(at(p, 0, -0.1f - 0.2f * i, 0), sdft_v3(4.8f + 0.25f * i, 0.1f, 9.6f + 0.25f * i)));
     return d;
 }
 
@@ -96,7 +95,7 @@ static float roof(sdft_vec3 p)
     float plate = fabsf(under_gable - 0.03f) - 0.03f;
     float tiles = sdft_op_intersect(plate, sdft_sd_box(at(p, 0, 5.6f, 0), sdft_v3(4.9f, 0.9f, 9.5f)));
     float ridge_rod = sdft_sd_capsule(p, sdft_v3(0, RIDGE + 0.06f, -9.5f), sdft_v3(0, RIDGE + 0.06f, 9.5f), 0.015f);
-    return fminf(fminf(architrave, cornice), fminf(fminf(pediment, tiles), ridge_rod));
+    return sdft_minf(sdft_minf(architrave, cornice), sdft_minf(sdft_minf(pediment, tiles), ridge_rod));
 }
 
 /* A fence of thin rods, 30 cm apart, 1 m tall, with a top rail, across the
@@ -107,12 +106,15 @@ static float fence(sdft_vec3 p)
     sdft_vec3 r = sdft_op_repeat_limited(q, sdft_v3(0.3f, 0, 0), sdft_v3(20, 0, 0));
     float rods = sdft_sd_cylinder(at(r, 0, 0.5f, 0), 0.012f, 0.5f);
     float rail = sdft_sd_capsule(q, sdft_v3(-6.0f, 1.0f, 0), sdft_v3(6.0f, 1.0f, 0), 0.02f);
-    return fminf(rods, rail);
+    return sdft_minf(rods, rail);
 }
 
 static float ground(sdft_vec3 p) { return sdft_sd_box(at(p, 0, -1.3f, 0), sdft_v3(14.0f, 0.1f, 18.0f)); }
 
-static float building(sdft_vec3 p) { return fminf(fminf(platform(p), colonnade(p)), fminf(cella(p), roof(p))); }
+static float building(sdft_vec3 p)
+{
+    return sdft_minf(sdft_minf(platform(p), colonnade(p)), sdft_minf(cella(p), roof(p)));
+}
 
 static float temple_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
 {
@@ -122,7 +124,7 @@ static float temple_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
      * -0.18, |z - 13.35| <= 0.02. */
     float building_box = sdft_sd_box(at(p, 0, 2.7f, 0), sdft_v3(6.2f, 4.0f, 11.0f));
     float fence_box = sdft_sd_box(at(p, 0, -0.7f, 13.35f), sdft_v3(6.1f, 0.55f, 0.1f));
-    return fminf(fminf(within(building_box, building, p), within(fence_box, fence, p)), ground(p));
+    return sdft_minf(sdft_minf(within(building_box, 0.5f, building, p), within(fence_box, 0.2f, fence, p)), ground(p));
 }
 
 const sdft_scene sdft_scene_temple = {

@@ -28,8 +28,13 @@ typedef struct sdft_aabb {
 /* Per-thread mutable state of a field (its sampler). Plain bytes, so it can
  * live on a thread's stack; SDFT_SCRATCH_BYTES bounds every field's need. */
 #define SDFT_SCRATCH_BYTES 192
+#ifdef __cplusplus
+#define SDFT_ALIGNAS(n) alignas(n)
+#else
+#define SDFT_ALIGNAS(n) _Alignas(n)
+#endif
 typedef struct sdft_scratch {
-    _Alignas(16) unsigned char bytes[SDFT_SCRATCH_BYTES];
+    SDFT_ALIGNAS(16) unsigned char bytes[SDFT_SCRATCH_BYTES];
 } sdft_scratch;
 
 typedef struct sdft_field {

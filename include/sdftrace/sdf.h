@@ -27,7 +27,7 @@ static inline float sdft_sd_sphere(sdft_vec3 p, float r) { return sdft_length(p)
 static inline float sdft_sd_box(sdft_vec3 p, sdft_vec3 half)
 {
     sdft_vec3 q = sdft_sub(sdft_abs3(p), half);
-    return sdft_length(sdft_max3(q, 0.0f)) + fminf(sdft_maxcomp(q), 0.0f);
+    return sdft_length(sdft_max3(q, 0.0f)) + sdft_minf(sdft_maxcomp(q), 0.0f);
 }
 
 /* Box with outer half-extents `half` whose edges are rounded with `radius`
@@ -52,15 +52,15 @@ static inline float sdft_sd_plane(sdft_vec3 p, sdft_vec3 n, float d) { return sd
 static inline float sdft_sd_cylinder(sdft_vec3 p, float r, float h)
 {
     float dr = sqrtf(p.x * p.x + p.z * p.z) - r, dy = fabsf(p.y) - h;
-    float ox = fmaxf(dr, 0.0f), oy = fmaxf(dy, 0.0f);
-    return sqrtf(ox * ox + oy * oy) + fminf(fmaxf(dr, dy), 0.0f);
+    float ox = sdft_maxf(dr, 0.0f), oy = sdft_maxf(dy, 0.0f);
+    return sqrtf(ox * ox + oy * oy) + sdft_minf(sdft_maxf(dr, dy), 0.0f);
 }
 
 /* Capsule: the points within r of segment ab. Exact. */
 static inline float sdft_sd_capsule(sdft_vec3 p, sdft_vec3 a, sdft_vec3 b, float r)
 {
     sdft_vec3 ab = sdft_sub(b, a), ap = sdft_sub(p, a);
-    float t = fminf(fmaxf(sdft_dot(ap, ab) / sdft_dot(ab, ab), 0.0f), 1.0f);
+    float t = sdft_minf(sdft_maxf(sdft_dot(ap, ab) / sdft_dot(ab, ab), 0.0f), 1.0f);
     return sdft_length(sdft_sub(ap, sdft_scale(ab, t))) - r;
 }
 
@@ -70,7 +70,7 @@ static inline float sdft_sd_capsule(sdft_vec3 p, sdft_vec3 a, sdft_vec3 b, float
 static inline float sdft_sd_ellipsoid(sdft_vec3 p, sdft_vec3 radii)
 {
     sdft_vec3 q = sdft_v3(p.x / radii.x, p.y / radii.y, p.z / radii.z);
-    return (sdft_length(q) - 1.0f) * fminf(radii.x, fminf(radii.y, radii.z));
+    return (sdft_length(q) - 1.0f) * sdft_minf(radii.x, sdft_minf(radii.y, radii.z));
 }
 
 /* Regular dodecahedron with inradius r (centre to face), faces normal to
@@ -83,35 +83,40 @@ static inline float sdft_sd_dodecahedron(sdft_vec3 p, float r)
 {
     const float phi = 1.6180340f, inv_len = 0.5257311f; /* golden ratio, 1 / sqrt(1 + phi^2) */
     sdft_vec3 a = sdft_abs3(p);                         /* |p . n| maximised over the sign choices of each normal */
-    return fmaxf(a.y + phi * a.z, fmaxf(a.z + phi * a.x, a.x + phi * a.y)) * inv_len - r;
+    return sdft_maxf(a.y + phi * a.z, sdft_maxf(a.z + phi * a.x, a.x + phi * a.y)) * inv_len - r;
 }
 
 /* ---- combining distances ---------------------------------------------- */
 
 /* Union of two shapes. Exact outside when both are; a bound inside. */
-static inline float sdft_op_union(float a, float b) { return fminf(a, b); }
+static inline float sdft_op_union(float a, float b) { return sdft_minf(a, b); }
 
 /* Shape b with shape a carved out of it. A bound. */
-static inline float sdft_op_subtract(float a, float b) { return fmaxf(-a, b); }
+static inline float sdft_op_subtract(float a, float b) { return sdft_maxf(-a, b); }
 
 /* Overlap of two shapes. A bound. */
-static inline float sdft_op_intersect(float a, float b) { return fmaxf(a, b); }
+static inline float sdft_op_intersect(float a, float b) { return sdft_maxf(a, b); }
 
 /* Union blended over a fillet of width k > 0 (polynomial smooth minimum).
  * Never above min(a, b), at most k/4 below; its gradient is h*grad(a) +
  * (1-h)*grad(b) with h in [0, 1], so bounds stay bounds. */
 static inline float sdft_op_smooth_union(float a, float b, float k)
 {
-    float h = fminf(fmaxf(0.5f + 0.5f * (b - a) / k, 0.0f), 1.0f);
+    float h = sdft_minf(sdft_maxf(0.5f + 0.5f * (b - a) / k, 0.0f), 1.0f);
     return b + h * (a - b) - k * h * (1.0f - h);
 }
 
 /* Bounding-volume early-out, continuous form. With `bound` a bound to a
- * volume enclosing the detail, use `bound > k ? bound : sdft_op_near_bound(
+ * volume enclosing the detail, use `bound >= k ? bound : sdft_op_near_bound(
  * bound, detail, k)`: far away the volume's own bound (the detail is no
- * nearer), near it the detail, capped at k so both branches meet at
- * bound == k. A bound; 1-Lipschitz when both inputs are. */
-static inline float sdft_op_near_bound(float bound, float detail, float k) { return fmaxf(bound, fminf(detail, k)); }
+ * nearer), near and inside it the detail, capped at 2k - bound. At bound == k
+ * the cap is k <= detail, so both branches meet; the cap grows with the depth
+ * inside the volume, so rays crossing it are not held to short steps. A
+ * bound (never above the detail), 1-Lipschitz when both inputs are. */
+static inline float sdft_op_near_bound(float bound, float detail, float k)
+{
+    return sdft_maxf(bound, sdft_minf(detail, 2.0f * k - bound));
+}
 
 /* ---- point transforms (apply to p, then call a primitive) ------------- */
 
@@ -204,7 +209,7 @@ sdft_cell sdft_cell_locate(sdft_vec3 p, sdft_vec3 period, sdft_vec3 count);
 /* The cell-wall bound of a shape lying `margin` inside its cell. */
 static inline float sdft_cell_bound(const sdft_cell *c, float d_own, float margin)
 {
-    return fminf(d_own, c->wall + margin);
+    return sdft_minf(d_own, c->wall + margin);
 }
 
 #ifdef __cplusplus

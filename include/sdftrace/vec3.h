@@ -9,12 +9,20 @@ typedef struct sdft_vec3 {
     float x, y, z;
 } sdft_vec3;
 
+/* min and max as plain compares: they compile to one instruction, where
+ * fminf/fmaxf become libm calls (their NaN rules) unless fast-math is on. */
+static inline float sdft_minf(float a, float b) { return a < b ? a : b; }
+static inline float sdft_maxf(float a, float b) { return a > b ? a : b; }
+
 static inline sdft_vec3 sdft_v3(float x, float y, float z) { return (sdft_vec3){x, y, z}; }
 static inline sdft_vec3 sdft_add(sdft_vec3 a, sdft_vec3 b) { return sdft_v3(a.x + b.x, a.y + b.y, a.z + b.z); }
 static inline sdft_vec3 sdft_sub(sdft_vec3 a, sdft_vec3 b) { return sdft_v3(a.x - b.x, a.y - b.y, a.z - b.z); }
 static inline sdft_vec3 sdft_mul(sdft_vec3 a, sdft_vec3 b) { return sdft_v3(a.x * b.x, a.y * b.y, a.z * b.z); }
 static inline sdft_vec3 sdft_scale(sdft_vec3 a, float s) { return sdft_v3(a.x * s, a.y * s, a.z * s); }
-static inline sdft_vec3 sdft_madd(sdft_vec3 o, sdft_vec3 d, float t) { return sdft_v3(o.x + d.x * t, o.y + d.y * t, o.z + d.z * t); }
+static inline sdft_vec3 sdft_madd(sdft_vec3 o, sdft_vec3 d, float t)
+{
+    return sdft_v3(o.x + d.x * t, o.y + d.y * t, o.z + d.z * t);
+}
 static inline float sdft_dot(sdft_vec3 a, sdft_vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 static inline float sdft_length(sdft_vec3 a) { return sqrtf(sdft_dot(a, a)); }
 static inline sdft_vec3 sdft_cross(sdft_vec3 a, sdft_vec3 b)
@@ -27,10 +35,19 @@ static inline sdft_vec3 sdft_normalize(sdft_vec3 a)
     return len > 0.0f ? sdft_scale(a, 1.0f / len) : a;
 }
 static inline sdft_vec3 sdft_abs3(sdft_vec3 a) { return sdft_v3(fabsf(a.x), fabsf(a.y), fabsf(a.z)); }
-static inline sdft_vec3 sdft_max3(sdft_vec3 a, float s) { return sdft_v3(fmaxf(a.x, s), fmaxf(a.y, s), fmaxf(a.z, s)); }
-static inline sdft_vec3 sdft_min_v(sdft_vec3 a, sdft_vec3 b) { return sdft_v3(fminf(a.x, b.x), fminf(a.y, b.y), fminf(a.z, b.z)); }
-static inline sdft_vec3 sdft_max_v(sdft_vec3 a, sdft_vec3 b) { return sdft_v3(fmaxf(a.x, b.x), fmaxf(a.y, b.y), fmaxf(a.z, b.z)); }
-static inline float sdft_maxcomp(sdft_vec3 a) { return fmaxf(a.x, fmaxf(a.y, a.z)); }
+static inline sdft_vec3 sdft_max3(sdft_vec3 a, float s)
+{
+    return sdft_v3(sdft_maxf(a.x, s), sdft_maxf(a.y, s), sdft_maxf(a.z, s));
+}
+static inline sdft_vec3 sdft_min_v(sdft_vec3 a, sdft_vec3 b)
+{
+    return sdft_v3(sdft_minf(a.x, b.x), sdft_minf(a.y, b.y), sdft_minf(a.z, b.z));
+}
+static inline sdft_vec3 sdft_max_v(sdft_vec3 a, sdft_vec3 b)
+{
+    return sdft_v3(sdft_maxf(a.x, b.x), sdft_maxf(a.y, b.y), sdft_maxf(a.z, b.z));
+}
+static inline float sdft_maxcomp(sdft_vec3 a) { return sdft_maxf(a.x, sdft_maxf(a.y, a.z)); }
 static inline int sdft_isfinite3(sdft_vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 
 #endif

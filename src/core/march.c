@@ -20,9 +20,9 @@ static void refine(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, co
         if (!isfinite(dt))
             dt = r1;
         if (r1 > 0.0f)
-            dt = fminf(fmaxf(dt, r1), 32.0f * r1);
+            dt = sdft_minf(sdft_maxf(dt, r1), 32.0f * r1);
         else
-            dt = (r0 > 0.0f && t0 < t1) ? fminf(fmaxf(dt, t0 - t1), r1) : r1;
+            dt = (r0 > 0.0f && t0 < t1) ? sdft_minf(sdft_maxf(dt, t0 - t1), r1) : r1;
         float tn = t1 + dt, rn = march_eval(f, s, ray, tn);
         (*steps)++;
         if (!(fabsf(rn) < fabsf(r1)))
@@ -32,9 +32,8 @@ static void refine(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, co
     }
 }
 
-sdft_hit march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p,
-                      float t0, float r0, float t, float r, uint32_t steps, uint32_t fallbacks,
-                      march_candidate best)
+sdft_hit march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p, float t0,
+                      float r0, float t, float r, uint32_t steps, uint32_t fallbacks, march_candidate best)
 {
     sdft_hit hit = {.t = t, .distance = r, .steps = steps, .fallbacks = fallbacks};
     if (r <= march_eps(p, t)) {

@@ -25,10 +25,10 @@ static float cell_axis(float x, float period, float count, int *index, float *wa
     }
     float c = roundf(x / period);
     if (count >= 0.0f)
-        c = fminf(fmaxf(c, -count), count);
+        c = sdft_minf(sdft_maxf(c, -count), count);
     float q = x - period * c, half = 0.5f * period;
     int below = count < 0.0f || c > -count, above = count < 0.0f || c < count;
-    *wall = fminf(below ? q + half : INFINITY, above ? half - q : INFINITY);
+    *wall = sdft_minf(below ? q + half : INFINITY, above ? half - q : INFINITY);
     *index = (int)c;
     return q;
 }
@@ -40,7 +40,7 @@ sdft_cell sdft_cell_locate(sdft_vec3 p, sdft_vec3 period, sdft_vec3 count)
     c.q.x = cell_axis(p.x, period.x, count.x, &c.ix, &wx);
     c.q.y = cell_axis(p.y, period.y, count.y, &c.iy, &wy);
     c.q.z = cell_axis(p.z, period.z, count.z, &c.iz, &wz);
-    c.wall = fminf(wx, fminf(wy, wz));
+    c.wall = sdft_minf(wx, sdft_minf(wy, wz));
     return c;
 }
 

@@ -13,21 +13,21 @@ sdft_hit sdft_trace_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ra
     march_candidate best = {t, r, INFINITY};
     march_offer(&best, p, t, r);
 
-    while (march_on(p, ray, t, r, i)) {               /* line 5 */
+    while (march_on(p, ray, t, r, i)) {                /* line 5 */
         float T = t + z, R = march_eval(f, s, ray, T); /* line 6 */
         if (z <= r + fabsf(R)) {                       /* line 7 */
             /* line 8; the denominator lies in [0, 2z] for a 1-Lipschitz f
              * and is kept off zero for rays leaving a surface head-on. */
-            float denominator = fmaxf(T - t - (R - r), 1e-6f * (T - t));
+            float denominator = sdft_maxf(T - t - (R - r), 1e-6f * (T - t));
             z = R + omega * R * (T - t + R - r) / denominator;
             t0 = t, r0 = r;
-            t = T, r = R;                              /* line 9 */
+            t = T, r = R; /* line 9 */
             march_offer(&best, p, t, r);
         } else {
-            z = r;                                     /* line 11 */
+            z = r; /* line 11 */
             fallbacks++;
         }
-        i = i + 1;                                     /* line 13 */
+        i = i + 1; /* line 13 */
     }
     return march_finish(f, s, ray, p, t0, r0, t, r, i, fallbacks, best);
 }

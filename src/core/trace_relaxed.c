@@ -15,18 +15,18 @@ sdft_hit sdft_trace_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray
     march_candidate best = {t, r, INFINITY};
     march_offer(&best, p, t, r);
 
-    while (march_on(p, ray, t, r, i)) {               /* line 14 */
+    while (march_on(p, ray, t, r, i)) {                /* line 14 */
         float T = t + z, R = march_eval(f, s, ray, T); /* line 6: try the step */
         if (z <= r + fabsf(R)) {                       /* line 7: spheres overlap */
             z = omega * R;                             /* line 8 */
             t0 = t, r0 = r;
-            t = T, r = R;                              /* line 9 */
+            t = T, r = R; /* line 9 */
             march_offer(&best, p, t, r);
         } else {
-            z = r;                                     /* line 11: basic step */
+            z = r; /* line 11: basic step */
             fallbacks++;
         }
-        i = i + 1;                                     /* line 13 */
+        i = i + 1; /* line 13 */
     }
     return march_finish(f, s, ray, p, t0, r0, t, r, i, fallbacks, best);
 }

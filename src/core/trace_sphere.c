@@ -15,9 +15,9 @@ sdft_hit sdft_trace_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray 
 
     while (march_on(p, ray, t, r, i)) { /* line 9 */
         t0 = t, r0 = r;
-        t = t + r;                      /* line 7 */
-        r = march_eval(f, s, ray, t);   /* line 6 */
-        i = i + 1;                      /* line 8 */
+        t = t + r;                    /* line 7 */
+        r = march_eval(f, s, ray, t); /* line 6 */
+        i = i + 1;                    /* line 8 */
         march_offer(&best, p, t, r);
     }
     return march_finish(f, s, ray, p, t0, r0, t, r, i, 0, best);

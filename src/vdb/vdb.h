@@ -8,10 +8,6 @@
 
 #include <stdint.h>
 
-/* field.h spells its scratch alignment in C11; the same meaning in C++. */
-#if defined(__cplusplus) && !defined(_Alignas)
-#define _Alignas(n) alignas(n)
-#endif
 #include "sdftrace/field.h"
 #include "sdftrace/grid.h"
 
