@@ -2,7 +2,8 @@
  * NanoVDB's own level-set ray caster (pnanovdb_hdda_zero_crossing: a
  * hierarchical DDA that skips empty tiles and stops at the first sign change
  * between active voxels) and sdftrace's four variants through sdft_render
- * (primary rays only, as the caster). Prints ms per frame (best of REPEAT),
+ * (primary rays only, as the caster), each with the far bound, the tree
+ * bound alone and no bound. Prints ms per frame (best of $REPEAT, default 3),
  * ratios to the caster, and how closely the depth maps agree; writes the
  * caster's depth as a PFM.
  *
@@ -23,7 +24,6 @@
 #include "sdftrace/scene.h"
 #include "vdb.h"
 
-enum { REPEAT = 3 };
 
 typedef struct caster {
     pnanovdb_buf_t buf;
@@ -122,6 +122,8 @@ int main(int argc, char **argv)
         return 2;
     }
     const sdft_scene *sc = sdft_scene_find(argv[2]);
+    const char *rep = getenv("REPEAT");
+    const int repeat = rep && atoi(rep) > 0 ? atoi(rep) : 3;
     int w = argc > 4 ? atoi(argv[3]) : 1280, h = argc > 4 ? atoi(argv[4]) : 720;
     if (!sc || w < 1 || h < 1) {
         fprintf(stderr, "hdda_caster: unknown scene or bad size\n");
@@ -142,7 +144,7 @@ int main(int argc, char **argv)
     float *hdda = malloc(n * sizeof *hdda);
     caster c = caster_make(g);
     double best = INFINITY;
-    for (int i = 0; i < REPEAT; i++)
+    for (int i = 0; i < repeat; i++)
         best = fmin(best, cast(&c, &sc->camera, w, h, hdda));
     if (argc > 5)
         write_pfm(argv[5], hdda, w, h);
@@ -150,7 +152,7 @@ int main(int argc, char **argv)
     for (size_t i = 0; i < n; i++)
         hits += isfinite(hdda[i]);
     printf("grid %s (%s, voxel %g), %dx%d, %d threads, best of %d\n", sdft_grid_name(g), sdft_grid_type_name(g), voxel, w,
-           h, omp_get_max_threads(), REPEAT);
+           h, omp_get_max_threads(), repeat);
     /* The same view for OpenVDB's vdb_render, whose fov is horizontal. */
     const sdft_camera *cam = &sc->camera;
     float hfov = 2.0f * atanf(tanf(0.5f * cam->fov_deg * 3.14159265f / 180.0f) * (float)w / (float)h) * 180.0f / 3.14159265f;
@@ -166,14 +168,16 @@ int main(int argc, char **argv)
     sdft_image img;
     if (sdft_image_alloc(&img, w, h))
         return 1;
-    for (int k = 0; k < 2 * SDFT_METHOD_COUNT; k++) {
-        const int m = k % SDFT_METHOD_COUNT, flat = k >= SDFT_METHOD_COUNT;
-        f = flat ? sdft_grid_field_without_bound(g) : sdft_grid_field(g);
+    static const char *const bound_suffix[] = {"", "-treebound", "-nobound"};
+    for (int k = 0; k < 3 * SDFT_METHOD_COUNT; k++) {
+        const int m = k % SDFT_METHOD_COUNT;
+        const sdft_grid_bound bound = (sdft_grid_bound)(k / SDFT_METHOD_COUNT);
+        f = sdft_grid_field_with(g, bound);
         rp.trace.method = (sdft_method)m;
         rp.trace.omega = sdft_default_omega((sdft_method)m);
         double ms = INFINITY;
         sdft_render_stats st;
-        for (int i = 0; i < REPEAT; i++) {
+        for (int i = 0; i < repeat; i++) {
             if (sdft_render(&f, &rp, &img, &st, msg, sizeof msg)) {
                 fprintf(stderr, "hdda_caster: %s\n", msg);
                 return 1;
@@ -184,7 +188,7 @@ int main(int argc, char **argv)
         agree(img.depth, hdda, n, 1.5f * voxel, &close, &one);
         agree(img.depth, hdda, n, 3.0f * voxel, &close3, &one);
         char label[64];
-        snprintf(label, sizeof label, "sdftrace-%s%s", sdft_method_name((sdft_method)m), flat ? "-nobound" : "");
+        snprintf(label, sizeof label, "sdftrace-%s%s", sdft_method_name((sdft_method)m), bound_suffix[bound]);
         printf("%-24s %10.1f %8.2f %8.4f %11.4f %11.4f %9.4f %9.1f\n", label, ms, ms / best, (double)st.hits / n, close, close3, one,
                (double)st.steps / (double)st.primary_rays);
     }

@@ -129,15 +129,31 @@ static void test_trilinear_matches_brute_force(void **state)
 
 /* ---- the tree bound ----------------------------------------------------------- */
 
+/* For a scene whose SDF is only a bound (it may underestimate the distance):
+ * the ball of radius r around p holds no point of the other side, judged at
+ * 2 x 256 points of its surface and half-radius sphere. */
+static int empty_sphere(const sdft_field *truth, sdft_vec3 p, float r, int outside)
+{
+    for (int k = 0; k < 512; k++) {
+        float z = 1.0f - (2.0f * (float)(k % 256) + 1.0f) / 256.0f, rho = sqrtf(1.0f - z * z), phi = 2.3999632f * (float)k;
+        float rr = k < 256 ? r : 0.5f * r;
+        sdft_vec3 q = sdft_madd(p, sdft_v3(rho * cosf(phi), rho * sinf(phi), z), rr);
+        float d = truth->distance(truth->ctx, NULL, q);
+        if (outside ? d < 0.0f : d > 0.0f)
+            return 0;
+    }
+    return 1;
+}
+
 /* Wherever the field answers from a tile or the background, |value| must not
  * exceed the distance to the surface and the sign must be the side. Points
  * range over the box grown by `margin` of its size on each side: a grid only
  * knows the surface inside the box it was baked over, so a scene whose
  * surface leaves its box (a ground plane) is checked inside it. */
-static void check_bound(const sdft_field *truth, const sdft_grid *g, float margin, int exact_inside, uint64_t seed,
-                        int *tiles_seen)
+static void check_bound(const sdft_field *truth, const sdft_grid *g, sdft_grid_bound bound, float margin,
+                        int exact_inside, int bound_only, uint64_t seed, int *tiles_seen)
 {
-    sdft_field gf = sdft_grid_field(g);
+    sdft_field gf = sdft_grid_field_with(g, bound);
     sdft_scratch s;
     sdft_scratch_init(&gf, &s);
     sdft_aabb b = truth->bounds;
@@ -148,13 +164,15 @@ static void check_bound(const sdft_field *truth, const sdft_grid *g, float margi
                               tu_uniform(&r, b.lo.y - margin * e.y, b.hi.y + margin * e.y),
                               tu_uniform(&r, b.lo.z - margin * e.z, b.hi.z + margin * e.z));
         int level;
-        float v = sdft_grid_sample(g, &s, p, &level);
+        float v = sdft_grid_sample_with(g, bound, &s, p, &level);
         if (level == 0)
             continue;
         float d = truth->distance(truth->ctx, NULL, p);
         (*tiles_seen)++;
-        if (!(d * v > 0.0f) || (fabsf(v) > fabsf(d) * (1 + 1e-6f) && (d > 0 || exact_inside)))
-            fail_msg("tree bound %g at (%g, %g, %g), level %d, exceeds the distance %g", v, p.x, p.y, p.z, level, d);
+        if (!(d * v > 0.0f) || (fabsf(v) > fabsf(d) * (1 + 1e-6f) && (d > 0 || exact_inside) &&
+                                 !(bound_only && empty_sphere(truth, p, fabsf(v), v > 0.0f))))
+            fail_msg("%s bound %g at (%g, %g, %g), level %d, exceeds the distance %g",
+                     bound == SDFT_GRID_BOUND_FAR ? "far" : "tree", v, p.x, p.y, p.z, level, d);
     }
 }
 
@@ -164,7 +182,7 @@ static void test_tree_bound_never_exceeds_distance(void **state)
     sdft_field f = spheres_field();
     sdft_grid *g = bake(&f, 128, 0, NULL);
     int tiles = 0;
-    check_bound(&f, g, 0.5f, 0, 3, &tiles); /* far outside the band and the box */
+    check_bound(&f, g, SDFT_GRID_BOUND_TREE, 0.5f, 0, 0, 3, &tiles); /* far outside the band and the box */
     assert_true(tiles > 10000);
     sdft_grid_free(g);
 }
@@ -176,8 +194,112 @@ static void test_tree_bound_on_a_scene(void **state)
     assert_non_null(sc);
     sdft_grid *g = bake(&sc->field, 96, 0, NULL);
     int tiles = 0;
-    check_bound(&sc->field, g, 0.0f, 1, 4, &tiles);
+    check_bound(&sc->field, g, SDFT_GRID_BOUND_TREE, 0.0f, 1, 0, 4, &tiles);
     assert_true(tiles > 10000);
+    sdft_grid_free(g);
+}
+
+/* ---- the far bound --------------------------------------------------------------- */
+
+static void test_far_bound_never_exceeds_distance(void **state)
+{
+    (void)state;
+    sdft_field f = spheres_field();
+    sdft_grid *g = bake(&f, 128, 0, NULL);
+    int far = 0;
+    check_bound(&f, g, SDFT_GRID_BOUND_FAR, 0.5f, 0, 0, 5, &far); /* far outside the band and the box */
+    assert_true(far > 10000);
+    sdft_grid_free(g);
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    g = bake(&sc->field, 96, 0, NULL);
+    far = 0;
+    /* figure's SDF underestimates far from its parts (a bound, not exact):
+     * where the far bound exceeds it, check the ball is empty instead. */
+    check_bound(&sc->field, g, SDFT_GRID_BOUND_FAR, 0.0f, 1, 1, 6, &far);
+    assert_true(far > 10000);
+    sdft_grid_free(g);
+}
+
+/* The far bound is continuous: points a hundredth of a voxel apart differ
+ * by far less than a voxel (the tree bound jumps by the band at every tile
+ * edge). The corner correction's square root is steep only right at cell
+ * edges, so allow a few hundredths there. */
+static void test_far_bound_is_continuous(void **state)
+{
+    (void)state;
+    sdft_field f = spheres_field();
+    sdft_grid *g = bake(&f, 128, 0, NULL);
+    sdft_scratch s;
+    sdft_field gf = sdft_grid_field(g);
+    sdft_scratch_init(&gf, &s);
+    const float h = sdft_grid_voxel_size(g).x, step = 0.01f * h;
+    tu_rng r = tu_rng_seed(7);
+    int pairs = 0;
+    for (int i = 0; i < 20000; i++) {
+        sdft_vec3 p = sdft_v3(tu_uniform(&r, -1.8f, 1.8f), tu_uniform(&r, -1.8f, 1.8f), tu_uniform(&r, -1.8f, 1.8f));
+        sdft_vec3 d = sdft_normalize(sdft_v3(tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1)));
+        int la, lb;
+        float a = sdft_grid_sample(g, &s, p, &la), b = sdft_grid_sample(g, &s, sdft_madd(p, d, step), &lb);
+        if (la != 5 || lb != 5)
+            continue;
+        pairs++;
+        if (fabsf(a - b) > 0.25f * h)
+            fail_msg("far bound jumps by %g over %g at (%g, %g, %g)", fabsf(a - b), step, p.x, p.y, p.z);
+    }
+    assert_true(pairs > 5000);
+    sdft_grid_free(g);
+}
+
+/* No variant, with any bound, ever hits beyond the first sign change of the
+ * grid's trilinear field along the ray, found by brute-force marching in
+ * steps of a twentieth of a voxel. */
+static void test_grid_trace_is_safe(void **state)
+{
+    (void)state;
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    sdft_grid *g = bake(&sc->field, 96, 0, NULL);
+    const float h = sdft_grid_voxel_size(g).x;
+    sdft_field plain = sdft_grid_field_without_bound(g);
+    sdft_scratch s;
+    sdft_scratch_init(&plain, &s);
+    sdft_aabb b = sdft_grid_world_bounds(g);
+    sdft_vec3 c = sdft_scale(sdft_add(b.lo, b.hi), 0.5f), e = sdft_sub(b.hi, b.lo);
+    const float reach = 2.0f * sdft_length(e);
+    tu_rng r = tu_rng_seed(8);
+    int hits = 0;
+    for (int i = 0; i < 300; i++) {
+        /* From outside the box towards a random point inside it. */
+        sdft_vec3 dir = sdft_normalize(sdft_v3(tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1)));
+        sdft_vec3 aim = sdft_v3(c.x + tu_uniform(&r, -0.4f, 0.4f) * e.x, c.y + tu_uniform(&r, -0.4f, 0.4f) * e.y,
+                                c.z + tu_uniform(&r, -0.4f, 0.4f) * e.z);
+        sdft_ray ray = {.org = sdft_madd(aim, dir, -reach), .tnear = 0.0f, .dir = dir, .tfar = 2.0f * reach};
+        float t0, t1, first = INFINITY;
+        if (sdft_aabb_clip(b, ray.org, ray.dir, ray.tnear, ray.tfar, &t0, &t1))
+            for (float t = t0; t <= t1; t += 0.05f * h)
+                if (plain.distance(plain.ctx, &s, sdft_madd(ray.org, ray.dir, t)) <= 0.0f) {
+                    first = t;
+                    break;
+                }
+        for (int bound = 0; bound < 3; bound++) {
+            sdft_field gf = sdft_grid_field_with(g, (sdft_grid_bound)bound);
+            for (int m = 0; m < SDFT_METHOD_COUNT; m++) {
+                sdft_trace_params tp = sdft_trace_defaults();
+                tp.method = (sdft_method)m;
+                tp.omega = sdft_default_omega((sdft_method)m);
+                sdft_hit hit = sdft_trace(&gf, &s, &ray, &tp);
+                if (hit.status == SDFT_HIT && hit.t > first + 0.1f * h)
+                    fail_msg("%s (bound %d) hits at t %g, beyond the first sign change at %g", sdft_method_name(tp.method),
+                             bound, hit.t, first);
+                if (isfinite(first) && hit.status == SDFT_MISS)
+                    fail_msg("%s (bound %d) misses a ray that crosses the surface at t %g", sdft_method_name(tp.method), bound,
+                             first);
+                hits += hit.status == SDFT_HIT;
+            }
+        }
+    }
+    assert_true(hits > 300);
     sdft_grid_free(g);
 }
 
@@ -392,6 +514,9 @@ int main(void)
         cmocka_unit_test(test_trilinear_matches_brute_force),
         cmocka_unit_test(test_tree_bound_never_exceeds_distance),
         cmocka_unit_test(test_tree_bound_on_a_scene),
+        cmocka_unit_test(test_far_bound_never_exceeds_distance),
+        cmocka_unit_test(test_far_bound_is_continuous),
+        cmocka_unit_test(test_grid_trace_is_safe),
         cmocka_unit_test(test_grid_render_matches_procedural),
         cmocka_unit_test(test_round_trip_vdb),
         cmocka_unit_test(test_round_trip_nvdb),

@@ -55,11 +55,21 @@ void sdft_grid_free(sdft_grid *g);
 
 /* The field of a grid: ctx is the grid itself, which must outlive it.
  * bounds: the world box of the active voxels' cells; feature_size: the
- * smallest voxel edge. */
+ * smallest voxel edge. Beyond the leaves it answers with the far bound. */
 sdft_field sdft_grid_field(const sdft_grid *g);
 
-/* The same field without the tree bound (trilinear everywhere, +-background
- * beyond the band): for measuring what the bound saves. */
+/* What a grid's field answers where the tree holds no voxels (level sets):
+ *   FAR   the default: the distance to the nearest leaf, from a coarse
+ *         distance transform built at load (src/grid/grid_bound.c), plus
+ *         what the band guarantees; continuous, no tree walk;
+ *   TREE  the distance to the boundary of the tile holding the point plus
+ *         the band (src/grid/grid_sample.c): a step ends at every tile edge;
+ *   NONE  trilinear everywhere, so +-background beyond the band.
+ * TREE and NONE are kept to measure what the bounds save. */
+typedef enum sdft_grid_bound { SDFT_GRID_BOUND_FAR, SDFT_GRID_BOUND_TREE, SDFT_GRID_BOUND_NONE } sdft_grid_bound;
+sdft_field sdft_grid_field_with(const sdft_grid *g, sdft_grid_bound bound);
+
+/* sdft_grid_field_with(g, SDFT_GRID_BOUND_NONE). */
 sdft_field sdft_grid_field_without_bound(const sdft_grid *g);
 
 /* Queries. Strings are owned by the grid. */
@@ -80,10 +90,12 @@ const void *sdft_grid_data(const sdft_grid *g, size_t *size);
  * active state; for tests and tools. */
 float sdft_grid_voxel(const sdft_grid *g, int32_t i, int32_t j, int32_t k, int *active);
 
-/* What the field does at world point p, spelled out: the trilinear value
- * where the tree holds voxels there (*level 0), else the tree bound of the
- * tile or empty root region (*level 1..4: lower tile, upper tile, root tile,
- * background). World units. */
+/* What the field with `bound` does at world point p, spelled out: the far
+ * bound (*level 5), else the trilinear value where the tree holds voxels
+ * (*level 0), else the tree bound of the tile or empty root region (*level
+ * 1..4: lower tile, upper tile, root tile, background). World units.
+ * sdft_grid_sample is the default field's (SDFT_GRID_BOUND_FAR). */
+float sdft_grid_sample_with(const sdft_grid *g, sdft_grid_bound bound, sdft_scratch *s, sdft_vec3 p, int *level);
 float sdft_grid_sample(const sdft_grid *g, sdft_scratch *s, sdft_vec3 p, int *level);
 
 #ifdef __cplusplus

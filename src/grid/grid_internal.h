@@ -8,6 +8,20 @@
 
 #include "sdftrace/grid.h"
 
+/* The far bound (grid_bound.c): cells of `cell`^3 voxels over the active
+ * box, each occupied (sign 0: it holds a leaf) or empty with its tiles'
+ * sign; and at the cells' corners the index distance to the occupied ones. */
+typedef struct grid_far {
+    int8_t *sign;       /* n[0] x n[1] x n[2], x fastest; NULL: no far bound */
+    uint16_t *dist;     /* (n[0] + 1) x (n[1] + 1) x (n[2] + 1) corners, index units x 8, rounded down */
+    int32_t c0[3];      /* first cell, in cells */
+    int n[3];           /* cells per axis */
+    int cell;           /* S: voxels per cell edge, 8 * 2^k */
+    float inv_cell;     /* 1 / S */
+    float origin[3];    /* index coordinates of corner 0: c0 S - 1/2 */
+    float bonus;        /* world units added to smin e(x): the band's guarantee */
+} grid_far;
+
 /* One NanoVDB grid plus the numbers the sampler reads on every call,
  * decoded once from the grid's header. Immutable after loading. */
 struct sdft_grid {
@@ -25,11 +39,16 @@ struct sdft_grid {
     sdft_vec3 voxel_size;
     int32_t ilo[3], ihi[3];       /* active voxels' index box, inclusive */
     sdft_aabb bounds;             /* world box of those voxels' cells */
+    grid_far far;                 /* the far bound; built at load for level sets */
     char name[256];
 };
 
 /* Decodes and checks a grid already copied into g->words / g->size. */
 int grid_init(sdft_grid *g, char *msg, unsigned msg_len);
+
+/* Builds / frees g->far (grid_bound.c). Needs g fully decoded. */
+int grid_far_build(sdft_grid *g);
+void grid_far_free(sdft_grid *g);
 
 /* Printf into msg (if any); returns code. */
 int grid_fail(char *msg, unsigned msg_len, int code, const char *fmt, ...);

@@ -205,6 +205,8 @@ int grid_init(sdft_grid *g, char *msg, unsigned msg_len)
         wlo = sdft_min_v(wlo, w), whi = sdft_max_v(whi, w);
     }
     g->bounds = (sdft_aabb){wlo, whi};
+    if (g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET && g->background > 0.0f && grid_far_build(g))
+        return grid_fail(msg, msg_len, SDFT_GRID_ENOMEM, "grid '%s': out of memory for its far bound", g->name);
     return SDFT_GRID_OK;
 }
 
@@ -259,6 +261,7 @@ static sdft_grid *grid_alloc(uint64_t size)
 void sdft_grid_free(sdft_grid *g)
 {
     if (g) {
+        grid_far_free(g);
         free(g->words);
         free(g);
     }

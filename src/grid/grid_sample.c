@@ -140,14 +140,73 @@ interpolate:
     return lerp(lerp(x00, x10, ty), lerp(x01, x11, ty), tz);
 }
 
-float sdft_grid_sample(const sdft_grid *g, sdft_scratch *s, sdft_vec3 p, int *level)
+
+/* The far bound of grid_bound.c at index point x (world units, signed), or
+ * 0 where it does not apply: x in an occupied cell, or NaN. One cell read,
+ * eight corner reads, one square root, no tree walk. A point outside the
+ * cells (a ray entering the box, rounded) is taken to the nearest point xc
+ * of their box: everything out there rounds to inactive voxels, so the sign
+ * is xc's cell's, and e(x) >= max(e(xc) - |x - xc|, |x - xc|) as U lies in
+ * the box. */
+static inline float far_bound(const sdft_grid *g, const float x[3])
 {
-    float x[3];
-    to_index(g, p, x);
-    return sample_index(g, accessor(s), x, level, 1);
+    const grid_far *f = &g->far;
+    if (!f->sign)
+        return 0.0f;
+    float t[3], out2 = 0.0f;
+    int c[3];
+    for (int k = 0; k < 3; k++) {
+        const float u = (x[k] - f->origin[k]) * f->inv_cell;
+        if (!(fabsf(u) < 1e9f)) /* NaN or absurdly far */
+            return 0.0f;
+        const float uc = fminf(fmaxf(u, 0.0f), (float)f->n[k]);
+        out2 += (u - uc) * (u - uc);
+        c[k] = (int)uc - ((int)uc == f->n[k]);
+        t[k] = uc - (float)c[k];
+    }
+    const size_t nx = (size_t)f->n[0], ny = (size_t)f->n[1];
+    const int8_t sign = f->sign[((size_t)c[2] * ny + (size_t)c[1]) * nx + (size_t)c[0]];
+    if (sign == 0)
+        return 0.0f;
+    const size_t sx = nx + 1, sy = (nx + 1) * (ny + 1);
+    const uint16_t *d = f->dist + (size_t)c[2] * sy + (size_t)c[1] * sx + (size_t)c[0];
+    const float d00 = lerp(d[0], d[1], t[0]), d10 = lerp(d[sx], d[sx + 1], t[0]);
+    const float d01 = lerp(d[sy], d[sy + 1], t[0]), d11 = lerp(d[sy + sx], d[sy + sx + 1], t[0]);
+    const float S = (float)f->cell;
+    float e = 0.125f * lerp(lerp(d00, d10, t[1]), lerp(d01, d11, t[1]), t[2]) -
+              S * sqrtf(t[0] * (1.0f - t[0]) + t[1] * (1.0f - t[1]) + t[2] * (1.0f - t[2]));
+    if (out2 > 0.0f) {
+        const float out = S * sqrtf(out2);
+        e = fmaxf(e - out, out);
+    }
+    const float b = g->sigma_min * fmaxf(e, 0.0f) + f->bonus;
+    return sign > 0 ? b : -b;
+}
+
+/* The default field: the far bound where it applies, else the trilinear
+ * sample (with the tree bound, for points outside the far bound's cells). */
+static inline float sample_far(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const float x[3], int *level)
+{
+    const float b = far_bound(g, x);
+    if (b != 0.0f) {
+        if (level)
+            *level = 5;
+        return b;
+    }
+    return sample_index(g, acc, x, level, 1);
 }
 
 static float grid_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    const sdft_grid *g = ctx;
+    float x[3];
+    to_index(g, p, x);
+    return sample_far(g, accessor(s), x, NULL);
+}
+
+/* The tree bound alone (the first version of the grid field), for the
+ * benchmark's comparison. */
+static float grid_distance_tree(const void *ctx, sdft_scratch *s, sdft_vec3 p)
 {
     const sdft_grid *g = ctx;
     float x[3];
@@ -197,11 +256,29 @@ sdft_field sdft_grid_field(const sdft_grid *g)
     };
 }
 
-sdft_field sdft_grid_field_without_bound(const sdft_grid *g)
+sdft_field sdft_grid_field_with(const sdft_grid *g, sdft_grid_bound bound)
 {
     sdft_field f = sdft_grid_field(g);
-    f.distance = grid_distance_flat;
+    f.distance = bound == SDFT_GRID_BOUND_TREE ? grid_distance_tree
+                 : bound == SDFT_GRID_BOUND_NONE ? grid_distance_flat
+                                                 : grid_distance;
     return f;
+}
+
+sdft_field sdft_grid_field_without_bound(const sdft_grid *g) { return sdft_grid_field_with(g, SDFT_GRID_BOUND_NONE); }
+
+float sdft_grid_sample_with(const sdft_grid *g, sdft_grid_bound bound, sdft_scratch *s, sdft_vec3 p, int *level)
+{
+    float x[3];
+    to_index(g, p, x);
+    if (bound == SDFT_GRID_BOUND_FAR)
+        return sample_far(g, accessor(s), x, level);
+    return sample_index(g, accessor(s), x, level, bound == SDFT_GRID_BOUND_TREE);
+}
+
+float sdft_grid_sample(const sdft_grid *g, sdft_scratch *s, sdft_vec3 p, int *level)
+{
+    return sdft_grid_sample_with(g, SDFT_GRID_BOUND_FAR, s, p, level);
 }
 
 float sdft_grid_voxel(const sdft_grid *g, int32_t i, int32_t j, int32_t k, int *active)
