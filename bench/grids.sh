@@ -2,14 +2,17 @@
 # sdftrace's grid benchmark (issue 3):
 #  1. bake temple and figure at RES^3 (default 1024) with a 3-voxel narrow
 #     band: wall time and peak memory from /usr/bin/time -v;
-#  2. trace one .vdb (temple) at WIDTHxHEIGHT from the scene's camera three
-#     ways in one run: sdftrace's four variants and NanoVDB's own HDDA
-#     level-set caster (bench/hdda_caster, primary rays, same process), then
-#     OpenVDB's vdb_render on the same file and view (its own timer, -v).
+#  2. trace each .vdb at WIDTHxHEIGHT from its scene's camera three ways in
+#     one run: sdftrace's four variants (with the far bound, the tree bound
+#     alone and no bound) and NanoVDB's own HDDA level-set caster
+#     (bench/hdda_caster, primary rays, same process), then OpenVDB's
+#     vdb_render on the same file and view (its own timer, -v).
 #
 # usage: bench/grids.sh [RES [WIDTH HEIGHT]]        (default 1024 1280 720)
 # env:   BUILD  the build folder holding sdftrace and bench/hdda_caster
-#               (default build); OUT  where the grids go (default a temp dir)
+#               (default build); OUT  where the grids go (default a temp dir);
+#        KEEP=1 reuse OUT's SCENE.vdb from an earlier run instead of baking;
+#        REPEAT frames per tracer, the best counts (default 3)
 set -eu
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -28,21 +31,27 @@ mkdir -p "$out"
 echo "== bake at ${res}^3, narrow band 3 voxels ($(nproc) cores)"
 printf '%-8s %10s %12s  %s\n' scene wall_s peak_MiB summary
 for scene in temple figure; do
+    if [ "${KEEP:-0}" = 1 ] && [ -s "$out/$scene.vdb" ]; then
+        printf '%-8s %10s %12s  %s\n' "$scene" - - "kept $out/$scene.vdb"
+        continue
+    fi
     /usr/bin/time -v "$bin" bake --scene "$scene" --res "$res" -o "$out/$scene.vdb" >"$out/$scene.bake" 2>"$out/$scene.time"
     wall=$(awk -F': ' '/Elapsed \(wall clock\)/ { n = split($2, a, ":"); s = 0; for (i = 1; i <= n; i++) s = s * 60 + a[i]; print s }' "$out/$scene.time")
     rss=$(awk -F': ' '/Maximum resident set size/ { printf "%.0f", $2 / 1024 }' "$out/$scene.time")
     printf '%-8s %10s %12s  %s\n' "$scene" "$wall" "$rss" "$(cat "$out/$scene.bake")"
 done
 
-echo
-echo "== temple.vdb traced at ${width}x${height} from the scene's camera"
-"$caster" "$out/temple.vdb" temple "$width" "$height" "$out/temple_hdda.pfm" | tee "$out/trace.txt"
-hdda_ms=$(awk '$1 == "nanovdb-hdda" { print $2 }' "$out/trace.txt")
-view=$(sed -n 's/^# vdb_render //p' "$out/trace.txt")
-# shellcheck disable=SC2086 # $view is a list of options
-vdb_render "$out/temple.vdb" "$out/temple_vdb_render.exr" $view -shader position -v >"$out/vdb_render.log" 2>&1
-# vdb_render -v prints "ray-tracing NAME..." then "...completed in S sec".
-vr_ms=$(awk '/ray-tracing/ { t = 1; next } t && /completed in/ { printf "%.1f", $(NF - 1) * 1000; exit }' "$out/vdb_render.log")
-printf '%-24s %10s %8s\n' "openvdb-vdb_render" "${vr_ms:-?}" \
-    "$(awk -v a="${vr_ms:-0}" -v b="$hdda_ms" 'BEGIN { if (a > 0) printf "%.2f", a / b; else print "?" }')"
-echo "(vdb_render's log: $out/vdb_render.log; grids and depth maps in $out)"
+for scene in temple figure; do
+    echo
+    echo "== $scene.vdb traced at ${width}x${height} from the scene's camera"
+    "$caster" "$out/$scene.vdb" "$scene" "$width" "$height" "$out/${scene}_hdda.pfm" | tee "$out/$scene.trace.txt"
+    hdda_ms=$(awk '$1 == "nanovdb-hdda" { print $2 }' "$out/$scene.trace.txt")
+    view=$(sed -n 's/^# vdb_render //p' "$out/$scene.trace.txt")
+    # shellcheck disable=SC2086 # $view is a list of options
+    vdb_render "$out/$scene.vdb" "$out/${scene}_vdb_render.exr" $view -shader position -v >"$out/$scene.vdb_render.log" 2>&1
+    # vdb_render -v prints "ray-tracing NAME..." then "...completed in S sec".
+    vr_ms=$(awk '/ray-tracing/ { t = 1; next } t && /completed in/ { printf "%.1f", $(NF - 1) * 1000; exit }' "$out/$scene.vdb_render.log")
+    printf '%-24s %10s %8s\n' "openvdb-vdb_render" "${vr_ms:-?}" \
+        "$(awk -v a="${vr_ms:-0}" -v b="$hdda_ms" 'BEGIN { if (a > 0) printf "%.2f", a / b; else print "?" }')"
+done
+echo "(vdb_render's logs, grids and depth maps in $out)"
