@@ -1,0 +1,84 @@
+// mesh2sdf --check-sign (see check.h).
+#include "check.h"
+
+#include "winding.h"
+
+#include <openvdb/openvdb.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cstdio>
+#include <random>
+
+namespace mesh2sdf {
+
+namespace {
+
+openvdb::FloatGrid::Ptr readFirstFloatGrid(const std::string& path, std::string& error)
+{
+    try {
+        openvdb::io::File file(path);
+        file.open();
+        openvdb::GridPtrVecPtr grids = file.getGrids();
+        file.close();
+        for (const auto& g : *grids)
+            if (auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(g))
+                return f;
+        error = "no float grid in " + path;
+    } catch (const std::exception& e) {
+        error = "cannot read grid " + path + ": " + e.what();
+    }
+    return nullptr;
+}
+
+} // namespace
+
+bool checkSign(const TriangleMesh& mesh, const std::vector<std::string>& grids, int samples, std::string& error)
+{
+    std::vector<openvdb::FloatGrid::Ptr> loaded;
+    for (const auto& path : grids) {
+        loaded.push_back(readFirstFloatGrid(path, error));
+        if (!loaded.back())
+            return false;
+    }
+    std::mt19937_64 rng(20240611);
+    std::vector<Vec3> points(static_cast<size_t>(samples));
+    for (auto& p : points)
+        for (int k = 0; k < 3; ++k) {
+            const double grow = 0.05 * (mesh.hi[k] - mesh.lo[k]);
+            std::uniform_real_distribution<double> u(mesh.lo[k] - grow, mesh.hi[k] + grow);
+            p[k] = u(rng);
+        }
+    const FastWinding soup(mesh.points, mesh.triangles);
+    std::vector<double> w(points.size()), dist(points.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+            w[i] = soup.bruteForce(points[i]);
+            dist[i] = soup.distance(points[i]);
+        }
+    });
+    for (size_t g = 0; g < loaded.size(); ++g) {
+        const openvdb::FloatGrid& grid = *loaded[g];
+        openvdb::FloatGrid::ConstAccessor acc = grid.getConstAccessor();
+        const double voxel = grid.voxelSize()[0];
+        size_t clear = 0, wrong = 0;
+        for (size_t i = 0; i < points.size(); ++i) {
+            // Points within a voxel of the surface may round to a voxel
+            // across it: that is resolution, not sign, so they are skipped.
+            if ((w[i] > 0.25 && w[i] < 0.75) || dist[i] < voxel)
+                continue;
+            ++clear;
+            const openvdb::Coord ijk =
+                grid.transform().worldToIndexCellCentered(openvdb::Vec3d(points[i][0], points[i][1], points[i][2]));
+            const bool inside = acc.getValue(ijk) < 0.0f;
+            if (inside != (w[i] > 0.75))
+                ++wrong;
+        }
+        std::printf("%s clear=%zu wrong=%zu wrong_fraction=%.6f\n", grids[g].c_str(), clear, wrong,
+                    clear ? double(wrong) / double(clear) : 0.0);
+    }
+    return true;
+}
+
+} // namespace mesh2sdf

@@ -1,0 +1,152 @@
+// mesh2sdf — a triangle mesh in, a signed distance grid out. See --help.
+// Order of work: options, output folders, mesh, box, health line, grid,
+// files (temporary names, renamed at the end), summary. Every failure is one
+// line on stderr and exit status 1, with no file left at a destination.
+#include "check.h"
+#include "grid.h"
+#include "mesh.h"
+#include "options.h"
+#include "output.h"
+#include "progress.h"
+
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <sys/resource.h>
+
+using namespace mesh2sdf;
+
+namespace {
+
+int fail(const std::string& error, std::vector<PendingFile*> files = {})
+{
+    for (PendingFile* f : files)
+        discardFile(*f);
+    std::fprintf(stderr, "mesh2sdf: %s\n", error.c_str());
+    return 1;
+}
+
+std::string fileStem(const std::string& path)
+{
+    const size_t slash = path.find_last_of('/');
+    std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+    const size_t dot = base.find_last_of('.');
+    return dot == std::string::npos || dot == 0 ? base : base.substr(0, dot);
+}
+
+double peakRssMiB()
+{
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    return double(ru.ru_maxrss) / 1024.0; // ru_maxrss is in KiB on Linux
+}
+
+void printHealth(const std::string& path, const MeshHealth& h)
+{
+    std::printf("mesh %s: %zu vertices, %zu faces (%zu triangles), %zu boundary edges, %zu non-manifold edges, "
+                "%zu degenerate faces skipped\n",
+                path.c_str(), h.vertices, h.faces, h.triangles, h.boundaryEdges, h.nonManifoldEdges,
+                h.degenerateFaces);
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    Options opt;
+    std::string error;
+    if (!parseOptions(argc, argv, opt, error)) {
+        if (opt.help) {
+            printHelp();
+            return 0;
+        }
+        return fail(error);
+    }
+    if (opt.help) {
+        printHelp();
+        return 0;
+    }
+    std::unique_ptr<tbb::global_control> threads;
+    if (opt.threads > 0)
+        threads.reset(new tbb::global_control(tbb::global_control::max_allowed_parallelism, size_t(opt.threads)));
+    openvdb::initialize();
+    const auto t0 = std::chrono::steady_clock::now();
+
+    if (!opt.checkSign.empty()) {
+        TriangleMesh mesh;
+        if (!loadMesh(opt.input, mesh, error) || !checkSign(mesh, opt.checkSign, opt.samples, error))
+            return fail(error);
+        return 0;
+    }
+
+    // Reserve every destination first: an unwritable output fails before
+    // any work, and nothing is ever written at a destination until the end.
+    PendingFile vdbFile, nvdbFile, npyFile, jsonFile;
+    std::vector<PendingFile*> pending{&vdbFile};
+    if (!reserveFile(opt.output, vdbFile, error))
+        return fail(error);
+    if (!opt.nvdb.empty()) {
+        pending.push_back(&nvdbFile);
+        if (!reserveFile(opt.nvdb, nvdbFile, error))
+            return fail(error, pending);
+    }
+    if (!opt.npy.empty()) {
+        pending.push_back(&npyFile);
+        pending.push_back(&jsonFile);
+        if (!reserveFile(opt.npy, npyFile, error) || !reserveFile(sidecarPath(opt.npy), jsonFile, error))
+            return fail(error, pending);
+    }
+
+    TriangleMesh mesh;
+    BoxGeometry box;
+    if (!loadMesh(opt.input, mesh, error) || !planBox(mesh, opt, box, error))
+        return fail(error, pending);
+    if (!opt.quiet)
+        printHealth(opt.input, mesh.health);
+    if (!mesh.health.closed() && opt.sign == SignMethod::Flood)
+        std::fprintf(stderr,
+                     "mesh2sdf: warning: the mesh is not closed (%zu boundary, %zu non-manifold edges) and --sign "
+                     "flood assumes it is: inside and outside may be wrong; --sign winding handles open meshes\n",
+                     mesh.health.boundaryEdges, mesh.health.nonManifoldEdges);
+
+    Progress progress(!opt.quiet);
+    BuildStats stats;
+    openvdb::FloatGrid::Ptr grid;
+    try {
+        grid = buildGrid(mesh, box, opt, progress, stats);
+    } catch (const std::exception& e) {
+        progress.finish();
+        return fail(std::string("conversion failed: ") + e.what(), pending);
+    }
+    Provenance how{opt.input, signMethodName(opt.sign), opt.band, opt.full};
+    describeGrid(*grid, opt.name.empty() ? fileStem(opt.input) : opt.name, how);
+
+    progress.stage("writing", 100, 100);
+    const size_t slash = opt.npy.find_last_of('/');
+    const std::string npyName = slash == std::string::npos ? opt.npy : opt.npy.substr(slash + 1);
+    const bool written = writeVdb(*grid, vdbFile.tmp, error) &&
+                         (opt.nvdb.empty() || writeNvdb(*grid, opt.fp16, nvdbFile.tmp, error)) &&
+                         (opt.npy.empty() || (writeNpy(*grid, box, npyFile.tmp, error) &&
+                                              writeNpyJson(box, npyName, how, grid->background(), jsonFile.tmp, error)));
+    progress.finish();
+    if (!written)
+        return fail(error, pending);
+    for (PendingFile* f : pending)
+        if (!commitFile(*f, error))
+            return fail(error, pending);
+
+    if (!opt.quiet) {
+        const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::printf("wrote %s: %dx%dx%d box, voxel size %.6g, %llu active voxels, grid %.1f MiB, peak memory "
+                    "%.1f MiB, %.2f s, sign %s",
+                    opt.output.c_str(), box.dims[0], box.dims[1], box.dims[2], box.voxelSize,
+                    static_cast<unsigned long long>(grid->activeVoxelCount()),
+                    double(grid->memUsage()) / (1024.0 * 1024.0), peakRssMiB(), secs, signMethodName(opt.sign));
+        if (opt.sign == SignMethod::Winding)
+            std::printf(" (%.2f s)", stats.windingSeconds);
+        std::printf("\n");
+    }
+    return 0;
+}

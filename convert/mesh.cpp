@@ -1,0 +1,194 @@
+// mesh2sdf — mesh loading and health check (see mesh.h).
+#include "mesh.h"
+
+// GCC 12 with sanitizers flags OpenMesh's property vectors (VectorT copies
+// in PropertyT::push_back) as maybe-uninitialized; a false positive in its
+// headers, silenced for this file only.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <unordered_map>
+
+namespace mesh2sdf {
+
+namespace {
+
+using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
+
+std::string lowerExtension(const std::string& path)
+{
+    const size_t dot = path.find_last_of('.');
+    const size_t slash = path.find_last_of('/');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash))
+        return "";
+    std::string ext = path.substr(dot + 1);
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+// Twice the squared area of a triangle, in double.
+double doubleArea2(const std::array<float, 3>& a, const std::array<float, 3>& b, const std::array<float, 3>& c)
+{
+    const double e1[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
+    const double e2[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
+    const double x = e1[1] * e2[2] - e1[2] * e2[1], y = e1[2] * e2[0] - e1[0] * e2[2],
+                 z = e1[0] * e2[1] - e1[1] * e2[0];
+    return x * x + y * y + z * z;
+}
+
+// Boundary and non-manifold edge counts on vertices welded by exact position.
+void countEdges(TriangleMesh& mesh)
+{
+    struct Key {
+        float x, y, z;
+        bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+    };
+    struct KeyHash {
+        size_t operator()(const Key& k) const
+        {
+            uint32_t b[3];
+            std::memcpy(b, &k, sizeof b);
+            return (size_t(b[0]) * 73856093u) ^ (size_t(b[1]) * 19349663u) ^ (size_t(b[2]) * 83492791u);
+        }
+    };
+    std::unordered_map<Key, uint32_t, KeyHash> weld;
+    std::vector<uint32_t> id(mesh.points.size());
+    for (size_t i = 0; i < mesh.points.size(); ++i) {
+        const auto& p = mesh.points[i];
+        id[i] = weld.emplace(Key{p[0] + 0.0f, p[1] + 0.0f, p[2] + 0.0f}, uint32_t(weld.size())).first->second;
+    }
+    std::unordered_map<uint64_t, uint32_t> uses;
+    uses.reserve(mesh.triangles.size() * 2);
+    for (const auto& t : mesh.triangles)
+        for (int k = 0; k < 3; ++k) {
+            uint64_t a = id[t[k]], b = id[t[(k + 1) % 3]];
+            if (a > b)
+                std::swap(a, b);
+            ++uses[(a << 32) | b];
+        }
+    for (const auto& e : uses) {
+        if (e.second == 1)
+            ++mesh.health.boundaryEdges;
+        else if (e.second > 2)
+            ++mesh.health.nonManifoldEdges;
+    }
+}
+
+// OpenMesh's OBJ reader silently drops a vertex line it cannot parse
+// ("nan", "inf", 1e999), shifting every later index; so OBJ vertex lines
+// are checked here first. Binary formats carry NaN and Inf through and are
+// caught after reading.
+bool checkObjCoordinates(const std::string& path, std::string& error)
+{
+    std::ifstream in(path);
+    std::string line;
+    for (size_t number = 1; std::getline(in, line); ++number) {
+        if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t'))
+            continue;
+        const char* s = line.c_str() + 2;
+        for (int k = 0; k < 3; ++k) {
+            char* end = nullptr;
+            const double v = std::strtod(s, &end);
+            if (end == s || !std::isfinite(v)) {
+                error = "mesh has a non-finite or malformed coordinate (line " + std::to_string(number) + "): " + path;
+                return false;
+            }
+            s = end;
+        }
+    }
+    return true;
+}
+
+} // namespace
+
+bool isMeshExtension(const std::string& path)
+{
+    const std::string ext = lowerExtension(path);
+    return ext == "obj" || ext == "ply" || ext == "off" || ext == "stl" || ext == "om";
+}
+
+bool loadMesh(const std::string& path, TriangleMesh& mesh, std::string& error)
+{
+    if (!isMeshExtension(path)) {
+        error = "unknown mesh extension '" + lowerExtension(path) + "' (use .obj .ply .off .stl .om): " + path;
+        return false;
+    }
+    if (!std::ifstream(path).good()) {
+        error = "cannot open mesh: " + path;
+        return false;
+    }
+    if (lowerExtension(path) == "obj" && !checkObjCoordinates(path, error))
+        return false;
+    // OpenMesh reports complex edges and parse problems on its own streams;
+    // the health line below says what matters, once.
+    omerr().disable();
+    omlog().disable();
+    omout().disable();
+
+    PolyMesh poly;
+    OpenMesh::IO::Options options;
+    if (!OpenMesh::IO::read_mesh(poly, path, options)) {
+        error = "cannot read mesh (not a valid " + lowerExtension(path) + " file?): " + path;
+        return false;
+    }
+    mesh = TriangleMesh{};
+    mesh.health.vertices = poly.n_vertices();
+    mesh.health.faces = poly.n_faces();
+    if (poly.n_faces() == 0) {
+        error = "mesh has no faces: " + path;
+        return false;
+    }
+    mesh.points.resize(poly.n_vertices());
+    for (const auto vh : poly.vertices()) {
+        const auto& p = poly.point(vh);
+        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+            error = "mesh has a non-finite coordinate (vertex " + std::to_string(vh.idx()) + "): " + path;
+            return false;
+        }
+        mesh.points[vh.idx()] = {p[0], p[1], p[2]};
+    }
+    std::vector<uint32_t> corners;
+    for (const auto fh : poly.faces()) {
+        corners.clear();
+        for (const auto vh : poly.fv_range(fh))
+            corners.push_back(uint32_t(vh.idx()));
+        for (size_t k = 1; k + 1 < corners.size(); ++k) {
+            const std::array<uint32_t, 3> t{corners[0], corners[k], corners[k + 1]};
+            if (doubleArea2(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]) <= 0.0) {
+                ++mesh.health.degenerateFaces;
+                continue;
+            }
+            mesh.triangles.push_back(t);
+        }
+    }
+    mesh.health.triangles = mesh.triangles.size();
+    if (mesh.triangles.empty()) {
+        error = "mesh has no non-degenerate triangles: " + path;
+        return false;
+    }
+    mesh.lo = {INFINITY, INFINITY, INFINITY};
+    mesh.hi = {-INFINITY, -INFINITY, -INFINITY};
+    for (const auto& t : mesh.triangles)
+        for (uint32_t v : t)
+            for (int k = 0; k < 3; ++k) {
+                mesh.lo[k] = std::min(mesh.lo[k], double(mesh.points[v][k]));
+                mesh.hi[k] = std::max(mesh.hi[k], double(mesh.points[v][k]));
+            }
+    const double extent = std::max({mesh.hi[0] - mesh.lo[0], mesh.hi[1] - mesh.lo[1], mesh.hi[2] - mesh.lo[2]});
+    if (!(extent > 0.0)) {
+        error = "mesh bounding box has zero size: " + path;
+        return false;
+    }
+    countEdges(mesh);
+    return true;
+}
+
+} // namespace mesh2sdf
