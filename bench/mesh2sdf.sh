@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# mesh2sdf against OpenVDB's `vdb_tool -mesh2ls`, side by side: wall time,
+# peak memory (GNU time's maximum resident set) and the fraction of
+# wrong-sign sample points (mesh2sdf --check-sign: uniform points in the
+# mesh's box, exact winding number by brute force, clearly inside > 0.75 or
+# outside < 0.25, at least one voxel from the surface).
+#
+# Every tool gets the same voxel size: the mesh's longest side / N, and the
+# same narrow band (3 voxels). mesh2sdf is run with --sign winding (its
+# default) and --sign flood (OpenVDB's own sign, for comparison).
+#
+# usage: bench/mesh2sdf.sh [RES...]   (default: 256 512 1024)
+# env:   BUILD=build-mesh-rel  MESHES="spot ..."  SAMPLES=10000  THREADS=0
+# Prints a Markdown table on stdout; grids go to $BUILD/bench-mesh2sdf/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUILD=${BUILD:-build-mesh-rel}
+MESH_DIR=${MESH_DIR:-../shared/data/meshes}
+MESHES=${MESHES:-"stanford-bunny spot teapot suzanne fandisk"}
+SAMPLES=${SAMPLES:-10000}
+THREADS=${THREADS:-0}
+RESOLUTIONS=("$@")
+[ ${#RESOLUTIONS[@]} -gt 0 ] || RESOLUTIONS=(256 512 1024)
+M2S=$BUILD/mesh2sdf
+OUT=$BUILD/bench-mesh2sdf
+[ -x "$M2S" ] || { echo "bench/mesh2sdf.sh: build $M2S first (cmake --build $BUILD --target mesh2sdf)" >&2; exit 1; }
+command -v vdb_tool >/dev/null || { echo "bench/mesh2sdf.sh: vdb_tool not found (libopenvdb-tools)" >&2; exit 1; }
+[ -x /usr/bin/time ] || { echo "bench/mesh2sdf.sh: /usr/bin/time not found (package time)" >&2; exit 1; }
+mkdir -p "$OUT"
+
+# Runs a command under GNU time; prints "seconds peak_MiB".
+measure() {
+    local log=$OUT/time.log
+    /usr/bin/time -v -o "$log" "$@" >/dev/null 2>"$OUT/stderr.log" || {
+        echo "bench/mesh2sdf.sh: failed: $*" >&2; cat "$OUT/stderr.log" >&2; exit 1; }
+    awk -F': ' '/Elapsed \(wall clock\)/ { n = split($2, t, ":"); s = 0; for (i = 1; i <= n; i++) s = s * 60 + t[i] }
+                /Maximum resident set size/ { m = $2 / 1024 }
+                END { printf "%.2f %.0f\n", s, m }' "$log"
+}
+
+# Longest side of an OBJ's bounding box.
+longest_side() {
+    awk '$1 == "v" { for (k = 2; k <= 4; k++) { if (!(k in lo) || $k < lo[k]) lo[k] = $k; if (!(k in hi) || $k > hi[k]) hi[k] = $k } }
+         END { m = 0; for (k = 2; k <= 4; k++) if (hi[k] - lo[k] > m) m = hi[k] - lo[k]; printf "%.9g\n", m }' "$1"
+}
+
+echo "| mesh | N | vdb_tool s | MiB | wrong sign | winding s | MiB | wrong sign | × vdb_tool | flood s | MiB | wrong sign | × vdb_tool |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+for name in $MESHES; do
+    mesh=$MESH_DIR/$name.obj
+    side=$(longest_side "$mesh")
+    declare -A T=() M=()
+    grids=()
+    for n in "${RESOLUTIONS[@]}"; do
+        h=$(awk -v s="$side" -v n="$n" 'BEGIN { printf "%.9g", s / n }')
+        read -r T[vdb$n] M[vdb$n] < <(measure vdb_tool -read "$mesh" -mesh2ls voxel="$h" width=3 -write "$OUT/$name-$n-vdbtool.vdb")
+        read -r T[wind$n] M[wind$n] < <(measure "$M2S" "$mesh" -o "$OUT/$name-$n-winding.vdb" --voxel-size "$h" --sign winding --threads "$THREADS" --quiet)
+        read -r T[flood$n] M[flood$n] < <(measure "$M2S" "$mesh" -o "$OUT/$name-$n-flood.vdb" --voxel-size "$h" --sign flood --threads "$THREADS" --quiet)
+        grids+=(--check-sign "$OUT/$name-$n-vdbtool.vdb" --check-sign "$OUT/$name-$n-winding.vdb" --check-sign "$OUT/$name-$n-flood.vdb")
+    done
+    declare -A W=()
+    while read -r grid _ _ frac; do
+        W[$grid]=${frac#wrong_fraction=}
+    done < <("$M2S" "$mesh" "${grids[@]}" --samples "$SAMPLES")
+    for n in "${RESOLUTIONS[@]}"; do
+        ratio_w=$(awk -v a="${T[wind$n]}" -v b="${T[vdb$n]}" 'BEGIN { printf "%.2f", b > 0 ? a / b : 0 }')
+        ratio_f=$(awk -v a="${T[flood$n]}" -v b="${T[vdb$n]}" 'BEGIN { printf "%.2f", b > 0 ? a / b : 0 }')
+        echo "| $name | $n | ${T[vdb$n]} | ${M[vdb$n]} | ${W[$OUT/$name-$n-vdbtool.vdb]} | ${T[wind$n]} | ${M[wind$n]} | ${W[$OUT/$name-$n-winding.vdb]} | $ratio_w | ${T[flood$n]} | ${M[flood$n]} | ${W[$OUT/$name-$n-flood.vdb]} | $ratio_f |"
+    done
+    unset T M W
+done

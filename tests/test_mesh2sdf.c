@@ -1,0 +1,833 @@
+/* mesh2sdf tests: distances against exact formulas (cube, icosphere), the
+ * sign against a brute-force winding number on the five shared meshes, a
+ * round trip through `sdftrace render --grid`, and every bad-input case.
+ * Grids are read back through mesh2sdf's --npy output and its JSON sidecar. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+
+#include <cmocka.h>
+
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "testutil.h"
+
+#define BAND 3.0
+
+/* ---------------------------------------------------------------- meshes */
+
+typedef struct mesh {
+    double *v; /* 3 per vertex */
+    int *t;    /* 3 per triangle */
+    int nv, nt, cap_v, cap_t;
+} mesh;
+
+static void mesh_vertex(mesh *m, double x, double y, double z)
+{
+    if (m->nv == m->cap_v) {
+        m->cap_v = m->cap_v ? 2 * m->cap_v : 256;
+        m->v = realloc(m->v, sizeof(double) * 3 * (size_t)m->cap_v);
+    }
+    m->v[3 * m->nv] = x;
+    m->v[3 * m->nv + 1] = y;
+    m->v[3 * m->nv + 2] = z;
+    m->nv++;
+}
+
+static void mesh_triangle(mesh *m, int a, int b, int c)
+{
+    if (m->nt == m->cap_t) {
+        m->cap_t = m->cap_t ? 2 * m->cap_t : 256;
+        m->t = realloc(m->t, sizeof(int) * 3 * (size_t)m->cap_t);
+    }
+    m->t[3 * m->nt] = a;
+    m->t[3 * m->nt + 1] = b;
+    m->t[3 * m->nt + 2] = c;
+    m->nt++;
+}
+
+static void mesh_free(mesh *m)
+{
+    free(m->v);
+    free(m->t);
+    memset(m, 0, sizeof *m);
+}
+
+/* Reads the v and f lines of an OBJ (v, v/t, v/t/n, v//n, negative
+ * indices); polygons become fans. */
+static int read_obj(const char *path, mesh *m)
+{
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return -1;
+    char line[4096];
+    while (fgets(line, sizeof line, f)) {
+        if (line[0] == 'v' && line[1] == ' ') {
+            double x, y, z;
+            if (sscanf(line + 2, "%lf %lf %lf", &x, &y, &z) == 3)
+                mesh_vertex(m, x, y, z);
+        } else if (line[0] == 'f' && line[1] == ' ') {
+            int idx[64], n = 0;
+            char *s = line + 2;
+            while (n < 64) {
+                char *end;
+                long i = strtol(s, &end, 10);
+                if (end == s)
+                    break;
+                idx[n++] = (int)(i < 0 ? m->nv + i : i - 1);
+                s = end;
+                while (*s && *s != ' ' && *s != '\t' && *s != '\n' && *s != '\r')
+                    s++;
+            }
+            for (int k = 1; k + 1 < n; k++)
+                mesh_triangle(m, idx[0], idx[k], idx[k + 1]);
+        }
+    }
+    fclose(f);
+    return 0;
+}
+
+/* Unit cube [-0.5, 0.5]^3, outward counter-clockwise faces, as quads. */
+static const double cube_v[8][3] = {{-.5, -.5, -.5}, {.5, -.5, -.5}, {.5, .5, -.5}, {-.5, .5, -.5},
+                                    {-.5, -.5, .5},  {.5, -.5, .5},  {.5, .5, .5},  {-.5, .5, .5}};
+static const int cube_q[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}};
+
+static void make_cube(mesh *m)
+{
+    for (int i = 0; i < 8; i++)
+        mesh_vertex(m, cube_v[i][0], cube_v[i][1], cube_v[i][2]);
+    for (int q = 0; q < 6; q++) {
+        mesh_triangle(m, cube_q[q][0], cube_q[q][1], cube_q[q][2]);
+        mesh_triangle(m, cube_q[q][0], cube_q[q][2], cube_q[q][3]);
+    }
+}
+
+static void write_cube_obj(const char *path, int skip_faces, int degenerate)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    for (int i = 0; i < 8; i++)
+        fprintf(f, "v %g %g %g\n", cube_v[i][0], cube_v[i][1], cube_v[i][2]);
+    for (int q = skip_faces; q < 6; q++)
+        fprintf(f, "f %d %d %d %d\n", cube_q[q][0] + 1, cube_q[q][1] + 1, cube_q[q][2] + 1, cube_q[q][3] + 1);
+    /* Zero-area faces on three collinear vertices of their own (OpenMesh
+     * itself drops faces that repeat a vertex index). */
+    if (degenerate > 0)
+        fprintf(f, "v 2 2 2\nv 3 3 3\nv 4 4 4\n");
+    for (int d = 0; d < degenerate; d++)
+        fprintf(f, d % 2 ? "f 11 10 9\n" : "f 9 10 11\n");
+    fclose(f);
+}
+
+static void write_off(const char *path, const mesh *m)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fprintf(f, "OFF\n%d %d 0\n", m->nv, m->nt);
+    for (int i = 0; i < m->nv; i++)
+        fprintf(f, "%.17g %.17g %.17g\n", m->v[3 * i], m->v[3 * i + 1], m->v[3 * i + 2]);
+    for (int i = 0; i < m->nt; i++)
+        fprintf(f, "3 %d %d %d\n", m->t[3 * i], m->t[3 * i + 1], m->t[3 * i + 2]);
+    fclose(f);
+}
+
+static void write_ply(const char *path, const mesh *m)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fprintf(f, "ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\n"
+               "element face %d\nproperty list uchar int vertex_indices\nend_header\n",
+            m->nv, m->nt);
+    for (int i = 0; i < m->nv; i++)
+        fprintf(f, "%.9g %.9g %.9g\n", m->v[3 * i], m->v[3 * i + 1], m->v[3 * i + 2]);
+    for (int i = 0; i < m->nt; i++)
+        fprintf(f, "3 %d %d %d\n", m->t[3 * i], m->t[3 * i + 1], m->t[3 * i + 2]);
+    fclose(f);
+}
+
+/* Binary little-endian PLY whose first coordinate is `poison`. */
+static void write_binary_ply(const char *path, const mesh *m, float poison)
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    fprintf(f, "ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty float x\nproperty float y\n"
+               "property float z\nelement face %d\nproperty list uchar int vertex_indices\nend_header\n",
+            m->nv, m->nt);
+    for (int i = 0; i < m->nv; i++)
+        for (int k = 0; k < 3; k++) {
+            float x = i == 0 && k == 0 ? poison : (float)m->v[3 * i + k];
+            fwrite(&x, 4, 1, f);
+        }
+    for (int i = 0; i < m->nt; i++) {
+        unsigned char three = 3;
+        fwrite(&three, 1, 1, f);
+        for (int k = 0; k < 3; k++) {
+            int32_t idx = m->t[3 * i + k];
+            fwrite(&idx, 4, 1, f);
+        }
+    }
+    fclose(f);
+}
+
+/* Binary STL; `poison` replaces the first coordinate with that value. */
+static void write_stl(const char *path, const mesh *m, float poison, int use_poison)
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    char header[80] = "mesh2sdf test";
+    fwrite(header, 1, 80, f);
+    uint32_t n = (uint32_t)m->nt;
+    fwrite(&n, 4, 1, f);
+    for (int i = 0; i < m->nt; i++) {
+        float rec[12] = {0};
+        for (int c = 0; c < 3; c++)
+            for (int k = 0; k < 3; k++)
+                rec[3 + 3 * c + k] = (float)m->v[3 * m->t[3 * i + c] + k];
+        if (use_poison && i == 0)
+            rec[3] = poison;
+        uint16_t attr = 0;
+        fwrite(rec, 4, 12, f);
+        fwrite(&attr, 2, 1, f);
+    }
+    fclose(f);
+}
+
+/* Icosahedron subdivided `levels` times, vertices pushed to the unit sphere. */
+static void make_icosphere(mesh *m, int levels)
+{
+    const double p = (1.0 + sqrt(5.0)) / 2.0;
+    const double base[12][3] = {{-1, p, 0}, {1, p, 0}, {-1, -p, 0}, {1, -p, 0}, {0, -1, p}, {0, 1, p},
+                                {0, -1, -p}, {0, 1, -p}, {p, 0, -1}, {p, 0, 1}, {-p, 0, -1}, {-p, 0, 1}};
+    const int faces[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                              {11, 10, 2}, {10, 7, 6}, {7, 1, 8},   {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                              {3, 8, 9},   {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+    for (int i = 0; i < 12; i++) {
+        double l = sqrt(base[i][0] * base[i][0] + base[i][1] * base[i][1] + base[i][2] * base[i][2]);
+        mesh_vertex(m, base[i][0] / l, base[i][1] / l, base[i][2] / l);
+    }
+    for (int i = 0; i < 20; i++)
+        mesh_triangle(m, faces[i][0], faces[i][1], faces[i][2]);
+    for (int l = 0; l < levels; l++) {
+        mesh next = {0};
+        for (int i = 0; i < m->nv; i++)
+            mesh_vertex(&next, m->v[3 * i], m->v[3 * i + 1], m->v[3 * i + 2]);
+        for (int t = 0; t < m->nt; t++) {
+            int c[3], mid[3];
+            for (int k = 0; k < 3; k++)
+                c[k] = m->t[3 * t + k];
+            for (int k = 0; k < 3; k++) {
+                /* Midpoints are not shared between triangles: the soup has
+                 * duplicated vertices along edges, which mesh2sdf welds. */
+                const double *a = &m->v[3 * c[k]], *b = &m->v[3 * c[(k + 1) % 3]];
+                double x = a[0] + b[0], y = a[1] + b[1], z = a[2] + b[2], len = sqrt(x * x + y * y + z * z);
+                mid[k] = next.nv;
+                mesh_vertex(&next, x / len, y / len, z / len);
+            }
+            mesh_triangle(&next, c[0], mid[0], mid[2]);
+            mesh_triangle(&next, c[1], mid[1], mid[0]);
+            mesh_triangle(&next, c[2], mid[2], mid[1]);
+            mesh_triangle(&next, mid[0], mid[1], mid[2]);
+        }
+        mesh_free(m);
+        *m = next;
+    }
+}
+
+/* ------------------------------------------------------- exact geometry */
+
+static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/* Squared distance from p to segment ab. */
+static double seg_dist2(const double *p, const double *a, const double *b)
+{
+    double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, ap[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+    double s = dot3(ap, ab) / dot3(ab, ab);
+    s = s < 0 ? 0 : s > 1 ? 1 : s;
+    double d[3] = {ap[0] - s * ab[0], ap[1] - s * ab[1], ap[2] - s * ab[2]};
+    return dot3(d, d);
+}
+
+/* Squared distance from p to triangle abc: the plane if p projects inside,
+ * else the nearest edge. */
+static double tri_dist2(const double *p, const double *a, const double *b, const double *c)
+{
+    double e0[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e1[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double n[3] = {e0[1] * e1[2] - e0[2] * e1[1], e0[2] * e1[0] - e0[0] * e1[2], e0[0] * e1[1] - e0[1] * e1[0]};
+    const double *v[3] = {a, b, c};
+    int inside = 1;
+    for (int k = 0; k < 3; k++) {
+        const double *u = v[k], *w = v[(k + 1) % 3];
+        double e[3] = {w[0] - u[0], w[1] - u[1], w[2] - u[2]}, up[3] = {p[0] - u[0], p[1] - u[1], p[2] - u[2]};
+        double cr[3] = {e[1] * up[2] - e[2] * up[1], e[2] * up[0] - e[0] * up[2], e[0] * up[1] - e[1] * up[0]};
+        if (dot3(cr, n) < 0)
+            inside = 0;
+    }
+    if (inside) {
+        double ap[3] = {p[0] - a[0], p[1] - a[1], p[2] - a[2]};
+        double h = dot3(ap, n);
+        return h * h / dot3(n, n);
+    }
+    double d = seg_dist2(p, a, b), d2 = seg_dist2(p, b, c), d3 = seg_dist2(p, c, a);
+    return fmin(d, fmin(d2, d3));
+}
+
+/* Generalized winding number by brute force: Van Oosterom–Strackee solid
+ * angle of every triangle over 4π. */
+static double winding(const mesh *m, const double *q)
+{
+    double w = 0;
+    for (int t = 0; t < m->nt; t++) {
+        double a[3], b[3], c[3];
+        for (int k = 0; k < 3; k++) {
+            a[k] = m->v[3 * m->t[3 * t] + k] - q[k];
+            b[k] = m->v[3 * m->t[3 * t + 1] + k] - q[k];
+            c[k] = m->v[3 * m->t[3 * t + 2] + k] - q[k];
+        }
+        double la = sqrt(dot3(a, a)), lb = sqrt(dot3(b, b)), lc = sqrt(dot3(c, c));
+        double bc[3] = {b[1] * c[2] - b[2] * c[1], b[2] * c[0] - b[0] * c[2], b[0] * c[1] - b[1] * c[0]};
+        double det = dot3(a, bc);
+        double den = la * lb * lc + dot3(a, b) * lc + dot3(b, c) * la + dot3(c, a) * lb;
+        w += 2.0 * atan2(det, den);
+    }
+    return w / (4.0 * 3.14159265358979323846);
+}
+
+static double mesh_sdf(const mesh *m, const double *p)
+{
+    double best = INFINITY;
+    for (int t = 0; t < m->nt; t++)
+        best = fmin(best, tri_dist2(p, &m->v[3 * m->t[3 * t]], &m->v[3 * m->t[3 * t + 1]], &m->v[3 * m->t[3 * t + 2]]));
+    double d = sqrt(best);
+    return winding(m, p) > 0.5 ? -d : d;
+}
+
+static double box_sdf(const double *p)
+{
+    double q[3], out = 0, in = -INFINITY;
+    for (int k = 0; k < 3; k++) {
+        q[k] = fabs(p[k]) - 0.5;
+        out += q[k] > 0 ? q[k] * q[k] : 0;
+        in = fmax(in, q[k]);
+    }
+    return sqrt(out) + fmin(in, 0.0);
+}
+
+/* ------------------------------------------------------ reading grids */
+
+typedef struct dense {
+    int n[3];
+    double origin[3], h;
+    float *data; /* n[0]*n[1]*n[2], C order */
+} dense;
+
+static double json_number(const char *json, const char *key, int index)
+{
+    const char *s = strstr(json, key);
+    assert_non_null(s);
+    s = strchr(s, ':');
+    assert_non_null(s);
+    s++;
+    while (*s == ' ' || *s == '[')
+        s++;
+    for (int i = 0; i < index; i++) {
+        s = strchr(s, ',');
+        assert_non_null(s);
+        s++;
+    }
+    return strtod(s, NULL);
+}
+
+static void read_dense(const char *npy, dense *g)
+{
+    FILE *f = fopen(npy, "rb");
+    assert_non_null(f);
+    unsigned char pre[10];
+    assert_int_equal(fread(pre, 1, 10, f), 10);
+    assert_memory_equal(pre, "\x93NUMPY\x01\x00", 8);
+    size_t hlen = pre[8] | (size_t)pre[9] << 8;
+    assert_int_equal((10 + hlen) % 64, 0);
+    char *header = calloc(hlen + 1, 1);
+    assert_int_equal(fread(header, 1, hlen, f), hlen);
+    assert_non_null(strstr(header, "'descr': '<f4'"));
+    assert_non_null(strstr(header, "'fortran_order': False"));
+    const char *shape = strstr(header, "'shape': (");
+    assert_non_null(shape);
+    assert_int_equal(sscanf(shape, "'shape': (%d, %d, %d)", &g->n[0], &g->n[1], &g->n[2]), 3);
+    free(header);
+    size_t count = (size_t)g->n[0] * g->n[1] * g->n[2];
+    g->data = malloc(count * sizeof(float));
+    assert_int_equal(fread(g->data, sizeof(float), count, f), count);
+    fclose(f);
+
+    char json_path[1024];
+    snprintf(json_path, sizeof json_path, "%.*s.json", (int)(strlen(npy) - 4), npy);
+    f = fopen(json_path, "r");
+    assert_non_null(f);
+    char json[4096];
+    size_t got = fread(json, 1, sizeof json - 1, f);
+    json[got] = '\0';
+    fclose(f);
+    for (int k = 0; k < 3; k++) {
+        g->origin[k] = json_number(json, "\"origin\"", k);
+        assert_int_equal((int)json_number(json, "\"shape\"", k), g->n[k]);
+    }
+    g->h = json_number(json, "\"voxel_size\"", 0);
+    assert_true(g->h > 0);
+}
+
+static float dense_at(const dense *g, int i, int j, int k) { return g->data[((size_t)i * g->n[1] + j) * g->n[2] + k]; }
+
+static void dense_point(const dense *g, int i, int j, int k, double *p)
+{
+    p[0] = g->origin[0] + i * g->h;
+    p[1] = g->origin[1] + j * g->h;
+    p[2] = g->origin[2] + k * g->h;
+}
+
+/* Runs mesh2sdf on `in` with extra flags, writing NAME.vdb and NAME.npy in
+ * the test folder, and reads the dense grid back. */
+static void convert(const char *in, const char *name, const char *flags, dense *g)
+{
+    char vdb[512], npy[512], out[8192], file[256];
+    snprintf(file, sizeof file, "%s.vdb", name);
+    tu_tmp(vdb, sizeof vdb, file);
+    snprintf(file, sizeof file, "%s.npy", name);
+    tu_tmp(npy, sizeof npy, file);
+    int rc = tu_run(out, sizeof out, "%s '%s' -o '%s' --npy '%s' --quiet %s", SDFT_MESH2SDF, in, vdb, npy, flags);
+    if (rc != 0)
+        fail_msg("mesh2sdf failed (%d): %s", rc, out);
+    read_dense(npy, g);
+}
+
+/* Compares every voxel whose exact distance is within the band (less half
+ * a voxel) with the exact signed distance; returns the largest error in
+ * voxels and how many voxels were compared. */
+typedef double (*exact_fn)(const void *ctx, const double *p);
+
+static double band_error(const dense *g, exact_fn exact, const void *ctx, double band, long *compared)
+{
+    double worst = 0;
+    *compared = 0;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                double p[3];
+                dense_point(g, i, j, k, p);
+                double d = exact(ctx, p);
+                if (fabs(d) > (band - 0.5) * g->h)
+                    continue;
+                double err = fabs(dense_at(g, i, j, k) - d) / g->h;
+                if (err > worst)
+                    worst = err;
+                (*compared)++;
+            }
+    return worst;
+}
+
+static double exact_box(const void *ctx, const double *p)
+{
+    (void)ctx;
+    return box_sdf(p);
+}
+
+static double exact_mesh(const void *ctx, const double *p) { return mesh_sdf((const mesh *)ctx, p); }
+
+/* ------------------------------------------------------------- tests */
+
+static void test_cube_distances(void **state)
+{
+    (void)state;
+    char obj[512];
+    tu_tmp(obj, sizeof obj, "cube.obj");
+    write_cube_obj(obj, 0, 0);
+    dense g = {0};
+    convert(obj, "cube", "--res 64", &g);
+    assert_int_equal(g.n[0], 64);
+    long n;
+    double worst = band_error(&g, exact_box, NULL, BAND, &n);
+    printf("cube (obj, quads) 64^3: %ld band voxels, worst error %.4f voxel\n", n, worst);
+    free(g.data);
+    assert_true(n > 10000);
+    assert_true(worst <= 0.05);
+
+    /* The same cube as OFF, densely (--full): every voxel of the box. */
+    mesh m = {0};
+    make_cube(&m);
+    char off[512];
+    tu_tmp(off, sizeof off, "cube.off");
+    write_off(off, &m);
+    convert(off, "cube_full", "--res 48 --full", &g);
+    worst = band_error(&g, exact_box, NULL, 1e9, &n);
+    printf("cube (off) 48^3 --full: %ld voxels, worst error %.4f voxel\n", n, worst);
+    const long all = (long)g.n[0] * g.n[1] * g.n[2];
+    free(g.data);
+    mesh_free(&m);
+    assert_int_equal(n, all);
+    assert_true(worst <= 0.05);
+}
+
+static void test_icosphere_distances(void **state)
+{
+    (void)state;
+    mesh m = {0};
+    make_icosphere(&m, 2);
+    char ply[512], stl[512];
+    tu_tmp(ply, sizeof ply, "icosphere.ply");
+    tu_tmp(stl, sizeof stl, "icosphere.stl");
+    write_ply(ply, &m);
+    write_stl(stl, &m, 0, 0);
+
+    dense g = {0};
+    convert(ply, "icosphere", "--res 64", &g);
+    long n;
+    double worst = band_error(&g, exact_mesh, &m, BAND, &n);
+    printf("icosphere (ply) 64^3: %ld band voxels, worst error %.4f voxel\n", n, worst);
+    free(g.data);
+    g.data = NULL;
+    if (n <= 10000 || worst > 0.05)
+        mesh_free(&m);
+    assert_true(n > 10000);
+    assert_true(worst <= 0.05);
+
+    convert(stl, "icosphere_full", "--res 40 --full --sign winding", &g);
+    worst = band_error(&g, exact_mesh, &m, 1e9, &n);
+    printf("icosphere (stl) 40^3 --full: %ld voxels, worst error %.4f voxel\n", n, worst);
+    free(g.data);
+    mesh_free(&m);
+    assert_true(worst <= 0.05);
+}
+
+/* At random voxels of a 96^3 grid, the brute-force winding number decides
+ * clearly inside (> 0.75) or outside (< 0.25); the grid's sign must agree on
+ * at least 99.9% of them. */
+static void check_sign(const char *name, int samples)
+{
+    char in[1024];
+    snprintf(in, sizeof in, "%s/%s.obj", SDFT_MESH_DIR, name);
+    mesh m = {0};
+    assert_int_equal(read_obj(in, &m), 0);
+    assert_true(m.nt > 0);
+    dense g = {0};
+    convert(in, name, "--res 96", &g);
+    tu_rng rng = tu_rng_seed(7);
+    int clear = 0, wrong = 0, inside = 0;
+    for (int s = 0; s < samples; s++) {
+        int ijk[3];
+        for (int k = 0; k < 3; k++) {
+            ijk[k] = (int)tu_uniform(&rng, 0, (float)g.n[k]);
+            if (ijk[k] >= g.n[k])
+                ijk[k] = g.n[k] - 1;
+        }
+        double p[3];
+        dense_point(&g, ijk[0], ijk[1], ijk[2], p);
+        double w = winding(&m, p);
+        if (w > 0.25 && w < 0.75)
+            continue;
+        clear++;
+        inside += w > 0.75;
+        int grid_inside = dense_at(&g, ijk[0], ijk[1], ijk[2]) < 0;
+        if (grid_inside != (w > 0.75))
+            wrong++;
+    }
+    printf("%s 96^3: %d clear points (%d inside), %d wrong sign\n", name, clear, inside, wrong);
+    free(g.data);
+    mesh_free(&m);
+    assert_true(inside > clear / 50);
+    assert_true(wrong * 1000 <= clear);
+}
+
+static void test_sign_bunny(void **state)
+{
+    (void)state;
+    check_sign("stanford-bunny", 1500);
+}
+static void test_sign_spot(void **state)
+{
+    (void)state;
+    check_sign("spot", 3000);
+}
+static void test_sign_teapot(void **state)
+{
+    (void)state;
+    check_sign("teapot", 3000);
+}
+static void test_sign_suzanne(void **state)
+{
+    (void)state;
+    check_sign("suzanne", 3000);
+}
+static void test_sign_fandisk(void **state)
+{
+    (void)state;
+    check_sign("fandisk", 3000);
+}
+
+static void test_render_round_trip(void **state)
+{
+    (void)state;
+    char out[16384];
+    tu_run(out, sizeof out, "%s render --help", SDFT_CLI);
+    if (!strstr(out, "--grid")) {
+        print_message("skipped: `sdftrace render --help` has no --grid option yet\n");
+        skip();
+    }
+    char in[1024], nvdb[512], vdb[512], exr[512];
+    snprintf(in, sizeof in, "%s/spot.obj", SDFT_MESH_DIR);
+    tu_tmp(vdb, sizeof vdb, "spot_rt.vdb");
+    tu_tmp(nvdb, sizeof nvdb, "spot_rt.nvdb");
+    tu_tmp(exr, sizeof exr, "spot_rt.exr");
+    int rc = tu_run(out, sizeof out, "%s '%s' -o '%s' --nvdb '%s' --res 64 --quiet", SDFT_MESH2SDF, in, vdb, nvdb);
+    if (rc != 0)
+        fail_msg("mesh2sdf failed: %s", out);
+    rc = tu_run(out, sizeof out, "%s render --grid '%s' -o '%s' --width 64 --height 64 --json", SDFT_CLI, nvdb, exr);
+    if (rc != 0)
+        fail_msg("sdftrace render --grid failed: %s", out);
+    const char *hf = strstr(out, "\"hit_fraction\":");
+    assert_non_null(hf);
+    double hit = strtod(hf + strlen("\"hit_fraction\":"), NULL);
+    printf("spot round trip: hit fraction %.3f\n", hit);
+    assert_true(hit > 0.05 && hit < 0.95);
+}
+
+/* ----------------------------------------------------- health, help */
+
+static void test_health_line(void **state)
+{
+    (void)state;
+    char obj[512], vdb[512], out[8192];
+    tu_tmp(obj, sizeof obj, "open_cube.obj");
+    tu_tmp(vdb, sizeof vdb, "open_cube.vdb");
+    write_cube_obj(obj, 1, 2); /* one quad missing, two degenerate faces */
+    int rc = tu_run(out, sizeof out, "%s '%s' -o '%s' --res 32 --sign flood", SDFT_MESH2SDF, obj, vdb);
+    assert_int_equal(rc, 0);
+    assert_non_null(strstr(out, "11 vertices, 7 faces (10 triangles), 4 boundary edges, 0 non-manifold edges, "
+                                "2 degenerate faces skipped"));
+    assert_non_null(strstr(out, "warning: the mesh is not closed"));
+    assert_non_null(strstr(out, "sign flood"));
+    /* --quiet: nothing but the warning. */
+    rc = tu_run(out, sizeof out, "%s '%s' -o '%s' --res 32 --quiet", SDFT_MESH2SDF, obj, vdb);
+    assert_int_equal(rc, 0);
+    assert_string_equal(out, "");
+}
+
+static void test_help(void **state)
+{
+    (void)state;
+    char out[16384];
+    assert_int_equal(tu_run(out, sizeof out, "%s --help", SDFT_MESH2SDF), 0);
+    const char *flags[] = {"-o", "--nvdb", "--npy", "--res", "--voxel-size", "--band", "--full", "--padding",
+                           "--sign", "--fp16", "--name", "--threads", "--quiet", "--check-sign", "--samples"};
+    for (size_t i = 0; i < sizeof flags / sizeof *flags; i++)
+        if (!strstr(out, flags[i]))
+            fail_msg("--help does not list %s", flags[i]);
+    assert_non_null(strstr(out, "default: 256"));
+    assert_non_null(strstr(out, "4096"));
+}
+
+/* ---------------------------------------------------------- bad input */
+
+/* No file at `path`, nor a temporary file left beside it. */
+static void assert_no_output(const char *path)
+{
+    assert_false(tu_file_exists(path));
+    DIR *d = opendir(SDFT_TEST_TMP);
+    assert_non_null(d);
+    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
+    char prefix[256];
+    snprintf(prefix, sizeof prefix, "%s.tmp-", base);
+    struct dirent *e;
+    while ((e = readdir(d)))
+        if (!strncmp(e->d_name, prefix, strlen(prefix)))
+            fail_msg("temporary file left behind: %s", e->d_name);
+    closedir(d);
+}
+
+/* mesh2sdf ARGS must fail with exactly one line starting "mesh2sdf: ". */
+static void expect_failure(const char *args, const char *expect)
+{
+    char out[8192];
+    int rc = tu_run(out, sizeof out, "%s %s", SDFT_MESH2SDF, args);
+    if (rc == 0)
+        fail_msg("mesh2sdf %s succeeded", args);
+    size_t len = strlen(out);
+    int lines = 0;
+    for (size_t i = 0; i < len; i++)
+        lines += out[i] == '\n';
+    if (lines != 1 || strncmp(out, "mesh2sdf: ", 10) != 0)
+        fail_msg("mesh2sdf %s: want one 'mesh2sdf: ' line, got: %s", args, out);
+    if (expect && !strstr(out, expect))
+        fail_msg("mesh2sdf %s: message lacks '%s': %s", args, expect, out);
+}
+
+static void write_text(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+}
+
+static void test_bad_input(void **state)
+{
+    (void)state;
+    char cube[512], out_vdb[512], args[4096], path[512], npy[512];
+    tu_tmp(cube, sizeof cube, "bad_cube.obj");
+    write_cube_obj(cube, 0, 0);
+    tu_tmp(out_vdb, sizeof out_vdb, "bad_out.vdb");
+    tu_tmp(npy, sizeof npy, "bad_out.npy");
+    remove(out_vdb);
+
+    /* missing file */
+    snprintf(args, sizeof args, "'%s/no_such_mesh.obj' -o '%s'", SDFT_TEST_TMP, out_vdb);
+    expect_failure(args, "cannot open");
+    assert_no_output(out_vdb);
+
+    /* unknown extension */
+    tu_tmp(path, sizeof path, "mesh.xyz");
+    write_text(path, "v 0 0 0\n");
+    snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
+    expect_failure(args, "unknown mesh extension");
+    assert_no_output(out_vdb);
+
+    /* unreadable mesh: a PLY that is not one */
+    tu_tmp(path, sizeof path, "garbage.ply");
+    write_text(path, "this is not a ply file\n\x01\x02\x03");
+    snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
+    expect_failure(args, NULL);
+    assert_no_output(out_vdb);
+
+    /* empty mesh: vertices, no faces; and an empty file */
+    tu_tmp(path, sizeof path, "nofaces.obj");
+    write_text(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
+    snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
+    expect_failure(args, "no faces");
+    assert_no_output(out_vdb);
+    tu_tmp(path, sizeof path, "empty.off");
+    write_text(path, "");
+    snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
+    expect_failure(args, NULL);
+    assert_no_output(out_vdb);
+
+    /* NaN and Inf coordinates: as text in an OBJ, as floats in a binary PLY */
+    const char *bad_obj[] = {"nan 0 0", "0 inf 0", "0 0 1e999"};
+    for (size_t i = 0; i < 3; i++) {
+        char text[256];
+        snprintf(text, sizeof text, "v %s\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 2 3 4\nf 1 4 2\n", bad_obj[i]);
+        tu_tmp(path, sizeof path, "nonfinite.obj");
+        write_text(path, text);
+        snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
+        expect_failure(args, "non-finite");
+        assert_no_output(out_vdb);
+    }
+    mesh m = {0};
+    make_cube(&m);
+    const float poison[2] = {NAN, INFINITY};
+    for (int i = 0; i < 2; i++) {
+        tu_tmp(path, sizeof path, "nonfinite.ply");
+        write_binary_ply(path, &m, poison[i]);
+        snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
+        expect_failure(args, "non-finite");
+        assert_no_output(out_vdb);
+    }
+    mesh_free(&m);
+
+    /* every triangle degenerate / zero-size bounding box */
+    tu_tmp(path, sizeof path, "point.obj");
+    write_text(path, "v 1 1 1\nv 1 1 1\nv 1 1 1\nf 1 2 3\n");
+    snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
+    expect_failure(args, "no non-degenerate triangles");
+    assert_no_output(out_vdb);
+
+    /* --res out of range, too small for the padding; --voxel-size <= 0, NaN */
+    const char *bad_flags[][2] = {{"--res 0", "--res must be"},
+                                  {"--res 4097", "--res must be"},
+                                  {"--res abc", "--res must be"},
+                                  {"--res 6", "leaves no room"},
+                                  {"--voxel-size 0", "--voxel-size must be"},
+                                  {"--voxel-size -1", "--voxel-size must be"},
+                                  {"--voxel-size nan", "--voxel-size must be"},
+                                  {"--voxel-size 0.0001", "above the limit"},
+                                  {"--res 64 --voxel-size 0.1", "not both"},
+                                  {"--band 0", "--band must be"},
+                                  {"--sign maybe", "--sign must be"},
+                                  {"--threads -2", "--threads must be"},
+                                  {"--bogus", "unknown option"},
+                                  {"--res", "needs a value"}};
+    for (size_t i = 0; i < sizeof bad_flags / sizeof *bad_flags; i++) {
+        snprintf(args, sizeof args, "'%s' -o '%s' %s", cube, out_vdb, bad_flags[i][0]);
+        expect_failure(args, bad_flags[i][1]);
+        assert_no_output(out_vdb);
+    }
+    snprintf(args, sizeof args, "'%s'", cube);
+    expect_failure(args, "no output");
+
+    /* unwritable outputs: a missing folder, a folder as the file; a bad
+     * --npy destination must not leave the .vdb either */
+    snprintf(args, sizeof args, "'%s' -o '%s/no/such/dir/out.vdb'", cube, SDFT_TEST_TMP);
+    expect_failure(args, "cannot write");
+    snprintf(args, sizeof args, "'%s' -o '%s'", cube, SDFT_TEST_TMP);
+    expect_failure(args, "is a folder");
+    snprintf(args, sizeof args, "'%s' -o '%s' --npy '%s/no/such/dir/out.npy'", cube, out_vdb, SDFT_TEST_TMP);
+    expect_failure(args, "cannot write");
+    assert_no_output(out_vdb);
+
+    /* and the same command with good paths works and writes all three */
+    char json[512];
+    tu_tmp(json, sizeof json, "bad_out.json");
+    snprintf(args, sizeof args, "%s '%s' -o '%s' --npy '%s' --res 32 --quiet", SDFT_MESH2SDF, cube, out_vdb, npy);
+    assert_int_equal(tu_run(NULL, 0, "%s", args), 0);
+    assert_true(tu_file_exists(out_vdb) && tu_file_exists(npy) && tu_file_exists(json));
+}
+
+/* The .vdb is a level set OpenVDB's own tools read; the .nvdb validates. */
+static void test_formats(void **state)
+{
+    (void)state;
+    char in[1024], vdb[512], nvdb[512], out[16384];
+    snprintf(in, sizeof in, "%s/suzanne.obj", SDFT_MESH_DIR);
+    tu_tmp(vdb, sizeof vdb, "suzanne_fmt.vdb");
+    tu_tmp(nvdb, sizeof nvdb, "suzanne_fmt.nvdb");
+    int rc = tu_run(out, sizeof out, "%s '%s' -o '%s' --nvdb '%s' --fp16 --name monkey --res 64 --quiet",
+                    SDFT_MESH2SDF, in, vdb, nvdb);
+    if (rc != 0)
+        fail_msg("mesh2sdf failed: %s", out);
+    if (tu_run(out, sizeof out, "vdb_print -l -m '%s'", vdb) == 0) {
+        assert_non_null(strstr(out, "monkey"));
+        assert_non_null(strstr(out, "level set"));
+        assert_non_null(strstr(out, "mesh2sdf_sign: winding"));
+        assert_non_null(strstr(out, "suzanne.obj"));
+    }
+    if (tu_run(out, sizeof out, "command -v nanovdb_validate") == 0) {
+        rc = tu_run(out, sizeof out, "nanovdb_validate '%s'", nvdb);
+        if (rc != 0)
+            fail_msg("nanovdb_validate: %s", out);
+    }
+    if (tu_run(out, sizeof out, "command -v nanovdb_print") == 0) {
+        assert_int_equal(tu_run(out, sizeof out, "nanovdb_print '%s'", nvdb), 0);
+        assert_non_null(strstr(out, "monkey"));
+        assert_non_null(strstr(out, "Float16")); /* nanovdb_print's name for Fp16 */
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_help),
+        cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_health_line),
+        cmocka_unit_test(test_cube_distances),
+        cmocka_unit_test(test_icosphere_distances),
+        cmocka_unit_test(test_formats),
+        cmocka_unit_test(test_sign_spot),
+        cmocka_unit_test(test_sign_suzanne),
+        cmocka_unit_test(test_sign_teapot),
+        cmocka_unit_test(test_sign_fandisk),
+        cmocka_unit_test(test_sign_bunny),
+        cmocka_unit_test(test_render_round_trip),
+    };
+    return cmocka_run_group_tests_name("mesh2sdf", tests, NULL, NULL);
+}
