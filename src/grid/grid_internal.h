@@ -34,6 +34,7 @@ struct sdft_grid {
     uint32_t grid_class;
     float w2i[9], w2i_t[3];       /* index = w2i * world + w2i_t */
     float i2w[9], i2w_t[3];       /* world = i2w * index + i2w_t */
+    int diagonal;                 /* w2i's off-diagonal entries are all 0: index = w2i[4k] world + w2i_t */
     float sigma_min, sigma_max;   /* world length of a unit index step: bounds on i2w's singular values */
     float background;             /* world units */
     sdft_vec3 voxel_size;

@@ -176,6 +176,7 @@ int grid_init(sdft_grid *g, char *msg, unsigned msg_len)
                                inv[3 * k + 1] * pnanovdb_map_get_vecd(g->buf, map, 1) +
                                inv[3 * k + 2] * pnanovdb_map_get_vecd(g->buf, map, 2));
     }
+    g->diagonal = g->w2i[1] == 0 && g->w2i[2] == 0 && g->w2i[3] == 0 && g->w2i[5] == 0 && g->w2i[6] == 0 && g->w2i[7] == 0;
     g->sigma_max = spectral_bound(mat);
     float inv_norm = spectral_bound(inv);
     g->sigma_min = inv_norm > 0 ? 1.0f / inv_norm : 0.0f;

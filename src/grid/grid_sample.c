@@ -42,6 +42,15 @@ _Static_assert(sizeof(pnanovdb_readaccessor_t) <= SDFT_SCRATCH_BYTES, "a read ac
 
 static inline pnanovdb_readaccessor_t *accessor(sdft_scratch *s) { return (pnanovdb_readaccessor_t *)(void *)s->bytes; }
 
+/* The hot path is written once and instantiated per grid type, transform
+ * shape and bound (the GRID_DISTANCE table below), so the loop a ray runs
+ * never branches on configuration; these helpers must inline to fold. */
+#if defined(__GNUC__)
+#define GRID_INLINE static inline __attribute__((always_inline))
+#else
+#define GRID_INLINE static inline
+#endif
+
 static void grid_scratch_init(const void *ctx, sdft_scratch *s)
 {
     const sdft_grid *g = ctx;
@@ -49,11 +58,13 @@ static void grid_scratch_init(const void *ctx, sdft_scratch *s)
 }
 
 /* The stored value at voxel ijk and the tree level it came from
- * (0 leaf, 1 lower-node tile, 2 upper-node tile, 3 root tile, 4 background). */
-static inline float read_value(const sdft_grid *g, pnanovdb_readaccessor_t *acc, pnanovdb_coord_t ijk, uint32_t *level)
+ * (0 leaf, 1 lower-node tile, 2 upper-node tile, 3 root tile, 4 background).
+ * `type` is g->type, or a constant where the caller is specialised. */
+GRID_INLINE float read_value(const sdft_grid *g, pnanovdb_grid_type_t type, pnanovdb_readaccessor_t *acc,
+                             pnanovdb_coord_t ijk, uint32_t *level)
 {
-    pnanovdb_address_t a = pnanovdb_readaccessor_get_value_address_and_level(g->type, g->buf, acc, &ijk, level);
-    switch (g->type) {
+    pnanovdb_address_t a = pnanovdb_readaccessor_get_value_address_and_level(type, g->buf, acc, &ijk, level);
+    switch (type) {
     case PNANOVDB_GRID_TYPE_FLOAT: return pnanovdb_read_float(g->buf, a);
     case PNANOVDB_GRID_TYPE_DOUBLE: return (float)pnanovdb_read_double(g->buf, a);
     case PNANOVDB_GRID_TYPE_FP16: return pnanovdb_root_fp16_read_float(g->buf, a, &ijk, *level);
@@ -63,17 +74,33 @@ static inline float read_value(const sdft_grid *g, pnanovdb_readaccessor_t *acc,
     }
 }
 
-static inline void to_index(const sdft_grid *g, sdft_vec3 p, float x[3])
+/* World to index. `diagonal` (g->diagonal, or a constant): the matrix is a
+ * diagonal scale, whose products with 0 the full form would add. */
+GRID_INLINE void to_index(const sdft_grid *g, int diagonal, sdft_vec3 p, float x[3])
 {
     const float *m = g->w2i;
+    if (diagonal) {
+        x[0] = m[0] * p.x + g->w2i_t[0];
+        x[1] = m[4] * p.y + g->w2i_t[1];
+        x[2] = m[8] * p.z + g->w2i_t[2];
+        return;
+    }
     x[0] = m[0] * p.x + m[1] * p.y + m[2] * p.z + g->w2i_t[0];
     x[1] = m[3] * p.x + m[4] * p.y + m[5] * p.z + g->w2i_t[1];
     x[2] = m[6] * p.x + m[7] * p.y + m[8] * p.z + g->w2i_t[2];
 }
 
+/* floor(x) for |x| < 2^31 (callers check): floorf is a libm call on
+ * baseline x86-64. Truncation is exact, and steps down below 0. */
+static inline int32_t ifloor(float x)
+{
+    const int32_t i = (int32_t)x;
+    return i - (x < (float)i);
+}
+
 /* The bound of the comment above for the node of `level` holding voxel c,
  * whose value is v; world units. */
-static float tree_bound(const sdft_grid *g, const float x[3], pnanovdb_coord_t c, uint32_t level, float v)
+static inline float tree_bound(const sdft_grid *g, const float x[3], pnanovdb_coord_t c, uint32_t level, float v)
 {
     static const int log2_dim[5] = {0, 3, 7, 12, 12};
     const int32_t dim = 1 << log2_dim[level];
@@ -81,8 +108,8 @@ static float tree_bound(const sdft_grid *g, const float x[3], pnanovdb_coord_t c
     float depth = INFINITY, out2 = 0.0f;
     for (int k = 0; k < 3; k++) {
         float lo = (float)(cc[k] & ~(dim - 1)), hi = lo + (float)(dim - 1);
-        float inside = fminf(x[k] - lo, hi - x[k]);
-        depth = fminf(depth, inside);
+        float inside = sdft_minf(x[k] - lo, hi - x[k]);
+        depth = sdft_minf(depth, inside);
         if (inside < 0.0f)
             out2 += inside * inside;
     }
@@ -92,23 +119,24 @@ static float tree_bound(const sdft_grid *g, const float x[3], pnanovdb_coord_t c
 
 static inline float lerp(float a, float b, float t) { return a + (b - a) * t; }
 
-/* The field at index point x: trilinear in leaves, the tree bound in tiles. */
-static float sample_index(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const float x[3], int *level_out, int bound)
+/* The field at index point x: trilinear in leaves, the tree bound in tiles
+ * (if `bound`). `type` as for read_value. */
+GRID_INLINE float sample_index(const sdft_grid *g, pnanovdb_grid_type_t type, pnanovdb_readaccessor_t *acc,
+                               const float x[3], int *level_out, int bound)
 {
-    const float fx = floorf(x[0]), fy = floorf(x[1]), fz = floorf(x[2]);
-    if (!(fabsf(fx) < 1e9f && fabsf(fy) < 1e9f && fabsf(fz) < 1e9f)) { /* NaN or absurdly far: background */
+    if (!(fabsf(x[0]) < 1e9f && fabsf(x[1]) < 1e9f && fabsf(x[2]) < 1e9f)) { /* NaN or absurdly far: background */
         if (level_out)
             *level_out = 4;
         return g->background;
     }
-    const pnanovdb_coord_t i0 = {(int32_t)fx, (int32_t)fy, (int32_t)fz};
-    const float tx = x[0] - fx, ty = x[1] - fy, tz = x[2] - fz;
+    const pnanovdb_coord_t i0 = {ifloor(x[0]), ifloor(x[1]), ifloor(x[2])};
+    const float tx = x[0] - (float)i0.x, ty = x[1] - (float)i0.y, tz = x[2] - (float)i0.z;
     /* The voxel nearest x is the cell corner on x's side of each midpoint. */
     const int near = (tx >= 0.5f) | (ty >= 0.5f) << 1 | (tz >= 0.5f) << 2;
     const pnanovdb_coord_t c = {i0.x + (near & 1), i0.y + (near >> 1 & 1), i0.z + (near >> 2 & 1)};
     uint32_t level;
     float v[8];
-    v[near] = read_value(g, acc, c, &level);
+    v[near] = read_value(g, type, acc, c, &level);
     if (level > 0 && bound) {
         float b = tree_bound(g, x, c, level, v[near]);
         if (b > 0.5f * g->sigma_min) {
@@ -117,29 +145,27 @@ static float sample_index(const sdft_grid *g, pnanovdb_readaccessor_t *acc, cons
             return copysignf(b, v[near]);
         }
     }
-    if (level == 0 && g->type == PNANOVDB_GRID_TYPE_FLOAT && (i0.x & 7) != 7 && (i0.y & 7) != 7 && (i0.z & 7) != 7) {
+    if (type == PNANOVDB_GRID_TYPE_FLOAT && level == 0 && (i0.x & 7) != 7 && (i0.y & 7) != 7 && (i0.z & 7) != 7) {
         /* The whole cell lies in the leaf the accessor just found: read the
          * eight floats from its table (x strides 64, y 8, z 1). */
         pnanovdb_address_t t = pnanovdb_leaf_get_table_address(PNANOVDB_GRID_TYPE_FLOAT, g->buf, acc->leaf,
                                                                pnanovdb_leaf_coord_to_offset(&i0));
         for (int k = 0; k < 8; k++)
             v[k] = pnanovdb_read_float(g->buf, pnanovdb_address_offset(t, 4u * (64u * (k & 1) + 8u * (k >> 1 & 1) + (k >> 2 & 1))));
-        goto interpolate;
+    } else {
+        for (int k = 0; k < 8; k++) {
+            if (k == near)
+                continue;
+            uint32_t lk;
+            v[k] = read_value(g, type, acc, (pnanovdb_coord_t){i0.x + (k & 1), i0.y + (k >> 1 & 1), i0.z + (k >> 2 & 1)}, &lk);
+        }
     }
-    for (int k = 0; k < 8; k++) {
-        if (k == near)
-            continue;
-        uint32_t lk;
-        v[k] = read_value(g, acc, (pnanovdb_coord_t){i0.x + (k & 1), i0.y + (k >> 1 & 1), i0.z + (k >> 2 & 1)}, &lk);
-    }
-interpolate:
     if (level_out)
         *level_out = 0;
     float x00 = lerp(v[0], v[1], tx), x10 = lerp(v[2], v[3], tx);
     float x01 = lerp(v[4], v[5], tx), x11 = lerp(v[6], v[7], tx);
     return lerp(lerp(x00, x10, ty), lerp(x01, x11, ty), tz);
 }
-
 
 /* The far bound of grid_bound.c at index point x (world units, signed), or
  * 0 where it does not apply: x in an occupied cell, or NaN. One cell read,
@@ -159,7 +185,7 @@ static inline float far_bound(const sdft_grid *g, const float x[3])
         const float u = (x[k] - f->origin[k]) * f->inv_cell;
         if (!(fabsf(u) < 1e9f)) /* NaN or absurdly far */
             return 0.0f;
-        const float uc = fminf(fmaxf(u, 0.0f), (float)f->n[k]);
+        const float uc = sdft_minf(sdft_maxf(u, 0.0f), (float)f->n[k]);
         out2 += (u - uc) * (u - uc);
         c[k] = (int)uc - ((int)uc == f->n[k]);
         t[k] = uc - (float)c[k];
@@ -177,65 +203,74 @@ static inline float far_bound(const sdft_grid *g, const float x[3])
               S * sqrtf(t[0] * (1.0f - t[0]) + t[1] * (1.0f - t[1]) + t[2] * (1.0f - t[2]));
     if (out2 > 0.0f) {
         const float out = S * sqrtf(out2);
-        e = fmaxf(e - out, out);
+        e = sdft_maxf(e - out, out);
     }
-    const float b = g->sigma_min * fmaxf(e, 0.0f) + f->bonus;
+    const float b = g->sigma_min * sdft_maxf(e, 0.0f) + f->bonus;
     return sign > 0 ? b : -b;
 }
 
-/* The default field: the far bound where it applies, else the trilinear
- * sample (with the tree bound, for points outside the far bound's cells). */
-static inline float sample_far(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const float x[3], int *level)
+/* The field of `bound` at index point x: for FAR the far bound where it
+ * applies, else the trilinear sample with the tree bound (for points outside
+ * the far bound's cells); TREE the tree bound alone (the first version of
+ * the grid field); NONE trilinear everywhere, +-background beyond the band,
+ * only to measure what the bounds save. */
+GRID_INLINE float sample(const sdft_grid *g, pnanovdb_grid_type_t type, pnanovdb_readaccessor_t *acc, const float x[3],
+                         int *level, sdft_grid_bound bound)
 {
-    const float b = far_bound(g, x);
-    if (b != 0.0f) {
-        if (level)
-            *level = 5;
-        return b;
+    if (bound == SDFT_GRID_BOUND_FAR) {
+        const float b = far_bound(g, x);
+        if (b != 0.0f) {
+            if (level)
+                *level = 5;
+            return b;
+        }
     }
-    return sample_index(g, acc, x, level, 1);
+    return sample_index(g, type, acc, x, level, bound != SDFT_GRID_BOUND_NONE);
 }
 
-static float grid_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
-{
-    const sdft_grid *g = ctx;
-    float x[3];
-    to_index(g, p, x);
-    return sample_far(g, accessor(s), x, NULL);
-}
+/* One distance function per (float grid or any, diagonal transform or not,
+ * bound), each with its configuration folded in. */
+#define GRID_DISTANCE(name, type, diagonal, bound)                                                                     \
+    static float name(const void *ctx, sdft_scratch *s, sdft_vec3 p)                                                  \
+    {                                                                                                                  \
+        const sdft_grid *g = ctx;                                                                                      \
+        float x[3];                                                                                                    \
+        to_index(g, diagonal, p, x);                                                                                   \
+        return sample(g, type, accessor(s), x, NULL, bound);                                                           \
+    }
+#define F PNANOVDB_GRID_TYPE_FLOAT
+GRID_DISTANCE(distance_float_diag_far, F, 1, SDFT_GRID_BOUND_FAR)
+GRID_DISTANCE(distance_float_diag_tree, F, 1, SDFT_GRID_BOUND_TREE)
+GRID_DISTANCE(distance_float_diag_none, F, 1, SDFT_GRID_BOUND_NONE)
+GRID_DISTANCE(distance_float_full_far, F, 0, SDFT_GRID_BOUND_FAR)
+GRID_DISTANCE(distance_float_full_tree, F, 0, SDFT_GRID_BOUND_TREE)
+GRID_DISTANCE(distance_float_full_none, F, 0, SDFT_GRID_BOUND_NONE)
+GRID_DISTANCE(distance_any_far, g->type, g->diagonal, SDFT_GRID_BOUND_FAR)
+GRID_DISTANCE(distance_any_tree, g->type, g->diagonal, SDFT_GRID_BOUND_TREE)
+GRID_DISTANCE(distance_any_none, g->type, g->diagonal, SDFT_GRID_BOUND_NONE)
+#undef F
+#undef GRID_DISTANCE
 
-/* The tree bound alone (the first version of the grid field), for the
- * benchmark's comparison. */
-static float grid_distance_tree(const void *ctx, sdft_scratch *s, sdft_vec3 p)
-{
-    const sdft_grid *g = ctx;
-    float x[3];
-    to_index(g, p, x);
-    return sample_index(g, accessor(s), x, NULL, 1);
-}
+typedef float (*grid_distance_fn)(const void *ctx, sdft_scratch *s, sdft_vec3 p);
 
-/* The same without the tree bound: trilinear everywhere, so +-background
- * beyond the band. Only to measure what the bound saves. */
-static float grid_distance_flat(const void *ctx, sdft_scratch *s, sdft_vec3 p)
-{
-    const sdft_grid *g = ctx;
-    float x[3];
-    to_index(g, p, x);
-    return sample_index(g, accessor(s), x, NULL, 0);
-}
+/* [float, diagonal][bound]: index 0 float+diagonal, 1 float, 2 any other. */
+static const grid_distance_fn grid_distances[3][3] = {
+    {distance_float_diag_far, distance_float_diag_tree, distance_float_diag_none},
+    {distance_float_full_far, distance_float_full_tree, distance_float_full_none},
+    {distance_any_far, distance_any_tree, distance_any_none},
+};
 
 /* The gradient by central differences one voxel apart in index space,
  * taken to world space by the inverse transform's transpose. */
-static sdft_vec3 grid_normal(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+GRID_INLINE sdft_vec3 normal_of(const sdft_grid *g, pnanovdb_grid_type_t type, sdft_scratch *s, sdft_vec3 p)
 {
-    const sdft_grid *g = ctx;
     pnanovdb_readaccessor_t *acc = accessor(s);
     float x[3], d[3];
-    to_index(g, p, x);
+    to_index(g, g->diagonal, p, x);
     for (int k = 0; k < 3; k++) {
         float a[3] = {x[0], x[1], x[2]}, b[3] = {x[0], x[1], x[2]};
         a[k] += 1.0f, b[k] -= 1.0f;
-        d[k] = sample_index(g, acc, a, NULL, 1) - sample_index(g, acc, b, NULL, 1);
+        d[k] = sample_index(g, type, acc, a, NULL, 1) - sample_index(g, type, acc, b, NULL, 1);
     }
     const float *m = g->w2i;
     sdft_vec3 n = sdft_v3(m[0] * d[0] + m[3] * d[1] + m[6] * d[2], m[1] * d[0] + m[4] * d[1] + m[7] * d[2],
@@ -243,37 +278,45 @@ static sdft_vec3 grid_normal(const void *ctx, sdft_scratch *s, sdft_vec3 p)
     return sdft_normalize(n);
 }
 
-sdft_field sdft_grid_field(const sdft_grid *g)
+static sdft_vec3 normal_float(const void *ctx, sdft_scratch *s, sdft_vec3 p)
 {
-    sdft_vec3 vs = g->voxel_size;
-    return (sdft_field){
-        .distance = grid_distance,
-        .normal = grid_normal,
-        .scratch_init = grid_scratch_init,
-        .ctx = g,
-        .bounds = g->bounds,
-        .feature_size = fminf(vs.x, fminf(vs.y, vs.z)),
-    };
+    return normal_of(ctx, PNANOVDB_GRID_TYPE_FLOAT, s, p);
 }
+
+static sdft_vec3 normal_any(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    const sdft_grid *g = ctx;
+    return normal_of(g, g->type, s, p);
+}
+
+static inline int is_float(const sdft_grid *g) { return g->type == PNANOVDB_GRID_TYPE_FLOAT; }
 
 sdft_field sdft_grid_field_with(const sdft_grid *g, sdft_grid_bound bound)
 {
-    sdft_field f = sdft_grid_field(g);
-    f.distance = bound == SDFT_GRID_BOUND_TREE ? grid_distance_tree
-                 : bound == SDFT_GRID_BOUND_NONE ? grid_distance_flat
-                                                 : grid_distance;
-    return f;
+    sdft_vec3 vs = g->voxel_size;
+    const int kind = !is_float(g) ? 2 : g->diagonal ? 0 : 1;
+    const int b = bound == SDFT_GRID_BOUND_TREE ? 1 : bound == SDFT_GRID_BOUND_NONE ? 2 : 0;
+    return (sdft_field){
+        .distance = grid_distances[kind][b],
+        .normal = is_float(g) ? normal_float : normal_any,
+        .scratch_init = grid_scratch_init,
+        .ctx = g,
+        .bounds = g->bounds,
+        .feature_size = sdft_minf(vs.x, sdft_minf(vs.y, vs.z)),
+    };
 }
+
+sdft_field sdft_grid_field(const sdft_grid *g) { return sdft_grid_field_with(g, SDFT_GRID_BOUND_FAR); }
 
 sdft_field sdft_grid_field_without_bound(const sdft_grid *g) { return sdft_grid_field_with(g, SDFT_GRID_BOUND_NONE); }
 
 float sdft_grid_sample_with(const sdft_grid *g, sdft_grid_bound bound, sdft_scratch *s, sdft_vec3 p, int *level)
 {
     float x[3];
-    to_index(g, p, x);
-    if (bound == SDFT_GRID_BOUND_FAR)
-        return sample_far(g, accessor(s), x, level);
-    return sample_index(g, accessor(s), x, level, bound == SDFT_GRID_BOUND_TREE);
+    to_index(g, g->diagonal, p, x);
+    if (bound != SDFT_GRID_BOUND_FAR && bound != SDFT_GRID_BOUND_TREE)
+        bound = SDFT_GRID_BOUND_NONE;
+    return sample(g, g->type, accessor(s), x, level, bound);
 }
 
 float sdft_grid_sample(const sdft_grid *g, sdft_scratch *s, sdft_vec3 p, int *level)
@@ -287,7 +330,7 @@ float sdft_grid_voxel(const sdft_grid *g, int32_t i, int32_t j, int32_t k, int *
     pnanovdb_readaccessor_init(&acc, g->root);
     pnanovdb_coord_t ijk = {i, j, k};
     uint32_t level;
-    float v = read_value(g, &acc, ijk, &level);
+    float v = read_value(g, g->type, &acc, ijk, &level);
     if (active) {
         switch (level) {
         case 0: *active = pnanovdb_leaf_get_value_mask(g->buf, acc.leaf, pnanovdb_leaf_coord_to_offset(&ijk)); break;
