@@ -12,7 +12,8 @@
 # env:   BUILD  the build folder holding sdftrace and bench/hdda_caster
 #               (default build); OUT  where the grids go (default a temp dir);
 #        KEEP=1 reuse OUT's SCENE.vdb from an earlier run instead of baking;
-#        REPEAT frames per tracer, the best counts (default 3)
+#        REPEAT frames per tracer, the best counts (default 3);
+#        BOUNDS=1 only the far-bound rows (2: and the tree bound's; default 3, all)
 set -eu
 
 root=$(cd "$(dirname "$0")/.." && pwd)

@@ -169,7 +169,10 @@ int main(int argc, char **argv)
     if (sdft_image_alloc(&img, w, h))
         return 1;
     static const char *const bound_suffix[] = {"", "-treebound", "-nobound"};
-    for (int k = 0; k < 3 * SDFT_METHOD_COUNT; k++) {
+    /* $BOUNDS=1 keeps only the far-bound rows (2: and the tree bound's). */
+    const char *nb = getenv("BOUNDS");
+    const int bounds = nb && atoi(nb) >= 1 && atoi(nb) <= 3 ? atoi(nb) : 3;
+    for (int k = 0; k < bounds * SDFT_METHOD_COUNT; k++) {
         const int m = k % SDFT_METHOD_COUNT;
         const sdft_grid_bound bound = (sdft_grid_bound)(k / SDFT_METHOD_COUNT);
         f = sdft_grid_field_with(g, bound);
