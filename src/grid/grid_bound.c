@@ -55,7 +55,7 @@
 
 #include "grid_internal.h"
 
-enum { MAX_CELLS = 1 << 24 }; /* 16M cells: 16 MiB of signs, ~34 MiB of corner distances */
+enum { MAX_CELLS = 1 << 24 }; /* 16M cells: ~68 MiB of corners (distance and sign) */
 
 /* floor(a / b) for b > 0. */
 static int32_t floor_div(int32_t a, int32_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
@@ -258,9 +258,9 @@ int grid_far_build(sdft_grid *g)
     const size_t ncell = (size_t)n[0] * n[1] * n[2], nvert = (size_t)nv[0] * nv[1] * nv[2];
     int8_t *sign = malloc(ncell);
     double *d2 = malloc(sizeof(double) * nvert);
-    uint16_t *dist = malloc(sizeof(uint16_t) * nvert);
-    if (!sign || !d2 || !dist) {
-        free(sign), free(d2), free(dist);
+    uint32_t *corner = malloc(sizeof(uint32_t) * nvert);
+    if (!sign || !d2 || !corner) {
+        free(sign), free(d2), free(corner);
         return SDFT_GRID_ENOMEM;
     }
     classify(g, far, sign);
@@ -275,14 +275,19 @@ int grid_far_build(sdft_grid *g)
                         d2[((size_t)(z + (k >> 2)) * nv[1] + (size_t)(y + (k >> 1 & 1))) * nv[0] +
                            (size_t)(x + (k & 1))] = 0.0;
     if (edt3(d2, nv)) {
-        free(sign), free(d2), free(dist);
+        free(sign), free(d2), free(corner);
         return SDFT_GRID_ENOMEM;
     }
     for (size_t i = 0; i < nvert; i++) /* eighths of a voxel, rounded down; saturated */
-        dist[i] = (uint16_t)fmin(floor(8.0 * S * sqrt(d2[i])), 65535.0);
+        corner[i] = (uint32_t)fmin(floor(8.0 * S * sqrt(d2[i])), 65535.0);
+    for (int z = 0; z < n[2]; z++)
+        for (int y = 0; y < n[1]; y++)
+            for (int x = 0; x < n[0]; x++)
+                corner[((size_t)z * nv[1] + y) * nv[0] + x] |= (uint32_t)(uint8_t)sign[((size_t)z * n[1] + y) * n[0] + x]
+                                                                << 16;
     free(d2);
-    far->sign = sign;
-    far->dist = dist;
+    free(sign);
+    far->corner = corner;
     far->inv_cell = 1.0f / (float)S;
     for (int k = 0; k < 3; k++)
         far->origin[k] = (float)far->c0[k] * (float)S - 0.5f;
@@ -293,8 +298,6 @@ int grid_far_build(sdft_grid *g)
 
 void grid_far_free(sdft_grid *g)
 {
-    free(g->far.sign);
-    free(g->far.dist);
-    g->far.sign = NULL;
-    g->far.dist = NULL;
+    free(g->far.corner);
+    g->far.corner = NULL;
 }

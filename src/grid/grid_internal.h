@@ -10,10 +10,12 @@
 
 /* The far bound (grid_bound.c): cells of `cell`^3 voxels over the active
  * box, each occupied (sign 0: it holds a leaf) or empty with its tiles'
- * sign; and at the cells' corners the index distance to the occupied ones. */
+ * sign; and at the cells' corners the index distance to the occupied ones.
+ * Both in one table, so a lookup reads four cache lines, not five. */
 typedef struct grid_far {
-    int8_t *sign;       /* n[0] x n[1] x n[2], x fastest; NULL: no far bound */
-    uint16_t *dist;     /* (n[0] + 1) x (n[1] + 1) x (n[2] + 1) corners, index units x 8, rounded down */
+    uint32_t *corner;   /* (n[0] + 1) x (n[1] + 1) x (n[2] + 1) corners, x fastest; NULL: no far bound.
+                         * Bits 0-15: the index distance x 8, rounded down; bits 16-23: the sign (int8)
+                         * of the cell whose lowest corner this is (0 where there is none) */
     int32_t c0[3];      /* first cell, in cells */
     int n[3];           /* cells per axis */
     int cell;           /* S: voxels per cell edge, 8 * 2^k */

@@ -177,7 +177,7 @@ GRID_INLINE float sample_index(const sdft_grid *g, pnanovdb_grid_type_t type, pn
 static inline float far_bound(const sdft_grid *g, const float x[3])
 {
     const grid_far *f = &g->far;
-    if (!f->sign)
+    if (!f->corner)
         return 0.0f;
     float t[3], out2 = 0.0f;
     int c[3];
@@ -190,14 +190,15 @@ static inline float far_bound(const sdft_grid *g, const float x[3])
         c[k] = (int)uc - ((int)uc == f->n[k]);
         t[k] = uc - (float)c[k];
     }
-    const size_t nx = (size_t)f->n[0], ny = (size_t)f->n[1];
-    const int8_t sign = f->sign[((size_t)c[2] * ny + (size_t)c[1]) * nx + (size_t)c[0]];
+    const size_t sx = (size_t)f->n[0] + 1, sy = sx * ((size_t)f->n[1] + 1);
+    const uint32_t *d = f->corner + (size_t)c[2] * sy + (size_t)c[1] * sx + (size_t)c[0];
+    const int8_t sign = (int8_t)(uint8_t)(d[0] >> 16);
     if (sign == 0)
         return 0.0f;
-    const size_t sx = nx + 1, sy = (nx + 1) * (ny + 1);
-    const uint16_t *d = f->dist + (size_t)c[2] * sy + (size_t)c[1] * sx + (size_t)c[0];
-    const float d00 = lerp(d[0], d[1], t[0]), d10 = lerp(d[sx], d[sx + 1], t[0]);
-    const float d01 = lerp(d[sy], d[sy + 1], t[0]), d11 = lerp(d[sy + sx], d[sy + sx + 1], t[0]);
+#define D(i) (float)(d[i] & 0xffffu)
+    const float d00 = lerp(D(0), D(1), t[0]), d10 = lerp(D(sx), D(sx + 1), t[0]);
+    const float d01 = lerp(D(sy), D(sy + 1), t[0]), d11 = lerp(D(sy + sx), D(sy + sx + 1), t[0]);
+#undef D
     const float S = (float)f->cell;
     float e = 0.125f * lerp(lerp(d00, d10, t[1]), lerp(d01, d11, t[1]), t[2]) -
               S * sqrtf(t[0] * (1.0f - t[0]) + t[1] * (1.0f - t[1]) + t[2] * (1.0f - t[2]));
