@@ -10,6 +10,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -46,6 +47,65 @@ Vec3 worldOf(const BoxGeometry& box, const openvdb::Coord& ijk)
             box.origin[2] + ijk[2] * box.voxelSize};
 }
 
+// Sign of the active voxels of one leaf by the winding number, without
+// evaluating it at every voxel. Two face-adjacent voxels a, b whose exact
+// distances satisfy d(a) + d(b) > h lie on a segment that cannot cross the
+// mesh (a crossing point x would give d(a) + d(b) <= |a-x| + |x-b| = h), so
+// the winding number is continuous between them. It then changes sign
+// (crosses 1/2) only in open space across a hole, i.e. next to a boundary
+// or non-manifold edge. So: split the leaf's voxels into such connected
+// components; a component whose voxels' nearest triangles are all away from
+// open edges takes the sign of one voxel (the farthest from the surface);
+// any other component is evaluated voxel by voxel.
+constexpr uint32_t kNone = 0xffffffffu;
+
+void signLeaf(openvdb::FloatTree::LeafNodeType& leaf, const BoxGeometry& box, const FastWinding& winding,
+              const TriangleMesh& mesh, const uint32_t* nearest)
+{
+    using Leaf = openvdb::FloatTree::LeafNodeType;
+    constexpr int kDim = int(Leaf::DIM), kSize = int(Leaf::SIZE);
+    const float h = float(box.voxelSize) * (1.0f + 1e-5f);
+    int component[kSize];
+    std::fill(component, component + kSize, -1);
+    int queue[kSize];
+    for (int seed = 0; seed < kSize; ++seed) {
+        if (!leaf.isValueOn(openvdb::Index(seed)) || component[seed] >= 0)
+            continue;
+        // Flood one component from `seed`, noting whether it touches an open
+        // edge's triangles and which voxel lies farthest from the surface.
+        int head = 0, tail = 0, farthest = seed;
+        bool open = false;
+        component[seed] = seed;
+        queue[tail++] = seed;
+        while (head < tail) {
+            const int v = queue[head++];
+            const float dv = leaf.getValue(openvdb::Index(v));
+            open = open || mesh.nearOpenEdge[nearest[v]];
+            if (dv > leaf.getValue(openvdb::Index(farthest)))
+                farthest = v;
+            const int x = v >> (2 * Leaf::LOG2DIM), y = (v >> Leaf::LOG2DIM) & (kDim - 1), z = v & (kDim - 1);
+            const int next[6][3] = {{x - 1, y, z}, {x + 1, y, z}, {x, y - 1, z}, {x, y + 1, z}, {x, y, z - 1}, {x, y, z + 1}};
+            for (const auto& n : next) {
+                if (n[0] < 0 || n[1] < 0 || n[2] < 0 || n[0] >= kDim || n[1] >= kDim || n[2] >= kDim)
+                    continue;
+                const int u = (n[0] << (2 * Leaf::LOG2DIM)) | (n[1] << Leaf::LOG2DIM) | n[2];
+                if (component[u] >= 0 || !leaf.isValueOn(openvdb::Index(u)) ||
+                    !(dv + leaf.getValue(openvdb::Index(u)) > h))
+                    continue;
+                component[u] = seed;
+                queue[tail++] = u;
+            }
+        }
+        const bool inside = !open && winding(worldOf(box, leaf.offsetToGlobalCoord(openvdb::Index(farthest)))) > 0.5;
+        for (int i = 0; i < tail; ++i) {
+            const openvdb::Index v = openvdb::Index(queue[i]);
+            const bool in = open ? winding(worldOf(box, leaf.offsetToGlobalCoord(v))) > 0.5 : inside;
+            if (in)
+                leaf.setValueOnly(v, -leaf.getValue(v));
+        }
+    }
+}
+
 // Makes every active voxel of OpenVDB's unsigned band exact and, when
 // `sign`, negative where the winding number exceeds 1/2; in parallel over
 // leaf nodes. OpenVDB's band values are exact next to the surface but only
@@ -54,19 +114,27 @@ Vec3 worldOf(const BoxGeometry& box, const openvdb::Coord& ijk)
 // gives inactive values the sign of their side: OpenVDB's signed flood fill
 // inside leaves, the winding number at the centre of every tile (a flood
 // fill would leak through a mesh's holes).
-void finishBand(openvdb::FloatTree& tree, const BoxGeometry& box, const FastWinding& winding, bool sign,
-                Progress& progress)
+void finishBand(openvdb::FloatTree& tree, const BoxGeometry& box, const FastWinding& winding,
+                const TriangleMesh& mesh, bool sign, Progress& progress)
 {
     openvdb::tree::LeafManager<openvdb::FloatTree> leaves(tree);
     const size_t leafCount = leaves.leafCount();
     std::atomic<size_t> done{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, leafCount, 8), [&](const tbb::blocked_range<size_t>& r) {
+        uint32_t nearest[openvdb::FloatTree::LeafNodeType::SIZE];
         for (size_t n = r.begin(); n != r.end(); ++n) {
-            for (auto it = leaves.leaf(n).beginValueOn(); it; ++it) {
+            auto& leaf = leaves.leaf(n);
+            for (auto it = leaf.beginValueOn(); it; ++it) {
                 const Vec3 q = worldOf(box, it.getCoord());
-                const float d = float(winding.distance(q, double(*it) * (1.0 + 1e-6)));
-                it.setValue(sign && winding(q) > 0.5 ? -d : d);
+                uint32_t& tri = nearest[it.pos()];
+                tri = kNone;
+                double d = winding.distance(q, double(*it) * (1.0 + 1e-4) + 1e-6 * box.voxelSize, &tri);
+                if (tri == kNone) // OpenVDB's value was not an upper bound after all
+                    d = winding.distance(q, INFINITY, &tri);
+                it.setValue(float(d));
             }
+            if (sign)
+                signLeaf(leaf, box, winding, mesh, nearest);
         }
         const size_t d = done.fetch_add(r.size()) + r.size();
         progress.report(int(100.0 * double(d) / double(leafCount)));
@@ -190,7 +258,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh& mesh, const BoxGeometry& b
     if (opt.sign != SignMethod::Flood) {
         progress.stage(winding ? "exact distance, sign" : "exact distance", 55, opt.full ? 75 : 100);
         const auto t0 = std::chrono::steady_clock::now();
-        finishBand(grid->tree(), box, *tree, winding, progress);
+        finishBand(grid->tree(), box, *tree, mesh, winding, progress);
         stats.windingSeconds = seconds(t0);
     }
     if (opt.full) {

@@ -74,11 +74,19 @@ void countEdges(TriangleMesh& mesh)
                 std::swap(a, b);
             ++uses[(a << 32) | b];
         }
+    std::vector<uint8_t> openVertex(weld.size(), 0);
     for (const auto& e : uses) {
         if (e.second == 1)
             ++mesh.health.boundaryEdges;
         else if (e.second > 2)
             ++mesh.health.nonManifoldEdges;
+        if (e.second != 2)
+            openVertex[e.first >> 32] = openVertex[e.first & 0xffffffffu] = 1;
+    }
+    mesh.nearOpenEdge.resize(mesh.triangles.size());
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const auto& tri = mesh.triangles[t];
+        mesh.nearOpenEdge[t] = openVertex[id[tri[0]]] | openVertex[id[tri[1]]] | openVertex[id[tri[2]]];
     }
 }
 

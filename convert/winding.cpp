@@ -98,6 +98,7 @@ FastWinding::FastWinding(const std::vector<std::array<float, 3>>& points,
                 mTris[size_t(i) * 9 + v * 3 + k] = points[tris[order[i]][v]][k];
     for (Node& node : mNodes)
         summarize(node);
+    mOrder = std::move(order);
 }
 
 // Splits [first, first + count) of `order` at the median centroid along the
@@ -226,7 +227,7 @@ double FastWinding::bruteForce(const Vec3& q) const
     return w;
 }
 
-double FastWinding::distance(const Vec3& q, double bound) const
+double FastWinding::distance(const Vec3& q, double bound, uint32_t* nearest) const
 {
     if (mNodes.empty())
         return bound;
@@ -247,8 +248,14 @@ double FastWinding::distance(const Vec3& q, double bound) const
         if (boxDistance2(node) >= best)
             continue;
         if (node.count <= kLeafSize) {
-            for (uint32_t i = node.first; i < node.first + node.count; ++i)
-                best = std::min(best, triangleDistance2(&mTris[size_t(i) * 9], q));
+            for (uint32_t i = node.first; i < node.first + node.count; ++i) {
+                const double d2 = triangleDistance2(&mTris[size_t(i) * 9], q);
+                if (d2 < best) {
+                    best = d2;
+                    if (nearest)
+                        *nearest = mOrder[i];
+                }
+            }
         } else {
             // Push the farther child first so the nearer one is searched first.
             const double dl = boxDistance2(mNodes[node.left]), dr = boxDistance2(mNodes[node.right]);

@@ -43,7 +43,9 @@ public:
     /// same hierarchy's bounding boxes). `bound`, if known, is a distance no
     /// smaller than the answer (it prunes the search); it is returned when no
     /// triangle is nearer.
-    double distance(const Vec3& q, double bound = INFINITY) const;
+    /// `nearest`, if given, receives the nearest triangle's index in the
+    /// input (unchanged when none is nearer than `bound`).
+    double distance(const Vec3& q, double bound = INFINITY, uint32_t* nearest = nullptr) const;
 
     size_t triangleCount() const { return mTris.size() / 3; }
 
@@ -62,6 +64,7 @@ private:
     void summarize(Node& n) const;
 
     std::vector<double> mTris; // 9 doubles per triangle, in BVH order
+    std::vector<uint32_t> mOrder; // BVH order -> input index
     std::vector<Node> mNodes;
     double mBeta2;
 };
