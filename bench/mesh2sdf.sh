@@ -63,8 +63,8 @@ for name in $MESHES; do
         W[$grid]=${frac#wrong_fraction=}
     done < <("$M2S" "$mesh" "${grids[@]}" --samples "$SAMPLES")
     for n in "${RESOLUTIONS[@]}"; do
-        ratio_w=$(awk -v a="${T[wind$n]}" -v b="${T[vdb$n]}" 'BEGIN { printf "%.2f", b > 0 ? a / b : 0 }')
-        ratio_f=$(awk -v a="${T[flood$n]}" -v b="${T[vdb$n]}" 'BEGIN { printf "%.2f", b > 0 ? a / b : 0 }')
+        ratio_w=$(awk -v a="${T[wind$n]}" -v b="${T[vdb$n]}" 'BEGIN { printf "%.2f", (b > 0 ? a / b : 0) }')
+        ratio_f=$(awk -v a="${T[flood$n]}" -v b="${T[vdb$n]}" 'BEGIN { printf "%.2f", (b > 0 ? a / b : 0) }')
         echo "| $name | $n | ${T[vdb$n]} | ${M[vdb$n]} | ${W[$OUT/$name-$n-vdbtool.vdb]} | ${T[wind$n]} | ${M[wind$n]} | ${W[$OUT/$name-$n-winding.vdb]} | $ratio_w | ${T[flood$n]} | ${M[flood$n]} | ${W[$OUT/$name-$n-flood.vdb]} | $ratio_f |"
     done
     unset T M W
