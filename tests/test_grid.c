@@ -14,6 +14,7 @@
 #include "sdftrace/grid.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
+#include "grid_internal.h"
 #include "testutil.h"
 #include "vdb.h"
 
@@ -124,6 +125,41 @@ static void test_trilinear_matches_brute_force(void **state)
         checked++;
     }
     assert_true(checked > 1000);
+    sdft_grid_free(g);
+}
+
+/* The grid's distance functions are specialised per grid type, transform
+ * shape and bound; each gives the generic sampler's value. Clearing a baked
+ * grid's diagonal flag sends it through the full 3x3 transform. */
+static void test_specialised_fields_agree(void **state)
+{
+    (void)state;
+    sdft_field f = spheres_field();
+    sdft_grid *g = bake(&f, 48, 0, NULL);
+    assert_true(g->diagonal);
+    sdft_scratch s;
+    sdft_field gf = sdft_grid_field(g);
+    sdft_scratch_init(&gf, &s);
+    enum { N = 4000 };
+    static float ref[3][N];
+    static const sdft_grid_bound bounds[3] = {SDFT_GRID_BOUND_FAR, SDFT_GRID_BOUND_TREE, SDFT_GRID_BOUND_NONE};
+    for (int pass = 0; pass < 2; pass++) {
+        g->diagonal = pass == 0;
+        for (int b = 0; b < 3; b++) {
+            sdft_field bf = sdft_grid_field_with(g, bounds[b]);
+            tu_rng r = tu_rng_seed(7);
+            for (int i = 0; i < N; i++) {
+                sdft_vec3 p = sdft_v3(tu_uniform(&r, -1.5f, 1.5f), tu_uniform(&r, -1.5f, 1.5f), tu_uniform(&r, -1.5f, 1.5f));
+                float v = bf.distance(bf.ctx, &s, p);
+                assert_true(v == sdft_grid_sample_with(g, bounds[b], &s, p, NULL));
+                if (pass == 0)
+                    ref[b][i] = v;
+                else
+                    assert_float_equal(v, ref[b][i], 1e-6f * (1.0f + fabsf(ref[b][i])));
+            }
+        }
+    }
+    g->diagonal = 1;
     sdft_grid_free(g);
 }
 
@@ -512,6 +548,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_linear_field_is_exact),
         cmocka_unit_test(test_trilinear_matches_brute_force),
+        cmocka_unit_test(test_specialised_fields_agree),
         cmocka_unit_test(test_tree_bound_never_exceeds_distance),
         cmocka_unit_test(test_tree_bound_on_a_scene),
         cmocka_unit_test(test_far_bound_never_exceeds_distance),
