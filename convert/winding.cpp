@@ -19,13 +19,48 @@ inline Vec3 cross(const Vec3& a, const Vec3& b)
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 
+// atan2(y, x) to within 1e-9 rad, about twice as fast as libm's (which was
+// a fifth of mesh2sdf's time): reduce to atan(t), 0 <= t <= 1, then to
+// |u| <= tan(pi/8) by atan(t) = pi/4 + atan((t-1)/(t+1)), and sum the Taylor
+// series to u^21 (remainder below 0.4143^23 / 23 < 3e-10).
+inline double fastAtan2(double y, double x)
+{
+    constexpr double kPi = 3.14159265358979323846, kTanPi8 = 0.41421356237309503;
+    const double ax = std::fabs(x), ay = std::fabs(y);
+    const double hi = std::max(ax, ay), lo = std::min(ax, ay);
+    if (!(hi > 0))
+        return std::atan2(y, x); // zero (or NaN): libm's conventions
+    double t = lo / hi, base = 0;
+    if (t > kTanPi8) {
+        t = (t - 1) / (t + 1);
+        base = 0.25 * kPi;
+    }
+    const double u2 = t * t;
+    double p = 1.0 / 21;
+    p = p * u2 - 1.0 / 19;
+    p = p * u2 + 1.0 / 17;
+    p = p * u2 - 1.0 / 15;
+    p = p * u2 + 1.0 / 13;
+    p = p * u2 - 1.0 / 11;
+    p = p * u2 + 1.0 / 9;
+    p = p * u2 - 1.0 / 7;
+    p = p * u2 + 1.0 / 5;
+    p = p * u2 - 1.0 / 3;
+    double a = base + (t + t * u2 * p); // atan(lo / hi)
+    if (ay > ax)
+        a = 0.5 * kPi - a;
+    if (x < 0)
+        a = kPi - a;
+    return std::copysign(a, y);
+}
+
 // Van Oosterom–Strackee on the corner vectors a, b, c (corners minus q).
 inline double solidAngleOver4Pi(const Vec3& a, const Vec3& b, const Vec3& c)
 {
     const double la = norm(a), lb = norm(b), lc = norm(c);
     const double det = dot(a, cross(b, c));
     const double den = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb;
-    return 2.0 * std::atan2(det, den) * kInv4Pi;
+    return 2.0 * fastAtan2(det, den) * kInv4Pi;
 }
 
 inline double triangleAt(const double* t, const Vec3& q)
@@ -240,13 +275,17 @@ double FastWinding::distance(const Vec3& q, double bound, uint32_t* nearest) con
         return d2;
     };
     double best = bound * bound;
-    uint32_t stack[64];
+    // Each entry carries its box's squared distance, computed once when its
+    // parent ordered the children.
+    struct Entry { uint32_t node; double d2; };
+    Entry stack[64];
     int top = 0;
-    stack[top++] = 0;
+    stack[top++] = {0, boxDistance2(mNodes[0])};
     while (top > 0) {
-        const Node& node = mNodes[stack[--top]];
-        if (boxDistance2(node) >= best)
+        const Entry e = stack[--top];
+        if (e.d2 >= best)
             continue;
+        const Node& node = mNodes[e.node];
         if (node.count <= kLeafSize) {
             for (uint32_t i = node.first; i < node.first + node.count; ++i) {
                 const double d2 = triangleDistance2(&mTris[size_t(i) * 9], q);
@@ -259,8 +298,13 @@ double FastWinding::distance(const Vec3& q, double bound, uint32_t* nearest) con
         } else {
             // Push the farther child first so the nearer one is searched first.
             const double dl = boxDistance2(mNodes[node.left]), dr = boxDistance2(mNodes[node.right]);
-            stack[top++] = dl < dr ? node.right : node.left;
-            stack[top++] = dl < dr ? node.left : node.right;
+            if (dl < dr) {
+                stack[top++] = {node.right, dr};
+                stack[top++] = {node.left, dl};
+            } else {
+                stack[top++] = {node.left, dl};
+                stack[top++] = {node.right, dr};
+            }
         }
     }
     return std::sqrt(best);
