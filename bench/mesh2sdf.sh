@@ -10,11 +10,11 @@
 # default) and --sign flood (OpenVDB's own sign, for comparison).
 #
 # usage: bench/mesh2sdf.sh [RES...]   (default: 256 512 1024)
-# env:   BUILD=build-mesh-rel  MESHES="spot ..."  SAMPLES=10000  THREADS=0
+# env:   BUILD=build  MESHES="spot ..."  SAMPLES=10000  THREADS=0
 # Prints a Markdown table on stdout; grids go to $BUILD/bench-mesh2sdf/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-BUILD=${BUILD:-build-mesh-rel}
+BUILD=${BUILD:-build}
 MESH_DIR=${MESH_DIR:-../shared/data/meshes}
 MESHES=${MESHES:-"stanford-bunny spot teapot suzanne fandisk"}
 SAMPLES=${SAMPLES:-10000}
