@@ -3,7 +3,9 @@
 
 #include "winding.h"
 
+#include <openvdb/tools/ChangeBackground.h>
 #include <openvdb/tools/MeshToVolume.h>
+#include <openvdb/tools/Prune.h>
 #include <openvdb/tools/SignedFloodFill.h>
 #include <openvdb/tree/LeafManager.h>
 
@@ -289,6 +291,25 @@ void finishBand(openvdb::FloatTree& tree, const BoxGeometry& box, const FastWind
     }
 }
 
+// Trims an exact band to half-width `background`: a voxel at or beyond it
+// becomes inactive, keeping its sign, and every inactive value becomes
+// +-background. Afterwards no stored value exceeds the true distance, the
+// level-set convention sdftrace's grid bounds rest on (tests/test_mesh2sdf.c
+// checks it): OpenVDB's own band, grown from approximate distances, leaves
+// out some voxels nearer than its half-width (2.83 voxels from a cube's
+// edge with a 3-voxel band), whose background then overstates their distance.
+void trimBand(openvdb::FloatTree& tree, float background)
+{
+    openvdb::tree::LeafManager<openvdb::FloatTree> leaves(tree);
+    leaves.foreach([background](openvdb::FloatTree::LeafNodeType& leaf, size_t) {
+        for (auto it = leaf.beginValueOn(); it; ++it)
+            if (std::fabs(*it) >= background)
+                it.setValueOff();
+    });
+    openvdb::tools::changeLevelSetBackground(tree, background);
+    openvdb::tools::pruneLevelSet(tree);
+}
+
 // --full: every voxel of the box not yet in the band gets its exact
 // distance, signed by the winding number when `signByWinding`, else with the
 // sign its region already has (OpenVDB's flood fill, or none). Slab by slab:
@@ -385,18 +406,25 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh& mesh, const BoxGeometry& b
 
     progress.stage("distances", 0, opt.sign != SignMethod::Flood ? 55 : (opt.full ? 60 : 100));
     IndexSpaceMesh adapter(mesh, box);
+    // Our exact band asks OpenVDB for one voxel more and is trimmed back
+    // (trimBand); --sign flood keeps OpenVDB's own band, for comparison.
+    const float requested = opt.sign == SignMethod::Flood ? band : band + 1.0f;
     openvdb::FloatGrid::Ptr grid =
-        openvdb::tools::meshToVolume<openvdb::FloatGrid>(progress, adapter, *xform, band, band, flags);
+        openvdb::tools::meshToVolume<openvdb::FloatGrid>(progress, adapter, *xform, requested, requested, flags);
 
     if (opt.sign != SignMethod::Flood) {
         progress.stage(winding ? "exact distance, sign" : "exact distance", 55, opt.full ? 75 : 100);
         const auto t0 = std::chrono::steady_clock::now();
         finishBand(grid->tree(), box, *tree, mesh, winding, progress);
         stats.windingSeconds = seconds(t0);
+        if (!opt.full)
+            trimBand(grid->tree(), band * float(box.voxelSize));
     }
     if (opt.full) {
         progress.stage("dense distances", opt.sign != SignMethod::Flood ? 75 : 60, 100);
         fillBox(*grid, box, *tree, winding, progress);
+        if (opt.sign != SignMethod::Flood) // the band asked of OpenVDB was one voxel wider
+            openvdb::tools::changeLevelSetBackground(grid->tree(), band * float(box.voxelSize));
     }
     grid->setGridClass(opt.sign == SignMethod::None ? openvdb::GRID_UNKNOWN : openvdb::GRID_LEVEL_SET);
     return grid;

@@ -501,6 +501,50 @@ static void test_icosphere_distances(void **state)
     assert_true(worst <= 0.05);
 }
 
+/* The level-set convention sdftrace's grid bounds rest on (the tree bound in
+ * src/grid/grid_sample.c, the far bound in src/grid/grid_bound.c): no stored
+ * value, the +-background of voxels outside the band included, exceeds the
+ * true distance. Returns the largest excess |value| - |exact| in voxels. */
+static double convention_excess(const dense *g, exact_fn exact, const void *ctx)
+{
+    double worst = -INFINITY;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                double p[3];
+                dense_point(g, i, j, k, p);
+                double excess = (fabs(dense_at(g, i, j, k)) - fabs(exact(ctx, p))) / g->h;
+                if (excess > worst)
+                    worst = excess;
+            }
+    return worst;
+}
+
+static void test_band_never_overstates_distance(void **state)
+{
+    (void)state;
+    char obj[512], ply[512];
+    tu_tmp(obj, sizeof obj, "cube_convention.obj");
+    write_cube_obj(obj, 0, 0);
+    dense g = {0};
+    convert(obj, "cube_convention", "--res 64", &g);
+    double cube = convention_excess(&g, exact_box, NULL);
+    free(g.data);
+
+    mesh m = {0};
+    make_icosphere(&m, 2);
+    tu_tmp(ply, sizeof ply, "icosphere_convention.ply");
+    write_ply(ply, &m);
+    g = (dense){0};
+    convert(ply, "icosphere_convention", "--res 48", &g);
+    double sphere = convention_excess(&g, exact_mesh, &m);
+    free(g.data);
+    mesh_free(&m);
+    printf("largest |value| - |exact distance|: cube %.4f, icosphere %.4f voxel\n", cube, sphere);
+    assert_true(cube <= 0.01);
+    assert_true(sphere <= 0.01);
+}
+
 /* At random voxels of a 96^3 grid, the brute-force winding number decides
  * clearly inside (> 0.75) or outside (< 0.25); the grid's sign must agree on
  * at least 99.9% of them. */
@@ -821,6 +865,7 @@ int main(void)
         cmocka_unit_test(test_health_line),
         cmocka_unit_test(test_cube_distances),
         cmocka_unit_test(test_icosphere_distances),
+        cmocka_unit_test(test_band_never_overstates_distance),
         cmocka_unit_test(test_formats),
         cmocka_unit_test(test_sign_spot),
         cmocka_unit_test(test_sign_suzanne),
