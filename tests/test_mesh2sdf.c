@@ -139,8 +139,9 @@ static void write_ply(const char *path, const mesh *m)
 {
     FILE *f = fopen(path, "w");
     assert_non_null(f);
-    fprintf(f, "ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\n"
-               "element face %d\nproperty list uchar int vertex_indices\nend_header\n",
+    fprintf(f,
+            "ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\n"
+            "element face %d\nproperty list uchar int vertex_indices\nend_header\n",
             m->nv, m->nt);
     for (int i = 0; i < m->nv; i++)
         fprintf(f, "%.9g %.9g %.9g\n", m->v[3 * i], m->v[3 * i + 1], m->v[3 * i + 2]);
@@ -154,8 +155,9 @@ static void write_binary_ply(const char *path, const mesh *m, float poison)
 {
     FILE *f = fopen(path, "wb");
     assert_non_null(f);
-    fprintf(f, "ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty float x\nproperty float y\n"
-               "property float z\nelement face %d\nproperty list uchar int vertex_indices\nend_header\n",
+    fprintf(f,
+            "ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty float x\nproperty float y\n"
+            "property float z\nelement face %d\nproperty list uchar int vertex_indices\nend_header\n",
             m->nv, m->nt);
     for (int i = 0; i < m->nv; i++)
         for (int k = 0; k < 3; k++) {
@@ -200,11 +202,11 @@ static void write_stl(const char *path, const mesh *m, float poison, int use_poi
 static void make_icosphere(mesh *m, int levels)
 {
     const double p = (1.0 + sqrt(5.0)) / 2.0;
-    const double base[12][3] = {{-1, p, 0}, {1, p, 0}, {-1, -p, 0}, {1, -p, 0}, {0, -1, p}, {0, 1, p},
-                                {0, -1, -p}, {0, 1, -p}, {p, 0, -1}, {p, 0, 1}, {-p, 0, -1}, {-p, 0, 1}};
-    const int faces[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                              {11, 10, 2}, {10, 7, 6}, {7, 1, 8},   {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                              {3, 8, 9},   {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+    const double base[12][3] = {{-1, p, 0},  {1, p, 0},  {-1, -p, 0}, {1, -p, 0}, {0, -1, p},  {0, 1, p},
+                                {0, -1, -p}, {0, 1, -p}, {p, 0, -1},  {p, 0, 1},  {-p, 0, -1}, {-p, 0, 1}};
+    const int faces[20][3] = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                              {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                              {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
     for (int i = 0; i < 12; i++) {
         double l = sqrt(base[i][0] * base[i][0] + base[i][1] * base[i][1] + base[i][2] * base[i][2]);
         mesh_vertex(m, base[i][0] / l, base[i][1] / l, base[i][2] / l);
@@ -663,8 +665,9 @@ static void test_help(void **state)
     (void)state;
     char out[16384];
     assert_int_equal(tu_run(out, sizeof out, "%s --help", SDFT_MESH2SDF), 0);
-    const char *flags[] = {"-o", "--nvdb", "--npy", "--res", "--voxel-size", "--band", "--full", "--padding",
-                           "--sign", "--fp16", "--name", "--threads", "--quiet", "--check-sign", "--samples"};
+    const char *flags[] = {"-o",     "--nvdb",    "--npy",     "--res",        "--voxel-size",
+                           "--band", "--full",    "--padding", "--sign",       "--fp16",
+                           "--name", "--threads", "--quiet",   "--check-sign", "--samples"};
     for (size_t i = 0; i < sizeof flags / sizeof *flags; i++)
         if (!strstr(out, flags[i]))
             fail_msg("--help does not list %s", flags[i]);
@@ -760,7 +763,8 @@ static void test_bad_input(void **state)
     const char *bad_obj[] = {"nan 0 0", "0 inf 0", "0 0 1e999"};
     for (size_t i = 0; i < 3; i++) {
         char text[256];
-        snprintf(text, sizeof text, "v %s\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 2 3 4\nf 1 4 2\n", bad_obj[i]);
+        snprintf(text, sizeof text, "v %s\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 2 3 4\nf 1 4 2\n",
+                 bad_obj[i]);
         tu_tmp(path, sizeof path, "nonfinite.obj");
         write_text(path, text);
         snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
@@ -835,8 +839,8 @@ static void test_formats(void **state)
     snprintf(in, sizeof in, "%s/suzanne.obj", SDFT_MESH_DIR);
     tu_tmp(vdb, sizeof vdb, "suzanne_fmt.vdb");
     tu_tmp(nvdb, sizeof nvdb, "suzanne_fmt.nvdb");
-    int rc = tu_run(out, sizeof out, "%s '%s' -o '%s' --nvdb '%s' --fp16 --name monkey --res 64 --quiet",
-                    SDFT_MESH2SDF, in, vdb, nvdb);
+    int rc = tu_run(out, sizeof out, "%s '%s' -o '%s' --nvdb '%s' --fp16 --name monkey --res 64 --quiet", SDFT_MESH2SDF,
+                    in, vdb, nvdb);
     if (rc != 0)
         fail_msg("mesh2sdf failed: %s", out);
     if (tu_run(out, sizeof out, "vdb_print -l -m '%s'", vdb) == 0) {
