@@ -66,8 +66,12 @@ static inline float sdft_field_distance(const sdft_field *f, sdft_scratch *s, sd
     return f->distance(f->ctx, s, p);
 }
 
+/* The length scale for numerical differences: feature_size, or 1e-4 of the
+ * bounds' diagonal when that is 0. World units. */
+float sdft_field_feature_size(const sdft_field *f);
+
 /* Unit normal at p: the field's own `normal`, else tetrahedral differences
- * (four evaluations, step = feature_size). */
+ * (four evaluations, step = sdft_field_feature_size). */
 sdft_vec3 sdft_field_normal(const sdft_field *f, sdft_scratch *s, sdft_vec3 p);
 
 /* Ray-box slab test: on overlap sets [*t0, *t1] (clamped to [tnear, tfar])

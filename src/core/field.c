@@ -2,13 +2,16 @@
  * differences and clipping rays to its bounds. */
 #include "sdftrace/field.h"
 
+float sdft_field_feature_size(const sdft_field *f)
+{
+    return f->feature_size > 0.0f ? f->feature_size : 1e-4f * sdft_length(sdft_sub(f->bounds.hi, f->bounds.lo));
+}
+
 sdft_vec3 sdft_field_normal(const sdft_field *f, sdft_scratch *s, sdft_vec3 p)
 {
     if (f->normal)
         return f->normal(f->ctx, s, p);
-    float h = f->feature_size;
-    if (!(h > 0.0f))
-        h = 1e-4f * sdft_length(sdft_sub(f->bounds.hi, f->bounds.lo));
+    const float h = sdft_field_feature_size(f);
     /* The four corners (1,-1,-1), (-1,-1,1), (-1,1,-1), (1,1,1) of a
      * tetrahedron: their weighted sum is the central-difference gradient. */
     static const sdft_vec3 k[4] = {{1, -1, -1}, {-1, -1, 1}, {-1, 1, -1}, {1, 1, 1}};

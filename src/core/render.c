@@ -74,12 +74,6 @@ static sdft_vec3 sky(sdft_vec3 dir)
     return sdft_add(sdft_scale(SKY_HORIZON, 1.0f - k), sdft_scale(SKY_ZENITH, k));
 }
 
-/* The normal-difference step the field uses (field.h's feature_size rule). */
-static float feature_step(const sdft_field *f)
-{
-    return f->feature_size > 0.0f ? f->feature_size : 1e-4f * sdft_length(sdft_sub(f->bounds.hi, f->bounds.lo));
-}
-
 /* What one pixel contributes to the image and the counts. */
 typedef struct pixel_result {
     sdft_vec3 rgb, normal;
@@ -216,7 +210,7 @@ int sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_imag
             snprintf(msg, msg_len, "out of memory for %d tiles", tiles);
         return -1;
     }
-    float feature = feature_step(f);
+    float feature = sdft_field_feature_size(f);
     int threads = params->threads > 0 ? params->threads : omp_get_max_threads();
 
     double t0 = omp_get_wtime();
