@@ -21,31 +21,34 @@
 #include <unordered_map>
 #include <vector>
 
-namespace mesh2sdf {
+namespace mesh2sdf
+{
 
-namespace {
+namespace
+{
 
 // The mesh as OpenVDB's MeshDataAdapter wants it: triangles with points in
 // the grid's index space, converted on the fly in double precision.
-class IndexSpaceMesh {
-public:
-    IndexSpaceMesh(const TriangleMesh& mesh, const BoxGeometry& box) : mMesh(mesh), mBox(box) {}
+class IndexSpaceMesh
+{
+  public:
+    IndexSpaceMesh(const TriangleMesh &mesh, const BoxGeometry &box) : mMesh(mesh), mBox(box) {}
     size_t polygonCount() const { return mMesh.triangles.size(); }
     size_t pointCount() const { return mMesh.points.size(); }
     size_t vertexCount(size_t) const { return 3; }
-    void getIndexSpacePoint(size_t n, size_t v, openvdb::Vec3d& pos) const
+    void getIndexSpacePoint(size_t n, size_t v, openvdb::Vec3d &pos) const
     {
-        const auto& p = mMesh.points[mMesh.triangles[n][v]];
+        const auto &p = mMesh.points[mMesh.triangles[n][v]];
         for (int k = 0; k < 3; ++k)
             pos[k] = (double(p[k]) - mBox.origin[k]) / mBox.voxelSize;
     }
 
-private:
-    const TriangleMesh& mMesh;
-    const BoxGeometry& mBox;
+  private:
+    const TriangleMesh &mMesh;
+    const BoxGeometry &mBox;
 };
 
-Vec3 worldOf(const BoxGeometry& box, const openvdb::Coord& ijk)
+Vec3 worldOf(const BoxGeometry &box, const openvdb::Coord &ijk)
 {
     return {box.origin[0] + ijk[0] * box.voxelSize, box.origin[1] + ijk[1] * box.voxelSize,
             box.origin[2] + ijk[2] * box.voxelSize};
@@ -64,10 +67,10 @@ struct OpenEdge {
     double weight;
 };
 
-std::vector<OpenEdge> openEdges(const TriangleMesh& mesh)
+std::vector<OpenEdge> openEdges(const TriangleMesh &mesh)
 {
     struct PointHash {
-        size_t operator()(const std::array<float, 3>& p) const
+        size_t operator()(const std::array<float, 3> &p) const
         {
             uint32_t b[3];
             std::memcpy(b, p.data(), sizeof b);
@@ -80,7 +83,7 @@ std::vector<OpenEdge> openEdges(const TriangleMesh& mesh)
         id[i] = weld.emplace(mesh.points[i], uint32_t(i)).first->second;
     std::unordered_map<uint64_t, int> net; // (min, max) -> uses min->max minus max->min
     net.reserve(mesh.triangles.size() * 2);
-    for (const auto& t : mesh.triangles)
+    for (const auto &t : mesh.triangles)
         for (int e = 0; e < 3; ++e) {
             const uint32_t a = id[t[e]], b = id[t[(e + 1) % 3]];
             if (a == b)
@@ -89,11 +92,11 @@ std::vector<OpenEdge> openEdges(const TriangleMesh& mesh)
             net[key] += a < b ? 1 : -1;
         }
     std::vector<OpenEdge> edges;
-    for (const auto& kv : net) {
+    for (const auto &kv : net) {
         if (kv.second == 0)
             continue;
-        const auto& p = mesh.points[uint32_t(kv.first >> 32)];
-        const auto& q = mesh.points[uint32_t(kv.first & 0xffffffffu)];
+        const auto &p = mesh.points[uint32_t(kv.first >> 32)];
+        const auto &q = mesh.points[uint32_t(kv.first & 0xffffffffu)];
         OpenEdge e;
         double len2 = 0;
         for (int k = 0; k < 3; ++k) {
@@ -108,10 +111,10 @@ std::vector<OpenEdge> openEdges(const TriangleMesh& mesh)
 }
 
 // Bound on |grad w| over the world-space box [lo, hi] (off the mesh).
-double gradientBound(const std::vector<OpenEdge>& edges, const double lo[3], const double hi[3])
+double gradientBound(const std::vector<OpenEdge> &edges, const double lo[3], const double hi[3])
 {
     double g = 0;
-    for (const OpenEdge& e : edges) {
+    for (const OpenEdge &e : edges) {
         double d2 = 0;
         for (int k = 0; k < 3; ++k) {
             const double gap = std::max({e.lo[k] - hi[k], 0.0, lo[k] - e.hi[k]});
@@ -139,8 +142,8 @@ double gradientBound(const std::vector<OpenEdge>& edges, const double lo[3], con
 // becomes the anchor of the voxels reached through it.
 constexpr uint32_t kNone = 0xffffffffu;
 
-void signLeaf(openvdb::FloatTree::LeafNodeType& leaf, const BoxGeometry& box, const FastWinding& winding,
-              const std::vector<OpenEdge>& edges)
+void signLeaf(openvdb::FloatTree::LeafNodeType &leaf, const BoxGeometry &box, const FastWinding &winding,
+              const std::vector<OpenEdge> &edges)
 {
     using Leaf = openvdb::FloatTree::LeafNodeType;
     constexpr int kDim = int(Leaf::DIM), kSize = int(Leaf::SIZE);
@@ -169,11 +172,12 @@ void signLeaf(openvdb::FloatTree::LeafNodeType& leaf, const BoxGeometry& box, co
     int queue[kSize];
     double drift[kSize];   // bound on |w - w(anchor)| along the walk from the anchor
     double anchorW[kSize]; // winding number at the voxel's anchor
-    auto neighbours = [&](int v, auto&& visit) {
+    auto neighbours = [&](int v, auto &&visit) {
         const int x = v >> (2 * Leaf::LOG2DIM), y = (v >> Leaf::LOG2DIM) & (kDim - 1), z = v & (kDim - 1);
         const float dv = leaf.getValue(openvdb::Index(v));
-        const int next[6][3] = {{x - 1, y, z}, {x + 1, y, z}, {x, y - 1, z}, {x, y + 1, z}, {x, y, z - 1}, {x, y, z + 1}};
-        for (const auto& n : next) {
+        const int next[6][3] = {{x - 1, y, z}, {x + 1, y, z}, {x, y - 1, z},
+                                {x, y + 1, z}, {x, y, z - 1}, {x, y, z + 1}};
+        for (const auto &n : next) {
             if (n[0] < 0 || n[1] < 0 || n[2] < 0 || n[0] >= kDim || n[1] >= kDim || n[2] >= kDim)
                 continue;
             const int u = (n[0] << (2 * Leaf::LOG2DIM)) | (n[1] << Leaf::LOG2DIM) | n[2];
@@ -235,20 +239,20 @@ void signLeaf(openvdb::FloatTree::LeafNodeType& leaf, const BoxGeometry& box, co
 // gives inactive values the sign of their side: OpenVDB's signed flood fill
 // inside leaves, the winding number at the centre of every tile (a flood
 // fill would leak through a mesh's holes).
-void finishBand(openvdb::FloatTree& tree, const BoxGeometry& box, const FastWinding& winding,
-                const TriangleMesh& mesh, bool sign, Progress& progress)
+void finishBand(openvdb::FloatTree &tree, const BoxGeometry &box, const FastWinding &winding, const TriangleMesh &mesh,
+                bool sign, Progress &progress)
 {
     const std::vector<OpenEdge> edges = sign ? openEdges(mesh) : std::vector<OpenEdge>();
     openvdb::tree::LeafManager<openvdb::FloatTree> leaves(tree);
     const size_t leafCount = leaves.leafCount();
     std::atomic<size_t> done{0};
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, leafCount, 8), [&](const tbb::blocked_range<size_t>& r) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, leafCount, 8), [&](const tbb::blocked_range<size_t> &r) {
         uint32_t nearest[openvdb::FloatTree::LeafNodeType::SIZE];
         for (size_t n = r.begin(); n != r.end(); ++n) {
-            auto& leaf = leaves.leaf(n);
+            auto &leaf = leaves.leaf(n);
             for (auto it = leaf.beginValueOn(); it; ++it) {
                 const Vec3 q = worldOf(box, it.getCoord());
-                uint32_t& tri = nearest[it.pos()];
+                uint32_t &tri = nearest[it.pos()];
                 tri = kNone;
                 double d = winding.distance(q, double(*it) * (1.0 + 1e-4) + 1e-6 * box.voxelSize, &tri);
                 if (tri == kNone) // OpenVDB's value was not an upper bound after all
@@ -279,7 +283,7 @@ void finishBand(openvdb::FloatTree& tree, const BoxGeometry& box, const FastWind
                            box.origin[2] + c[2] * box.voxelSize});
     }
     std::vector<uint8_t> inside(centres.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, centres.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, centres.size(), 64), [&](const tbb::blocked_range<size_t> &r) {
         for (size_t i = r.begin(); i != r.end(); ++i)
             inside[i] = winding(centres[i]) > 0.5;
     });
@@ -298,10 +302,10 @@ void finishBand(openvdb::FloatTree& tree, const BoxGeometry& box, const FastWind
 // checks it): OpenVDB's own band, grown from approximate distances, leaves
 // out some voxels nearer than its half-width (2.83 voxels from a cube's
 // edge with a 3-voxel band), whose background then overstates their distance.
-void trimBand(openvdb::FloatTree& tree, float background)
+void trimBand(openvdb::FloatTree &tree, float background)
 {
     openvdb::tree::LeafManager<openvdb::FloatTree> leaves(tree);
-    leaves.foreach([background](openvdb::FloatTree::LeafNodeType& leaf, size_t) {
+    leaves.foreach ([background](openvdb::FloatTree::LeafNodeType &leaf, size_t) {
         for (auto it = leaf.beginValueOn(); it; ++it)
             if (std::fabs(*it) >= background)
                 it.setValueOff();
@@ -314,15 +318,15 @@ void trimBand(openvdb::FloatTree& tree, float background)
 // distance, signed by the winding number when `signByWinding`, else with the
 // sign its region already has (OpenVDB's flood fill, or none). Slab by slab:
 // distances in parallel, insertion into the tree serially.
-void fillBox(openvdb::FloatGrid& grid, const BoxGeometry& box, const FastWinding& tree, bool signByWinding,
-             Progress& progress)
+void fillBox(openvdb::FloatGrid &grid, const BoxGeometry &box, const FastWinding &tree, bool signByWinding,
+             Progress &progress)
 {
     const int nx = box.dims[0], ny = box.dims[1], nz = box.dims[2];
     std::vector<float> slab(size_t(ny) * nz);
     std::vector<char> fill(size_t(ny) * nz);
     openvdb::FloatGrid::Accessor acc = grid.getAccessor();
     for (int i = 0; i < nx; ++i) {
-        tbb::parallel_for(tbb::blocked_range<int>(0, ny), [&](const tbb::blocked_range<int>& r) {
+        tbb::parallel_for(tbb::blocked_range<int>(0, ny), [&](const tbb::blocked_range<int> &r) {
             openvdb::FloatGrid::ConstAccessor read = grid.getConstAccessor();
             for (int j = r.begin(); j != r.end(); ++j)
                 for (int k = 0; k < nz; ++k) {
@@ -352,7 +356,7 @@ double seconds(std::chrono::steady_clock::time_point since)
 
 } // namespace
 
-bool planBox(const TriangleMesh& mesh, const Options& opt, BoxGeometry& box, std::string& error)
+bool planBox(const TriangleMesh &mesh, const Options &opt, BoxGeometry &box, std::string &error)
 {
     double extent[3], longest = 0;
     for (int k = 0; k < 3; ++k) {
@@ -374,8 +378,8 @@ bool planBox(const TriangleMesh& mesh, const Options& opt, BoxGeometry& box, std
     for (int k = 0; k < 3; ++k) {
         const double sides = std::ceil(extent[k] / box.voxelSize + 2 * pad - 1e-9) + 1;
         if (!(sides <= kMaxResolution)) {
-            error = "voxel size " + std::to_string(box.voxelSize) + " makes the box " +
-                    std::to_string(sides) + " voxels long, above the limit of " + std::to_string(kMaxResolution);
+            error = "voxel size " + std::to_string(box.voxelSize) + " makes the box " + std::to_string(sides) +
+                    " voxels long, above the limit of " + std::to_string(kMaxResolution);
             return false;
         }
         box.dims[k] = int(sides);
@@ -389,8 +393,8 @@ bool planBox(const TriangleMesh& mesh, const Options& opt, BoxGeometry& box, std
     return true;
 }
 
-openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh& mesh, const BoxGeometry& box, const Options& opt,
-                                  Progress& progress, BuildStats& stats)
+openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &box, const Options &opt,
+                                  Progress &progress, BuildStats &stats)
 {
     openvdb::math::Transform::Ptr xform = openvdb::math::Transform::createLinearTransform(box.voxelSize);
     xform->postTranslate(openvdb::Vec3d(box.origin[0], box.origin[1], box.origin[2]));

@@ -4,17 +4,19 @@
 #include <algorithm>
 #include <cmath>
 
-namespace mesh2sdf {
+namespace mesh2sdf
+{
 
-namespace {
+namespace
+{
 
 constexpr double kInv4Pi = 0.07957747154594767; // 1 / (4π)
 constexpr uint32_t kLeafSize = 8;
 
-inline Vec3 sub(const double* a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-inline double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
-inline Vec3 cross(const Vec3& a, const Vec3& b)
+inline Vec3 sub(const double *a, const Vec3 &b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+inline double dot(const Vec3 &a, const Vec3 &b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline double norm(const Vec3 &a) { return std::sqrt(dot(a, a)); }
+inline Vec3 cross(const Vec3 &a, const Vec3 &b)
 {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
@@ -55,7 +57,7 @@ inline double fastAtan2(double y, double x)
 }
 
 // Van Oosterom–Strackee on the corner vectors a, b, c (corners minus q).
-inline double solidAngleOver4Pi(const Vec3& a, const Vec3& b, const Vec3& c)
+inline double solidAngleOver4Pi(const Vec3 &a, const Vec3 &b, const Vec3 &c)
 {
     const double la = norm(a), lb = norm(b), lc = norm(c);
     const double det = dot(a, cross(b, c));
@@ -63,19 +65,24 @@ inline double solidAngleOver4Pi(const Vec3& a, const Vec3& b, const Vec3& c)
     return 2.0 * fastAtan2(det, den) * kInv4Pi;
 }
 
-inline double triangleAt(const double* t, const Vec3& q)
+inline double triangleAt(const double *t, const Vec3 &q)
 {
     return solidAngleOver4Pi(sub(t, q), sub(t + 3, q), sub(t + 6, q));
 }
 
 // Squared distance from p to triangle t (9 doubles): the closest-point
 // regions of Ericson, "Real-Time Collision Detection", section 5.1.5.
-double triangleDistance2(const double* t, const Vec3& p)
+double triangleDistance2(const double *t, const Vec3 &p)
 {
     const Vec3 a{t[0], t[1], t[2]}, b{t[3], t[4], t[5]}, c{t[6], t[7], t[8]};
-    auto diff = [](const Vec3& u, const Vec3& v) { return Vec3{u[0] - v[0], u[1] - v[1], u[2] - v[2]}; };
-    auto dist2 = [&](const Vec3& x) { const Vec3 d = diff(p, x); return dot(d, d); };
-    auto lerp = [](const Vec3& u, const Vec3& e, double s) { return Vec3{u[0] + s * e[0], u[1] + s * e[1], u[2] + s * e[2]}; };
+    auto diff = [](const Vec3 &u, const Vec3 &v) { return Vec3{u[0] - v[0], u[1] - v[1], u[2] - v[2]}; };
+    auto dist2 = [&](const Vec3 &x) {
+        const Vec3 d = diff(p, x);
+        return dot(d, d);
+    };
+    auto lerp = [](const Vec3 &u, const Vec3 &e, double s) {
+        return Vec3{u[0] + s * e[0], u[1] + s * e[1], u[2] + s * e[2]};
+    };
     const Vec3 ab = diff(b, a), ac = diff(c, a), ap = diff(p, a);
     const double d1 = dot(ab, ap), d2 = dot(ac, ap);
     if (d1 <= 0 && d2 <= 0)
@@ -104,21 +111,20 @@ double triangleDistance2(const double* t, const Vec3& p)
 
 } // namespace
 
-double triangleWinding(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& q)
+double triangleWinding(const Vec3 &a, const Vec3 &b, const Vec3 &c, const Vec3 &q)
 {
     return solidAngleOver4Pi(sub(a.data(), q), sub(b.data(), q), sub(c.data(), q));
 }
 
-FastWinding::FastWinding(const std::vector<std::array<float, 3>>& points,
-                         const std::vector<std::array<uint32_t, 3>>& tris, double beta)
+FastWinding::FastWinding(const std::vector<std::array<float, 3>> &points,
+                         const std::vector<std::array<uint32_t, 3>> &tris, double beta)
     : mBeta2(beta * beta)
 {
     const uint32_t n = static_cast<uint32_t>(tris.size());
     std::vector<Vec3> centroids(n);
     for (uint32_t t = 0; t < n; ++t)
         for (int k = 0; k < 3; ++k)
-            centroids[t][k] = (double(points[tris[t][0]][k]) + points[tris[t][1]][k] +
-                               points[tris[t][2]][k]) / 3.0;
+            centroids[t][k] = (double(points[tris[t][0]][k]) + points[tris[t][1]][k] + points[tris[t][2]][k]) / 3.0;
     std::vector<uint32_t> order(n);
     for (uint32_t t = 0; t < n; ++t)
         order[t] = t;
@@ -131,15 +137,15 @@ FastWinding::FastWinding(const std::vector<std::array<float, 3>>& points,
         for (int v = 0; v < 3; ++v)
             for (int k = 0; k < 3; ++k)
                 mTris[size_t(i) * 9 + v * 3 + k] = points[tris[order[i]][v]][k];
-    for (Node& node : mNodes)
+    for (Node &node : mNodes)
         summarize(node);
     mOrder = std::move(order);
 }
 
 // Splits [first, first + count) of `order` at the median centroid along the
 // longest axis of the centroids' bounds. Returns the node's index.
-uint32_t FastWinding::build(uint32_t first, uint32_t count, std::vector<uint32_t>& order,
-                            const std::vector<Vec3>& centroids)
+uint32_t FastWinding::build(uint32_t first, uint32_t count, std::vector<uint32_t> &order,
+                            const std::vector<Vec3> &centroids)
 {
     const uint32_t index = static_cast<uint32_t>(mNodes.size());
     mNodes.push_back(Node{});
@@ -170,7 +176,7 @@ uint32_t FastWinding::build(uint32_t first, uint32_t count, std::vector<uint32_t
 
 // Far-field data of a node from its triangles: area-weighted centre, the sum
 // of area vectors (order 1), the second-order moment and the radius.
-void FastWinding::summarize(Node& node) const
+void FastWinding::summarize(Node &node) const
 {
     double area = 0, centre[3] = {0, 0, 0};
     std::vector<std::pair<Vec3, Vec3>> moments; // (area vector, centroid)
@@ -180,11 +186,11 @@ void FastWinding::summarize(Node& node) const
         node.hi[k] = -INFINITY;
     }
     for (uint32_t i = node.first; i < node.first + node.count; ++i) {
-        const double* t = &mTris[size_t(i) * 9];
+        const double *t = &mTris[size_t(i) * 9];
         const Vec3 a{t[0], t[1], t[2]};
         const Vec3 e1 = sub(t + 3, a), e2 = sub(t + 6, a);
         Vec3 av = cross(e1, e2);
-        for (double& x : av)
+        for (double &x : av)
             x *= 0.5;
         const double ta = norm(av);
         Vec3 c;
@@ -203,7 +209,7 @@ void FastWinding::summarize(Node& node) const
         node.centre[k] = area > 0 ? centre[k] / area : 0.5 * (double(node.lo[k]) + node.hi[k]);
     std::fill(node.dipole, node.dipole + 3, 0.0);
     std::fill(node.second, node.second + 9, 0.0);
-    for (const auto& m : moments)
+    for (const auto &m : moments)
         for (int i = 0; i < 3; ++i) {
             node.dipole[i] += m.first[i];
             for (int j = 0; j < 3; ++j)
@@ -212,14 +218,14 @@ void FastWinding::summarize(Node& node) const
     double r2 = 0;
     for (uint32_t i = node.first; i < node.first + node.count; ++i)
         for (int v = 0; v < 3; ++v) {
-            const double* p = &mTris[size_t(i) * 9 + v * 3];
+            const double *p = &mTris[size_t(i) * 9 + v * 3];
             const double dx = p[0] - node.centre[0], dy = p[1] - node.centre[1], dz = p[2] - node.centre[2];
             r2 = std::max(r2, dx * dx + dy * dy + dz * dz);
         }
     node.radius2 = mBeta2 * r2;
 }
 
-double FastWinding::operator()(const Vec3& q) const
+double FastWinding::operator()(const Vec3 &q) const
 {
     if (mNodes.empty())
         return 0.0;
@@ -228,14 +234,14 @@ double FastWinding::operator()(const Vec3& q) const
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
-        const Node& node = mNodes[stack[--top]];
+        const Node &node = mNodes[stack[--top]];
         const double rx = node.centre[0] - q[0], ry = node.centre[1] - q[1], rz = node.centre[2] - q[2];
         const double d2 = rx * rx + ry * ry + rz * rz;
         if (d2 > node.radius2) {
             // Far field: dipole A·r/|r|^3 plus the order-2 term
             // tr(M)/|r|^3 - 3 rᵀMr/|r|^5 (Barill et al. 2018, eq. 9-10).
             const double inv = 1.0 / std::sqrt(d2), inv3 = inv * inv * inv, inv5 = inv3 * inv * inv;
-            const double* m = node.second;
+            const double *m = node.second;
             const double r[3] = {rx, ry, rz};
             double rMr = 0;
             for (int i = 0; i < 3; ++i)
@@ -254,7 +260,7 @@ double FastWinding::operator()(const Vec3& q) const
     return w;
 }
 
-double FastWinding::bruteForce(const Vec3& q) const
+double FastWinding::bruteForce(const Vec3 &q) const
 {
     double w = 0.0;
     for (size_t i = 0; i < mTris.size(); i += 9)
@@ -262,11 +268,11 @@ double FastWinding::bruteForce(const Vec3& q) const
     return w;
 }
 
-double FastWinding::distance(const Vec3& q, double bound, uint32_t* nearest) const
+double FastWinding::distance(const Vec3 &q, double bound, uint32_t *nearest) const
 {
     if (mNodes.empty())
         return bound;
-    auto boxDistance2 = [&](const Node& n) {
+    auto boxDistance2 = [&](const Node &n) {
         double d2 = 0;
         for (int k = 0; k < 3; ++k) {
             const double d = std::max({double(n.lo[k]) - q[k], 0.0, q[k] - double(n.hi[k])});
@@ -277,7 +283,10 @@ double FastWinding::distance(const Vec3& q, double bound, uint32_t* nearest) con
     double best = bound * bound;
     // Each entry carries its box's squared distance, computed once when its
     // parent ordered the children.
-    struct Entry { uint32_t node; double d2; };
+    struct Entry {
+        uint32_t node;
+        double d2;
+    };
     Entry stack[64];
     int top = 0;
     stack[top++] = {0, boxDistance2(mNodes[0])};
@@ -285,7 +294,7 @@ double FastWinding::distance(const Vec3& q, double bound, uint32_t* nearest) con
         const Entry e = stack[--top];
         if (e.d2 >= best)
             continue;
-        const Node& node = mNodes[e.node];
+        const Node &node = mNodes[e.node];
         if (node.count <= kLeafSize) {
             for (uint32_t i = node.first; i < node.first + node.count; ++i) {
                 const double d2 = triangleDistance2(&mTris[size_t(i) * 9], q);
