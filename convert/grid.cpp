@@ -1,11 +1,10 @@
 // mesh2sdf — grid building (see grid.h).
 #include "grid.h"
 
+#include "band.h"
 #include "winding.h"
 
-#include <openvdb/tools/ChangeBackground.h>
 #include <openvdb/tools/MeshToVolume.h>
-#include <openvdb/tools/Prune.h>
 #include <openvdb/tools/SignedFloodFill.h>
 #include <openvdb/tree/LeafManager.h>
 
@@ -18,6 +17,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <mutex>
 #include <unordered_map>
 #include <vector>
 
@@ -231,43 +231,51 @@ void signLeaf(openvdb::FloatTree::LeafNodeType &leaf, const BoxGeometry &box, co
     }
 }
 
-// Makes every active voxel of OpenVDB's unsigned band exact and, when
-// `sign`, negative where the winding number exceeds 1/2; in parallel over
-// leaf nodes. OpenVDB's band values are exact next to the surface but only
-// upper bounds farther out (its band expansion takes the nearest of the
-// neighbours' triangles), so each is the bound of an exact search. Then
-// gives inactive values the sign of their side: OpenVDB's signed flood fill
-// inside leaves, the winding number at the centre of every tile (a flood
-// fill would leak through a mesh's holes).
-void finishBand(openvdb::FloatTree &tree, const BoxGeometry &box, const FastWinding &winding, const TriangleMesh &mesh,
-                bool sign, Progress &progress)
+// The exact unsigned band (band.h) as a tree with background `band` voxels
+// in world units: a leaf per block, its band voxels active.
+openvdb::FloatGrid::Ptr exactBandGrid(const TriangleMesh &mesh, const BoxGeometry &box, float band, Progress &progress)
 {
-    const std::vector<OpenEdge> edges = sign ? openEdges(mesh) : std::vector<OpenEdge>();
+    using Leaf = openvdb::FloatTree::LeafNodeType;
+    static_assert(Leaf::DIM == kBlockDim, "band blocks are OpenVDB leaves");
+    const float background = band * float(box.voxelSize);
+    std::vector<Leaf *> leaves;
+    std::mutex leavesMutex;
+    exactBand(
+        mesh, box.origin, box.voxelSize, band,
+        [&](const std::array<int, 3> &origin, const float *distance) {
+            auto *leaf = new Leaf(openvdb::Coord(origin[0], origin[1], origin[2]), background, false);
+            for (int v = 0; v < kBlockSize; ++v)
+                if (std::isfinite(distance[v]))
+                    leaf->setValueOn(openvdb::Index(v), distance[v]);
+            std::lock_guard<std::mutex> lock(leavesMutex);
+            leaves.push_back(leaf);
+        },
+        [&](int percent) { progress.report(percent); });
+    openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(background);
+    for (Leaf *leaf : leaves)
+        grid->tree().addLeaf(leaf); // the tree takes ownership
+    return grid;
+}
+
+// Signs an exact unsigned band by the winding number: negative where it
+// exceeds 1/2 (signLeaf, in parallel over leaves). Then gives inactive
+// values the sign of their side: OpenVDB's signed flood fill inside leaves,
+// the winding number at the centre of every tile (a flood fill would leak
+// through a mesh's holes).
+void signBand(openvdb::FloatTree &tree, const BoxGeometry &box, const FastWinding &winding, const TriangleMesh &mesh,
+              Progress &progress)
+{
+    const std::vector<OpenEdge> edges = openEdges(mesh);
     openvdb::tree::LeafManager<openvdb::FloatTree> leaves(tree);
     const size_t leafCount = leaves.leafCount();
     std::atomic<size_t> done{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, leafCount, 8), [&](const tbb::blocked_range<size_t> &r) {
-        uint32_t nearest[openvdb::FloatTree::LeafNodeType::SIZE];
-        for (size_t n = r.begin(); n != r.end(); ++n) {
-            auto &leaf = leaves.leaf(n);
-            for (auto it = leaf.beginValueOn(); it; ++it) {
-                const Vec3 q = worldOf(box, it.getCoord());
-                uint32_t &tri = nearest[it.pos()];
-                tri = kNone;
-                double d = winding.distance(q, double(*it) * (1.0 + 1e-4) + 1e-6 * box.voxelSize, &tri);
-                if (tri == kNone) // OpenVDB's value was not an upper bound after all
-                    d = winding.distance(q, INFINITY, &tri);
-                it.setValue(float(d));
-            }
-            if (sign)
-                signLeaf(leaf, box, winding, edges);
-        }
+        for (size_t n = r.begin(); n != r.end(); ++n)
+            signLeaf(leaves.leaf(n), box, winding, edges);
         const size_t d = done.fetch_add(r.size()) + r.size();
         progress.report(int(100.0 * double(d) / double(leafCount)));
     });
 
-    if (!sign)
-        return;
     const float background = tree.background();
     openvdb::tools::signedFloodFill(tree);
     // Tile centres first, their winding numbers in parallel, then the
@@ -293,25 +301,6 @@ void finishBand(openvdb::FloatTree &tree, const BoxGeometry &box, const FastWind
             continue;
         it.setValue(inside[next++] ? -background : background);
     }
-}
-
-// Trims an exact band to half-width `background`: a voxel at or beyond it
-// becomes inactive, keeping its sign, and every inactive value becomes
-// +-background. Afterwards no stored value exceeds the true distance, the
-// level-set convention sdftrace's grid bounds rest on (tests/test_mesh2sdf.c
-// checks it): OpenVDB's own band, grown from approximate distances, leaves
-// out some voxels nearer than its half-width (2.83 voxels from a cube's
-// edge with a 3-voxel band), whose background then overstates their distance.
-void trimBand(openvdb::FloatTree &tree, float background)
-{
-    openvdb::tree::LeafManager<openvdb::FloatTree> leaves(tree);
-    leaves.foreach ([background](openvdb::FloatTree::LeafNodeType &leaf, size_t) {
-        for (auto it = leaf.beginValueOn(); it; ++it)
-            if (std::fabs(*it) >= background)
-                it.setValueOff();
-    });
-    openvdb::tools::changeLevelSetBackground(tree, background);
-    openvdb::tools::pruneLevelSet(tree);
 }
 
 // --full: every voxel of the box not yet in the band gets its exact
@@ -400,35 +389,33 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
     xform->postTranslate(openvdb::Vec3d(box.origin[0], box.origin[1], box.origin[2]));
 
     const bool winding = opt.sign == SignMethod::Winding;
-    const int flags = opt.sign == SignMethod::Flood ? 0 : openvdb::tools::UNSIGNED_DISTANCE_FIELD;
     const float band = float(opt.band);
 
-    const bool needTree = opt.sign != SignMethod::Flood || opt.full;
+    const bool needTree = winding || opt.full;
     std::unique_ptr<FastWinding> tree;
     if (needTree)
         tree.reset(new FastWinding(mesh.points, mesh.triangles));
 
-    progress.stage("distances", 0, opt.sign != SignMethod::Flood ? 55 : (opt.full ? 60 : 100));
-    IndexSpaceMesh adapter(mesh, box);
-    // Our exact band asks OpenVDB for one voxel more and is trimmed back
-    // (trimBand); --sign flood keeps OpenVDB's own band, for comparison.
-    const float requested = opt.sign == SignMethod::Flood ? band : band + 1.0f;
-    openvdb::FloatGrid::Ptr grid =
-        openvdb::tools::meshToVolume<openvdb::FloatGrid>(progress, adapter, *xform, requested, requested, flags);
-
-    if (opt.sign != SignMethod::Flood) {
-        progress.stage(winding ? "exact distance, sign" : "exact distance", 55, opt.full ? 75 : 100);
+    openvdb::FloatGrid::Ptr grid;
+    if (opt.sign == SignMethod::Flood) {
+        // OpenVDB's own band and sign, for comparison.
+        progress.stage("distances", 0, opt.full ? 60 : 100);
+        IndexSpaceMesh adapter(mesh, box);
+        grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(progress, adapter, *xform, band, band, 0);
+    } else {
         const auto t0 = std::chrono::steady_clock::now();
-        finishBand(grid->tree(), box, *tree, mesh, winding, progress);
+        progress.stage("exact distance", 0, winding ? 40 : (opt.full ? 60 : 100));
+        grid = exactBandGrid(mesh, box, band, progress);
+        if (winding) {
+            progress.stage("sign", 40, opt.full ? 60 : 100);
+            signBand(grid->tree(), box, *tree, mesh, progress);
+        }
         stats.windingSeconds = seconds(t0);
-        if (!opt.full)
-            trimBand(grid->tree(), band * float(box.voxelSize));
     }
+    grid->setTransform(xform);
     if (opt.full) {
-        progress.stage("dense distances", opt.sign != SignMethod::Flood ? 75 : 60, 100);
+        progress.stage("dense distances", 60, 100);
         fillBox(*grid, box, *tree, winding, progress);
-        if (opt.sign != SignMethod::Flood) // the band asked of OpenVDB was one voxel wider
-            openvdb::tools::changeLevelSetBackground(grid->tree(), band * float(box.voxelSize));
     }
     grid->setGridClass(opt.sign == SignMethod::None ? openvdb::GRID_UNKNOWN : openvdb::GRID_LEVEL_SET);
     return grid;

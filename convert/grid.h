@@ -1,6 +1,7 @@
-// mesh2sdf — building the distance grid: OpenVDB's mesh-to-volume for the
-// narrow band, then the sign (winding number, OpenVDB's flood fill, or none)
-// and, for --full, exact distances in the rest of the padded box.
+// mesh2sdf — building the distance grid: the exact narrow band (band.h)
+// signed by the winding number, or left unsigned; or, for --sign flood,
+// OpenVDB's own mesh-to-volume band and flood-fill sign, for comparison.
+// For --full, exact distances in the rest of the padded box.
 #ifndef MESH2SDF_GRID_H
 #define MESH2SDF_GRID_H
 
@@ -13,7 +14,8 @@
 #include <array>
 #include <string>
 
-namespace mesh2sdf {
+namespace mesh2sdf
+{
 
 /// The padded box: voxel (i, j, k), 0 <= i < dims[0] ..., has its centre at
 /// world position origin + (i, j, k) * voxelSize. Index space of the grid is
@@ -28,7 +30,7 @@ struct BoxGeometry {
 /// Voxel size and box from --res or --voxel-size and --padding. --res N puts
 /// N voxel centres along the padded box's longest side. Fails with one line
 /// when a side would exceed kMaxResolution or be too small for the padding.
-bool planBox(const TriangleMesh& mesh, const Options& opt, BoxGeometry& box, std::string& error);
+bool planBox(const TriangleMesh &mesh, const Options &opt, BoxGeometry &box, std::string &error);
 
 struct BuildStats {
     double windingSeconds = 0; // exact band distances and winding sign (not flood)
@@ -37,8 +39,8 @@ struct BuildStats {
 /// The signed (or, with SignMethod::None, unsigned) distance grid in world
 /// units: a GRID_LEVEL_SET with background band * voxelSize and the box's
 /// transform. `progress` receives OpenVDB's and the sign pass's progress.
-openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh& mesh, const BoxGeometry& box, const Options& opt,
-                                  Progress& progress, BuildStats& stats);
+openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &box, const Options &opt,
+                                  Progress &progress, BuildStats &stats);
 
 } // namespace mesh2sdf
 

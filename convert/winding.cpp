@@ -1,6 +1,8 @@
 // mesh2sdf — hierarchical generalized winding number (see winding.h).
 #include "winding.h"
 
+#include "triangle_distance.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -68,45 +70,6 @@ inline double solidAngleOver4Pi(const Vec3 &a, const Vec3 &b, const Vec3 &c)
 inline double triangleAt(const double *t, const Vec3 &q)
 {
     return solidAngleOver4Pi(sub(t, q), sub(t + 3, q), sub(t + 6, q));
-}
-
-// Squared distance from p to triangle t (9 doubles): the closest-point
-// regions of Ericson, "Real-Time Collision Detection", section 5.1.5.
-double triangleDistance2(const double *t, const Vec3 &p)
-{
-    const Vec3 a{t[0], t[1], t[2]}, b{t[3], t[4], t[5]}, c{t[6], t[7], t[8]};
-    auto diff = [](const Vec3 &u, const Vec3 &v) { return Vec3{u[0] - v[0], u[1] - v[1], u[2] - v[2]}; };
-    auto dist2 = [&](const Vec3 &x) {
-        const Vec3 d = diff(p, x);
-        return dot(d, d);
-    };
-    auto lerp = [](const Vec3 &u, const Vec3 &e, double s) {
-        return Vec3{u[0] + s * e[0], u[1] + s * e[1], u[2] + s * e[2]};
-    };
-    const Vec3 ab = diff(b, a), ac = diff(c, a), ap = diff(p, a);
-    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0)
-        return dist2(a);
-    const Vec3 bp = diff(p, b);
-    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3)
-        return dist2(b);
-    const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0)
-        return dist2(lerp(a, ab, d1 / (d1 - d3)));
-    const Vec3 cp = diff(p, c);
-    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6)
-        return dist2(c);
-    const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0)
-        return dist2(lerp(a, ac, d2 / (d2 - d6)));
-    const double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-        return dist2(lerp(b, diff(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6))));
-    const double denom = 1.0 / (va + vb + vc);
-    const double v = vb * denom, w = vc * denom;
-    return dist2(Vec3{a[0] + ab[0] * v + ac[0] * w, a[1] + ab[1] * v + ac[1] * w, a[2] + ab[2] * v + ac[2] * w});
 }
 
 } // namespace
@@ -297,7 +260,7 @@ double FastWinding::distance(const Vec3 &q, double bound, uint32_t *nearest) con
         const Node &node = mNodes[e.node];
         if (node.count <= kLeafSize) {
             for (uint32_t i = node.first; i < node.first + node.count; ++i) {
-                const double d2 = triangleDistance2(&mTris[size_t(i) * 9], q);
+                const double d2 = triangleDistance2(&mTris[size_t(i) * 9], q.data());
                 if (d2 < best) {
                     best = d2;
                     if (nearest)

@@ -1,0 +1,191 @@
+// mesh2sdf — the exact narrow band (see band.h).
+//
+// Each triangle is binned to every block that has a voxel within the
+// half-width r of it, tested conservatively: the block's centre lies within
+// r + (half the block's diagonal) of the triangle. Each block then takes, at
+// each voxel, the minimum distance over its triangles. Why that is the band,
+// exactly: if a voxel v has d(v) < r, the triangle T it is nearest to was
+// binned to v's block, so v's minimum is at most dist(v, T) = d(v); and it
+// is never below d(v), being a minimum of true distances. A voxel with no
+// triangle within r keeps +inf.
+#include "band.h"
+
+#include "triangle_distance.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace mesh2sdf
+{
+
+namespace
+{
+
+// A block is keyed by its index (voxel index >> 3) per axis, offset to be
+// non-negative, 21 bits each; sorting by key groups a block's triangles.
+constexpr int kKeyBits = 21;
+constexpr int kKeyOffset = 1 << (kKeyBits - 1);
+constexpr uint64_t kKeyMask = (uint64_t(1) << kKeyBits) - 1;
+
+uint64_t blockKey(int bx, int by, int bz)
+{
+    return (uint64_t(bx + kKeyOffset) << (2 * kKeyBits)) | (uint64_t(by + kKeyOffset) << kKeyBits) |
+           uint64_t(bz + kKeyOffset);
+}
+
+std::array<int, 3> blockOrigin(uint64_t key)
+{
+    return {(int((key >> (2 * kKeyBits)) & kKeyMask) - kKeyOffset) * kBlockDim,
+            (int((key >> kKeyBits) & kKeyMask) - kKeyOffset) * kBlockDim,
+            (int(key & kKeyMask) - kKeyOffset) * kBlockDim};
+}
+
+struct Binned {
+    uint64_t block;
+    uint32_t triangle;
+    bool operator<(const Binned &o) const { return block != o.block ? block < o.block : triangle < o.triangle; }
+};
+
+// A triangle in index space (voxel centres at integer coordinates) with the
+// voxels its r-neighbourhood can reach and its plane's normal.
+struct IndexTriangle {
+    double corner[9];
+    int lo[3], hi[3]; // inclusive voxel range of the bounding box grown by r
+    double normal[3]; // (b - a) x (c - a), not normalized
+};
+
+IndexTriangle indexTriangle(const TriangleMesh &mesh, size_t t, const std::array<double, 3> &origin, double voxelSize,
+                            double r)
+{
+    IndexTriangle it;
+    for (int v = 0; v < 3; ++v)
+        for (int k = 0; k < 3; ++k)
+            it.corner[v * 3 + k] = (double(mesh.points[mesh.triangles[t][v]][k]) - origin[k]) / voxelSize;
+    for (int k = 0; k < 3; ++k) {
+        const double lo = std::min({it.corner[k], it.corner[3 + k], it.corner[6 + k]});
+        const double hi = std::max({it.corner[k], it.corner[3 + k], it.corner[6 + k]});
+        it.lo[k] = int(std::ceil(lo - r));
+        it.hi[k] = int(std::floor(hi + r));
+    }
+    const double *c = it.corner;
+    const double e1[3] = {c[3] - c[0], c[4] - c[1], c[5] - c[2]};
+    const double e2[3] = {c[6] - c[0], c[7] - c[1], c[8] - c[2]};
+    it.normal[0] = e1[1] * e2[2] - e1[2] * e2[1];
+    it.normal[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    it.normal[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    return it;
+}
+
+// Lowers d2[] (squared distances in voxels, OpenVDB's leaf order) of the
+// block at `origin` to the triangle's, for the voxels within r of it. A
+// voxel farther than r from the triangle's plane is skipped without the full
+// distance: it is farther than r from the triangle too.
+void lowerByTriangle(const IndexTriangle &t, const std::array<int, 3> &origin, double r2, double *d2)
+{
+    int lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+        lo[k] = std::max(t.lo[k], origin[k]);
+        hi[k] = std::min(t.hi[k], origin[k] + kBlockDim - 1);
+        if (lo[k] > hi[k])
+            return;
+    }
+    const double *n = t.normal;
+    // Plane test with a relative margin, so that rounding never skips a voxel
+    // of the band.
+    const double slab2 = r2 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) * (1 + 1e-6);
+    for (int x = lo[0]; x <= hi[0]; ++x)
+        for (int y = lo[1]; y <= hi[1]; ++y) {
+            const double rowPlane = n[0] * (x - t.corner[0]) + n[1] * (y - t.corner[1]) - n[2] * t.corner[2];
+            double *row = d2 + (((x - origin[0]) << kBlockLog2) + (y - origin[1])) * kBlockDim - origin[2];
+            for (int z = lo[2]; z <= hi[2]; ++z) {
+                const double plane = rowPlane + n[2] * z;
+                if (plane * plane > slab2)
+                    continue;
+                const double p[3] = {double(x), double(y), double(z)};
+                row[z] = std::min(row[z], triangleDistance2(t.corner, p));
+            }
+        }
+}
+
+} // namespace
+
+void exactBand(const TriangleMesh &mesh, const std::array<double, 3> &origin, double voxelSize, double halfWidth,
+               const BandBlockSink &sink, const std::function<void(int)> &progress)
+{
+    const size_t count = mesh.triangles.size();
+    const double r = halfWidth, r2 = r * r;
+    std::vector<IndexTriangle> tris(count);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1024), [&](const tbb::blocked_range<size_t> &range) {
+        for (size_t t = range.begin(); t != range.end(); ++t)
+            tris[t] = indexTriangle(mesh, t, origin, voxelSize, r);
+    });
+
+    // Bin: (block, triangle) for every block with a voxel possibly within r.
+    const double reach = r + 0.5 * (kBlockDim - 1) * std::sqrt(3.0);
+    tbb::enumerable_thread_specific<std::vector<Binned>> perThread;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t> &range) {
+        std::vector<Binned> &out = perThread.local();
+        for (size_t t = range.begin(); t != range.end(); ++t) {
+            const IndexTriangle &it = tris[t];
+            int blo[3], bhi[3];
+            for (int k = 0; k < 3; ++k) {
+                blo[k] = it.lo[k] >> kBlockLog2; // arithmetic shift: floor for negatives too
+                bhi[k] = it.hi[k] >> kBlockLog2;
+            }
+            for (int bx = blo[0]; bx <= bhi[0]; ++bx)
+                for (int by = blo[1]; by <= bhi[1]; ++by)
+                    for (int bz = blo[2]; bz <= bhi[2]; ++bz) {
+                        const double centre[3] = {bx * kBlockDim + 0.5 * (kBlockDim - 1),
+                                                  by * kBlockDim + 0.5 * (kBlockDim - 1),
+                                                  bz * kBlockDim + 0.5 * (kBlockDim - 1)};
+                        if (triangleDistance2(it.corner, centre) < reach * reach)
+                            out.push_back({blockKey(bx, by, bz), uint32_t(t)});
+                    }
+        }
+    });
+    std::vector<Binned> binned;
+    for (const auto &part : perThread)
+        binned.insert(binned.end(), part.begin(), part.end());
+    perThread.clear();
+    tbb::parallel_sort(binned.begin(), binned.end());
+    std::vector<size_t> starts; // first entry of each block, and the end
+    for (size_t i = 0; i < binned.size(); ++i)
+        if (i == 0 || binned[i].block != binned[i - 1].block)
+            starts.push_back(i);
+    starts.push_back(binned.size());
+
+    const size_t blocks = starts.size() - 1;
+    const float limit = float(halfWidth * voxelSize);
+    std::atomic<size_t> done{0};
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks, 16), [&](const tbb::blocked_range<size_t> &range) {
+        double d2[kBlockSize];
+        float distance[kBlockSize];
+        for (size_t b = range.begin(); b != range.end(); ++b) {
+            const std::array<int, 3> at = blockOrigin(binned[starts[b]].block);
+            std::fill(d2, d2 + kBlockSize, r2);
+            for (size_t i = starts[b]; i < starts[b + 1]; ++i)
+                lowerByTriangle(tris[binned[i].triangle], at, r2, d2);
+            bool any = false;
+            for (int v = 0; v < kBlockSize; ++v) {
+                const float d = float(std::sqrt(d2[v]) * voxelSize);
+                distance[v] = d < limit ? d : INFINITY;
+                any = any || d < limit;
+            }
+            if (any)
+                sink(at, distance);
+        }
+        const size_t d = done.fetch_add(range.size()) + range.size();
+        if (progress)
+            progress(int(100.0 * double(d) / double(blocks)));
+    });
+}
+
+} // namespace mesh2sdf
