@@ -24,7 +24,6 @@
 #include "sdftrace/scene.h"
 #include "vdb.h"
 
-
 typedef struct caster {
     pnanovdb_buf_t buf;
     pnanovdb_root_handle_t root;
@@ -43,7 +42,8 @@ static caster caster_make(const sdft_grid *g)
     for (int i = 0; i < 9; i++)
         c.w2i[i] = pnanovdb_map_get_invmatf(c.buf, map, (uint32_t)i);
     for (int k = 0; k < 3; k++)
-        c.w2i_t[k] = -(c.w2i[3 * k] * pnanovdb_map_get_vecf(c.buf, map, 0) + c.w2i[3 * k + 1] * pnanovdb_map_get_vecf(c.buf, map, 1) +
+        c.w2i_t[k] = -(c.w2i[3 * k] * pnanovdb_map_get_vecf(c.buf, map, 0) +
+                       c.w2i[3 * k + 1] * pnanovdb_map_get_vecf(c.buf, map, 1) +
                        c.w2i[3 * k + 2] * pnanovdb_map_get_vecf(c.buf, map, 2));
     return c;
 }
@@ -76,10 +76,36 @@ static double cast(const caster *c, const sdft_camera *cam, int w, int h, float 
                 float len = sqrtf(d.x * d.x + d.y * d.y + d.z * d.z);
                 d.x /= len, d.y /= len, d.z /= len;
                 float thit = 0.0f, v = 0.0f;
-                int hit = pnanovdb_hdda_zero_crossing(PNANOVDB_GRID_TYPE_FLOAT, c->buf, &acc, &o, 0.0f, &d, 1e19f, &thit, &v);
+                int hit =
+                    pnanovdb_hdda_zero_crossing(PNANOVDB_GRID_TYPE_FLOAT, c->buf, &acc, &o, 0.0f, &d, 1e19f, &thit, &v);
                 depth[(size_t)y * w + x] = hit ? thit / len : INFINITY;
             }
     }
+    return (omp_get_wtime() - t0) * 1e3;
+}
+
+/* sdftrace's depth alone, as the caster computes it: primary rays through
+ * sdft_trace, no normals, no shading. Returns ms; sums the steps. */
+static double trace_depth(const sdft_field *f, const sdft_trace_params *tp, const sdft_camera *cam, int w, int h,
+                          float *depth, uint64_t *steps)
+{
+    uint64_t total = 0;
+    double t0 = omp_get_wtime();
+#pragma omp parallel reduction(+ : total)
+    {
+        sdft_scratch s;
+        f->scratch_init(f->ctx, &s);
+#pragma omp for schedule(dynamic, 4)
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++) {
+                sdft_ray r = sdft_camera_ray(cam, w, h, (float)x + 0.5f, (float)y + 0.5f);
+                sdft_hit hit = sdft_trace(f, &s, &r, tp);
+                total += hit.steps;
+                int surface = hit.status == SDFT_HIT || (hit.status == SDFT_NOT_CONVERGED && tp->pixel_radius > 0.0f);
+                depth[(size_t)y * w + x] = surface ? hit.t : INFINITY;
+            }
+    }
+    *steps = total;
     return (omp_get_wtime() - t0) * 1e3;
 }
 
@@ -151,16 +177,18 @@ int main(int argc, char **argv)
     size_t hits = 0;
     for (size_t i = 0; i < n; i++)
         hits += isfinite(hdda[i]);
-    printf("grid %s (%s, voxel %g), %dx%d, %d threads, best of %d\n", sdft_grid_name(g), sdft_grid_type_name(g), voxel, w,
-           h, omp_get_max_threads(), repeat);
+    printf("grid %s (%s, voxel %g), %dx%d, %d threads, best of %d\n", sdft_grid_name(g), sdft_grid_type_name(g), voxel,
+           w, h, omp_get_max_threads(), repeat);
     /* The same view for OpenVDB's vdb_render, whose fov is horizontal. */
     const sdft_camera *cam = &sc->camera;
-    float hfov = 2.0f * atanf(tanf(0.5f * cam->fov_deg * 3.14159265f / 180.0f) * (float)w / (float)h) * 180.0f / 3.14159265f;
-    printf("# vdb_render -translate %g,%g,%g -lookat %g,%g,%g -up %g,%g,%g -fov %g -res %dx%d\n", cam->from.x, cam->from.y,
-           cam->from.z, cam->at.x, cam->at.y, cam->at.z, cam->up.x, cam->up.y, cam->up.z, hfov, w, h);
-    printf("%-24s %10s %8s %8s %11s %11s %9s %9s\n", "tracer", "ms/frame", "ratio", "hit", "agree1.5vox", "agree3vox",
+    float hfov =
+        2.0f * atanf(tanf(0.5f * cam->fov_deg * 3.14159265f / 180.0f) * (float)w / (float)h) * 180.0f / 3.14159265f;
+    printf("# vdb_render -translate %g,%g,%g -lookat %g,%g,%g -up %g,%g,%g -fov %g -res %dx%d\n", cam->from.x,
+           cam->from.y, cam->from.z, cam->at.x, cam->at.y, cam->at.z, cam->up.x, cam->up.y, cam->up.z, hfov, w, h);
+    printf("%-30s %10s %8s %8s %11s %11s %9s %9s\n", "tracer", "ms/frame", "ratio", "hit", "agree1.5vox", "agree3vox",
            "one-only", "steps/px");
-    printf("%-24s %10.1f %8.2f %8.4f %11s %11s %9s %9s\n", "nanovdb-hdda", best, 1.0, (double)hits / n, "-", "-", "-", "-");
+    printf("%-30s %10.1f %8.2f %8.4f %11s %11s %9s %9s\n", "nanovdb-hdda", best, 1.0, (double)hits / n, "-", "-", "-",
+           "-");
 
     sdft_field f = sdft_grid_field(g);
     sdft_render_params rp = sdft_render_defaults();
@@ -172,29 +200,55 @@ int main(int argc, char **argv)
     /* $BOUNDS=1 keeps only the far-bound rows (2: and the tree bound's). */
     const char *nb = getenv("BOUNDS");
     const int bounds = nb && atoi(nb) >= 1 && atoi(nb) <= 3 ? atoi(nb) : 3;
-    for (int k = 0; k < bounds * SDFT_METHOD_COUNT; k++) {
-        const int m = k % SDFT_METHOD_COUNT;
-        const sdft_grid_bound bound = (sdft_grid_bound)(k / SDFT_METHOD_COUNT);
+    const float pixel_radius = sdft_camera_pixel_radius(&sc->camera, h);
+    float *depth = malloc(n * sizeof *depth);
+    if (!depth)
+        return 1;
+    /* Rows: with the far bound, each variant as a full render (normals and
+     * shading, what `sdftrace render` does) and as depth alone (what the
+     * caster does), each with the constant eps and with Keinert's
+     * screen-space criterion (-ss: converged within half a pixel's
+     * footprint); with the other bounds, full renders at the constant eps. */
+    for (int b = 0; b < bounds; b++) {
+        const sdft_grid_bound bound = (sdft_grid_bound)b;
         f = sdft_grid_field_with(g, bound);
-        rp.trace.method = (sdft_method)m;
-        rp.trace.omega = sdft_default_omega((sdft_method)m);
-        double ms = INFINITY;
-        sdft_render_stats st;
-        for (int i = 0; i < repeat; i++) {
-            if (sdft_render(&f, &rp, &img, &st, msg, sizeof msg)) {
-                fprintf(stderr, "hdda_caster: %s\n", msg);
-                return 1;
+        for (int row = 0; row < (b == 0 ? 4 : 1) * SDFT_METHOD_COUNT; row++) {
+            const sdft_method m = (sdft_method)(row % SDFT_METHOD_COUNT);
+            const int depth_only = row / SDFT_METHOD_COUNT % 2, screen_space = row / (2 * SDFT_METHOD_COUNT);
+            rp.trace.method = m;
+            rp.trace.omega = sdft_default_omega(m);
+            rp.screen_space = screen_space;
+            sdft_trace_params tp = rp.trace;
+            tp.pixel_radius = screen_space ? pixel_radius : 0.0f;
+            double ms = INFINITY;
+            uint64_t steps = 0, hits = 0;
+            for (int i = 0; i < repeat; i++) {
+                if (depth_only) {
+                    ms = fmin(ms, trace_depth(&f, &tp, &sc->camera, w, h, depth, &steps));
+                    continue;
+                }
+                sdft_render_stats st;
+                if (sdft_render(&f, &rp, &img, &st, msg, sizeof msg)) {
+                    fprintf(stderr, "hdda_caster: %s\n", msg);
+                    return 1;
+                }
+                ms = fmin(ms, st.ms);
+                steps = st.steps;
             }
-            ms = fmin(ms, st.ms);
+            const float *d = depth_only ? depth : img.depth;
+            for (size_t i = 0; i < n; i++)
+                hits += isfinite(d[i]);
+            double close, close3, one;
+            agree(d, hdda, n, 1.5f * voxel, &close, &one);
+            agree(d, hdda, n, 3.0f * voxel, &close3, &one);
+            char label[64];
+            snprintf(label, sizeof label, "sdftrace-%s-%s%s%s", depth_only ? "depth" : "render", sdft_method_name(m),
+                     screen_space ? "-ss" : "", bound_suffix[bound]);
+            printf("%-30s %10.1f %8.2f %8.4f %11.4f %11.4f %9.4f %9.1f\n", label, ms, ms / best, (double)hits / n,
+                   close, close3, one, (double)steps / (double)n);
         }
-        double close, close3, one;
-        agree(img.depth, hdda, n, 1.5f * voxel, &close, &one);
-        agree(img.depth, hdda, n, 3.0f * voxel, &close3, &one);
-        char label[64];
-        snprintf(label, sizeof label, "sdftrace-%s%s", sdft_method_name((sdft_method)m), bound_suffix[bound]);
-        printf("%-24s %10.1f %8.2f %8.4f %11.4f %11.4f %9.4f %9.1f\n", label, ms, ms / best, (double)st.hits / n, close, close3, one,
-               (double)st.steps / (double)st.primary_rays);
     }
+    free(depth);
     sdft_image_free(&img);
     free(hdda);
     sdft_grid_free(g);

@@ -11,10 +11,10 @@
 
 #include <cmocka.h>
 
+#include "grid_internal.h"
 #include "sdftrace/grid.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
-#include "grid_internal.h"
 #include "testutil.h"
 #include "vdb.h"
 
@@ -34,7 +34,8 @@ static float linear_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
 }
 
 /* Union of spheres: exact outside every sphere, a bound inside. */
-static const float spheres[4][4] = {{0, 0, 0, 0.6f}, {0.7f, 0.2f, 0.1f, 0.35f}, {-0.5f, -0.4f, 0.3f, 0.3f}, {0.1f, 0.6f, -0.5f, 0.25f}};
+static const float spheres[4][4] = {
+    {0, 0, 0, 0.6f}, {0.7f, 0.2f, 0.1f, 0.35f}, {-0.5f, -0.4f, 0.3f, 0.3f}, {0.1f, 0.6f, -0.5f, 0.25f}};
 
 static float spheres_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
 {
@@ -149,7 +150,8 @@ static void test_specialised_fields_agree(void **state)
             sdft_field bf = sdft_grid_field_with(g, bounds[b]);
             tu_rng r = tu_rng_seed(7);
             for (int i = 0; i < N; i++) {
-                sdft_vec3 p = sdft_v3(tu_uniform(&r, -1.5f, 1.5f), tu_uniform(&r, -1.5f, 1.5f), tu_uniform(&r, -1.5f, 1.5f));
+                sdft_vec3 p =
+                    sdft_v3(tu_uniform(&r, -1.5f, 1.5f), tu_uniform(&r, -1.5f, 1.5f), tu_uniform(&r, -1.5f, 1.5f));
                 float v = bf.distance(bf.ctx, &s, p);
                 assert_true(v == sdft_grid_sample_with(g, bounds[b], &s, p, NULL));
                 if (pass == 0)
@@ -163,6 +165,143 @@ static void test_specialised_fields_agree(void **state)
     sdft_grid_free(g);
 }
 
+/* The leaf directory (grid_leaves.c) holds every leaf of the tree, and the
+ * field read through it is the accessor's, bit for bit: the same grid with
+ * its directory taken away gives the same values and normals. */
+static void test_leaf_directory_matches_accessor(void **state)
+{
+    (void)state;
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    sdft_grid *g = bake(&sc->field, 96, 0, NULL);
+    assert_non_null(g->leaves.word);
+    size_t entries = (size_t)g->leaves.n[0] * g->leaves.n[1] * g->leaves.n[2], found = 0;
+    for (size_t i = 0; i < entries; i++)
+        found += g->leaves.word[i] != 0;
+    pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
+    assert_int_equal(found, pnanovdb_tree_get_node_count_leaf(g->buf, tree));
+
+    sdft_scratch s;
+    sdft_field gf = sdft_grid_field(g);
+    sdft_scratch_init(&gf, &s);
+    enum { N = 20000 };
+    static float value[2][2][N];
+    static sdft_vec3 normal[2][N];
+    const grid_leaves directory = g->leaves;
+    int in_leaves = 0;
+    for (int pass = 0; pass < 2; pass++) {
+        g->leaves.word = pass == 0 ? directory.word : NULL;
+        tu_rng r = tu_rng_seed(11);
+        for (int i = 0; i < N; i++) {
+            sdft_vec3 p = sdft_v3(tu_uniform(&r, sc->field.bounds.lo.x, sc->field.bounds.hi.x),
+                                  tu_uniform(&r, sc->field.bounds.lo.y, sc->field.bounds.hi.y),
+                                  tu_uniform(&r, sc->field.bounds.lo.z, sc->field.bounds.hi.z));
+            int level;
+            value[pass][0][i] = sdft_grid_sample_with(g, SDFT_GRID_BOUND_NONE, &s, p, &level);
+            value[pass][1][i] = sdft_grid_sample_with(g, SDFT_GRID_BOUND_TREE, &s, p, NULL);
+            normal[pass][i] = sdft_field_normal(&gf, &s, p);
+            in_leaves += pass == 0 && level == 0 && fabsf(value[0][0][i]) < sdft_grid_background(g);
+        }
+    }
+    g->leaves = directory;
+    for (int i = 0; i < N; i++) {
+        assert_true(value[0][0][i] == value[1][0][i]);
+        assert_true(value[0][1][i] == value[1][1][i]);
+        assert_memory_equal(&normal[0][i], &normal[1][i], sizeof(sdft_vec3));
+    }
+    assert_true(in_leaves > 1000);
+    sdft_grid_free(g);
+}
+
+/* Quantized grids (NanoVDB's Fp16, Fp8, Fp4 and variable-rate FpN leaves,
+ * made by its own converter from a baked .vdb) sample within their codes'
+ * error of the float grid. A leaf of FpB codes its values as min + k q,
+ * q = (max - min) / (2^B - 1), rounded to the nearest k, so each is off by
+ * at most q / 2, and a level set's leaf spans at most twice the background;
+ * trilinear weights sum to 1, so the sample is off by no more. Fp16 is a
+ * half float: relative error 2^-11. FpN picks each leaf's bit depth to meet
+ * NanoVDB's default tolerance for level sets, a tenth of a voxel
+ * (OpenToNanoVDB.h). Each renders the float grid's picture too. */
+static void test_quantized_grids(void **state)
+{
+    (void)state;
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    char path[512], msg[256];
+    tu_tmp(path, sizeof path, "quantized.vdb");
+    remove(path);
+    sdft_grid *ref = bake(&sc->field, 64, 0, path);
+    const float bg = sdft_grid_background(ref), h = sdft_grid_voxel_size(ref).x;
+    const struct {
+        sdft_quant quant;
+        const char *type;
+        float error; /* most a sample may be off, world units */
+    } kinds[] = {
+        {SDFT_QUANT_FP16, "fp16", bg / 2048.0f},
+        {SDFT_QUANT_FP8, "fp8", bg / 255.0f},
+        {SDFT_QUANT_FP4, "fp4", bg / 15.0f},
+        {SDFT_QUANT_FPN, "fpN", 0.1f * h},
+    };
+    sdft_render_params rp = sdft_render_defaults();
+    rp.width = 160, rp.height = 90, rp.camera = sc->camera, rp.light = sc->light, rp.shadows = 0;
+    sdft_image want, got;
+    assert_int_equal(sdft_image_alloc(&want, rp.width, rp.height), 0);
+    assert_int_equal(sdft_image_alloc(&got, rp.width, rp.height), 0);
+    sdft_field rf = sdft_grid_field(ref);
+    assert_int_equal(sdft_render(&rf, &rp, &want, NULL, msg, sizeof msg), 0);
+    for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
+        sdft_grid *q = NULL;
+        int rc = sdft_vdb_load(path, NULL, kinds[k].quant, &q, msg, sizeof msg);
+        if (rc)
+            print_error("%s\n", msg);
+        assert_int_equal(rc, 0);
+        assert_string_equal(sdft_grid_type_name(q), kinds[k].type);
+        sdft_scratch s, sq;
+        sdft_field qf = sdft_grid_field(q);
+        sdft_scratch_init(&rf, &s);
+        sdft_scratch_init(&qf, &sq);
+        tu_rng r = tu_rng_seed(12);
+        float worst = 0.0f;
+        int checked = 0;
+        for (int i = 0; i < 20000; i++) {
+            sdft_vec3 p = sdft_v3(tu_uniform(&r, sc->field.bounds.lo.x, sc->field.bounds.hi.x),
+                                  tu_uniform(&r, sc->field.bounds.lo.y, sc->field.bounds.hi.y),
+                                  tu_uniform(&r, sc->field.bounds.lo.z, sc->field.bounds.hi.z));
+            int la, lb;
+            float a = sdft_grid_sample_with(ref, SDFT_GRID_BOUND_NONE, &s, p, &la);
+            float b = sdft_grid_sample_with(q, SDFT_GRID_BOUND_NONE, &sq, p, &lb);
+            if (la != 0 || lb != 0)
+                continue;
+            checked++;
+            const float allowed = kinds[k].error + 1e-6f;
+            worst = fmaxf(worst, fabsf(a - b));
+            if (fabsf(a - b) > allowed)
+                fail_msg("%s: %g against %g at (%g, %g, %g), more than %g", kinds[k].type, b, a, p.x, p.y, p.z,
+                         allowed);
+        }
+        print_message("%s: worst sample error %g voxels over %d points\n", kinds[k].type, worst / h, checked);
+        assert_true(checked > 1000);
+        assert_true(worst > 0.0f || kinds[k].quant == SDFT_QUANT_FP16); /* quantized for real */
+        assert_int_equal(sdft_render(&qf, &rp, &got, NULL, msg, sizeof msg), 0);
+        size_t both = 0, close = 0, one = 0;
+        for (size_t i = 0; i < (size_t)rp.width * rp.height; i++) {
+            const int hw = isfinite(want.depth[i]), hg = isfinite(got.depth[i]);
+            both += hw && hg;
+            close += hw && hg && fabsf(want.depth[i] - got.depth[i]) <= 1.5f * h;
+            one += hw != hg;
+        }
+        print_message("%s: %zu of %zu depths within 1.5 voxels, %zu pixels hit by one only\n", kinds[k].type, close,
+                      both, one);
+        assert_true(both > 1000);
+        assert_true(close >= 0.99 * both);
+        assert_true(one <= 0.005 * rp.width * rp.height);
+        sdft_grid_free(q);
+    }
+    sdft_image_free(&want);
+    sdft_image_free(&got);
+    sdft_grid_free(ref);
+}
+
 /* ---- the tree bound ----------------------------------------------------------- */
 
 /* For a scene whose SDF is only a bound (it may underestimate the distance):
@@ -171,7 +310,8 @@ static void test_specialised_fields_agree(void **state)
 static int empty_sphere(const sdft_field *truth, sdft_vec3 p, float r, int outside)
 {
     for (int k = 0; k < 512; k++) {
-        float z = 1.0f - (2.0f * (float)(k % 256) + 1.0f) / 256.0f, rho = sqrtf(1.0f - z * z), phi = 2.3999632f * (float)k;
+        float z = 1.0f - (2.0f * (float)(k % 256) + 1.0f) / 256.0f, rho = sqrtf(1.0f - z * z),
+              phi = 2.3999632f * (float)k;
         float rr = k < 256 ? r : 0.5f * r;
         sdft_vec3 q = sdft_madd(p, sdft_v3(rho * cosf(phi), rho * sinf(phi), z), rr);
         float d = truth->distance(truth->ctx, NULL, q);
@@ -206,7 +346,7 @@ static void check_bound(const sdft_field *truth, const sdft_grid *g, sdft_grid_b
         float d = truth->distance(truth->ctx, NULL, p);
         (*tiles_seen)++;
         if (!(d * v > 0.0f) || (fabsf(v) > fabsf(d) * (1 + 1e-6f) && (d > 0 || exact_inside) &&
-                                 !(bound_only && empty_sphere(truth, p, fabsf(v), v > 0.0f))))
+                                !(bound_only && empty_sphere(truth, p, fabsf(v), v > 0.0f))))
             fail_msg("%s bound %g at (%g, %g, %g), level %d, exceeds the distance %g",
                      bound == SDFT_GRID_BOUND_FAR ? "far" : "tree", v, p.x, p.y, p.z, level, d);
     }
@@ -326,11 +466,11 @@ static void test_grid_trace_is_safe(void **state)
                 tp.omega = sdft_default_omega((sdft_method)m);
                 sdft_hit hit = sdft_trace(&gf, &s, &ray, &tp);
                 if (hit.status == SDFT_HIT && hit.t > first + 0.1f * h)
-                    fail_msg("%s (bound %d) hits at t %g, beyond the first sign change at %g", sdft_method_name(tp.method),
-                             bound, hit.t, first);
+                    fail_msg("%s (bound %d) hits at t %g, beyond the first sign change at %g",
+                             sdft_method_name(tp.method), bound, hit.t, first);
                 if (isfinite(first) && hit.status == SDFT_MISS)
-                    fail_msg("%s (bound %d) misses a ray that crosses the surface at t %g", sdft_method_name(tp.method), bound,
-                             first);
+                    fail_msg("%s (bound %d) misses a ray that crosses the surface at t %g", sdft_method_name(tp.method),
+                             bound, first);
                 hits += hit.status == SDFT_HIT;
             }
         }
@@ -371,7 +511,8 @@ static void test_grid_render_matches_procedural(void **state)
             one++;
         }
     }
-    print_message("grid vs procedural: %d of %d both-hit pixels within 1.5 voxels, %d hit in one only\n", close, both, one);
+    print_message("grid vs procedural: %d of %d both-hit pixels within 1.5 voxels, %d hit in one only\n", close, both,
+                  one);
     assert_true(both > n / 20);
     assert_true(close >= 0.99 * both);
     assert_true(one <= 0.005 * n);
@@ -496,8 +637,10 @@ static void test_errors(void **state)
     tu_tmp(vec, sizeof vec, "vec3.vdb");
     tu_tmp(vecn, sizeof vecn, "vec3.nvdb");
     remove(vec), remove(vecn);
-    int rc = tu_run(cmd_out, sizeof cmd_out, "vdb_tool -quiet -sphere radius=1 dim=32 name=ball -grad keep=0 -o %s && "
-                                             "nanovdb_convert -f %s %s", vec, vec, vecn);
+    int rc = tu_run(cmd_out, sizeof cmd_out,
+                    "vdb_tool -quiet -sphere radius=1 dim=32 name=ball -grad keep=0 -o %s && "
+                    "nanovdb_convert -f %s %s",
+                    vec, vec, vecn);
     if (rc)
         print_error("%s\n", cmd_out);
     assert_int_equal(rc, 0);
@@ -508,7 +651,8 @@ static void test_errors(void **state)
     char empty[512];
     tu_tmp(empty, sizeof empty, "empty.vdb");
     remove(empty);
-    rc = tu_run(cmd_out, sizeof cmd_out, "vdb_tool -quiet -sphere radius=0.1 voxel=0.05 name=gone -erode radius=4 -o %s", empty);
+    rc = tu_run(cmd_out, sizeof cmd_out,
+                "vdb_tool -quiet -sphere radius=0.1 voxel=0.05 name=gone -erode radius=4 -o %s", empty);
     assert_int_equal(rc, 0);
     expect_error(empty, NULL, SDFT_GRID_EEMPTY, "empty");
 
@@ -549,6 +693,8 @@ int main(void)
         cmocka_unit_test(test_linear_field_is_exact),
         cmocka_unit_test(test_trilinear_matches_brute_force),
         cmocka_unit_test(test_specialised_fields_agree),
+        cmocka_unit_test(test_leaf_directory_matches_accessor),
+        cmocka_unit_test(test_quantized_grids),
         cmocka_unit_test(test_tree_bound_never_exceeds_distance),
         cmocka_unit_test(test_tree_bound_on_a_scene),
         cmocka_unit_test(test_far_bound_never_exceeds_distance),

@@ -24,6 +24,15 @@ typedef struct grid_far {
     float bonus;        /* world units added to smin e(x): the band's guarantee */
 } grid_far;
 
+/* The leaf directory (grid_leaves.c): per 8^3 block of the active box, the
+ * word offset in the grid's buffer of its leaf's values, 0 where the block
+ * has no leaf. Float grids only; word NULL: none (the accessor serves). */
+typedef struct grid_leaves {
+    uint32_t *word; /* n[0] x n[1] x n[2] blocks, x fastest */
+    int32_t b0[3];  /* first block, in blocks (index >> 3) */
+    int n[3];       /* blocks per axis */
+} grid_leaves;
+
 /* One NanoVDB grid plus the numbers the sampler reads on every call,
  * decoded once from the grid's header. Immutable after loading. */
 struct sdft_grid {
@@ -43,6 +52,7 @@ struct sdft_grid {
     int32_t ilo[3], ihi[3];       /* active voxels' index box, inclusive */
     sdft_aabb bounds;             /* world box of those voxels' cells */
     grid_far far;                 /* the far bound; built at load for level sets */
+    grid_leaves leaves;           /* the leaf directory; built at load for float grids */
     char name[256];
 };
 
@@ -52,6 +62,10 @@ int grid_init(sdft_grid *g, char *msg, unsigned msg_len);
 /* Builds / frees g->far (grid_bound.c). Needs g fully decoded. */
 int grid_far_build(sdft_grid *g);
 void grid_far_free(sdft_grid *g);
+
+/* Builds / frees g->leaves (grid_leaves.c). Needs g fully decoded. */
+int grid_leaves_build(sdft_grid *g);
+void grid_leaves_free(sdft_grid *g);
 
 /* Printf into msg (if any); returns code. */
 int grid_fail(char *msg, unsigned msg_len, int code, const char *fmt, ...);

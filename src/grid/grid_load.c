@@ -208,6 +208,8 @@ int grid_init(sdft_grid *g, char *msg, unsigned msg_len)
     g->bounds = (sdft_aabb){wlo, whi};
     if (g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET && g->background > 0.0f && grid_far_build(g))
         return grid_fail(msg, msg_len, SDFT_GRID_ENOMEM, "grid '%s': out of memory for its far bound", g->name);
+    if (grid_leaves_build(g))
+        return grid_fail(msg, msg_len, SDFT_GRID_ENOMEM, "grid '%s': out of memory for its leaf directory", g->name);
     return SDFT_GRID_OK;
 }
 
@@ -263,6 +265,7 @@ void sdft_grid_free(sdft_grid *g)
 {
     if (g) {
         grid_far_free(g);
+        grid_leaves_free(g);
         free(g->words);
         free(g);
     }
