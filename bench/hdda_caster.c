@@ -61,6 +61,7 @@ static pnanovdb_vec3_t apply(const float m[9], sdft_vec3 v, const float *t)
  * The index-space ray is the world ray mapped by the affine transform. */
 static double cast(const caster *c, const sdft_camera *cam, int w, int h, float *depth)
 {
+    const sdft_view view = sdft_camera_view(cam, w, h);
     double t0 = omp_get_wtime();
 #pragma omp parallel
     {
@@ -69,7 +70,7 @@ static double cast(const caster *c, const sdft_camera *cam, int w, int h, float 
 #pragma omp for schedule(dynamic, 4)
         for (int y = 0; y < h; y++)
             for (int x = 0; x < w; x++) {
-                sdft_ray r = sdft_camera_ray(cam, w, h, (float)x + 0.5f, (float)y + 0.5f);
+                sdft_ray r = sdft_view_ray(&view, (float)x + 0.5f, (float)y + 0.5f);
                 /* The caster steps in index units along a unit index-space
                  * direction; its t divided by the direction's length is world t. */
                 pnanovdb_vec3_t o = apply(c->w2i, r.org, c->w2i_t), d = apply(c->w2i, r.dir, NULL);
@@ -89,6 +90,7 @@ static double cast(const caster *c, const sdft_camera *cam, int w, int h, float 
 static double trace_depth(const sdft_field *f, const sdft_trace_params *tp, const sdft_camera *cam, int w, int h,
                           float *depth, uint64_t *steps)
 {
+    const sdft_view view = sdft_camera_view(cam, w, h);
     uint64_t total = 0;
     double t0 = omp_get_wtime();
 #pragma omp parallel reduction(+ : total)
@@ -98,7 +100,7 @@ static double trace_depth(const sdft_field *f, const sdft_trace_params *tp, cons
 #pragma omp for schedule(dynamic, 4)
         for (int y = 0; y < h; y++)
             for (int x = 0; x < w; x++) {
-                sdft_ray r = sdft_camera_ray(cam, w, h, (float)x + 0.5f, (float)y + 0.5f);
+                sdft_ray r = sdft_view_ray(&view, (float)x + 0.5f, (float)y + 0.5f);
                 sdft_hit hit = sdft_trace(f, &s, &r, tp);
                 total += hit.steps;
                 int surface = hit.status == SDFT_HIT || (hit.status == SDFT_NOT_CONVERGED && tp->pixel_radius > 0.0f);

@@ -17,6 +17,25 @@ typedef struct sdft_camera {
  * centres at integer + 0.5, y down. tnear 0, tfar INFINITY, unit dir. */
 sdft_ray sdft_camera_ray(const sdft_camera *c, int width, int height, float px, float py);
 
+/* A camera set up once for one image size, so that a ray costs a few
+ * multiplies and a normalisation (the frame and tan(fov / 2) are taken
+ * once): sdft_view_ray(&view, px, py) is sdft_camera_ray(c, width,
+ * height, px, py). Plain data; share it between threads. */
+typedef struct sdft_view {
+    sdft_vec3 from;
+    sdft_vec3 right_per_px;   /* u * (image half-width at unit distance) * 2 / width */
+    sdft_vec3 down_per_px;    /* -v * (image half-height at unit distance) * 2 / height */
+    sdft_vec3 top_left;       /* w - u * half-width + v * half-height: image position (0, 0) */
+} sdft_view;
+
+sdft_view sdft_camera_view(const sdft_camera *c, int width, int height);
+
+static inline sdft_ray sdft_view_ray(const sdft_view *v, float px, float py)
+{
+    sdft_vec3 d = sdft_madd(sdft_madd(v->top_left, v->right_per_px, px), v->down_per_px, py);
+    return (sdft_ray){.org = v->from, .tnear = 0.0f, .dir = sdft_normalize(d), .tfar = INFINITY};
+}
+
 /* Half a pixel's footprint at unit distance: Keinert's pixelRadius. */
 float sdft_camera_pixel_radius(const sdft_camera *c, int height);
 

@@ -19,15 +19,23 @@ static void camera_frame(const sdft_camera *c, sdft_vec3 *u, sdft_vec3 *v, sdft_
 /* tan(fov / 2): half the image height at unit distance. */
 static float camera_half_height(const sdft_camera *c) { return tanf(0.5f * c->fov_deg * 3.14159265358979f / 180.0f); }
 
-sdft_ray sdft_camera_ray(const sdft_camera *c, int width, int height, float px, float py)
+sdft_view sdft_camera_view(const sdft_camera *c, int width, int height)
 {
     sdft_vec3 u, v, w;
     camera_frame(c, &u, &v, &w);
-    float th = camera_half_height(c);
-    float x = (2.0f * px / (float)width - 1.0f) * th * (float)width / (float)height;
-    float y = (1.0f - 2.0f * py / (float)height) * th;
-    sdft_vec3 dir = sdft_normalize(sdft_add(w, sdft_add(sdft_scale(u, x), sdft_scale(v, y))));
-    return (sdft_ray){.org = c->from, .tnear = 0.0f, .dir = dir, .tfar = INFINITY};
+    const float th = camera_half_height(c), tw = th * (float)width / (float)height;
+    return (sdft_view){
+        .from = c->from,
+        .right_per_px = sdft_scale(u, 2.0f * tw / (float)width),
+        .down_per_px = sdft_scale(v, -2.0f * th / (float)height),
+        .top_left = sdft_add(w, sdft_add(sdft_scale(u, -tw), sdft_scale(v, th))),
+    };
+}
+
+sdft_ray sdft_camera_ray(const sdft_camera *c, int width, int height, float px, float py)
+{
+    const sdft_view view = sdft_camera_view(c, width, height);
+    return sdft_view_ray(&view, px, py);
 }
 
 float sdft_camera_pixel_radius(const sdft_camera *c, int height)

@@ -38,8 +38,9 @@ int sdft_aabb_clip(sdft_aabb box, sdft_vec3 org, sdft_vec3 dir, float tnear, flo
             float tmp = ta;
             ta = tb, tb = tmp;
         }
-        a = fmaxf(a, ta);
-        b = fminf(b, tb);
+        /* NaN (0 * inf at a slab's plane) leaves a and b as they are. */
+        a = ta > a ? ta : a;
+        b = tb < b ? tb : b;
     }
     if (a > b)
         return 0;

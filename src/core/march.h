@@ -31,7 +31,7 @@ typedef struct march_candidate {
 
 static inline void march_offer(march_candidate *c, const sdft_trace_params *p, float t, float r)
 {
-    float error = r / fmaxf(march_eps(p, t), 1e-30f);
+    float error = r / sdft_maxf(march_eps(p, t), 1e-30f);
     if (error < c->error)
         *c = (march_candidate){t, r, error};
 }

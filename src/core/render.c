@@ -100,11 +100,22 @@ static int light_visible(const sdft_field *f, sdft_scratch *s, const sdft_trace_
     return h.status != SDFT_HIT;
 }
 
-static pixel_result shade_pixel(const sdft_field *f, sdft_scratch *s, const sdft_render_params *rp,
-                                const sdft_trace_params *tp, float feature, int x, int y)
+/* What every pixel of one frame shares, set up once. */
+typedef struct frame {
+    const sdft_field *f;
+    const sdft_render_params *rp;
+    sdft_trace_params tp; /* with the screen-space pixel radius, if asked */
+    float feature;        /* the field's feature size: the normal's step */
+    sdft_view view;
+} frame;
+
+static pixel_result shade_pixel(const frame *fr, sdft_scratch *s, int x, int y)
 {
+    const sdft_field *f = fr->f;
+    const sdft_render_params *rp = fr->rp;
+    const sdft_trace_params *tp = &fr->tp;
     pixel_result out = {.depth = INFINITY};
-    sdft_ray ray = sdft_camera_ray(&rp->camera, rp->width, rp->height, (float)x + 0.5f, (float)y + 0.5f);
+    sdft_ray ray = sdft_view_ray(&fr->view, (float)x + 0.5f, (float)y + 0.5f);
     sdft_hit h = sdft_trace(f, s, &ray, tp);
     out.steps = h.steps, out.fallbacks = h.fallbacks, out.rays = 1, out.status = h.status;
     /* A non-converged ray is shaded as a hit only with the screen-space
@@ -121,12 +132,12 @@ static pixel_result shade_pixel(const sdft_field *f, sdft_scratch *s, const sdft
     out.depth = h.t, out.normal = n;
 
     sdft_vec3 l = sdft_normalize(sdft_sub(rp->light, p));
-    float diffuse = fmaxf(sdft_dot(n, l), 0.0f);
+    float diffuse = sdft_maxf(sdft_dot(n, l), 0.0f);
     if (diffuse > 0.0f && rp->shadows) {
         /* Lift the shadow ray's origin past the convergence radius at this
          * hit and the normal's difference step, so it does not re-hit its
          * own surface at t = 0. */
-        float lift = 4.0f * (tp->eps + tp->pixel_radius * h.t) + 2.0f * feature;
+        float lift = 4.0f * (tp->eps + tp->pixel_radius * h.t) + 2.0f * fr->feature;
         if (!light_visible(f, s, tp, p, n, lift, rp->light, &out))
             diffuse = 0.0f;
     }
@@ -139,9 +150,9 @@ typedef struct tile_stats {
     uint64_t rays, steps, fallbacks, hits, nonconverged;
 } tile_stats;
 
-static void render_tile(const sdft_field *f, sdft_scratch *s, const sdft_render_params *rp, const sdft_trace_params *tp,
-                        float feature, int tile, sdft_image *img, tile_stats *ts)
+static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *img, tile_stats *ts)
 {
+    const sdft_render_params *rp = fr->rp;
     int tiles_x = (rp->width + TILE - 1) / TILE;
     int x0 = (tile % tiles_x) * TILE, y0 = (tile / tiles_x) * TILE;
     int x1 = x0 + TILE < rp->width ? x0 + TILE : rp->width;
@@ -149,7 +160,7 @@ static void render_tile(const sdft_field *f, sdft_scratch *s, const sdft_render_
     *ts = (tile_stats){0};
     for (int y = y0; y < y1; y++) {
         for (int x = x0; x < x1; x++) {
-            pixel_result px = shade_pixel(f, s, rp, tp, feature, x, y);
+            pixel_result px = shade_pixel(fr, s, x, y);
             size_t i = (size_t)y * (size_t)rp->width + (size_t)x;
             img->rgb[3 * i + 0] = px.rgb.x, img->rgb[3 * i + 1] = px.rgb.y, img->rgb[3 * i + 2] = px.rgb.z;
             img->normal[3 * i + 0] = px.normal.x, img->normal[3 * i + 1] = px.normal.y;
@@ -210,7 +221,11 @@ int sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_imag
             snprintf(msg, msg_len, "out of memory for %d tiles", tiles);
         return -1;
     }
-    float feature = sdft_field_feature_size(f);
+    const frame fr = {.f = f,
+                      .rp = params,
+                      .tp = tp,
+                      .feature = sdft_field_feature_size(f),
+                      .view = sdft_camera_view(&params->camera, params->width, params->height)};
     int threads = params->threads > 0 ? params->threads : omp_get_max_threads();
 
     double t0 = omp_get_wtime();
@@ -220,7 +235,7 @@ int sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_imag
         sdft_scratch_init(f, &scratch);
 #pragma omp for schedule(dynamic, 1)
         for (int tile = 0; tile < tiles; tile++)
-            render_tile(f, &scratch, params, &tp, feature, tile, img, &per_tile[tile]);
+            render_tile(&fr, &scratch, tile, img, &per_tile[tile]);
     }
     double t1 = omp_get_wtime();
 

@@ -45,8 +45,8 @@
  *           = trilerp(d)(x) - S sqrt(sum_k t_k (1 - t_k)),
  * since the weights factor per axis and the axis-k term is the variance
  * S^2 t_k (1 - t_k) of a two-point law. The bound is continuous (the
- * correction vanishes on the cell faces where a weight does) and costs one
- * table read of 8 floats and one square root: no tree walk far from the
+ * correction vanishes on the cell faces where a weight does) and costs
+ * eight 16-bit corner reads and one square root: no tree walk far from the
  * surface, and no jumps to upset enhanced and auto sphere tracing's slope
  * estimates. The sign is the cell's tile sign, read from the tree here. */
 #include <math.h>
@@ -55,7 +55,7 @@
 
 #include "grid_internal.h"
 
-enum { MAX_CELLS = 1 << 24 }; /* 16M cells: ~68 MiB of corners (distance and sign) */
+enum { MAX_CELLS = 1 << 24 }; /* 16M cells: ~34 MiB of corners (distance and sign) */
 
 /* floor(a / b) for b > 0. */
 static int32_t floor_div(int32_t a, int32_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
@@ -258,7 +258,7 @@ int grid_far_build(sdft_grid *g)
     const size_t ncell = (size_t)n[0] * n[1] * n[2], nvert = (size_t)nv[0] * nv[1] * nv[2];
     int8_t *sign = malloc(ncell);
     double *d2 = malloc(sizeof(double) * nvert);
-    uint32_t *corner = malloc(sizeof(uint32_t) * nvert);
+    uint16_t *corner = malloc(sizeof(uint16_t) * nvert);
     if (!sign || !d2 || !corner) {
         free(sign), free(d2), free(corner);
         return SDFT_GRID_ENOMEM;
@@ -278,13 +278,16 @@ int grid_far_build(sdft_grid *g)
         free(sign), free(d2), free(corner);
         return SDFT_GRID_ENOMEM;
     }
-    for (size_t i = 0; i < nvert; i++) /* eighths of a voxel, rounded down; saturated */
-        corner[i] = (uint32_t)fmin(floor(8.0 * S * sqrt(d2[i])), 65535.0);
+    const double most = (double)((1u << FAR_DISTANCE_BITS) - 1u);
+    for (size_t i = 0; i < nvert; i++) /* quarters of a voxel, rounded down; saturated */
+        corner[i] = (uint16_t)fmin(floor(FAR_DISTANCE_SCALE * S * sqrt(d2[i])), most);
     for (int z = 0; z < n[2]; z++)
         for (int y = 0; y < n[1]; y++)
-            for (int x = 0; x < n[0]; x++)
-                corner[((size_t)z * nv[1] + y) * nv[0] + x] |= (uint32_t)(uint8_t)sign[((size_t)z * n[1] + y) * n[0] + x]
-                                                                << 16;
+            for (int x = 0; x < n[0]; x++) {
+                const int8_t sg = sign[((size_t)z * n[1] + y) * n[0] + x];
+                const unsigned code = sg > 0 ? FAR_EMPTY_POSITIVE : sg < 0 ? FAR_EMPTY_NEGATIVE : 0;
+                corner[((size_t)z * nv[1] + y) * nv[0] + x] |= (uint16_t)(code << FAR_DISTANCE_BITS);
+            }
     free(d2);
     free(sign);
     far->corner = corner;

@@ -9,13 +9,15 @@
 #include "sdftrace/grid.h"
 
 /* The far bound (grid_bound.c): cells of `cell`^3 voxels over the active
- * box, each occupied (sign 0: it holds a leaf) or empty with its tiles'
- * sign; and at the cells' corners the index distance to the occupied ones.
- * Both in one table, so a lookup reads four cache lines, not five. */
+ * box, each occupied (it holds a leaf) or empty with its tiles' sign; and
+ * at the cells' corners the index distance to the occupied ones. Both in
+ * one table of 16-bit words, so a lookup reads four cache lines, not five,
+ * and a 1024^3 grid's table (32 MiB) mostly stays in cache. */
 typedef struct grid_far {
-    uint32_t *corner;   /* (n[0] + 1) x (n[1] + 1) x (n[2] + 1) corners, x fastest; NULL: no far bound.
-                         * Bits 0-15: the index distance x 8, rounded down; bits 16-23: the sign (int8)
-                         * of the cell whose lowest corner this is (0 where there is none) */
+    uint16_t *corner;   /* (n[0] + 1) x (n[1] + 1) x (n[2] + 1) corners, x fastest; NULL: no far bound.
+                         * Bits 0-13: the index distance x 4, rounded down, saturated (still a bound);
+                         * bits 14-15: the cell whose lowest corner this is: FAR_EMPTY_POSITIVE or
+                         * FAR_EMPTY_NEGATIVE when empty, 0 when occupied or there is none */
     int32_t c0[3];      /* first cell, in cells */
     int n[3];           /* cells per axis */
     int cell;           /* S: voxels per cell edge, 8 * 2^k */
@@ -23,6 +25,9 @@ typedef struct grid_far {
     float origin[3];    /* index coordinates of corner 0: c0 S - 1/2 */
     float bonus;        /* world units added to smin e(x): the band's guarantee */
 } grid_far;
+
+enum { FAR_DISTANCE_BITS = 14, FAR_EMPTY_POSITIVE = 1, FAR_EMPTY_NEGATIVE = 2 };
+#define FAR_DISTANCE_SCALE 4.0f /* corner words per index unit */
 
 /* The leaf directory (grid_leaves.c): per 8^3 block of the active box, the
  * word offset in the grid's buffer of its leaf's values, 0 where the block

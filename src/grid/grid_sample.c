@@ -272,23 +272,23 @@ static inline float far_bound(const sdft_grid *g, const float x[3])
         t[k] = uc - (float)c[k];
     }
     const size_t sx = (size_t)f->n[0] + 1, sy = sx * ((size_t)f->n[1] + 1);
-    const uint32_t *d = f->corner + (size_t)c[2] * sy + (size_t)c[1] * sx + (size_t)c[0];
-    const int8_t sign = (int8_t)(uint8_t)(d[0] >> 16);
-    if (sign == 0)
+    const uint16_t *d = f->corner + (size_t)c[2] * sy + (size_t)c[1] * sx + (size_t)c[0];
+    const unsigned code = d[0] >> FAR_DISTANCE_BITS;
+    if (code == 0)
         return 0.0f;
-#define D(i) (float)(d[i] & 0xffffu)
+#define D(i) (float)(d[i] & ((1u << FAR_DISTANCE_BITS) - 1u))
     const float d00 = lerp(D(0), D(1), t[0]), d10 = lerp(D(sx), D(sx + 1), t[0]);
     const float d01 = lerp(D(sy), D(sy + 1), t[0]), d11 = lerp(D(sy + sx), D(sy + sx + 1), t[0]);
 #undef D
     const float S = (float)f->cell;
-    float e = 0.125f * lerp(lerp(d00, d10, t[1]), lerp(d01, d11, t[1]), t[2]) -
+    float e = (1.0f / FAR_DISTANCE_SCALE) * lerp(lerp(d00, d10, t[1]), lerp(d01, d11, t[1]), t[2]) -
               S * sqrtf(t[0] * (1.0f - t[0]) + t[1] * (1.0f - t[1]) + t[2] * (1.0f - t[2]));
     if (out2 > 0.0f) {
         const float out = S * sqrtf(out2);
         e = sdft_maxf(e - out, out);
     }
     const float b = g->sigma_min * sdft_maxf(e, 0.0f) + f->bonus;
-    return sign > 0 ? b : -b;
+    return code == FAR_EMPTY_POSITIVE ? b : -b;
 }
 
 /* The field of `bound` at index point x. TREE: the tree bound in tiles
