@@ -2,11 +2,13 @@
 # sdftrace's grid benchmark (issue 3):
 #  1. bake temple and figure at RES^3 (default 1024) with a 3-voxel narrow
 #     band: wall time and peak memory from /usr/bin/time -v;
-#  2. trace each .vdb at WIDTHxHEIGHT from its scene's camera three ways in
-#     one run: sdftrace's four variants (with the far bound, the tree bound
-#     alone and no bound) and NanoVDB's own HDDA level-set caster
-#     (bench/hdda_caster, primary rays, same process), then OpenVDB's
-#     vdb_render on the same file and view (its own timer, -v).
+#  2. trace each .vdb at WIDTHxHEIGHT from its scene's camera three ways:
+#     OpenVDB's vdb_render (its own timer, -v, -shader position), then in
+#     one process NanoVDB's own HDDA level-set caster and sdftrace's four
+#     variants (bench/hdda_caster: full renders and depth alone, constant
+#     eps and screen-space criterion, with the far bound, the tree bound
+#     alone and no bound), each depth map compared with the caster's and
+#     vdb_render's.
 #
 # usage: bench/grids.sh [RES [WIDTH HEIGHT]]        (default 1024 1280 720)
 # env:   BUILD  the build folder holding sdftrace and bench/hdda_caster
@@ -45,14 +47,17 @@ done
 for scene in temple figure; do
     echo
     echo "== $scene.vdb traced at ${width}x${height} from the scene's camera"
-    "$caster" "$out/$scene.vdb" "$scene" "$width" "$height" "$out/${scene}_hdda.pfm" | tee "$out/$scene.trace.txt"
-    hdda_ms=$(awk '$1 == "nanovdb-hdda" { print $2 }' "$out/$scene.trace.txt")
-    view=$(sed -n 's/^# vdb_render //p' "$out/$scene.trace.txt")
+    # OpenVDB's vdb_render first (its own timer, -v; positions to compare
+    # depth with), then the caster and sdftrace in one process.
+    view=$("$caster" --view "$scene" "$width" "$height")
     # shellcheck disable=SC2086 # $view is a list of options
     vdb_render "$out/$scene.vdb" "$out/${scene}_vdb_render.exr" $view -shader position -v >"$out/$scene.vdb_render.log" 2>&1
     # vdb_render -v prints "ray-tracing NAME..." then "...completed in S sec".
     vr_ms=$(awk '/ray-tracing/ { t = 1; next } t && /completed in/ { printf "%.1f", $(NF - 1) * 1000; exit }' "$out/$scene.vdb_render.log")
-    printf '%-24s %10s %8s\n' "openvdb-vdb_render" "${vr_ms:-?}" \
+    "$caster" "$out/$scene.vdb" "$scene" "$width" "$height" "$out/${scene}_hdda.pfm" "$out/${scene}_vdb_render.exr" |
+        tee "$out/$scene.trace.txt"
+    hdda_ms=$(awk '$1 == "nanovdb-hdda" { print $2 }' "$out/$scene.trace.txt")
+    printf 'vdb_render: %s ms/frame, %s x the caster\n' "${vr_ms:-?}" \
         "$(awk -v a="${vr_ms:-0}" -v b="$hdda_ms" 'BEGIN { if (a > 0) printf "%.2f", a / b; else print "?" }')"
 done
 echo "(vdb_render's logs, grids and depth maps in $out)"

@@ -1,13 +1,15 @@
 /* hdda_caster — one grid traced two ways from one camera, in one run:
  * NanoVDB's own level-set ray caster (pnanovdb_hdda_zero_crossing: a
  * hierarchical DDA that skips empty tiles and stops at the first sign change
- * between active voxels) and sdftrace's four variants through sdft_render
- * (primary rays only, as the caster), each with the far bound, the tree
- * bound alone and no bound. Prints ms per frame (best of $REPEAT, default 3),
- * ratios to the caster, and how closely the depth maps agree; writes the
- * caster's depth as a PFM.
+ * between active voxels) and sdftrace's four variants, as full renders and
+ * as depth alone, with each of the grid field's bounds. Prints ms per frame
+ * (best of $REPEAT, default 3), ratios to the caster, and how closely the
+ * depth maps agree with the caster's and, given the EXR that OpenVDB's
+ * vdb_render wrote of the same view with -shader position, with
+ * vdb_render's; writes the caster's depth as a PFM.
  *
- * usage: hdda_caster GRID.vdb|GRID.nvdb SCENE [WIDTH HEIGHT [DEPTH.pfm]]
+ * usage: hdda_caster GRID.vdb|GRID.nvdb SCENE [WIDTH HEIGHT [DEPTH.pfm [VDB_RENDER.exr]]]
+ *        hdda_caster --view SCENE WIDTH HEIGHT    vdb_render's options for that view
  *        the camera is the scene's (sdftrace scenes lists them). */
 #define PNANOVDB_C
 #define PNANOVDB_HDDA
@@ -19,6 +21,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "image_io.h"
 #include "sdftrace/grid.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
@@ -143,10 +146,96 @@ static void agree(const float *a, const float *b, size_t n, float tol, double *c
     *one = (double)single / (double)n;
 }
 
+/* One row of the table: a tracer's time, its ratio to the caster's, its
+ * hit fraction, how its depth agrees with the caster's and vdb_render's
+ * (NULL: not given), steps per pixel (NaN: not counted). */
+typedef struct table {
+    size_t n;
+    float voxel;
+    double caster_ms;
+    const float *caster, *vdb_render;
+} table;
+
+static void print_row(const table *t, const char *label, double ms, const float *depth, double steps)
+{
+    size_t hits = 0;
+    for (size_t i = 0; i < t->n; i++)
+        hits += isfinite(depth[i]);
+    if (isnan(ms))
+        printf("%-30s %10s %8s %8.4f |", label, "-", "-", (double)hits / t->n);
+    else
+        printf("%-30s %10.1f %8.2f %8.4f |", label, ms, ms / t->caster_ms, (double)hits / t->n);
+    double close, close3, one;
+    if (depth != t->caster) {
+        agree(depth, t->caster, t->n, 1.5f * t->voxel, &close, &one);
+        agree(depth, t->caster, t->n, 3.0f * t->voxel, &close3, &one);
+        printf(" %7.4f %7.4f %9.4f |", close, close3, one);
+    } else {
+        printf(" %7s %7s %9s |", "-", "-", "-");
+    }
+    if (t->vdb_render && depth != t->vdb_render) {
+        agree(depth, t->vdb_render, t->n, 1.5f * t->voxel, &close, &one);
+        printf(" %7.4f %8.4f |", close, one);
+    } else {
+        printf(" %7s %8s |", "-", "-");
+    }
+    if (isnan(steps))
+        printf(" %8s\n", "-");
+    else
+        printf(" %8.1f\n", steps);
+}
+
+/* The same view as vdb_render's options; its fov is horizontal. */
+static void print_view(const sdft_camera *cam, int w, int h)
+{
+    float hfov =
+        2.0f * atanf(tanf(0.5f * cam->fov_deg * 3.14159265f / 180.0f) * (float)w / (float)h) * 180.0f / 3.14159265f;
+    printf("-translate %g,%g,%g -lookat %g,%g,%g -up %g,%g,%g -fov %g -res %dx%d\n", cam->from.x, cam->from.y,
+           cam->from.z, cam->at.x, cam->at.y, cam->at.z, cam->up.x, cam->up.y, cam->up.z, hfov, w, h);
+}
+
+/* vdb_render's depth from its -shader position EXR: colour (p - lo) / (hi -
+ * lo) over the world box [lo, hi] of the active voxel centres, black on a
+ * miss (its film's fill; a hit is black only at the corner lo); depth
+ * |p - eye|. NULL (and a line on stderr) if it cannot be read. */
+static float *vdb_render_depth(const char *path, const sdft_grid *g, sdft_vec3 eye, int w, int h)
+{
+    static const char *const names[3] = {"R", "G", "B"};
+    float *rgb[3];
+    int ew, eh;
+    char msg[512];
+    if (sdft_read_exr_floats(path, 3, names, rgb, &ew, &eh, msg, sizeof msg) || ew != w || eh != h) {
+        fprintf(stderr, "hdda_caster: %s\n", ew != w || eh != h ? "vdb_render's image has another size" : msg);
+        return NULL;
+    }
+    const sdft_vec3 half = sdft_scale(sdft_grid_voxel_size(g), 0.5f);
+    const sdft_aabb b = sdft_grid_world_bounds(g); /* the cells' box: half a voxel beyond the centres */
+    const sdft_vec3 lo = sdft_add(b.lo, half), ext = sdft_sub(sdft_sub(b.hi, half), lo);
+    float *depth = malloc((size_t)w * h * sizeof *depth);
+    for (size_t i = 0; depth && i < (size_t)w * h; i++) {
+        const sdft_vec3 c = sdft_v3(rgb[0][i], rgb[1][i], rgb[2][i]);
+        const sdft_vec3 p = sdft_v3(lo.x + c.x * ext.x, lo.y + c.y * ext.y, lo.z + c.z * ext.z);
+        depth[i] = c.x != 0.0f || c.y != 0.0f || c.z != 0.0f ? sdft_length(sdft_sub(p, eye)) : INFINITY;
+    }
+    for (int c = 0; c < 3; c++)
+        free(rgb[c]);
+    return depth;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc == 5 && strcmp(argv[1], "--view") == 0) {
+        const sdft_scene *sc = sdft_scene_find(argv[2]);
+        if (!sc || atoi(argv[3]) < 1 || atoi(argv[4]) < 1) {
+            fprintf(stderr, "hdda_caster: unknown scene or bad size\n");
+            return 2;
+        }
+        print_view(&sc->camera, atoi(argv[3]), atoi(argv[4]));
+        return 0;
+    }
     if (argc < 3) {
-        fprintf(stderr, "usage: hdda_caster GRID.vdb|GRID.nvdb SCENE [WIDTH HEIGHT [DEPTH.pfm]]\n");
+        fprintf(stderr, "usage: hdda_caster GRID.vdb|GRID.nvdb SCENE [WIDTH HEIGHT [DEPTH.pfm [VDB_RENDER.exr]]]\n"
+                        "       hdda_caster --view SCENE WIDTH HEIGHT\n");
         return 2;
     }
     const sdft_scene *sc = sdft_scene_find(argv[2]);
@@ -181,16 +270,19 @@ int main(int argc, char **argv)
         hits += isfinite(hdda[i]);
     printf("grid %s (%s, voxel %g), %dx%d, %d threads, best of %d\n", sdft_grid_name(g), sdft_grid_type_name(g), voxel,
            w, h, omp_get_max_threads(), repeat);
-    /* The same view for OpenVDB's vdb_render, whose fov is horizontal. */
-    const sdft_camera *cam = &sc->camera;
-    float hfov =
-        2.0f * atanf(tanf(0.5f * cam->fov_deg * 3.14159265f / 180.0f) * (float)w / (float)h) * 180.0f / 3.14159265f;
-    printf("# vdb_render -translate %g,%g,%g -lookat %g,%g,%g -up %g,%g,%g -fov %g -res %dx%d\n", cam->from.x,
-           cam->from.y, cam->from.z, cam->at.x, cam->at.y, cam->at.z, cam->up.x, cam->up.y, cam->up.z, hfov, w, h);
-    printf("%-30s %10s %8s %8s %11s %11s %9s %9s\n", "tracer", "ms/frame", "ratio", "hit", "agree1.5vox", "agree3vox",
-           "one-only", "steps/px");
-    printf("%-30s %10.1f %8.2f %8.4f %11s %11s %9s %9s\n", "nanovdb-hdda", best, 1.0, (double)hits / n, "-", "-", "-",
-           "-");
+    printf("# vdb_render ");
+    print_view(&sc->camera, w, h);
+    float *vr = argc > 6 ? vdb_render_depth(argv[6], g, sc->camera.from, w, h) : NULL;
+    if (argc > 6 && !vr)
+        return 1;
+    printf("%-30s %10s %8s %8s | %-25s | %-16s | %8s\n", "", "", "", "", "agrees with the caster", "with vdb_render",
+           "");
+    printf("%-30s %10s %8s %8s | %7s %7s %9s | %7s %8s | %8s\n", "tracer", "ms/frame", "ratio", "hit", "1.5vox", "3vox",
+           "one-only", "1.5vox", "one-only", "steps/px");
+    const table tab = {n, voxel, best, hdda, vr};
+    print_row(&tab, "nanovdb-hdda", best, hdda, NAN);
+    if (vr)
+        print_row(&tab, "openvdb-vdb_render", NAN, vr, NAN);
 
     sdft_field f = sdft_grid_field(g);
     sdft_render_params rp = sdft_render_defaults();
@@ -223,7 +315,7 @@ int main(int argc, char **argv)
             sdft_trace_params tp = rp.trace;
             tp.pixel_radius = screen_space ? pixel_radius : 0.0f;
             double ms = INFINITY;
-            uint64_t steps = 0, hits = 0;
+            uint64_t steps = 0;
             for (int i = 0; i < repeat; i++) {
                 if (depth_only) {
                     ms = fmin(ms, trace_depth(&f, &tp, &sc->camera, w, h, depth, &steps));
@@ -237,20 +329,14 @@ int main(int argc, char **argv)
                 ms = fmin(ms, st.ms);
                 steps = st.steps;
             }
-            const float *d = depth_only ? depth : img.depth;
-            for (size_t i = 0; i < n; i++)
-                hits += isfinite(d[i]);
-            double close, close3, one;
-            agree(d, hdda, n, 1.5f * voxel, &close, &one);
-            agree(d, hdda, n, 3.0f * voxel, &close3, &one);
             char label[64];
             snprintf(label, sizeof label, "sdftrace-%s-%s%s%s", depth_only ? "depth" : "render", sdft_method_name(m),
                      screen_space ? "-ss" : "", bound_suffix[bound]);
-            printf("%-30s %10.1f %8.2f %8.4f %11.4f %11.4f %9.4f %9.1f\n", label, ms, ms / best, (double)hits / n,
-                   close, close3, one, (double)steps / (double)n);
+            print_row(&tab, label, ms, depth_only ? depth : img.depth, (double)steps / (double)n);
         }
     }
     free(depth);
+    free(vr);
     sdft_image_free(&img);
     free(hdda);
     sdft_grid_free(g);

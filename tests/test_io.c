@@ -172,6 +172,53 @@ static unsigned char *read_png(const char *path, int *w, int *h)
     return buf;
 }
 
+/* sdft_read_exr_floats reads back chosen channels bit for bit, and fails
+ * with one line, every plane NULL, on a missing file, a file that is not an
+ * EXR, and a channel the file lacks. */
+static void test_exr_read_floats(void **state)
+{
+    (void)state;
+    sdft_image img;
+    fill_image(&img);
+    char path[512], other[512], msg[256] = "";
+    tu_tmp(path, sizeof path, "io_read.exr");
+    tu_tmp(other, sizeof other, "io_read.png");
+    assert_int_equal(sdft_write_exr(path, &img, msg, sizeof msg), 0);
+    assert_int_equal(sdft_write_png(other, &img, msg, sizeof msg), 0);
+    static const char *const names[3] = {"Z", "N.Y", "R"};
+    float *planes[3];
+    int w = 0, h = 0;
+    assert_int_equal(sdft_read_exr_floats(path, 3, names, planes, &w, &h, msg, sizeof msg), 0);
+    assert_int_equal(w, W);
+    assert_int_equal(h, H);
+    for (int i = 0; i < W * H; i++) {
+        assert_memory_equal(&planes[0][i], &img.depth[i], sizeof(float));
+        assert_true(planes[1][i] == img.normal[3 * i + 1]);
+        assert_true(planes[2][i] == img.rgb[3 * i]);
+    }
+    for (int c = 0; c < 3; c++)
+        free(planes[c]);
+
+    static const char *const absent[2] = {"R", "Q"};
+    const struct {
+        const char *path, *needle;
+        int n;
+        const char *const *names;
+    } bad[] = {{SDFT_TEST_TMP "/no_such.exr", "no_such.exr", 3, names},
+               {other, "io_read.png", 3, names},
+               {path, "no channel 'Q'", 2, absent}};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        msg[0] = 0;
+        assert_int_not_equal(sdft_read_exr_floats(bad[k].path, bad[k].n, bad[k].names, planes, &w, &h, msg, sizeof msg), 0);
+        print_message("%s\n", msg);
+        assert_non_null(strstr(msg, bad[k].needle));
+        assert_null(strchr(msg, '\n'));
+        for (int c = 0; c < bad[k].n; c++)
+            assert_null(planes[c]);
+    }
+    sdft_image_free(&img);
+}
+
 static void test_png_is_srgb(void **state)
 {
     (void)state;
@@ -281,6 +328,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_exr_round_trip),
+        cmocka_unit_test(test_exr_read_floats),
         cmocka_unit_test(test_png_is_srgb),
         cmocka_unit_test(test_heatmap),
         cmocka_unit_test(test_colour_scale),

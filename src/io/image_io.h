@@ -19,6 +19,14 @@ extern "C" {
  * steps and fallbacks (uint: primary + shadow ray). */
 int sdft_write_exr(const char *path, const sdft_image *img, char *msg, unsigned msg_len);
 
+/* Reads channels names[0..n-1] of a scanline OpenEXR file as float planes
+ * (row-major, top row first; half and float channels), allocated into
+ * planes[] for the caller to free, and the data window's size. Returns 0,
+ * or non-zero with one line in msg (missing file, not scanline, a channel
+ * absent, a corrupt chunk) and every plane NULL. */
+int sdft_read_exr_floats(const char *path, int n, const char *const names[], float *planes[], int *width, int *height,
+                         char *msg, unsigned msg_len);
+
 /* 8-bit sRGB PNG of the image's linear RGB, through libpng. */
 int sdft_write_png(const char *path, const sdft_image *img, char *msg, unsigned msg_len);
 
