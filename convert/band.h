@@ -20,9 +20,10 @@ constexpr int kBlockSize = kBlockDim * kBlockDim * kBlockDim;
 /// Receives one block: `origin` is its first voxel's index (a multiple of
 /// 8), `distance[(x * 8 + y) * 8 + z]` (OpenVDB's leaf order) the exact
 /// unsigned distance in world units of voxel origin + (x, y, z), or +inf
-/// where that is not below the half-width. Called concurrently from worker
-/// threads, once per block that has a voxel in the band.
-using BandBlockSink = std::function<void(const std::array<int, 3> &origin, const float *distance)>;
+/// where that is not below the half-width; the sink may change it (it is
+/// scratch). Called concurrently from worker threads, once per block that
+/// has a voxel in the band.
+using BandBlockSink = std::function<void(const std::array<int, 3> &origin, float *distance)>;
 
 /// The band of `mesh` on the voxel grid whose voxel (i, j, k) has its centre
 /// at origin + (i, j, k) * voxelSize; `halfWidth` in voxels. `progress` (may
