@@ -2,7 +2,8 @@
  * NanoVDB's own level-set ray caster (pnanovdb_hdda_zero_crossing: a
  * hierarchical DDA that skips empty tiles and stops at the first sign change
  * between active voxels) and sdftrace's four variants, as full renders and
- * as depth alone, with each of the grid field's bounds. Prints ms per frame
+ * as depth alone, with and without cones, with each of the grid field's
+ * bounds. Prints ms per frame
  * (best of $REPEAT, default 3), ratios to the caster, and how closely the
  * depth maps agree with the caster's and, given the EXR that OpenVDB's
  * vdb_render wrote of the same view with -shader position, with
@@ -85,32 +86,6 @@ static double cast(const caster *c, const sdft_camera *cam, int w, int h, float 
                 depth[(size_t)y * w + x] = hit ? thit / len : INFINITY;
             }
     }
-    return (omp_get_wtime() - t0) * 1e3;
-}
-
-/* sdftrace's depth alone, as the caster computes it: primary rays through
- * sdft_trace, no normals, no shading. Returns ms; sums the steps. */
-static double trace_depth(const sdft_field *f, const sdft_trace_params *tp, const sdft_camera *cam, int w, int h,
-                          float *depth, uint64_t *steps)
-{
-    const sdft_view view = sdft_camera_view(cam, w, h);
-    uint64_t total = 0;
-    double t0 = omp_get_wtime();
-#pragma omp parallel reduction(+ : total)
-    {
-        sdft_scratch s;
-        f->scratch_init(f->ctx, &s);
-#pragma omp for schedule(dynamic, 4)
-        for (int y = 0; y < h; y++)
-            for (int x = 0; x < w; x++) {
-                sdft_ray r = sdft_view_ray(&view, (float)x + 0.5f, (float)y + 0.5f);
-                sdft_hit hit = sdft_trace(f, &s, &r, tp);
-                total += hit.steps;
-                int surface = hit.status == SDFT_HIT || (hit.status == SDFT_NOT_CONVERGED && tp->pixel_radius > 0.0f);
-                depth[(size_t)y * w + x] = surface ? hit.t : INFINITY;
-            }
-    }
-    *steps = total;
     return (omp_get_wtime() - t0) * 1e3;
 }
 
@@ -294,48 +269,43 @@ int main(int argc, char **argv)
     /* $BOUNDS=1 keeps only the far-bound rows (2: and the tree bound's). */
     const char *nb = getenv("BOUNDS");
     const int bounds = nb && atoi(nb) >= 1 && atoi(nb) <= 3 ? atoi(nb) : 3;
-    const float pixel_radius = sdft_camera_pixel_radius(&sc->camera, h);
-    float *depth = malloc(n * sizeof *depth);
-    if (!depth)
-        return 1;
-    /* Rows: with the far bound, each variant as a full render (normals and
-     * shading, what `sdftrace render` does) and as depth alone (what the
-     * caster does), each with the constant eps and with Keinert's
-     * screen-space criterion (-ss: converged within half a pixel's
-     * footprint); with the other bounds, full renders at the constant eps. */
+    /* Rows, with the far bound: each variant as a full render (normals and
+     * shading, what `sdftrace render` does) with the papers' constant eps;
+     * and the fast configurations: Keinert's screen-space criterion (-ss:
+     * converged within half a pixel's footprint) with cones (-cones: each
+     * tile's and block's rays first march as one cone), as a full render and
+     * as depth alone (what the caster computes), and depth alone without
+     * cones. With the tree bound alone and with no bound: full renders at
+     * the constant eps. */
+    static const struct {
+        int depth_only, screen_space, cones;
+    } configs[] = {{0, 0, 0}, {0, 1, 1}, {1, 1, 0}, {1, 1, 1}};
     for (int b = 0; b < bounds; b++) {
         const sdft_grid_bound bound = (sdft_grid_bound)b;
         f = sdft_grid_field_with(g, bound);
         for (int row = 0; row < (b == 0 ? 4 : 1) * SDFT_METHOD_COUNT; row++) {
             const sdft_method m = (sdft_method)(row % SDFT_METHOD_COUNT);
-            const int depth_only = row / SDFT_METHOD_COUNT % 2, screen_space = row / (2 * SDFT_METHOD_COUNT);
+            const int k = row / SDFT_METHOD_COUNT;
             rp.trace.method = m;
             rp.trace.omega = sdft_default_omega(m);
-            rp.screen_space = screen_space;
-            sdft_trace_params tp = rp.trace;
-            tp.pixel_radius = screen_space ? pixel_radius : 0.0f;
+            rp.depth_only = configs[k].depth_only;
+            rp.screen_space = configs[k].screen_space;
+            rp.cones = configs[k].cones;
             double ms = INFINITY;
-            uint64_t steps = 0;
+            sdft_render_stats st;
             for (int i = 0; i < repeat; i++) {
-                if (depth_only) {
-                    ms = fmin(ms, trace_depth(&f, &tp, &sc->camera, w, h, depth, &steps));
-                    continue;
-                }
-                sdft_render_stats st;
                 if (sdft_render(&f, &rp, &img, &st, msg, sizeof msg)) {
                     fprintf(stderr, "hdda_caster: %s\n", msg);
                     return 1;
                 }
                 ms = fmin(ms, st.ms);
-                steps = st.steps;
             }
             char label[64];
-            snprintf(label, sizeof label, "sdftrace-%s-%s%s%s", depth_only ? "depth" : "render", sdft_method_name(m),
-                     screen_space ? "-ss" : "", bound_suffix[bound]);
-            print_row(&tab, label, ms, depth_only ? depth : img.depth, (double)steps / (double)n);
+            snprintf(label, sizeof label, "sdftrace-%s-%s%s%s%s", rp.depth_only ? "depth" : "render",
+                     sdft_method_name(m), rp.screen_space ? "-ss" : "", rp.cones ? "-cones" : "", bound_suffix[bound]);
+            print_row(&tab, label, ms, img.depth, (double)(st.steps + st.cone_steps) / (double)n);
         }
     }
-    free(depth);
     free(vr);
     sdft_image_free(&img);
     free(hdda);

@@ -10,6 +10,7 @@
 #include <cmocka.h>
 
 #include "sdftrace/render.h"
+#include "testutil.h"
 
 /* A sphere of radius `radius` at `centre`, optionally over the plane y = floor_y;
  * counts its own evaluations when `calls` is set (single-threaded use). */
@@ -230,6 +231,109 @@ static void test_screen_space(void **state)
     sdft_image_free(&img);
 }
 
+/* A cone's spread covers every ray through its rectangle, and its march
+ * never passes a surface any of them meets: against analytic ray-sphere
+ * hits of rays through random points of each block, over a sphere seen
+ * from several views (union of the sphere and its far twin, exact SDF). */
+static float two_spheres(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    (void)ctx, (void)s;
+    return fminf(sdft_length(p) - 0.7f, sdft_length(sdft_sub(p, sdft_v3(1.5f, 0.3f, -2.0f))) - 0.5f);
+}
+
+static void test_cones_never_pass_a_surface(void **state)
+{
+    (void)state;
+    sdft_field f = {.distance = two_spheres, .bounds = {{-0.7f, -0.7f, -2.5f}, {2.0f, 0.8f, 0.7f}}};
+    sdft_scratch s;
+    tu_rng r = tu_rng_seed(21);
+    int blocks = 0, advanced = 0;
+    for (int view = 0; view < 6; view++) {
+        sdft_camera cam = {.from = sdft_v3(tu_uniform(&r, -3, 3), tu_uniform(&r, -1, 2), tu_uniform(&r, 3, 6)),
+                           .at = sdft_v3(tu_uniform(&r, -0.3f, 1.0f), 0, -0.5f),
+                           .up = {0, 1, 0},
+                           .fov_deg = tu_uniform(&r, 30, 80)};
+        const int w = 96, h = 64;
+        sdft_view v = sdft_camera_view(&cam, w, h);
+        for (int n = 4; n <= 16; n *= 4)
+            for (int y0 = 0; y0 < h; y0 += n)
+                for (int x0 = 0; x0 < w; x0 += n) {
+                    sdft_vec3 axis;
+                    const float spread =
+                        sdft_view_cone(&v, (float)x0, (float)y0, (float)(x0 + n), (float)(y0 + n), &axis);
+                    uint32_t steps = 0;
+                    const float t = sdft_cone_march(&f, &s, cam.from, axis, spread, 0.0f, 100.0f, &steps);
+                    assert_true(steps >= 1 && steps <= 64);
+                    blocks++;
+                    advanced += t > 0.0f;
+                    for (int k = 0; k < 64; k++) {
+                        sdft_ray ray =
+                            sdft_view_ray(&v, x0 + tu_uniform(&r, 0, (float)n), y0 + tu_uniform(&r, 0, (float)n));
+                        assert_true(sdft_length(sdft_sub(ray.dir, axis)) <= spread);
+                        float d0, d1;
+                        const float hit = fminf(ray_sphere(ray, sdft_v3(0, 0, 0), 0.7f, &d0),
+                                                ray_sphere(ray, sdft_v3(1.5f, 0.3f, -2.0f), 0.5f, &d1));
+                        if (t > hit)
+                            fail_msg("view %d block (%d, %d) of %d: the cone reached %g, a ray hits at %g", view, x0,
+                                     y0, n, t, hit);
+                    }
+                }
+    }
+    assert_true(advanced > blocks / 2); /* the cones do move */
+}
+
+/* With cones the picture is the same: every pixel's status, and depth to
+ * within the convergence radius's reach, for every variant; the total
+ * evaluations (per ray plus shared) drop; and the result does not depend
+ * on the thread count. Depth-only renders give the same depths and counts
+ * as full ones without shadows, and leave colour and normals zero. */
+static void test_cones_and_depth_only(void **state)
+{
+    (void)state;
+    test_scene sc = {.centre = {0, 0, 0}, .radius = 0.8f, .has_floor = 1, .floor_y = -0.8f};
+    sdft_field f = test_field(&sc);
+    for (int m = 0; m < SDFT_METHOD_COUNT; m++) {
+        sdft_render_params p = small_params();
+        p.width = 77, p.height = 53;
+        p.shadows = 0;
+        p.trace.method = (sdft_method)m;
+        p.trace.omega = sdft_default_omega((sdft_method)m);
+        sdft_image plain, coned, coned1, depth;
+        sdft_render_stats sp, sc2, sc1, sd;
+        assert_int_equal(sdft_image_alloc(&plain, p.width, p.height), 0);
+        assert_int_equal(sdft_image_alloc(&coned, p.width, p.height), 0);
+        assert_int_equal(sdft_image_alloc(&coned1, p.width, p.height), 0);
+        assert_int_equal(sdft_image_alloc(&depth, p.width, p.height), 0);
+        assert_int_equal(sdft_render(&f, &p, &plain, &sp, NULL, 0), 0);
+        p.depth_only = 1;
+        assert_int_equal(sdft_render(&f, &p, &depth, &sd, NULL, 0), 0);
+        p.depth_only = 0;
+        p.cones = 1;
+        assert_int_equal(sdft_render(&f, &p, &coned, &sc2, NULL, 0), 0);
+        p.threads = 1;
+        assert_int_equal(sdft_render(&f, &p, &coned1, &sc1, NULL, 0), 0);
+        assert_true(images_equal(&coned, &coned1));
+        assert_true(sc2.steps == sc1.steps && sc2.cone_steps == sc1.cone_steps);
+        assert_true(sp.cone_steps == 0 && sc2.cone_steps > 0);
+        assert_true(sc2.steps + sc2.cone_steps < sp.steps);
+        assert_true(sd.steps == sp.steps && sd.hits == sp.hits);
+        for (size_t i = 0; i < (size_t)p.width * p.height; i++) {
+            assert_int_equal(coned.status[i], plain.status[i]);
+            if (plain.status[i] == SDFT_HIT)
+                assert_true(fabsf(coned.depth[i] - plain.depth[i]) < 1e-3f);
+            assert_memory_equal(&depth.depth[i], &plain.depth[i], sizeof(float));
+            assert_true(depth.rgb[3 * i] == 0.0f && depth.normal[3 * i + 1] == 0.0f);
+        }
+        print_message("%s: %.2f evaluations per pixel, %.2f with cones (%.2f of them shared)\n",
+                      sdft_method_name((sdft_method)m), (double)sp.steps / sp.primary_rays,
+                      (double)(sc2.steps + sc2.cone_steps) / sp.primary_rays, (double)sc2.cone_steps / sp.primary_rays);
+        sdft_image_free(&plain);
+        sdft_image_free(&coned);
+        sdft_image_free(&coned1);
+        sdft_image_free(&depth);
+    }
+}
+
 static void test_bad_params(void **state)
 {
     (void)state;
@@ -261,9 +365,14 @@ static void test_bad_params(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_camera_frame),           cmocka_unit_test(test_depth_is_analytic),
-        cmocka_unit_test(test_thread_count_invariant), cmocka_unit_test(test_shadows_and_counts),
-        cmocka_unit_test(test_screen_space),           cmocka_unit_test(test_bad_params),
+        cmocka_unit_test(test_camera_frame),
+        cmocka_unit_test(test_depth_is_analytic),
+        cmocka_unit_test(test_thread_count_invariant),
+        cmocka_unit_test(test_shadows_and_counts),
+        cmocka_unit_test(test_screen_space),
+        cmocka_unit_test(test_bad_params),
+        cmocka_unit_test(test_cones_never_pass_a_surface),
+        cmocka_unit_test(test_cones_and_depth_only),
     };
     return cmocka_run_group_tests_name("render", tests, NULL, NULL);
 }

@@ -39,6 +39,14 @@ static inline sdft_ray sdft_view_ray(const sdft_view *v, float px, float py)
 /* Half a pixel's footprint at unit distance: Keinert's pixelRadius. */
 float sdft_camera_pixel_radius(const sdft_camera *c, int height);
 
+/* The cone of the rays through the image rectangle [x0, x1] x [y0, y1]
+ * (pixel units): its axis, the unit ray through the rectangle's centre, and
+ * its spread, the largest |d - axis| over those rays' unit directions d.
+ * The angle to the axis is quasi-convex over the image plane (the points
+ * within a given angle of the axis form a convex cone), so the largest
+ * lies at a corner; the result is nudged up for rounding. */
+float sdft_view_cone(const sdft_view *v, float x0, float y0, float x1, float y1, sdft_vec3 *axis);
+
 #ifdef __cplusplus
 }
 #endif

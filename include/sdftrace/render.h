@@ -21,6 +21,10 @@ typedef struct sdft_render_params {
     sdft_vec3 light;         /* point light, world units */
     int shadows;             /* 1: trace a hard shadow ray per hit */
     int screen_space;        /* 1: Keinert's criterion, pixel_radius from the camera */
+    int cones;               /* 1: primary rays first march together, per 16x16 tile and 4x4 block, as cones
+                              * (sdft_cone_march); each ray's trace starts where its block's cone stopped */
+    int depth_only;          /* 1: primary rays only, for depth, status and counts: no normal, shading or
+                              * shadow ray (rgb and normal planes 0) */
     int threads;             /* 0: OpenMP's default */
 } sdft_render_params;
 
@@ -31,7 +35,7 @@ typedef struct sdft_image {
     float *rgb;          /* linear RGB, 3 floats per pixel */
     float *depth;        /* Z: ray parameter t of the primary hit (distance from the eye); INFINITY where nothing is hit */
     float *normal;       /* unit world-space normal, 3 floats per pixel; 0 where nothing is hit */
-    uint32_t *steps;     /* SDF evaluations, primary + shadow ray */
+    uint32_t *steps;     /* SDF evaluations, primary + shadow ray (not the shared cones') */
     uint32_t *fallbacks; /* fallbacks, primary + shadow ray */
     uint8_t *status;     /* sdft_status of the primary ray */
 } sdft_image;
@@ -40,13 +44,15 @@ typedef struct sdft_render_stats {
     double ms;             /* wall time of the trace, milliseconds */
     uint64_t rays;         /* primary + shadow rays */
     uint64_t primary_rays; /* width * height */
-    uint64_t steps;        /* SDF evaluations over all rays */
+    uint64_t steps;        /* SDF evaluations over all rays (each ray's own trace) */
+    uint64_t cone_steps;   /* SDF evaluations of the cones, shared by their rays (0 without cones) */
     uint64_t fallbacks;
     uint64_t hits;         /* primary rays that hit */
     uint64_t nonconverged; /* primary rays that did not converge */
 } sdft_render_stats;
 
-/* Defaults: sdft_trace_defaults(), 1280x720, shadows on, no screen-space. */
+/* Defaults: sdft_trace_defaults(), 1280x720, shadows on, no screen-space,
+ * no cones (every ray's trace from the eye, as the papers count steps). */
 sdft_render_params sdft_render_defaults(void);
 
 int sdft_image_alloc(sdft_image *img, int width, int height); /* 0 on success */

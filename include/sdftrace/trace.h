@@ -85,6 +85,18 @@ sdft_hit sdft_trace_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray
 sdft_hit sdft_trace_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p);
 sdft_hit sdft_trace_auto(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p);
 
+/* Cone marching, a pre-pass for a bundle of rays that leave one origin
+ * (the primary rays through a block of pixels): with `axis` a unit vector
+ * and `spread` >= |d - axis| for every ray's unit direction d, every ray's
+ * point at parameter t lies within spread * t of the axis point, so all of
+ * them may advance from t by f(axis point) - spread * t at once. Marches
+ * the axis from tnear while the ball is much wider than the cone
+ * (f > 1.5 spread t), at most 64 evaluations, and returns a t from which
+ * every ray of the bundle may start its own trace: no surface lies on any
+ * of them before it. Adds the evaluations to *steps. */
+float sdft_cone_march(const sdft_field *f, sdft_scratch *s, sdft_vec3 org, sdft_vec3 axis, float spread, float tnear,
+                      float tfar, uint32_t *steps);
+
 /* "sphere" / "relaxed" / "enhanced" / "auto" and back; -1 if unknown. */
 const char *sdft_method_name(sdft_method m);
 int sdft_method_parse(const char *name);

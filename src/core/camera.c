@@ -43,3 +43,14 @@ float sdft_camera_pixel_radius(const sdft_camera *c, int height)
     /* A pixel is 2 tan(fov/2) / height tall at unit distance; half of it. */
     return camera_half_height(c) / (float)height;
 }
+
+float sdft_view_cone(const sdft_view *v, float x0, float y0, float x1, float y1, sdft_vec3 *axis)
+{
+    *axis = sdft_view_ray(v, 0.5f * (x0 + x1), 0.5f * (y0 + y1)).dir;
+    float spread = 0.0f;
+    for (int k = 0; k < 4; k++) {
+        const sdft_vec3 d = sdft_view_ray(v, (k & 1) ? x1 : x0, (k & 2) ? y1 : y0).dir;
+        spread = sdft_maxf(spread, sdft_length(sdft_sub(d, *axis)));
+    }
+    return spread * 1.0001f + 1e-7f;
+}

@@ -6,7 +6,13 @@
  * TILE x TILE pixels are handed out dynamically to OpenMP threads; each
  * thread owns one scratch, and statistics are summed per tile, then over the
  * tiles in a fixed order, so the image and the counts do not depend on the
- * thread count. Nothing is allocated per ray. */
+ * thread count. Nothing is allocated per ray.
+ *
+ * With `cones`, each tile's primary rays first march together as one cone
+ * (sdft_cone_march), then each BLOCK x BLOCK block's from there, and each
+ * ray's own trace starts where its block's cone stopped: the empty space
+ * in front of the surface is crossed once per bundle instead of once per
+ * ray. Those shared evaluations are counted apart (cone_steps). */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -15,7 +21,7 @@
 
 #include "sdftrace/render.h"
 
-enum { TILE = 16 };
+enum { TILE = 16, BLOCK = 4 };
 
 /* Shading constants: a warm grey surface, a blue sky. */
 static const sdft_vec3 ALBEDO = {0.80f, 0.76f, 0.70f};
@@ -107,29 +113,34 @@ typedef struct frame {
     sdft_trace_params tp; /* with the screen-space pixel radius, if asked */
     float feature;        /* the field's feature size: the normal's step */
     sdft_view view;
+    float cone_tfar; /* with cones: beyond it every primary ray has left the field's box */
 } frame;
 
-static pixel_result shade_pixel(const frame *fr, sdft_scratch *s, int x, int y)
+static pixel_result shade_pixel(const frame *fr, sdft_scratch *s, int x, int y, float tnear)
 {
     const sdft_field *f = fr->f;
     const sdft_render_params *rp = fr->rp;
     const sdft_trace_params *tp = &fr->tp;
     pixel_result out = {.depth = INFINITY};
     sdft_ray ray = sdft_view_ray(&fr->view, (float)x + 0.5f, (float)y + 0.5f);
+    ray.tnear = tnear;
     sdft_hit h = sdft_trace(f, s, &ray, tp);
     out.steps = h.steps, out.fallbacks = h.fallbacks, out.rays = 1, out.status = h.status;
     /* A non-converged ray is shaded as a hit only with the screen-space
      * criterion, whose best candidate is meant to be used (Keinert §3.2). */
     int surface = h.status == SDFT_HIT || (h.status == SDFT_NOT_CONVERGED && tp->pixel_radius > 0.0f);
     if (!surface) {
-        out.rgb = sky(ray.dir);
+        out.rgb = rp->depth_only ? sdft_v3(0, 0, 0) : sky(ray.dir);
         return out;
     }
+    out.depth = h.t;
+    if (rp->depth_only)
+        return out;
     sdft_vec3 p = sdft_madd(ray.org, ray.dir, h.t);
     sdft_vec3 n = sdft_field_normal(f, s, p);
     if (!sdft_isfinite3(n) || !(sdft_length(n) > 0.5f))
         n = sdft_scale(ray.dir, -1.0f);
-    out.depth = h.t, out.normal = n;
+    out.normal = n;
 
     sdft_vec3 l = sdft_normalize(sdft_sub(rp->light, p));
     float diffuse = sdft_maxf(sdft_dot(n, l), 0.0f);
@@ -145,10 +156,50 @@ static pixel_result shade_pixel(const frame *fr, sdft_scratch *s, int x, int y)
     return out;
 }
 
+/* The distance from p to the farthest corner of box b. */
+static float farthest_corner(sdft_aabb b, sdft_vec3 p)
+{
+    float far = 0.0f;
+    for (int k = 0; k < 8; k++)
+        far = sdft_maxf(
+            far, sdft_length(sdft_sub(
+                     sdft_v3((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z), p)));
+    return far;
+}
+
 /* Sums over one tile, added up in tile order after the parallel loop. */
 typedef struct tile_stats {
     uint64_t rays, steps, fallbacks, hits, nonconverged;
+    uint32_t cone_steps;
 } tile_stats;
+
+/* Traces and shades pixel (x, y) from tnear into img and the tile's sums. */
+static void render_pixel(const frame *fr, sdft_scratch *s, int x, int y, float tnear, sdft_image *img, tile_stats *ts)
+{
+    pixel_result px = shade_pixel(fr, s, x, y, tnear);
+    size_t i = (size_t)y * (size_t)fr->rp->width + (size_t)x;
+    img->rgb[3 * i + 0] = px.rgb.x, img->rgb[3 * i + 1] = px.rgb.y, img->rgb[3 * i + 2] = px.rgb.z;
+    img->normal[3 * i + 0] = px.normal.x, img->normal[3 * i + 1] = px.normal.y;
+    img->normal[3 * i + 2] = px.normal.z;
+    img->depth[i] = px.depth;
+    img->steps[i] = px.steps;
+    img->fallbacks[i] = px.fallbacks;
+    img->status[i] = (uint8_t)px.status;
+    ts->rays += px.rays, ts->steps += px.steps, ts->fallbacks += px.fallbacks;
+    ts->hits += px.status == SDFT_HIT;
+    ts->nonconverged += px.status == SDFT_NOT_CONVERGED;
+}
+
+/* Where the primary rays through pixels [x0, x1) x [y0, y1) may start:
+ * with cones, as far as sdft_cone_march takes their bundle from `t`. */
+static float block_start(const frame *fr, sdft_scratch *s, int x0, int y0, int x1, int y1, float t, tile_stats *ts)
+{
+    if (!fr->rp->cones)
+        return t;
+    sdft_vec3 axis;
+    const float spread = sdft_view_cone(&fr->view, (float)x0, (float)y0, (float)x1, (float)y1, &axis);
+    return sdft_cone_march(fr->f, s, fr->rp->camera.from, axis, spread, t, fr->cone_tfar, &ts->cone_steps);
+}
 
 static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *img, tile_stats *ts)
 {
@@ -158,22 +209,17 @@ static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *
     int x1 = x0 + TILE < rp->width ? x0 + TILE : rp->width;
     int y1 = y0 + TILE < rp->height ? y0 + TILE : rp->height;
     *ts = (tile_stats){0};
-    for (int y = y0; y < y1; y++) {
-        for (int x = x0; x < x1; x++) {
-            pixel_result px = shade_pixel(fr, s, x, y);
-            size_t i = (size_t)y * (size_t)rp->width + (size_t)x;
-            img->rgb[3 * i + 0] = px.rgb.x, img->rgb[3 * i + 1] = px.rgb.y, img->rgb[3 * i + 2] = px.rgb.z;
-            img->normal[3 * i + 0] = px.normal.x, img->normal[3 * i + 1] = px.normal.y;
-            img->normal[3 * i + 2] = px.normal.z;
-            img->depth[i] = px.depth;
-            img->steps[i] = px.steps;
-            img->fallbacks[i] = px.fallbacks;
-            img->status[i] = (uint8_t)px.status;
-            ts->rays += px.rays, ts->steps += px.steps, ts->fallbacks += px.fallbacks;
-            ts->hits += px.status == SDFT_HIT;
-            ts->nonconverged += px.status == SDFT_NOT_CONVERGED;
+    /* The tile's bundle, then each BLOCK x BLOCK bundle from there, then
+     * each ray from there (all start at 0 without cones). */
+    const float t_tile = block_start(fr, s, x0, y0, x1, y1, 0.0f, ts);
+    for (int by = y0; by < y1; by += BLOCK)
+        for (int bx = x0; bx < x1; bx += BLOCK) {
+            const int bx1 = bx + BLOCK < x1 ? bx + BLOCK : x1, by1 = by + BLOCK < y1 ? by + BLOCK : y1;
+            const float t_block = block_start(fr, s, bx, by, bx1, by1, t_tile, ts);
+            for (int y = by; y < by1; y++)
+                for (int x = bx; x < bx1; x++)
+                    render_pixel(fr, s, x, y, t_block, img, ts);
         }
-    }
 }
 
 static const char *render_params_problem(const sdft_field *f, const sdft_render_params *rp, const sdft_image *img)
@@ -225,7 +271,8 @@ int sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_imag
                       .rp = params,
                       .tp = tp,
                       .feature = sdft_field_feature_size(f),
-                      .view = sdft_camera_view(&params->camera, params->width, params->height)};
+                      .view = sdft_camera_view(&params->camera, params->width, params->height),
+                      .cone_tfar = farthest_corner(f->bounds, params->camera.from)};
     int threads = params->threads > 0 ? params->threads : omp_get_max_threads();
 
     double t0 = omp_get_wtime();
@@ -247,6 +294,7 @@ int sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_imag
         st.fallbacks += per_tile[tile].fallbacks;
         st.hits += per_tile[tile].hits;
         st.nonconverged += per_tile[tile].nonconverged;
+        st.cone_steps += per_tile[tile].cone_steps;
     }
     free(per_tile);
     if (stats)
