@@ -270,20 +270,20 @@ int main(int argc, char **argv)
     const char *nb = getenv("BOUNDS");
     const int bounds = nb && atoi(nb) >= 1 && atoi(nb) <= 3 ? atoi(nb) : 3;
     /* Rows, with the far bound: each variant as a full render (normals and
-     * shading, what `sdftrace render` does) with the papers' constant eps;
-     * and the fast configurations: Keinert's screen-space criterion (-ss:
-     * converged within half a pixel's footprint) with cones (-cones: each
-     * tile's and block's rays first march as one cone), as a full render and
-     * as depth alone (what the caster computes), and depth alone without
-     * cones. With the tree bound alone and with no bound: full renders at
-     * the constant eps. */
+     * shading, what `sdftrace render` does) with the papers' constant eps,
+     * then with cones (-cones: each tile's and block's rays first march as
+     * one cone), then also with Keinert's screen-space criterion (-ss:
+     * converged within half a pixel's footprint); and depth alone (what
+     * the caster computes) with cones, at either criterion. With the tree
+     * bound alone and with no bound: full renders at the constant eps. */
     static const struct {
         int depth_only, screen_space, cones;
-    } configs[] = {{0, 0, 0}, {0, 1, 1}, {1, 1, 0}, {1, 1, 1}};
+    } configs[] = {{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {1, 0, 1}, {1, 1, 1}};
+    enum { CONFIGS = sizeof configs / sizeof configs[0] };
     for (int b = 0; b < bounds; b++) {
         const sdft_grid_bound bound = (sdft_grid_bound)b;
         f = sdft_grid_field_with(g, bound);
-        for (int row = 0; row < (b == 0 ? 4 : 1) * SDFT_METHOD_COUNT; row++) {
+        for (int row = 0; row < (b == 0 ? CONFIGS : 1) * SDFT_METHOD_COUNT; row++) {
             const sdft_method m = (sdft_method)(row % SDFT_METHOD_COUNT);
             const int k = row / SDFT_METHOD_COUNT;
             rp.trace.method = m;
