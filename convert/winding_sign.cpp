@@ -119,15 +119,16 @@ std::vector<WindingSign::OpenEdge> openEdges(const TriangleMesh &mesh)
     return edges;
 }
 
-// Bound on |grad w| within half a voxel of a voxel centre of one block: a
-// step between face-adjacent voxels lies within half a voxel of one of its
-// two ends, so the larger of their two bounds holds along it.
+// Bound on |grad w| within sqrt(3)/2 voxel of a voxel centre of one block:
+// every point of a step to one of the 26 neighbours lies within half the
+// step's length, at most sqrt(3)/2 voxel, of one of its two ends, so the
+// larger of their two bounds holds along it.
 class BlockGradientBound
 {
   public:
     BlockGradientBound(const std::vector<WindingSign::OpenEdge> &edges, const double lo[3], const double hi[3],
                        double voxelSize)
-        : mHalfVoxel(0.5 * voxelSize)
+        : mReach(0.5 * std::sqrt(3.0) * voxelSize)
     {
         for (const auto &e : edges) {
             double d2 = 0;
@@ -135,7 +136,7 @@ class BlockGradientBound
                 const double gap = std::max({e.lo[k] - hi[k], 0.0, lo[k] - e.hi[k]});
                 d2 += gap * gap;
             }
-            const double d = std::sqrt(d2) - mHalfVoxel;
+            const double d = std::sqrt(d2) - mReach;
             if (d > kNearVoxels * voxelSize)
                 mFar += e.current * edgeField(d, e.length);
             else
@@ -146,12 +147,12 @@ class BlockGradientBound
     {
         double g = mFar;
         for (const auto *e : mNear)
-            g += e->current * edgeField(segmentDistance(*e, p) - mHalfVoxel, e->length);
+            g += e->current * edgeField(segmentDistance(*e, p) - mReach, e->length);
         return g;
     }
 
   private:
-    double mHalfVoxel;
+    double mReach;
     double mFar = 0;
     std::vector<const WindingSign::OpenEdge *> mNear;
 };
@@ -164,11 +165,14 @@ WindingSign::WindingSign(const TriangleMesh &mesh, const FastWinding &winding, c
 {
 }
 
-// Without evaluating w at every voxel: two face-adjacent voxels a, b whose
-// exact distances satisfy d(a) + d(b) > h lie on a segment that cannot cross
-// the mesh (a crossing point x would give d(a) + d(b) <= |a-x| + |x-b| = h),
-// so w is smooth between them and changes along it by at most h times the
-// larger gradient bound of a and b (BlockGradientBound). So: split the
+// Without evaluating w at every voxel: two voxels a, b, neighbours in the
+// 26-neighbourhood, whose exact distances satisfy d(a) + d(b) > |a-b| lie on
+// a segment that cannot cross the mesh (a crossing point x would give
+// d(a) + d(b) <= |a-x| + |x-b| = |a-b|), so w is smooth between them and
+// changes along it by at most |a-b| times the larger gradient bound of a and
+// b (BlockGradientBound). (Diagonal steps matter: next to a surface that is
+// not axis-aligned, a voxel nearer than half a voxel often has no face
+// neighbour far enough for the test, but one along a diagonal.) So: split the
 // block's band voxels into components connected by such steps; evaluate w
 // at the voxel farthest from the surface and walk the component breadth
 // first from it; a voxel whose walk from the last evaluated voxel (its
@@ -178,7 +182,6 @@ WindingSign::WindingSign(const TriangleMesh &mesh, const FastWinding &winding, c
 void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) const
 {
     const double h = mVoxelSize;
-    const float crossing = float(h) * (1.0f + 1e-5f);
     auto world = [&](int v, double *p) {
         const int x = v >> (2 * kBlockLog2), y = (v >> kBlockLog2) & (kBlockDim - 1), z = v & (kBlockDim - 1);
         p[0] = mOrigin[0] + (origin[0] + x) * h;
@@ -194,8 +197,8 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
     world(0, lo);
     world(kBlockSize - 1, hi);
     const BlockGradientBound gradient(mEdges, lo, hi, h);
-    // Change of w per step from voxel v, with a margin for rounding; < 0
-    // until computed.
+    // Change of w per voxel length of a step from voxel v, with a margin for
+    // rounding; < 0 until computed.
     double stepBound[kBlockSize];
     std::fill(stepBound, stepBound + kBlockSize, -1.0);
     auto stepAt = [&](int v) {
@@ -206,70 +209,88 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
         }
         return stepBound[v];
     };
+    // The 26 neighbour offsets, their lengths in voxels, and the length in
+    // world units (with a margin for rounding) that d(a) + d(b) must exceed.
+    struct Step {
+        int dx, dy, dz;
+        double length;
+        float crossing;
+    };
+    Step steps[26];
+    int stepCount = 0;
+    for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dz = -1; dz <= 1; ++dz)
+                if (dx || dy || dz) {
+                    const double length = std::sqrt(double(dx * dx + dy * dy + dz * dz));
+                    steps[stepCount++] = {dx, dy, dz, length, float(length * h) * (1.0f + 1e-5f)};
+                }
 
     auto inBand = [&](int v) { return std::isfinite(distance[v]); };
     auto neighbours = [&](int v, auto &&visit) {
         const int x = v >> (2 * kBlockLog2), y = (v >> kBlockLog2) & (kBlockDim - 1), z = v & (kBlockDim - 1);
-        const int next[6][3] = {{x - 1, y, z}, {x + 1, y, z}, {x, y - 1, z},
-                                {x, y + 1, z}, {x, y, z - 1}, {x, y, z + 1}};
-        for (const auto &n : next) {
+        for (const Step &s : steps) {
+            const int n[3] = {x + s.dx, y + s.dy, z + s.dz};
             if (n[0] < 0 || n[1] < 0 || n[2] < 0 || n[0] >= kBlockDim || n[1] >= kBlockDim || n[2] >= kBlockDim)
                 continue;
             const int u = (((n[0] << kBlockLog2) | n[1]) << kBlockLog2) | n[2];
-            if (inBand(u) && distance[v] + distance[u] > crossing)
-                visit(u);
+            if (inBand(u) && distance[v] + distance[u] > s.crossing)
+                visit(u, s.length);
         }
     };
-    constexpr int kUnseen = -1, kWalked = kBlockSize;
-    int component[kBlockSize];
-    std::fill(component, component + kBlockSize, kUnseen);
-    int queue[kBlockSize];
-    double drift[kBlockSize];   // bound on |w - w(anchor)| along the walk from the anchor
-    double anchorW[kBlockSize]; // winding number at the voxel's anchor
-    for (int seed = 0; seed < kBlockSize; ++seed) {
-        if (!inBand(seed) || component[seed] != kUnseen)
-            continue;
-        // Find one component from `seed` and its voxel farthest from the surface.
-        int head = 0, tail = 0, farthest = seed;
-        component[seed] = seed;
-        queue[tail++] = seed;
-        while (head < tail) {
-            const int v = queue[head++];
-            if (distance[v] > distance[farthest])
-                farthest = v;
-            neighbours(v, [&](int u) {
-                if (component[u] == kUnseen) {
-                    component[u] = seed;
-                    queue[tail++] = u;
-                }
-            });
+    // Most certain first: a max-heap on margin = |w(anchor) - 1/2| - drift.
+    double margin[kBlockSize], drift[kBlockSize], anchorW[kBlockSize];
+    bool decided[kBlockSize];
+    std::fill(margin, margin + kBlockSize, -INFINITY);
+    std::fill(decided, decided + kBlockSize, false);
+    std::vector<std::pair<double, int>> heap;
+    heap.reserve(2 * kBlockSize);
+    auto push = [&](int v) {
+        heap.emplace_back(margin[v], v);
+        std::push_heap(heap.begin(), heap.end());
+    };
+    auto evaluate = [&](int v) {
+        anchorW[v] = windingAt(v);
+        drift[v] = 0;
+        margin[v] = std::abs(anchorW[v] - 0.5);
+    };
+    for (;;) {
+        if (heap.empty()) {
+            // A new component: evaluate at its voxel farthest from the surface.
+            int farthest = -1;
+            for (int v = 0; v < kBlockSize; ++v)
+                if (inBand(v) && !decided[v] && (farthest < 0 || distance[v] > distance[farthest]))
+                    farthest = v;
+            if (farthest < 0)
+                break;
+            evaluate(farthest);
+            push(farthest);
         }
-        // Walk it again from the farthest voxel, deciding signs in that order.
-        head = tail = 0;
-        queue[tail++] = farthest;
-        component[farthest] = kWalked;
-        drift[farthest] = 0;
-        anchorW[farthest] = windingAt(farthest);
-        while (head < tail) {
-            const int v = queue[head++];
-            if (!(std::abs(anchorW[v] - 0.5) > drift[v])) {
-                anchorW[v] = windingAt(v);
-                drift[v] = 0;
+        std::pop_heap(heap.begin(), heap.end());
+        const auto [top, v] = heap.back();
+        heap.pop_back();
+        if (decided[v] || top < margin[v])
+            continue; // settled already, or a stale entry
+        if (!(margin[v] > 0))
+            evaluate(v); // no walk from an evaluated voxel decides it
+        decided[v] = true;
+        neighbours(v, [&](int u, double length) {
+            if (decided[u])
+                return;
+            const double d = mEdges.empty() ? 0.0 : drift[v] + length * std::max(stepAt(v), stepAt(u));
+            const double m = std::abs(anchorW[v] - 0.5) - d;
+            if (m > margin[u]) {
+                margin[u] = m;
+                drift[u] = d;
+                anchorW[u] = anchorW[v];
+                push(u);
             }
-            neighbours(v, [&](int u) {
-                if (component[u] == seed) {
-                    component[u] = kWalked;
-                    drift[u] = mEdges.empty() ? 0.0 : drift[v] + std::max(stepAt(v), stepAt(u));
-                    anchorW[u] = anchorW[v];
-                    queue[tail++] = u;
-                }
-            });
-        }
-        // Negate only now: the walk reads the unsigned distances.
-        for (int i = 0; i < tail; ++i)
-            if (anchorW[queue[i]] > 0.5)
-                distance[queue[i]] = -distance[queue[i]];
+        });
     }
+    // Negate only now: the walk reads the unsigned distances.
+    for (int v = 0; v < kBlockSize; ++v)
+        if (inBand(v) && anchorW[v] > 0.5)
+            distance[v] = -distance[v];
 }
 
 } // namespace mesh2sdf
