@@ -17,13 +17,15 @@
 #include <fstream>
 #include <unordered_map>
 
-namespace mesh2sdf {
+namespace mesh2sdf
+{
 
-namespace {
+namespace
+{
 
 using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
 
-std::string lowerExtension(const std::string& path)
+std::string lowerExtension(const std::string &path)
 {
     const size_t dot = path.find_last_of('.');
     const size_t slash = path.find_last_of('/');
@@ -35,7 +37,7 @@ std::string lowerExtension(const std::string& path)
 }
 
 // Twice the squared area of a triangle, in double.
-double doubleArea2(const std::array<float, 3>& a, const std::array<float, 3>& b, const std::array<float, 3>& c)
+double doubleArea2(const std::array<float, 3> &a, const std::array<float, 3> &b, const std::array<float, 3> &c)
 {
     const double e1[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
     const double e2[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
@@ -45,14 +47,14 @@ double doubleArea2(const std::array<float, 3>& a, const std::array<float, 3>& b,
 }
 
 // Boundary and non-manifold edge counts on vertices welded by exact position.
-void countEdges(TriangleMesh& mesh)
+void countEdges(TriangleMesh &mesh)
 {
     struct Key {
         float x, y, z;
-        bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+        bool operator==(const Key &o) const { return x == o.x && y == o.y && z == o.z; }
     };
     struct KeyHash {
-        size_t operator()(const Key& k) const
+        size_t operator()(const Key &k) const
         {
             uint32_t b[3];
             std::memcpy(b, &k, sizeof b);
@@ -62,12 +64,12 @@ void countEdges(TriangleMesh& mesh)
     std::unordered_map<Key, uint32_t, KeyHash> weld;
     std::vector<uint32_t> id(mesh.points.size());
     for (size_t i = 0; i < mesh.points.size(); ++i) {
-        const auto& p = mesh.points[i];
+        const auto &p = mesh.points[i];
         id[i] = weld.emplace(Key{p[0] + 0.0f, p[1] + 0.0f, p[2] + 0.0f}, uint32_t(weld.size())).first->second;
     }
     std::unordered_map<uint64_t, uint32_t> uses;
     uses.reserve(mesh.triangles.size() * 2);
-    for (const auto& t : mesh.triangles)
+    for (const auto &t : mesh.triangles)
         for (int k = 0; k < 3; ++k) {
             uint64_t a = id[t[k]], b = id[t[(k + 1) % 3]];
             if (a > b)
@@ -75,7 +77,7 @@ void countEdges(TriangleMesh& mesh)
             ++uses[(a << 32) | b];
         }
     std::vector<uint8_t> openVertex(weld.size(), 0);
-    for (const auto& e : uses) {
+    for (const auto &e : uses) {
         if (e.second == 1)
             ++mesh.health.boundaryEdges;
         else if (e.second > 2)
@@ -85,7 +87,7 @@ void countEdges(TriangleMesh& mesh)
     }
     mesh.nearOpenEdge.resize(mesh.triangles.size());
     for (size_t t = 0; t < mesh.triangles.size(); ++t) {
-        const auto& tri = mesh.triangles[t];
+        const auto &tri = mesh.triangles[t];
         mesh.nearOpenEdge[t] = openVertex[id[tri[0]]] | openVertex[id[tri[1]]] | openVertex[id[tri[2]]];
     }
 }
@@ -94,16 +96,16 @@ void countEdges(TriangleMesh& mesh)
 // ("nan", "inf", 1e999), shifting every later index; so OBJ vertex lines
 // are checked here first. Binary formats carry NaN and Inf through and are
 // caught after reading.
-bool checkObjCoordinates(const std::string& path, std::string& error)
+bool checkObjCoordinates(const std::string &path, std::string &error)
 {
     std::ifstream in(path);
     std::string line;
     for (size_t number = 1; std::getline(in, line); ++number) {
         if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t'))
             continue;
-        const char* s = line.c_str() + 2;
+        const char *s = line.c_str() + 2;
         for (int k = 0; k < 3; ++k) {
-            char* end = nullptr;
+            char *end = nullptr;
             const double v = std::strtod(s, &end);
             if (end == s || !std::isfinite(v)) {
                 error = "mesh has a non-finite or malformed coordinate (line " + std::to_string(number) + "): " + path;
@@ -117,13 +119,13 @@ bool checkObjCoordinates(const std::string& path, std::string& error)
 
 } // namespace
 
-bool isMeshExtension(const std::string& path)
+bool isMeshExtension(const std::string &path)
 {
     const std::string ext = lowerExtension(path);
     return ext == "obj" || ext == "ply" || ext == "off" || ext == "stl" || ext == "om";
 }
 
-bool loadMesh(const std::string& path, TriangleMesh& mesh, std::string& error)
+bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
 {
     if (!isMeshExtension(path)) {
         error = "unknown mesh extension '" + lowerExtension(path) + "' (use .obj .ply .off .stl .om): " + path;
@@ -156,7 +158,7 @@ bool loadMesh(const std::string& path, TriangleMesh& mesh, std::string& error)
     }
     mesh.points.resize(poly.n_vertices());
     for (const auto vh : poly.vertices()) {
-        const auto& p = poly.point(vh);
+        const auto &p = poly.point(vh);
         if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
             error = "mesh has a non-finite coordinate (vertex " + std::to_string(vh.idx()) + "): " + path;
             return false;
@@ -184,7 +186,7 @@ bool loadMesh(const std::string& path, TriangleMesh& mesh, std::string& error)
     }
     mesh.lo = {INFINITY, INFINITY, INFINITY};
     mesh.hi = {-INFINITY, -INFINITY, -INFINITY};
-    for (const auto& t : mesh.triangles)
+    for (const auto &t : mesh.triangles)
         for (uint32_t v : t)
             for (int k = 0; k < 3; ++k) {
                 mesh.lo[k] = std::min(mesh.lo[k], double(mesh.points[v][k]));

@@ -8,15 +8,16 @@
 #include <string>
 #include <vector>
 
-namespace mesh2sdf {
+namespace mesh2sdf
+{
 
 struct MeshHealth {
     size_t vertices = 0;
-    size_t faces = 0;           // polygons as read
-    size_t triangles = 0;       // after triangulation, degenerate ones dropped
-    size_t boundaryEdges = 0;   // edges used by one triangle
+    size_t faces = 0;            // polygons as read
+    size_t triangles = 0;        // after triangulation, degenerate ones dropped
+    size_t boundaryEdges = 0;    // edges used by one triangle
     size_t nonManifoldEdges = 0; // edges used by three or more triangles
-    size_t degenerateFaces = 0; // zero-area triangles (skipped)
+    size_t degenerateFaces = 0;  // zero-area triangles (skipped)
     bool closed() const { return boundaryEdges == 0 && nonManifoldEdges == 0; }
 };
 
@@ -36,10 +37,10 @@ struct TriangleMesh {
 /// duplicated vertices counts as closed). Returns false and sets `error` to
 /// one line on a missing or unreadable file, an unknown extension, no faces,
 /// non-finite coordinates or a zero-size bounding box.
-bool loadMesh(const std::string& path, TriangleMesh& mesh, std::string& error);
+bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error);
 
 /// True if `path` ends in an extension loadMesh reads (case-insensitive).
-bool isMeshExtension(const std::string& path);
+bool isMeshExtension(const std::string &path);
 
 } // namespace mesh2sdf
 
