@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <sstream>
 #include <unordered_map>
 
 namespace mesh2sdf
@@ -76,43 +77,84 @@ void countEdges(TriangleMesh &mesh)
                 std::swap(a, b);
             ++uses[(a << 32) | b];
         }
-    std::vector<uint8_t> openVertex(weld.size(), 0);
     for (const auto &e : uses) {
         if (e.second == 1)
             ++mesh.health.boundaryEdges;
         else if (e.second > 2)
             ++mesh.health.nonManifoldEdges;
-        if (e.second != 2)
-            openVertex[e.first >> 32] = openVertex[e.first & 0xffffffffu] = 1;
-    }
-    mesh.nearOpenEdge.resize(mesh.triangles.size());
-    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
-        const auto &tri = mesh.triangles[t];
-        mesh.nearOpenEdge[t] = openVertex[id[tri[0]]] | openVertex[id[tri[1]]] | openVertex[id[tri[2]]];
     }
 }
 
-// OpenMesh's OBJ reader silently drops a vertex line it cannot parse
-// ("nan", "inf", 1e999), shifting every later index; so OBJ vertex lines
-// are checked here first. Binary formats carry NaN and Inf through and are
-// caught after reading.
-bool checkObjCoordinates(const std::string &path, std::string &error)
+// True if `word` is a whole number that is not finite ("nan", "inf", 1e999).
+bool nonFiniteNumber(const std::string &word)
+{
+    char *end = nullptr;
+    const double v = std::strtod(word.c_str(), &end);
+    return end != word.c_str() && *end == '\0' && !std::isfinite(v);
+}
+
+// OpenMesh's text readers do not report a coordinate they cannot parse
+// ("nan", "inf", 1e999): the OBJ reader drops the vertex line, shifting
+// every later index, the OFF and PLY readers stop and find no faces, the STL
+// reader goes on with a wrong vertex. So the coordinates of text files are
+// checked here first: OBJ "v" lines, every number after OFF's keyword line
+// or PLY's end_header, and STL "vertex" lines. Binary formats carry NaN and
+// Inf through and are caught after reading.
+bool checkTextCoordinates(const std::string &path, const std::string &ext, std::string &error)
 {
     std::ifstream in(path);
-    std::string line;
+    std::string line, word;
+    bool data = false; // OFF, PLY: past the header
     for (size_t number = 1; std::getline(in, line); ++number) {
-        if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t'))
+        std::istringstream words(ext == "off" ? line.substr(0, line.find('#')) : line);
+        int check = 0; // words to check on this line; -1: all
+        if (ext == "obj") {
+            if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t'))
+                continue;
+            words >> word; // "v"
+            for (int k = 0; k < 3; ++k) {
+                if (!(words >> word)) {
+                    error = "mesh has a malformed coordinate (line " + std::to_string(number) + "): " + path;
+                    return false;
+                }
+                char *end = nullptr;
+                const double v = std::strtod(word.c_str(), &end);
+                if (*end != '\0' || !std::isfinite(v)) {
+                    error =
+                        "mesh has a non-finite or malformed coordinate (line " + std::to_string(number) + "): " + path;
+                    return false;
+                }
+            }
             continue;
-        const char *s = line.c_str() + 2;
-        for (int k = 0; k < 3; ++k) {
-            char *end = nullptr;
-            const double v = std::strtod(s, &end);
-            if (end == s || !std::isfinite(v)) {
-                error = "mesh has a non-finite or malformed coordinate (line " + std::to_string(number) + "): " + path;
+        } else if (ext == "off") {
+            if (!data) { // the keyword line: OFF, COFF, NOFF ...; binary OFF is checked after reading
+                if (!(words >> word))
+                    continue;
+                if (word.find("OFF") == std::string::npos || line.find("BINARY") != std::string::npos)
+                    return true;
+                data = true;
+            }
+            check = -1;
+        } else if (ext == "ply") {
+            if (!data) {
+                if (line.rfind("format", 0) == 0 && line.find("ascii") == std::string::npos)
+                    return true; // binary
+                data = line.rfind("end_header", 0) == 0;
+                continue;
+            }
+            check = -1;
+        } else if (ext == "stl") {
+            if (!(words >> word) || word != "vertex")
+                continue;
+            check = 3;
+        } else {
+            return true;
+        }
+        for (int k = 0; (check < 0 || k < check) && words >> word; ++k)
+            if (nonFiniteNumber(word)) {
+                error = "mesh has a non-finite coordinate (line " + std::to_string(number) + "): " + path;
                 return false;
             }
-            s = end;
-        }
     }
     return true;
 }
@@ -135,7 +177,7 @@ bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
         error = "cannot open mesh: " + path;
         return false;
     }
-    if (lowerExtension(path) == "obj" && !checkObjCoordinates(path, error))
+    if (!checkTextCoordinates(path, lowerExtension(path), error))
         return false;
     // OpenMesh reports complex edges and parse problems on its own streams;
     // the health line below says what matters, once.

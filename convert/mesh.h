@@ -25,9 +25,6 @@ struct TriangleMesh {
     std::vector<std::array<float, 3>> points;
     std::vector<std::array<uint32_t, 3>> triangles;
     std::array<double, 3> lo{}, hi{}; // bounding box of the used points
-    /// Per triangle: 1 if a corner lies on a boundary or non-manifold edge
-    /// (where the winding number varies in open space, off the surface).
-    std::vector<uint8_t> nearOpenEdge;
     MeshHealth health;
 };
 

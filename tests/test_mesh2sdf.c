@@ -781,6 +781,33 @@ static void test_bad_input(void **state)
         expect_failure(args, "non-finite");
         assert_no_output(out_vdb);
     }
+    /* ... and as text in OFF, ASCII PLY and ASCII STL, where OpenMesh's
+     * readers would report no faces or go on with a wrong vertex */
+    const double saved = m.v[0];
+    for (int i = 0; i < 2; i++) {
+        m.v[0] = poison[i];
+        tu_tmp(path, sizeof path, "nonfinite.off");
+        write_off(path, &m);
+        snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
+        expect_failure(args, "non-finite");
+        assert_no_output(out_vdb);
+        tu_tmp(path, sizeof path, "nonfinite_ascii.ply");
+        write_ply(path, &m);
+        snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
+        expect_failure(args, "non-finite");
+        assert_no_output(out_vdb);
+        char text[512];
+        snprintf(text, sizeof text,
+                 "solid t\nfacet normal 0 0 1\nouter loop\nvertex %s 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\n"
+                 "endfacet\nendsolid t\n",
+                 i == 0 ? "nan" : "inf");
+        tu_tmp(path, sizeof path, "nonfinite_ascii.stl");
+        write_text(path, text);
+        snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
+        expect_failure(args, "non-finite");
+        assert_no_output(out_vdb);
+    }
+    m.v[0] = saved;
     mesh_free(&m);
 
     /* every triangle degenerate / zero-size bounding box */
