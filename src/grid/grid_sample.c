@@ -315,10 +315,8 @@ GRID_INLINE float sample(const sdft_grid *g, pnanovdb_grid_type_t type, pnanovdb
             *level = 5;
         return b;
     }
-    int vlevel = 0;
-    float v;
-    if (!(type == PNANOVDB_GRID_TYPE_FLOAT && sample_leaves(g, x, &v)))
-        v = sample_tree(g, type, acc, x, &vlevel, bound != SDFT_GRID_BOUND_NONE);
+    int vlevel;
+    const float v = sample_index(g, type, acc, x, &vlevel, bound != SDFT_GRID_BOUND_NONE);
     if (b == 0.0f || (fabsf(v) > fabsf(b) && (v < 0.0f) == (b < 0.0f))) {
         if (level)
             *level = vlevel;
