@@ -190,7 +190,7 @@ GRID_INLINE int sample_leaves(const sdft_grid *g, const float x[3], float *value
 /* The field at index point x through the read accessor: trilinear in
  * leaves, the tree bound in tiles (if `bound`). `type` as for read_value.
  * For float grids the leaf directory serves most points, so this path is
- * kept out of line, out of the hot loop's way (5% faster on the bench). */
+ * kept out of line, out of the hot loop's way. */
 GRID_COLD float sample_tree(const sdft_grid *g, pnanovdb_grid_type_t type, pnanovdb_readaccessor_t *acc,
                             const float x[3], int *level_out, int bound)
 {
