@@ -91,7 +91,7 @@ sdft_hit sdft_trace_auto(const sdft_field *f, sdft_scratch *s, const sdft_ray *r
  * point at parameter t lies within spread * t of the axis point, so all of
  * them may advance from t by f(axis point) - spread * t at once. Marches
  * the axis from tnear while the ball is much wider than the cone
- * (f > 1.5 spread t), at most 64 evaluations, and returns a t from which
+ * (f > 1.25 spread t), at most 64 evaluations, and returns a t from which
  * every ray of the bundle may start its own trace: no surface lies on any
  * of them before it. Adds the evaluations to *steps. */
 float sdft_cone_march(const sdft_field *f, sdft_scratch *s, sdft_vec3 org, sdft_vec3 axis, float spread, float tnear,

@@ -7,7 +7,7 @@
  * the surface. Every ray's point q_i(t') for t' in [t, t + r - c t] lies
  * within |q_i(t') - q_i(t)| + |q_i(t) - p| <= (t' - t) + c t <= r of p,
  * inside the empty ball: so every ray may advance by r - c t. The march
- * stops once that step is under half the cone's radius c t (the bundle is
+ * stops once that step is under a quarter of the cone's radius c t (the bundle is
  * too wide for the free space there; its rays go on one by one), at tfar,
  * or after MAX_CONE_STEPS evaluations. Plain sphere-tracing steps: this
  * pre-pass is the same for every variant. */
@@ -23,7 +23,7 @@ float sdft_cone_march(const sdft_field *f, sdft_scratch *s, sdft_vec3 org, sdft_
         const float r = f->distance(f->ctx, s, sdft_madd(org, axis, t));
         (*steps)++;
         const float step = r - spread * t;
-        if (!(step > 0.5f * spread * t)) /* NaN stops too */
+        if (!(step > 0.25f * spread * t)) /* NaN stops too */
             break;
         t += step;
     }
