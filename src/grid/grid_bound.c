@@ -94,33 +94,48 @@ static void edt_line(const double *f, double *out, int n, int *v, double *z)
     }
 }
 
-/* Squared distance transform of d (n[0] x n[1] x n[2], x fastest), in place. */
+enum { LANES = 8 }; /* adjacent x lines transformed together: one cache line per gather */
+
+/* Squared distance transform of d (n[0] x n[1] x n[2], x fastest), in
+ * place: the 1-D transform along x, then y, then z. Along y and z a line's
+ * values are a row apart, so LANES lines with adjacent x go together and
+ * each gather reads LANES contiguous values; lines run in parallel. */
 static int edt3(double *d, const int n[3])
 {
-    int m = n[0] > n[1] ? n[0] : n[1];
-    m = m > n[2] ? m : n[2];
-    double *f = malloc(sizeof(double) * (size_t)m), *o = malloc(sizeof(double) * (size_t)m);
-    double *z = malloc(sizeof(double) * (size_t)(m + 1));
-    int *v = malloc(sizeof(int) * (size_t)m);
-    if (!f || !o || !z || !v) {
-        free(f), free(o), free(z), free(v);
-        return -1;
-    }
+    const int m = n[0] > n[1] ? (n[0] > n[2] ? n[0] : n[2]) : (n[1] > n[2] ? n[1] : n[2]);
     const size_t stride[3] = {1, (size_t)n[0], (size_t)n[0] * (size_t)n[1]};
-    for (int axis = 0; axis < 3; axis++) {
-        const int a = (axis + 1) % 3, b = (axis + 2) % 3;
-        for (int j = 0; j < n[b]; j++)
-            for (int i = 0; i < n[a]; i++) {
-                double *line = d + (size_t)i * stride[a] + (size_t)j * stride[b];
+    int failed = 0;
+#pragma omp parallel reduction(| : failed)
+    {
+        double *f = malloc(sizeof(double) * (size_t)m * LANES), *o = malloc(sizeof(double) * (size_t)m * LANES);
+        double *z = malloc(sizeof(double) * (size_t)(m + 1));
+        int *v = malloc(sizeof(int) * (size_t)m);
+        failed = !f || !o || !z || !v;
+        for (int axis = 0; axis < 3; axis++) {
+            /* Work items: (line group, other axis' index); x lines are single. */
+            const int other = axis == 2 ? 1 : 2;
+            const int across = axis == 0 ? n[1] : (n[0] + LANES - 1) / LANES, outer = axis == 0 ? n[2] : n[other];
+#pragma omp for schedule(dynamic, 16)
+            for (long item = 0; item < (long)across * outer; item++) {
+                if (failed)
+                    continue;
+                const int i = (int)(item % across), j = (int)(item / across);
+                double *line = axis == 0 ? d + (size_t)i * stride[1] + (size_t)j * stride[2]
+                                         : d + (size_t)i * LANES + (size_t)j * stride[other];
+                const int count = axis == 0 ? 1 : (n[0] - i * LANES < LANES ? n[0] - i * LANES : LANES);
                 for (int q = 0; q < n[axis]; q++)
-                    f[q] = line[(size_t)q * stride[axis]];
-                edt_line(f, o, n[axis], v, z);
+                    for (int l = 0; l < count; l++)
+                        f[(size_t)l * m + q] = line[(size_t)q * stride[axis] + l];
+                for (int l = 0; l < count; l++)
+                    edt_line(f + (size_t)l * m, o + (size_t)l * m, n[axis], v, z);
                 for (int q = 0; q < n[axis]; q++)
-                    line[(size_t)q * stride[axis]] = o[q];
+                    for (int l = 0; l < count; l++)
+                        line[(size_t)q * stride[axis] + l] = o[(size_t)l * m + q];
             }
+        }
+        free(f), free(o), free(z), free(v);
     }
-    free(f), free(o), free(z), free(v);
-    return 0;
+    return failed ? -1 : 0;
 }
 
 /* The value of voxel ijk, its tree level, and (in a leaf) whether any voxel
@@ -178,62 +193,100 @@ static int8_t block_sign(const sdft_grid *g, pnanovdb_readaccessor_t *acc, pnano
     return neg == 0 ? 1 : neg == 64 ? -1 : 0;
 }
 
+static inline int8_t pick(int8_t a, int8_t b, int max) { return max ? (a > b ? a : b) : (a < b ? a : b); }
+
+/* dst = the min (or max, if `max`) of src over each cell and its two
+ * neighbours along `axis` (n[0] x n[1] x n[2] cells, x fastest), a row of
+ * x at a time: along y and z the neighbours are whole rows. */
+static void extreme3(int8_t *dst, const int8_t *src, const int n[3], int axis, int max)
+{
+#pragma omp parallel for schedule(static)
+    for (int z = 0; z < n[2]; z++)
+        for (int y = 0; y < n[1]; y++) {
+            const size_t row = ((size_t)z * n[1] + (size_t)y) * n[0];
+            const int8_t *in = src + row;
+            int8_t *out = dst + row;
+            if (axis == 0) {
+                for (int x = 0; x < n[0]; x++) {
+                    int8_t e = in[x];
+                    if (x > 0)
+                        e = pick(e, in[x - 1], max);
+                    if (x + 1 < n[0])
+                        e = pick(e, in[x + 1], max);
+                    out[x] = e;
+                }
+                continue;
+            }
+            const int c = axis == 1 ? y : z, len = n[axis];
+            const size_t s = axis == 1 ? (size_t)n[0] : (size_t)n[0] * n[1];
+            const int8_t *before = c > 0 ? in - s : in, *after = c + 1 < len ? in + s : in;
+            for (int x = 0; x < n[0]; x++)
+                out[x] = pick(pick(before[x], in[x], max), after[x], max);
+        }
+}
+
 /* The cells' signs: 0 occupied (an active voxel, or tiles or inactive voxels
- * of both signs), else +1 / -1 the sign of all its voxels. */
-static void classify(const sdft_grid *g, grid_far *far, int8_t *sign)
+ * of both signs), else +1 / -1 the sign of all its voxels. Returns non-zero
+ * when out of memory. */
+static int classify(const sdft_grid *g, grid_far *far, int8_t *sign)
 {
     static const int log2_dim[5] = {2, 3, 7, 12, 12}; /* a leaf is probed per 4^3 block */
     const int S = far->cell, per = S / 4;
-    pnanovdb_readaccessor_t acc;
-    pnanovdb_readaccessor_init(&acc, g->root);
-    memset(sign, 2, (size_t)far->n[0] * far->n[1] * far->n[2]); /* 2: not seen yet */
-    for (int cz = 0; cz < far->n[2]; cz++)
-        for (int cy = 0; cy < far->n[1]; cy++)
-            for (int bz = 0; bz < per; bz++)
-                for (int by = 0; by < per; by++) {
-                    const int32_t z = (far->c0[2] + cz) * S + 4 * bz, y = (far->c0[1] + cy) * S + 4 * by;
-                    const int32_t x0 = far->c0[0] * S, xend = (far->c0[0] + far->n[0]) * S;
-                    int32_t x = x0;
-                    while (x < xend) {
-                        uint32_t level;
-                        int active;
-                        pnanovdb_coord_t ijk = {x, y, z};
-                        float v = probe(g, &acc, ijk, &level, &active);
-                        /* The node of `level` holding (x, y, z) has one value up to its x end. */
-                        const int32_t dim = 1 << log2_dim[level];
-                        int32_t next = (int32_t)(((int64_t)x & ~(int64_t)(dim - 1)) + dim);
-                        if (next > xend)
-                            next = xend;
-                        int8_t sg = v < 0.0f ? -1 : 1;
-                        if (level == 0)
-                            sg = active ? 0 : block_sign(g, &acc, ijk);
-                        for (int32_t cx = (x - x0) / S; cx * S + x0 < next; cx++) {
-                            int8_t *c = &sign[((size_t)cz * far->n[1] + (size_t)cy) * far->n[0] + (size_t)cx];
-                            *c = *c == 2 ? sg : (*c == sg ? sg : 0);
-                        }
-                        x = next;
-                    }
-                }
-    /* Unoccupied cells of opposite signs that touch (a level set would put
-     * leaves between them): both occupied, so U still holds every sign change. */
     const int *n = far->n;
-    for (int z = 0; z < n[2]; z++)
-        for (int y = 0; y < n[1]; y++)
-            for (int x = 0; x < n[0]; x++) {
-                int8_t *a = &sign[((size_t)z * n[1] + y) * n[0] + x];
-                for (int dz = 0; dz <= 1; dz++)
-                    for (int dy = -1; dy <= 1; dy++)
-                        for (int dx = -1; dx <= 1; dx++) {
-                            if (dz == 0 && (dy < 0 || (dy == 0 && dx <= 0)))
-                                continue; /* each pair once */
-                            const int X = x + dx, Y = y + dy, Z = z + dz;
-                            if (X < 0 || Y < 0 || X >= n[0] || Y >= n[1] || Z >= n[2])
-                                continue;
-                            int8_t *b = &sign[((size_t)Z * n[1] + Y) * n[0] + X];
-                            if (*a * *b < 0)
-                                *a = *b = 0;
+    const size_t cells = (size_t)n[0] * n[1] * n[2];
+    memset(sign, 2, cells); /* 2: not seen yet */
+    /* Each thread probes whole z slabs of cells, so writes never meet. */
+#pragma omp parallel
+    {
+        pnanovdb_readaccessor_t acc;
+        pnanovdb_readaccessor_init(&acc, g->root);
+#pragma omp for schedule(dynamic, 1)
+        for (int cz = 0; cz < n[2]; cz++)
+            for (int cy = 0; cy < n[1]; cy++)
+                for (int bz = 0; bz < per; bz++)
+                    for (int by = 0; by < per; by++) {
+                        const int32_t z = (far->c0[2] + cz) * S + 4 * bz, y = (far->c0[1] + cy) * S + 4 * by;
+                        const int32_t x0 = far->c0[0] * S, xend = (far->c0[0] + n[0]) * S;
+                        int32_t x = x0;
+                        while (x < xend) {
+                            uint32_t level;
+                            int active;
+                            pnanovdb_coord_t ijk = {x, y, z};
+                            float v = probe(g, &acc, ijk, &level, &active);
+                            /* The node of `level` holding (x, y, z) has one value up to its x end. */
+                            const int32_t dim = 1 << log2_dim[level];
+                            int32_t next = (int32_t)(((int64_t)x & ~(int64_t)(dim - 1)) + dim);
+                            if (next > xend)
+                                next = xend;
+                            int8_t sg = v < 0.0f ? -1 : 1;
+                            if (level == 0)
+                                sg = active ? 0 : block_sign(g, &acc, ijk);
+                            for (int32_t cx = (x - x0) / S; cx * S + x0 < next; cx++) {
+                                int8_t *c = &sign[((size_t)cz * n[1] + (size_t)cy) * n[0] + (size_t)cx];
+                                *c = *c == 2 ? sg : (*c == sg ? sg : 0);
+                            }
+                            x = next;
                         }
-            }
+                    }
+    }
+    /* Unoccupied cells touching an unoccupied cell of the other sign (a
+     * level set would put leaves between them) are occupied too, so U still
+     * holds every sign change: a cell of sign +1 whose 3^3 neighbourhood's
+     * minimum is -1, or of sign -1 whose maximum is +1. Min and max filters
+     * are separable: three passes of three cells each. */
+    int8_t *lo = malloc(cells), *hi = malloc(cells), *tmp = malloc(cells);
+    if (!lo || !hi || !tmp) {
+        free(lo), free(hi), free(tmp);
+        return -1;
+    }
+    extreme3(lo, sign, n, 0, 0), extreme3(tmp, lo, n, 1, 0), extreme3(lo, tmp, n, 2, 0);
+    extreme3(hi, sign, n, 0, 1), extreme3(tmp, hi, n, 1, 1), extreme3(hi, tmp, n, 2, 1);
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < (long)cells; i++)
+        if ((sign[i] > 0 && lo[i] < 0) || (sign[i] < 0 && hi[i] > 0))
+            sign[i] = 0;
+    free(lo), free(hi), free(tmp);
+    return 0;
 }
 
 int grid_far_build(sdft_grid *g)
@@ -263,7 +316,10 @@ int grid_far_build(sdft_grid *g)
         free(sign), free(d2), free(corner);
         return SDFT_GRID_ENOMEM;
     }
-    classify(g, far, sign);
+    if (classify(g, far, sign)) {
+        free(sign), free(d2), free(corner);
+        return SDFT_GRID_ENOMEM;
+    }
     /* Sites: the corners of occupied cells. */
     for (size_t i = 0; i < nvert; i++)
         d2[i] = HUGE_VAL;
@@ -279,8 +335,11 @@ int grid_far_build(sdft_grid *g)
         return SDFT_GRID_ENOMEM;
     }
     const double most = (double)((1u << FAR_DISTANCE_BITS) - 1u);
-    for (size_t i = 0; i < nvert; i++) /* quarters of a voxel, rounded down; saturated */
-        corner[i] = (uint16_t)fmin(floor(FAR_DISTANCE_SCALE * S * sqrt(d2[i])), most);
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < (long)nvert; i++) { /* quarters of a voxel, rounded down (truncated: >= 0); saturated */
+        const double q = FAR_DISTANCE_SCALE * S * sqrt(d2[i]);
+        corner[i] = (uint16_t)(q < most ? q : most);
+    }
     for (int z = 0; z < n[2]; z++)
         for (int y = 0; y < n[1]; y++)
             for (int x = 0; x < n[0]; x++) {
