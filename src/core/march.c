@@ -4,17 +4,21 @@
 
 enum { REFINE_STEPS = 3 };
 
-/* Secant steps towards F(t) = 0 through the last two samples, until |F| is a
- * thousandth of eps(t). Each step is clamped to what the unbounding spheres
- * allow: ahead of a point outside (r > 0) the root is no nearer than r, since
- * |F'| <= 1, and we step at most 32 r, so a grazing hit (slope down to 1/32)
- * still lands on the surface while the step stays within a few eps; behind a
- * point inside (r < 0) the root is at least |r| back and no farther back than
- * the last outside sample. A step that does not bring |F| down is discarded. */
+/* Secant steps towards F(t) = 0 through the last two samples, until the
+ * step the secant asks for is under a tenth of eps(t): the root is then
+ * known to that accuracy, and evaluating there would only confirm it (at
+ * the papers' distances and eps, t's own float resolution is a hundredth of
+ * eps). Each step is clamped to what the unbounding spheres allow: ahead of
+ * a point outside (r > 0) the root is no nearer than r, since |F'| <= 1,
+ * and we step at most 32 r, so a grazing hit (slope down to 1/32) still
+ * lands on the surface while the step stays within a few eps; behind a
+ * point inside (r < 0) the root is at least |r| back and no farther back
+ * than the last outside sample. A step that does not bring |F| down is
+ * discarded. */
 static void refine(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p, float t0,
                    float r0, float *t, float *r, uint32_t *steps)
 {
-    for (int k = 0; k < REFINE_STEPS && fabsf(*r) > 1e-3f * march_eps(p, *t); k++) {
+    for (int k = 0; k < REFINE_STEPS; k++) {
         float t1 = *t, r1 = *r;
         float dt = (r1 != r0) ? -r1 * (t1 - t0) / (r1 - r0) : r1;
         if (!isfinite(dt))
@@ -23,6 +27,8 @@ static void refine(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, co
             dt = sdft_minf(sdft_maxf(dt, r1), 32.0f * r1);
         else
             dt = (r0 > 0.0f && t0 < t1) ? sdft_minf(sdft_maxf(dt, t0 - t1), r1) : r1;
+        if (!(fabsf(dt) > 0.1f * march_eps(p, t1)))
+            break;
         float tn = t1 + dt, rn = march_eval(f, s, ray, tn);
         (*steps)++;
         if (!(fabsf(rn) < fabsf(r1)))
