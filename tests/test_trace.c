@@ -111,9 +111,9 @@ static const struct {
     sdft_method method;
     float omega, beta;
 } variants[] = {
-    {SDFT_SPHERE, 1.0f, 0.3f},   {SDFT_RELAXED, 1.2f, 0.3f}, {SDFT_RELAXED, 1.5f, 0.3f},
+    {SDFT_SPHERE, 1.0f, 0.3f},   {SDFT_RELAXED, 1.2f, 0.3f},   {SDFT_RELAXED, 1.5f, 0.3f},
     {SDFT_RELAXED, 1.95f, 0.3f}, {SDFT_ENHANCED, 0.88f, 0.3f}, {SDFT_ENHANCED, 1.0f, 0.3f},
-    {SDFT_AUTO, 1.0f, 0.3f},     {SDFT_AUTO, 1.0f, 0.2f},     {SDFT_AUTO, 1.0f, 0.9f},
+    {SDFT_AUTO, 1.0f, 0.3f},     {SDFT_AUTO, 1.0f, 0.2f},      {SDFT_AUTO, 1.0f, 0.9f},
 };
 enum { VARIANT_COUNT = sizeof variants / sizeof variants[0] };
 
@@ -142,7 +142,8 @@ static void check_shape(float (*distance)(const void *, sdft_scratch *, sdft_vec
         sdft_scratch s;
         sdft_scratch_init(&f, &s);
         if (distance(sh, &s, ray.org) < 0.0f) /* start outside: a plane's lower half-space is inside */
-            ray.org = sdft_sub(ray.org, sdft_scale(sh->normal, 2 * sdft_dot(sdft_sub(ray.org, sh->centre), sh->normal)));
+            ray.org =
+                sdft_sub(ray.org, sdft_scale(sh->normal, 2 * sdft_dot(sdft_sub(ray.org, sh->centre), sh->normal)));
         sdft_vec3 target = sdft_add(sh->centre, sdft_scale(random_direction(&rng), tu_uniform(&rng, 0.0f, 2.5f)));
         /* half the rays aim near the shape, half go anywhere */
         ray.dir = n % 2 ? sdft_normalize(sdft_sub(target, ray.org)) : random_direction(&rng);
@@ -163,8 +164,8 @@ static void check_shape(float (*distance)(const void *, sdft_scratch *, sdft_vec
         if (isfinite(t_true)) {
             sdft_vec3 q = sdft_madd(ray.org, ray.dir, t_true);
             float h = 1e-3f;
-            float slope = (distance(sh, &s, sdft_madd(q, ray.dir, h)) - distance(sh, &s, sdft_madd(q, ray.dir, -h))) /
-                          (2 * h);
+            float slope =
+                (distance(sh, &s, sdft_madd(q, ray.dir, h)) - distance(sh, &s, sdft_madd(q, ray.dir, -h))) / (2 * h);
             if (slope > -0.05f)
                 continue;
         }
@@ -188,7 +189,10 @@ static void check_shape(float (*distance)(const void *, sdft_scratch *, sdft_vec
     assert_true(misses > 50);
 }
 
-static float truth_sphere(sdft_vec3 o, sdft_vec3 d, const shape *sh) { return ray_sphere(o, d, sh->centre, sh->radius); }
+static float truth_sphere(sdft_vec3 o, sdft_vec3 d, const shape *sh)
+{
+    return ray_sphere(o, d, sh->centre, sh->radius);
+}
 static float truth_box(sdft_vec3 o, sdft_vec3 d, const shape *sh) { return ray_box(o, d, sh->centre, sh->half); }
 static float truth_plane(sdft_vec3 o, sdft_vec3 d, const shape *sh)
 {
@@ -266,6 +270,93 @@ static void test_auto_fewer_steps_than_sphere_on_plane(void **state)
         float t_true = 2.0f / cosf(th);
         assert_float_equal(ha.t, t_true, 1e-4f * t_true);
         assert_float_equal(hs.t, t_true, 1e-4f * t_true);
+    }
+}
+
+/* ---- streams ------------------------------------------------------------ */
+
+static void assert_same_hit(sdft_hit a, sdft_hit b)
+{
+    /* bit for bit: the stream takes the same points in the same order */
+    assert_memory_equal(&a.t, &b.t, sizeof a.t);
+    assert_memory_equal(&a.distance, &b.distance, sizeof a.distance);
+    assert_int_equal(a.status, b.status);
+    assert_int_equal(a.steps, b.steps);
+    assert_int_equal(a.fallbacks, b.fallbacks);
+}
+
+/* sdft_trace_stream interleaves rays; each must come out exactly as
+ * sdft_trace traces it alone, whatever the stream's length (fewer rays than
+ * lanes, not a multiple of them), with rays that miss the bounds at once
+ * and every termination; and the field must be evaluated exactly as often
+ * as the hits' steps say. */
+static void test_stream_same_as_single_rays(void **state)
+{
+    (void)state;
+    shape sh = {.centre = {0, 0, 0}, .half = {1, 0.5f, 0.8f}};
+    sdft_field f = make_field(box_distance, &sh);
+    f.bounds = (sdft_aabb){{-3, -3, -3}, {3, 3, 3}};
+    tu_rng rng = tu_rng_seed(11);
+    enum { MOST = 41 };
+    sdft_ray rays[MOST];
+    sdft_hit stream[MOST];
+    const size_t lengths[] = {1, 3, 4, 5, 16, MOST};
+    for (unsigned l = 0; l < sizeof lengths / sizeof lengths[0]; l++) {
+        const size_t n = lengths[l];
+        for (size_t k = 0; k < n; k++) {
+            rays[k] = (sdft_ray){.org = sdft_scale(random_direction(&rng), 6.0f), .tnear = 0, .tfar = 40};
+            /* every third ray points away from the box: clipped away at once */
+            sdft_vec3 target = k % 3 == 2 ? sdft_scale(rays[k].org, 2.0f) : sdft_scale(random_direction(&rng), 1.5f);
+            rays[k].dir = sdft_normalize(sdft_sub(target, rays[k].org));
+        }
+        for (int v = 0; v < VARIANT_COUNT; v++) {
+            sdft_trace_params p = variant_params(v);
+            p.max_steps = 3 + (uint32_t)(l * 7 + (unsigned)v) % 30; /* some rays run out of steps */
+            sdft_scratch s;
+            sdft_scratch_init(&f, &s);
+            sdft_trace_stream(&f, &s, rays, stream, n, &p);
+            uint64_t evaluations = *counter(&s), steps = 0;
+            for (size_t k = 0; k < n; k++) {
+                assert_same_hit(stream[k], sdft_trace(&f, &s, &rays[k], &p));
+                steps += stream[k].steps;
+                if (k % 3 == 2) /* pointing away: clipped away, no evaluation */
+                    assert_true(stream[k].status == SDFT_MISS && stream[k].steps == 0);
+            }
+            assert_int_equal(evaluations, steps);
+        }
+    }
+}
+
+/* The same through every scene, primary rays of its camera, with the
+ * papers' eps and with the screen-space criterion. */
+static void test_stream_same_as_single_in_scenes(void **state)
+{
+    (void)state;
+    size_t count;
+    const sdft_scene *const *scenes = sdft_scenes(&count);
+    enum { N = 23 };
+    for (size_t k = 0; k < count; k++) {
+        const sdft_field *f = &scenes[k]->field;
+        sdft_scratch s;
+        sdft_scratch_init(f, &s);
+        tu_rng rng = tu_rng_seed(200 + k);
+        sdft_ray rays[N];
+        sdft_hit stream[N];
+        for (int n = 0; n < N; n++)
+            rays[n] = sdft_camera_ray(&scenes[k]->camera, 320, 180, tu_uniform(&rng, 0, 320), tu_uniform(&rng, 0, 180));
+        for (int v = 0; v < VARIANT_COUNT; v++)
+            for (int screen_space = 0; screen_space <= 1; screen_space++) {
+                sdft_trace_params p = variant_params(v);
+                if (screen_space)
+                    p.eps = 0.0f, p.pixel_radius = sdft_camera_pixel_radius(&scenes[k]->camera, 180);
+                sdft_trace_stream(f, &s, rays, stream, N, &p);
+                int hits = 0;
+                for (int n = 0; n < N; n++) {
+                    assert_same_hit(stream[n], sdft_trace(f, &s, &rays[n], &p));
+                    hits += stream[n].status == SDFT_HIT;
+                }
+                assert_true(hits > 0);
+            }
     }
 }
 
@@ -420,6 +511,8 @@ int main(void)
         cmocka_unit_test(test_hits_plane),
         cmocka_unit_test(test_steps_count_evaluations),
         cmocka_unit_test(test_auto_fewer_steps_than_sphere_on_plane),
+        cmocka_unit_test(test_stream_same_as_single_rays),
+        cmocka_unit_test(test_stream_same_as_single_in_scenes),
         cmocka_unit_test(test_ray_missing_bounds_costs_nothing),
         cmocka_unit_test(test_screen_space_candidate),
         cmocka_unit_test(test_params_check),

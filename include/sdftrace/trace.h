@@ -15,6 +15,7 @@
 #ifndef SDFTRACE_TRACE_H
 #define SDFTRACE_TRACE_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "field.h"
@@ -78,6 +79,14 @@ int sdft_trace_params_check(const sdft_trace_params *p, char *msg, unsigned msg_
 /* Traces one ray: clips it to the field's bounds, then runs the chosen
  * variant. Thread-safe given a per-thread scratch; allocates nothing. */
 sdft_hit sdft_trace(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p);
+
+/* Traces n rays: hits[k] is exactly what sdft_trace(f, s, &rays[k], p)
+ * returns, same t and counts. Up to 4 rays march at once, interleaved, so
+ * that one ray's memory loads overlap another's (Open VKL's stream entry
+ * points, for a tracer): on a grid this is the faster way to trace a
+ * block of rays. Thread-safe given a per-thread scratch; allocates nothing. */
+void sdft_trace_stream(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                       const sdft_trace_params *p);
 
 /* The variants themselves, on the unclipped ray [ray->tnear, ray->tfar]. */
 sdft_hit sdft_trace_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p);

@@ -39,8 +39,157 @@ static inline void march_offer(march_candidate *c, const sdft_trace_params *p, f
 /* Turns the final state of a march into a hit: classifies it, refines a hit
  * onto the surface from the last two accepted samples (t0, r0), (t, r), and
  * on non-convergence with the screen-space criterion returns the candidate. */
-sdft_hit march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p,
-                      float t0, float r0, float t, float r, uint32_t steps, uint32_t fallbacks,
-                      march_candidate best);
+sdft_hit march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p, float t0,
+                      float r0, float t, float r, uint32_t steps, uint32_t fallbacks, march_candidate best);
+
+/* What Algorithms 1-4 keep between iterations: the accepted point (t, r),
+ * the step z to the next trial point T = t + z, auto's slope m, the point
+ * accepted before (t0, r0) for refinement, the count i of evaluations, the
+ * fallbacks and the screen-space candidate. */
+typedef struct march_state {
+    float t, r, z, m;
+    float t0, r0;
+    uint32_t i, fallbacks;
+    march_candidate best;
+} march_state;
+
+/* A variant is two functions of the state: `start` completes line 4 once
+ * f(tnear) is in (t, r) (it sets z, and m for auto); `step` is the body of
+ * the loop given R = f(T) at the trial point T = t + z: it accepts or falls
+ * back and sets the next z. The drivers below count i. */
+typedef void (*march_start_fn)(march_state *m, const sdft_trace_params *p);
+typedef void (*march_step_fn)(march_state *m, float T, float R, const sdft_trace_params *p);
+
+/* Line 4's first evaluation: (t, r) = (t, f(t)), i = 1. */
+static inline void march_begin(march_state *m, const sdft_trace_params *p, float t, float r)
+{
+    *m = (march_state){.t = t, .r = r, .z = r, .m = -1.0f, .t0 = t, .r0 = r, .i = 1, .best = {t, r, INFINITY}};
+    march_offer(&m->best, p, t, r);
+}
+
+/* t := T, r := R, keeping the point before for refinement. */
+static inline void march_accept(march_state *m, const sdft_trace_params *p, float T, float R)
+{
+    m->t0 = m->t, m->r0 = m->r;
+    m->t = T, m->r = R;
+    march_offer(&m->best, p, T, R);
+}
+
+static inline sdft_hit march_end(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p,
+                                 const march_state *m)
+{
+    return march_finish(f, s, ray, p, m->t0, m->r0, m->t, m->r, m->i, m->fallbacks, m->best);
+}
+
+#if defined(__GNUC__)
+#define MARCH_INLINE static inline __attribute__((always_inline))
+#else
+#define MARCH_INLINE static inline
+#endif
+
+/* One ray, on [ray->tnear, ray->tfar] (already clipped): the listings'
+ * loop. Inlined into each variant with its start and step folded in. */
+MARCH_INLINE sdft_hit march_one(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p,
+                                march_start_fn start, march_step_fn step)
+{
+    march_state m;
+    march_begin(&m, p, ray->tnear, march_eval(f, s, ray, ray->tnear)); /* line 4 */
+    start(&m, p);
+    while (march_on(p, ray, m.t, m.r, m.i)) {
+        const float T = m.t + m.z;
+        step(&m, T, march_eval(f, s, ray, T), p);
+        m.i++;
+    }
+    return march_end(f, s, ray, p, &m);
+}
+
+/* The ray clipped to the field's bounds, in *clipped; 0 when it misses
+ * them, and then *miss is its hit: a miss at tfar after no evaluation. */
+static inline int march_clip(const sdft_field *f, const sdft_ray *ray, sdft_ray *clipped, sdft_hit *miss)
+{
+    *clipped = *ray;
+    if (sdft_aabb_clip(f->bounds, ray->org, ray->dir, ray->tnear, ray->tfar, &clipped->tnear, &clipped->tfar))
+        return 1;
+    *miss = (sdft_hit){.t = ray->tfar, .distance = INFINITY, .status = SDFT_MISS};
+    return 0;
+}
+
+/* Rays marched together, each exactly as sdft_trace marches it alone: the
+ * same points in the same order, so the same hits and counts. One ray's
+ * evaluations form a chain (each point depends on the last value), and on
+ * a grid most of an evaluation is waiting for memory; interleaving
+ * MARCH_LANES independent chains lets those waits overlap. A lane whose ray
+ * ends takes the next. */
+enum { MARCH_LANES = 4 };
+
+typedef struct march_lane {
+    march_state m;
+    sdft_ray ray; /* clipped */
+    size_t index; /* in rays[] and hits[] */
+    float T;      /* where the lane's next value is taken */
+    int fresh;    /* that value is line 4's f(tnear) */
+} march_lane;
+
+/* Gives the lane the next ray that survives clipping (the others' hits are
+ * misses at once); 0 when there is none left. */
+static inline int march_take(const sdft_field *f, const sdft_ray *rays, sdft_hit *hits, size_t n, size_t *next,
+                             march_lane *lane)
+{
+    while (*next < n) {
+        const size_t i = (*next)++;
+        if (march_clip(f, &rays[i], &lane->ray, &hits[i])) {
+            lane->index = i, lane->T = lane->ray.tnear, lane->fresh = 1;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+MARCH_INLINE void march_many(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                             const sdft_trace_params *p, march_start_fn start, march_step_fn step)
+{
+    march_lane lane[MARCH_LANES];
+    float R[MARCH_LANES];
+    size_t next = 0;
+    int live = 0;
+    while (live < MARCH_LANES && march_take(f, rays, hits, n, &next, &lane[live]))
+        live++;
+    while (live > 0) {
+        for (int k = 0; k < live; k++) /* independent: their loads overlap */
+            R[k] = march_eval(f, s, &lane[k].ray, lane[k].T);
+        for (int k = 0; k < live; k++) {
+            march_lane *l = &lane[k];
+            if (l->fresh) {
+                march_begin(&l->m, p, l->T, R[k]);
+                start(&l->m, p);
+                l->fresh = 0;
+            } else {
+                step(&l->m, l->T, R[k], p);
+                l->m.i++;
+            }
+            if (march_on(p, &l->ray, l->m.t, l->m.r, l->m.i)) {
+                l->T = l->m.t + l->m.z;
+                continue;
+            }
+            hits[l->index] = march_end(f, s, &l->ray, p, &l->m);
+            if (march_take(f, rays, hits, n, &next, l))
+                continue;
+            /* None left: the last lane moves here and is stepped in its turn. */
+            live--;
+            lane[k] = lane[live], R[k] = R[live];
+            k--;
+        }
+    }
+}
+
+/* Each variant's stream entry (march_many with its start and step). */
+void march_stream_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                         const sdft_trace_params *p);
+void march_stream_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                          const sdft_trace_params *p);
+void march_stream_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                           const sdft_trace_params *p);
+void march_stream_auto(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                       const sdft_trace_params *p);
 
 #endif

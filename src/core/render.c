@@ -6,7 +6,11 @@
  * TILE x TILE pixels are handed out dynamically to OpenMP threads; each
  * thread owns one scratch, and statistics are summed per tile, then over the
  * tiles in a fixed order, so the image and the counts do not depend on the
- * thread count. Nothing is allocated per ray.
+ * thread count. Nothing is allocated per ray. Within a tile, each
+ * BLOCK x BLOCK block's primary rays are traced as one stream
+ * (sdft_trace_stream: interleaved, so one ray's memory loads overlap
+ * another's), then its shadow rays as another; every ray is still traced
+ * exactly as alone.
  *
  * With `cones`, each tile's primary rays first march together as one cone
  * (sdft_cone_march), then each BLOCK x BLOCK block's from there, and each
@@ -88,22 +92,17 @@ typedef struct pixel_result {
     sdft_status status;
 } pixel_result;
 
-/* 1 when the point light is visible from surface point p (normal n): a
- * shadow ray from p lifted off the surface by `lift`, ending at the light. */
-static int light_visible(const sdft_field *f, sdft_scratch *s, const sdft_trace_params *tp, sdft_vec3 p, sdft_vec3 n,
-                         float lift, sdft_vec3 light, pixel_result *out)
+/* The shadow ray from surface point p (normal n) to the point light: its
+ * origin lifted off the surface by `lift`. 0 when p is at the light. */
+static int shadow_ray(sdft_vec3 p, sdft_vec3 n, float lift, sdft_vec3 light, sdft_ray *ray)
 {
     sdft_vec3 org = sdft_madd(p, n, lift);
     sdft_vec3 to_light = sdft_sub(light, org);
     float dist = sdft_length(to_light);
     if (!(dist > 0.0f))
-        return 1;
-    sdft_ray ray = {.org = org, .tnear = 0.0f, .dir = sdft_scale(to_light, 1.0f / dist), .tfar = dist};
-    sdft_hit h = sdft_trace(f, s, &ray, tp);
-    out->steps += h.steps;
-    out->fallbacks += h.fallbacks;
-    out->rays++;
-    return h.status != SDFT_HIT;
+        return 0;
+    *ray = (sdft_ray){.org = org, .tnear = 0.0f, .dir = sdft_scale(to_light, 1.0f / dist), .tfar = dist};
+    return 1;
 }
 
 /* What every pixel of one frame shares, set up once. */
@@ -116,44 +115,49 @@ typedef struct frame {
     float cone_tfar; /* with cones: beyond it every primary ray has left the field's box */
 } frame;
 
-static pixel_result shade_pixel(const frame *fr, sdft_scratch *s, int x, int y, float tnear)
+/* A pixel's colour and normal given its primary ray's hit, lit as if the
+ * light were visible; 1 when that takes a shadow ray, put in *shadow (its
+ * hit then goes to shadow_pixel). */
+static int shade_pixel(const frame *fr, sdft_scratch *s, sdft_ray ray, sdft_hit h, pixel_result *out, sdft_ray *shadow)
 {
     const sdft_field *f = fr->f;
     const sdft_render_params *rp = fr->rp;
     const sdft_trace_params *tp = &fr->tp;
-    pixel_result out = {.depth = INFINITY};
-    sdft_ray ray = sdft_view_ray(&fr->view, (float)x + 0.5f, (float)y + 0.5f);
-    ray.tnear = tnear;
-    sdft_hit h = sdft_trace(f, s, &ray, tp);
-    out.steps = h.steps, out.fallbacks = h.fallbacks, out.rays = 1, out.status = h.status;
+    *out = (pixel_result){.depth = INFINITY, .steps = h.steps, .fallbacks = h.fallbacks, .rays = 1, .status = h.status};
     /* A non-converged ray is shaded as a hit only with the screen-space
      * criterion, whose best candidate is meant to be used (Keinert §3.2). */
     int surface = h.status == SDFT_HIT || (h.status == SDFT_NOT_CONVERGED && tp->pixel_radius > 0.0f);
     if (!surface) {
-        out.rgb = rp->depth_only ? sdft_v3(0, 0, 0) : sky(ray.dir);
-        return out;
+        out->rgb = rp->depth_only ? sdft_v3(0, 0, 0) : sky(ray.dir);
+        return 0;
     }
-    out.depth = h.t;
+    out->depth = h.t;
     if (rp->depth_only)
-        return out;
+        return 0;
     sdft_vec3 p = sdft_madd(ray.org, ray.dir, h.t);
     sdft_vec3 n = sdft_field_normal(f, s, p);
     if (!sdft_isfinite3(n) || !(sdft_length(n) > 0.5f))
         n = sdft_scale(ray.dir, -1.0f);
-    out.normal = n;
+    out->normal = n;
 
     sdft_vec3 l = sdft_normalize(sdft_sub(rp->light, p));
     float diffuse = sdft_maxf(sdft_dot(n, l), 0.0f);
-    if (diffuse > 0.0f && rp->shadows) {
-        /* Lift the shadow ray's origin past the convergence radius at this
-         * hit and the normal's difference step, so it does not re-hit its
-         * own surface at t = 0. */
-        float lift = 4.0f * (tp->eps + tp->pixel_radius * h.t) + 2.0f * fr->feature;
-        if (!light_visible(f, s, tp, p, n, lift, rp->light, &out))
-            diffuse = 0.0f;
-    }
-    out.rgb = sdft_scale(ALBEDO, AMBIENT + (1.0f - AMBIENT) * diffuse);
-    return out;
+    out->rgb = sdft_scale(ALBEDO, AMBIENT + (1.0f - AMBIENT) * diffuse);
+    /* Lift the shadow ray's origin past the convergence radius at this hit
+     * and the normal's difference step, so it does not re-hit its own
+     * surface at t = 0. */
+    float lift = 4.0f * (tp->eps + tp->pixel_radius * h.t) + 2.0f * fr->feature;
+    return diffuse > 0.0f && rp->shadows && shadow_ray(p, n, lift, rp->light, shadow);
+}
+
+/* The shadow ray's hit: its counts, and ambient light alone if it hit. */
+static void shadow_pixel(sdft_hit h, pixel_result *out)
+{
+    out->steps += h.steps;
+    out->fallbacks += h.fallbacks;
+    out->rays++;
+    if (h.status == SDFT_HIT)
+        out->rgb = sdft_scale(ALBEDO, AMBIENT);
 }
 
 /* The distance from p to the farthest corner of box b. */
@@ -173,21 +177,50 @@ typedef struct tile_stats {
     uint32_t cone_steps;
 } tile_stats;
 
-/* Traces and shades pixel (x, y) from tnear into img and the tile's sums. */
-static void render_pixel(const frame *fr, sdft_scratch *s, int x, int y, float tnear, sdft_image *img, tile_stats *ts)
+/* Stores pixel (x, y) into img and the tile's sums. */
+static void store_pixel(const frame *fr, int x, int y, const pixel_result *px, sdft_image *img, tile_stats *ts)
 {
-    pixel_result px = shade_pixel(fr, s, x, y, tnear);
     size_t i = (size_t)y * (size_t)fr->rp->width + (size_t)x;
-    img->rgb[3 * i + 0] = px.rgb.x, img->rgb[3 * i + 1] = px.rgb.y, img->rgb[3 * i + 2] = px.rgb.z;
-    img->normal[3 * i + 0] = px.normal.x, img->normal[3 * i + 1] = px.normal.y;
-    img->normal[3 * i + 2] = px.normal.z;
-    img->depth[i] = px.depth;
-    img->steps[i] = px.steps;
-    img->fallbacks[i] = px.fallbacks;
-    img->status[i] = (uint8_t)px.status;
-    ts->rays += px.rays, ts->steps += px.steps, ts->fallbacks += px.fallbacks;
-    ts->hits += px.status == SDFT_HIT;
-    ts->nonconverged += px.status == SDFT_NOT_CONVERGED;
+    img->rgb[3 * i + 0] = px->rgb.x, img->rgb[3 * i + 1] = px->rgb.y, img->rgb[3 * i + 2] = px->rgb.z;
+    img->normal[3 * i + 0] = px->normal.x, img->normal[3 * i + 1] = px->normal.y;
+    img->normal[3 * i + 2] = px->normal.z;
+    img->depth[i] = px->depth;
+    img->steps[i] = px->steps;
+    img->fallbacks[i] = px->fallbacks;
+    img->status[i] = (uint8_t)px->status;
+    ts->rays += px->rays, ts->steps += px->steps, ts->fallbacks += px->fallbacks;
+    ts->hits += px->status == SDFT_HIT;
+    ts->nonconverged += px->status == SDFT_NOT_CONVERGED;
+}
+
+/* Pixels [x0, x1) x [y0, y1), at most BLOCK x BLOCK, primary rays from
+ * tnear: their primary rays are traced as one stream (interleaved), then
+ * each pixel shaded, then their shadow rays traced as one stream. */
+static void render_block(const frame *fr, sdft_scratch *s, int x0, int y0, int x1, int y1, float tnear, sdft_image *img,
+                         tile_stats *ts)
+{
+    enum { MOST = BLOCK * BLOCK };
+    sdft_ray rays[MOST], shadows[MOST];
+    sdft_hit hits[MOST];
+    pixel_result px[MOST];
+    size_t shadow_of[MOST]; /* the pixel of each shadow ray */
+    size_t n = 0, m = 0;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++, n++) {
+            rays[n] = sdft_view_ray(&fr->view, (float)x + 0.5f, (float)y + 0.5f);
+            rays[n].tnear = tnear;
+        }
+    sdft_trace_stream(fr->f, s, rays, hits, n, &fr->tp);
+    for (size_t k = 0; k < n; k++)
+        if (shade_pixel(fr, s, rays[k], hits[k], &px[k], &shadows[m]))
+            shadow_of[m++] = k;
+    sdft_trace_stream(fr->f, s, shadows, hits, m, &fr->tp);
+    for (size_t j = 0; j < m; j++)
+        shadow_pixel(hits[j], &px[shadow_of[j]]);
+    n = 0;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++, n++)
+            store_pixel(fr, x, y, &px[n], img, ts);
 }
 
 /* Where the primary rays through pixels [x0, x1) x [y0, y1) may start:
@@ -216,9 +249,7 @@ static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *
         for (int bx = x0; bx < x1; bx += BLOCK) {
             const int bx1 = bx + BLOCK < x1 ? bx + BLOCK : x1, by1 = by + BLOCK < y1 ? by + BLOCK : y1;
             const float t_block = block_start(fr, s, bx, by, bx1, by1, t_tile, ts);
-            for (int y = by; y < by1; y++)
-                for (int x = bx; x < bx1; x++)
-                    render_pixel(fr, s, x, y, t_block, img, ts);
+            render_block(fr, s, bx, by, bx1, by1, t_block, img, ts);
         }
 }
 

@@ -64,13 +64,25 @@ int sdft_trace_params_check(const sdft_trace_params *p, char *msg, unsigned msg_
 
 sdft_hit sdft_trace(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p)
 {
-    sdft_ray clipped = *ray;
-    if (!sdft_aabb_clip(f->bounds, ray->org, ray->dir, ray->tnear, ray->tfar, &clipped.tnear, &clipped.tfar))
-        return (sdft_hit){.t = ray->tfar, .distance = INFINITY, .status = SDFT_MISS};
+    sdft_ray clipped;
+    sdft_hit miss;
+    if (!march_clip(f, ray, &clipped, &miss))
+        return miss;
     switch (p->method) {
     case SDFT_SPHERE: return sdft_trace_sphere(f, s, &clipped, p);
     case SDFT_RELAXED: return sdft_trace_relaxed(f, s, &clipped, p);
     case SDFT_ENHANCED: return sdft_trace_enhanced(f, s, &clipped, p);
     default: return sdft_trace_auto(f, s, &clipped, p);
+    }
+}
+
+void sdft_trace_stream(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                       const sdft_trace_params *p)
+{
+    switch (p->method) {
+    case SDFT_SPHERE: march_stream_sphere(f, s, rays, hits, n, p); break;
+    case SDFT_RELAXED: march_stream_relaxed(f, s, rays, hits, n, p); break;
+    case SDFT_ENHANCED: march_stream_enhanced(f, s, rays, hits, n, p); break;
+    default: march_stream_auto(f, s, rays, hits, n, p); break;
     }
 }

@@ -1,33 +1,39 @@
 /* Bálint and Valasek's enhanced sphere tracing: Bán–Valasek Algorithm 3,
  * omega in (0, 1]. The next step makes the unbounding sphere at the guess
- * tangent to the current one under a planar model of f along the ray. */
+ * tangent to the current one under a planar model of f along the ray. The
+ * loop is march_one's (march.h). */
 #include "march.h"
+
+/* line 4: r := f(t), z := r */
+static void enhanced_start(march_state *m, const sdft_trace_params *p)
+{
+    (void)p;
+    m->z = m->r;
+}
+
+/* lines 6-11, given R = f(T) at the trial point T = t + z */
+static void enhanced_step(march_state *m, float T, float R, const sdft_trace_params *p)
+{
+    const float t = m->t, r = m->r;
+    if (m->z <= r + fabsf(R)) { /* line 7 */
+        /* line 8; the denominator lies in [0, 2z] for a 1-Lipschitz f
+         * and is kept off zero for rays leaving a surface head-on. */
+        float denominator = sdft_maxf(T - t - (R - r), 1e-6f * (T - t));
+        m->z = R + p->omega * R * (T - t + R - r) / denominator;
+        march_accept(m, p, T, R); /* line 9 */
+    } else {
+        m->z = r; /* line 11 */
+        m->fallbacks++;
+    }
+}
 
 sdft_hit sdft_trace_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p)
 {
-    const float omega = p->omega;
-    float t = ray->tnear, r = march_eval(f, s, ray, t); /* line 4 */
-    float z = r;
-    float t0 = t, r0 = r;
-    uint32_t i = 1, fallbacks = 0;
-    march_candidate best = {t, r, INFINITY};
-    march_offer(&best, p, t, r);
+    return march_one(f, s, ray, p, enhanced_start, enhanced_step);
+}
 
-    while (march_on(p, ray, t, r, i)) {                /* line 5 */
-        float T = t + z, R = march_eval(f, s, ray, T); /* line 6 */
-        if (z <= r + fabsf(R)) {                       /* line 7 */
-            /* line 8; the denominator lies in [0, 2z] for a 1-Lipschitz f
-             * and is kept off zero for rays leaving a surface head-on. */
-            float denominator = sdft_maxf(T - t - (R - r), 1e-6f * (T - t));
-            z = R + omega * R * (T - t + R - r) / denominator;
-            t0 = t, r0 = r;
-            t = T, r = R; /* line 9 */
-            march_offer(&best, p, t, r);
-        } else {
-            z = r; /* line 11 */
-            fallbacks++;
-        }
-        i = i + 1; /* line 13 */
-    }
-    return march_finish(f, s, ray, p, t0, r0, t, r, i, fallbacks, best);
+void march_stream_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                           const sdft_trace_params *p)
+{
+    march_many(f, s, rays, hits, n, p, enhanced_start, enhanced_step);
 }

@@ -2,31 +2,32 @@
  * (Keinert et al. 2014, §3.1 and Listing 2), omega in [1, 2).
  *
  * The first iteration of Algorithm 2 (z = 0, r = 0) only evaluates f at t;
- * we do that before the loop, as Algorithms 3 and 4 do. */
+ * we do that before the loop, as Algorithms 3 and 4 do. The loop is
+ * march_one's (march.h). */
 #include "march.h"
+
+/* line 4 and the first pass: r := f(t), z := omega r */
+static void relaxed_start(march_state *m, const sdft_trace_params *p) { m->z = p->omega * m->r; }
+
+/* lines 6-12, given R = f(T) at the trial point T = t + z */
+static void relaxed_step(march_state *m, float T, float R, const sdft_trace_params *p)
+{
+    if (m->z <= m->r + fabsf(R)) { /* line 7: spheres overlap */
+        m->z = p->omega * R;       /* line 8 */
+        march_accept(m, p, T, R);  /* line 9 */
+    } else {
+        m->z = m->r; /* line 11: basic step */
+        m->fallbacks++;
+    }
+}
 
 sdft_hit sdft_trace_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p)
 {
-    const float omega = p->omega;
-    float t = ray->tnear, r = march_eval(f, s, ray, t); /* line 4 and the first pass */
-    float z = omega * r;
-    float t0 = t, r0 = r;
-    uint32_t i = 1, fallbacks = 0;
-    march_candidate best = {t, r, INFINITY};
-    march_offer(&best, p, t, r);
+    return march_one(f, s, ray, p, relaxed_start, relaxed_step);
+}
 
-    while (march_on(p, ray, t, r, i)) {                /* line 14 */
-        float T = t + z, R = march_eval(f, s, ray, T); /* line 6: try the step */
-        if (z <= r + fabsf(R)) {                       /* line 7: spheres overlap */
-            z = omega * R;                             /* line 8 */
-            t0 = t, r0 = r;
-            t = T, r = R; /* line 9 */
-            march_offer(&best, p, t, r);
-        } else {
-            z = r; /* line 11: basic step */
-            fallbacks++;
-        }
-        i = i + 1; /* line 13 */
-    }
-    return march_finish(f, s, ray, p, t0, r0, t, r, i, fallbacks, best);
+void march_stream_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                          const sdft_trace_params *p)
+{
+    march_many(f, s, rays, hits, n, p, relaxed_start, relaxed_step);
 }

@@ -2,23 +2,30 @@
  *
  * Written in the while-form of Algorithms 3 and 4 (evaluate first, then loop
  * while r > eps, t + r < t_max, i < i_max), so that all four variants count
- * evaluations identically. */
+ * evaluations identically. The loop is march_one's (march.h). */
 #include "march.h"
+
+/* line 4: t := tnear, r := f(t); the step is r */
+static void sphere_start(march_state *m, const sdft_trace_params *p)
+{
+    (void)p;
+    m->z = m->r;
+}
+
+/* lines 6-8, given R = f(T) at T = t + r */
+static void sphere_step(march_state *m, float T, float R, const sdft_trace_params *p)
+{
+    march_accept(m, p, T, R); /* line 7: t := t + r; line 6: r := f(t) */
+    m->z = R;
+}
 
 sdft_hit sdft_trace_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p)
 {
-    float t = ray->tnear, r = march_eval(f, s, ray, t); /* line 4, 6 */
-    float t0 = t, r0 = r;
-    uint32_t i = 1;
-    march_candidate best = {t, r, INFINITY};
-    march_offer(&best, p, t, r);
+    return march_one(f, s, ray, p, sphere_start, sphere_step);
+}
 
-    while (march_on(p, ray, t, r, i)) { /* line 9 */
-        t0 = t, r0 = r;
-        t = t + r;                    /* line 7 */
-        r = march_eval(f, s, ray, t); /* line 6 */
-        i = i + 1;                    /* line 8 */
-        march_offer(&best, p, t, r);
-    }
-    return march_finish(f, s, ray, p, t0, r0, t, r, i, 0, best);
+void march_stream_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                         const sdft_trace_params *p)
+{
+    march_many(f, s, rays, hits, n, p, sphere_start, sphere_step);
 }
