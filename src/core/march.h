@@ -60,10 +60,11 @@ typedef struct march_state {
 typedef void (*march_start_fn)(march_state *m, const sdft_trace_params *p);
 typedef void (*march_step_fn)(march_state *m, float T, float R, const sdft_trace_params *p);
 
-/* Line 4's first evaluation: (t, r) = (t, f(t)), i = 1. */
+/* Line 4's first evaluation: (t, r) = (t, f(t)), i = 1; the variant's
+ * start sets z (and m). */
 static inline void march_begin(march_state *m, const sdft_trace_params *p, float t, float r)
 {
-    *m = (march_state){.t = t, .r = r, .z = r, .m = -1.0f, .t0 = t, .r0 = r, .i = 1, .best = {t, r, INFINITY}};
+    *m = (march_state){.t = t, .r = r, .t0 = t, .r0 = r, .i = 1, .best = {t, r, INFINITY}};
     march_offer(&m->best, p, t, r);
 }
 

@@ -92,6 +92,9 @@ typedef struct pixel_result {
     sdft_status status;
 } pixel_result;
 
+/* The surface's colour under diffuse light of cosine `diffuse` (0: in shadow). */
+static sdft_vec3 lit(float diffuse) { return sdft_scale(ALBEDO, AMBIENT + (1.0f - AMBIENT) * diffuse); }
+
 /* The shadow ray from surface point p (normal n) to the point light: its
  * origin lifted off the surface by `lift`. 0 when p is at the light. */
 static int shadow_ray(sdft_vec3 p, sdft_vec3 n, float lift, sdft_vec3 light, sdft_ray *ray)
@@ -142,7 +145,7 @@ static int shade_pixel(const frame *fr, sdft_scratch *s, sdft_ray ray, sdft_hit 
 
     sdft_vec3 l = sdft_normalize(sdft_sub(rp->light, p));
     float diffuse = sdft_maxf(sdft_dot(n, l), 0.0f);
-    out->rgb = sdft_scale(ALBEDO, AMBIENT + (1.0f - AMBIENT) * diffuse);
+    out->rgb = lit(diffuse);
     /* Lift the shadow ray's origin past the convergence radius at this hit
      * and the normal's difference step, so it does not re-hit its own
      * surface at t = 0. */
@@ -157,7 +160,7 @@ static void shadow_pixel(sdft_hit h, pixel_result *out)
     out->fallbacks += h.fallbacks;
     out->rays++;
     if (h.status == SDFT_HIT)
-        out->rgb = sdft_scale(ALBEDO, AMBIENT);
+        out->rgb = lit(0.0f);
 }
 
 /* The distance from p to the farthest corner of box b. */
