@@ -15,7 +15,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${BUILD:-build}
-MESH_DIR=${MESH_DIR:-../shared/data/meshes}
+MESH_DIR=${MESH_DIR:-tests/data/meshes}
 MESHES=${MESHES:-"stanford-bunny spot teapot suzanne fandisk"}
 SAMPLES=${SAMPLES:-10000}
 THREADS=${THREADS:-0}
