@@ -14,14 +14,6 @@
 
 static char out[16384];
 
-static int lines(const char *s)
-{
-    int n = 0;
-    for (; *s; s++)
-        n += *s == '\n';
-    return n;
-}
-
 static void test_help(void **state)
 {
     (void)state;
@@ -44,7 +36,7 @@ static void bad(const char *args, const char *file, const char *needle)
     int rc = tu_run(out, sizeof out, "%s bake %s -o %s", SDFT_CLI, args, path);
     print_message("bake %s -> %d: %s", args, rc, out);
     assert_int_not_equal(rc, 0);
-    assert_int_equal(lines(out), 1);
+    assert_int_equal(tu_lines(out), 1);
     assert_non_null(strstr(out, needle));
     assert_false(tu_file_exists(path));
 }
@@ -63,7 +55,7 @@ static void test_bad_input(void **state)
     bad("--scene temple --res 16 --frobnicate", "a.vdb", "unknown option");
     int rc = tu_run(out, sizeof out, "%s bake --scene temple --res 16 -o /nonexistent-dir/a.vdb", SDFT_CLI);
     assert_int_not_equal(rc, 0);
-    assert_int_equal(lines(out), 1);
+    assert_int_equal(tu_lines(out), 1);
     assert_non_null(strstr(out, "cannot write"));
 }
 
@@ -75,7 +67,8 @@ static void test_vdb_accepted_by_openvdb_tools(void **state)
     tu_tmp(ppm, sizeof ppm, "dodeca_vdb_render.ppm");
     tu_tmp(exr, sizeof exr, "dodeca_grid.exr");
     remove(vdb), remove(ppm), remove(exr);
-    assert_int_equal(tu_run(out, sizeof out, "%s bake --scene dodecahedron --res 64 --grid-name dodeca -o %s", SDFT_CLI, vdb), 0);
+    assert_int_equal(
+        tu_run(out, sizeof out, "%s bake --scene dodecahedron --res 64 --grid-name dodeca -o %s", SDFT_CLI, vdb), 0);
     assert_non_null(strstr(out, "baked dodecahedron"));
     assert_int_equal(tu_run(out, sizeof out, "vdb_print -l %s", vdb), 0);
     assert_non_null(strstr(out, "dodeca"));
@@ -84,18 +77,23 @@ static void test_vdb_accepted_by_openvdb_tools(void **state)
     assert_true(tu_file_exists(ppm));
 
     /* render --grid: alone (its own framing) and from the scene's camera. */
-    assert_int_equal(tu_run(out, sizeof out, "%s render --grid %s --width 64 --height 36 -o %s", SDFT_CLI, vdb, exr), 0);
+    assert_int_equal(tu_run(out, sizeof out, "%s render --grid %s --width 64 --height 36 -o %s", SDFT_CLI, vdb, exr),
+                     0);
     assert_true(tu_file_exists(exr));
     remove(exr);
-    assert_int_equal(tu_run(out, sizeof out, "%s render --grid %s --scene dodecahedron --width 64 --height 36 --json -o %s",
-                            SDFT_CLI, vdb, exr), 0);
+    assert_int_equal(tu_run(out, sizeof out,
+                            "%s render --grid %s --scene dodecahedron --width 64 --height 36 --json -o %s", SDFT_CLI,
+                            vdb, exr),
+                     0);
     assert_non_null(strstr(out, "\"hit_fraction\""));
     remove(exr);
-    assert_int_not_equal(tu_run(out, sizeof out, "%s render --grid %s --grid-name nosuch -o %s", SDFT_CLI, vdb, exr), 0);
-    assert_int_equal(lines(out), 1);
+    assert_int_not_equal(tu_run(out, sizeof out, "%s render --grid %s --grid-name nosuch -o %s", SDFT_CLI, vdb, exr),
+                         0);
+    assert_int_equal(tu_lines(out), 1);
     assert_false(tu_file_exists(exr));
-    assert_int_not_equal(tu_run(out, sizeof out, "%s render --grid %s/missing.vdb -o %s", SDFT_CLI, SDFT_TEST_TMP, exr), 0);
-    assert_int_equal(lines(out), 1);
+    assert_int_not_equal(tu_run(out, sizeof out, "%s render --grid %s/missing.vdb -o %s", SDFT_CLI, SDFT_TEST_TMP, exr),
+                         0);
+    assert_int_equal(tu_lines(out), 1);
     assert_false(tu_file_exists(exr));
 }
 

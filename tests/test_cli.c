@@ -15,14 +15,6 @@
 
 static char out[1 << 16];
 
-static int lines(const char *s)
-{
-    int n = 0;
-    for (; *s; s++)
-        n += *s == '\n';
-    return n;
-}
-
 static void test_help_lists_every_option(void **state)
 {
     (void)state;
@@ -41,14 +33,14 @@ static void test_help_lists_every_option(void **state)
     }
     assert_int_not_equal(tu_run(out, sizeof out, "%s", SDFT_CLI), 0);
     assert_int_not_equal(tu_run(out, sizeof out, "%s frobnicate", SDFT_CLI), 0);
-    assert_int_equal(lines(out), 1);
+    assert_int_equal(tu_lines(out), 1);
 }
 
 static void test_scenes(void **state)
 {
     (void)state;
     assert_int_equal(tu_run(out, sizeof out, "%s scenes", SDFT_CLI), 0);
-    assert_int_equal(lines(out), 4);
+    assert_int_equal(tu_lines(out), 4);
     static const char *const names[] = {"temple", "figure", "dodecahedron", "city"};
     for (int i = 0; i < 4; i++)
         assert_non_null(strstr(out, names[i]));
@@ -98,20 +90,20 @@ static void test_bad_input(void **state)
         remove(exr);
         const char *scene = strstr(cases[i], "--scene") ? "" : "--scene dodecahedron";
         int rc = tu_run(out, sizeof out, "%s render %s --width 16 --height 9 -o %s %s", SDFT_CLI, scene, exr, cases[i]);
-        if (rc == 0 || lines(out) != 1 || tu_file_exists(exr))
+        if (rc == 0 || tu_lines(out) != 1 || tu_file_exists(exr))
             fail_msg("case '%s': rc %d, output '%s'", cases[i], rc, out);
     }
     assert_false(tu_file_exists(SDFT_TEST_TMP "/cli_bad_heat.png"));
     /* Missing -o, missing --scene, unwritable output. */
     assert_int_not_equal(tu_run(out, sizeof out, "%s render --scene city --width 8 --height 8", SDFT_CLI), 0);
-    assert_int_equal(lines(out), 1);
+    assert_int_equal(tu_lines(out), 1);
     assert_int_not_equal(tu_run(out, sizeof out, "%s render -o %s --width 8 --height 8", SDFT_CLI, exr), 0);
-    assert_int_equal(lines(out), 1);
+    assert_int_equal(tu_lines(out), 1);
     assert_false(tu_file_exists(exr));
     assert_int_not_equal(tu_run(out, sizeof out, "%s render --scene city -o %s/none/x.exr --width 8 --height 8",
                                 SDFT_CLI, SDFT_TEST_TMP),
                          0);
-    assert_int_equal(lines(out), 1);
+    assert_int_equal(tu_lines(out), 1);
     assert_false(tu_file_exists(SDFT_TEST_TMP "/none/x.exr"));
 }
 
@@ -143,7 +135,7 @@ static void test_json_report(void **state)
     (void)state;
     char json[4096];
     render_json("--scene temple --method relaxed --width 48 --height 27 --threads 2", json, sizeof json);
-    assert_int_equal(lines(json), 1);
+    assert_int_equal(tu_lines(json), 1);
     assert_true(json[0] == '{' && strstr(json, "}\n") != NULL);
     assert_non_null(strstr(json, "\"method\": \"relaxed\""));
     assert_true(json_number(json, "omega") == 1.5);

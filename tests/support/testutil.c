@@ -47,6 +47,14 @@ int tu_file_exists(const char *path)
     return stat(path, &st) == 0;
 }
 
+int tu_lines(const char *s)
+{
+    int n = 0;
+    for (; *s; s++)
+        n += *s == '\n';
+    return n;
+}
+
 float tu_uniform(tu_rng *r, float lo, float hi)
 {
     r->state ^= r->state >> 12;

@@ -16,6 +16,9 @@ const char *tu_tmp(char *buf, size_t len, const char *name);
 
 int tu_file_exists(const char *path);
 
+/* The number of newlines in s: a tool's error must be one line. */
+int tu_lines(const char *s);
+
 /* xorshift64*: deterministic, so failures reproduce. */
 typedef struct tu_rng {
     uint64_t state;
