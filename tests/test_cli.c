@@ -148,6 +148,14 @@ static void test_json_report(void **state)
     assert_true(hit > 0.0 && hit <= 1.0 && nc >= 0.0 && nc <= 1.0 && hit + nc <= 1.0);
     assert_true(mean >= 1.0 && fabs(mean * primary - json_number(json, "steps")) < 1.0);
     assert_true(json_number(json, "mean_fallbacks") >= 0.0 && json_number(json, "ms") >= 0.0);
+    /* Primary and shadow rays apart: they add up to the totals. */
+    double primary_steps = json_number(json, "primary_steps"), shadow = json_number(json, "mean_shadow_steps");
+    assert_true(primary_steps > 0.0 && primary_steps < json_number(json, "steps"));
+    assert_true(fabs(json_number(json, "mean_primary_steps") * primary - primary_steps) < 1.0);
+    assert_true(fabs(shadow * primary - (json_number(json, "steps") - primary_steps)) < 1.0 && shadow > 0.0);
+    assert_true(json_number(json, "primary_fallbacks") <= json_number(json, "fallbacks"));
+    assert_true(fabs(json_number(json, "mean_primary_fallbacks") * primary - json_number(json, "primary_fallbacks")) <
+                1.0);
 
     /* The same counts with one thread. */
     char again[4096];
@@ -160,6 +168,8 @@ static void test_json_report(void **state)
                 "--camera 0,2,9,0,0,0 --fov 50 --screen-space",
                 json, sizeof json);
     assert_true(json_number(json, "rays") == 200);
+    assert_true(json_number(json, "primary_steps") == json_number(json, "steps"));
+    assert_true(json_number(json, "mean_shadow_steps") == 0.0);
     assert_true(fabs(json_number(json, "omega") - 0.88) < 1e-6 && json_number(json, "max_steps") == 64);
     assert_non_null(strstr(json, "\"screen_space\": true"));
 }

@@ -32,6 +32,7 @@ static void fill_image(sdft_image *img)
         img->depth[i] = (i % 7 == 0) ? INFINITY : 1.0f + 0.125f * (float)i;
         img->steps[i] = (uint32_t)(3 * i + 1);
         img->fallbacks[i] = (uint32_t)(i % 5);
+        img->primary_steps[i] = (uint32_t)(2 * i);
         img->status[i] = (uint8_t)(i % 7 == 0 ? SDFT_MISS : SDFT_HIT);
     }
 }
@@ -135,7 +136,7 @@ static void test_exr_round_trip(void **state)
     read_exr(path, &rb);
     assert_int_equal(rb.width, W);
     assert_int_equal(rb.height, H);
-    assert_int_equal(rb.channels, 9);
+    assert_int_equal(rb.channels, 10);
     assert_int_equal(rb.storage, EXR_STORAGE_SCANLINE);
     assert_int_equal(rb.compression, EXR_COMPRESSION_ZIP);
     const float *r = channel(&rb, "R", EXR_PIXEL_FLOAT), *g = channel(&rb, "G", EXR_PIXEL_FLOAT);
@@ -144,6 +145,7 @@ static void test_exr_round_trip(void **state)
     const float *nz = channel(&rb, "N.Z", EXR_PIXEL_FLOAT);
     const uint32_t *steps = channel(&rb, "steps", EXR_PIXEL_UINT);
     const uint32_t *fallbacks = channel(&rb, "fallbacks", EXR_PIXEL_UINT);
+    const uint32_t *primary_steps = channel(&rb, "primary_steps", EXR_PIXEL_UINT);
     for (int i = 0; i < W * H; i++) {
         /* Lossless: bit-exact floats and counts. */
         assert_true(r[i] == img.rgb[3 * i] && g[i] == img.rgb[3 * i + 1] && b[i] == img.rgb[3 * i + 2]);
@@ -151,6 +153,7 @@ static void test_exr_round_trip(void **state)
         assert_true(z[i] == img.depth[i]);
         assert_int_equal(steps[i], 3 * i + 1);
         assert_int_equal(fallbacks[i], i % 5);
+        assert_int_equal(primary_steps[i], 2 * i);
     }
     assert_true(isinf(z[0]));
     for (int c = 0; c < rb.channels; c++)

@@ -5,6 +5,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <cmocka.h>
@@ -210,6 +211,83 @@ static void test_shadows_and_counts(void **state)
     sdft_image_free(&img);
 }
 
+/* A field that charges each of its evaluations to the pixel whose primary
+ * ray passes through the point, by projecting the point back through a
+ * camera at (0, 0, 4) looking down -z (fov 40): what the primary-steps
+ * plane must hold, found without the renderer's bookkeeping. */
+typedef struct pixel_counter {
+    test_scene scene;
+    int width, height;
+    uint32_t *per_pixel;
+    unsigned long stray; /* evaluations off every primary ray's pixel */
+} pixel_counter;
+
+static float counted_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    const pixel_counter *pc = ctx;
+    pixel_counter *mut = (pixel_counter *)ctx; /* single-threaded test */
+    const float th = tanf(20.0f * 3.14159265f / 180.0f), tw = th * (float)pc->width / (float)pc->height;
+    const float depth = 4.0f - p.z; /* along the view axis */
+    const float qx = p.x / depth, qy = p.y / depth;
+    const float px = (qx + tw) / (2.0f * tw) * (float)pc->width, py = (th - qy) / (2.0f * th) * (float)pc->height;
+    const int x = (int)floorf(px), y = (int)floorf(py);
+    if (depth > 0.0f && x >= 0 && y >= 0 && x < pc->width && y < pc->height && fabsf(px - (float)x - 0.5f) < 0.01f &&
+        fabsf(py - (float)y - 0.5f) < 0.01f)
+        mut->per_pixel[(size_t)y * (size_t)pc->width + (size_t)x]++;
+    else
+        mut->stray++;
+    return test_distance(&pc->scene, s, p);
+}
+
+/* The primary-steps plane holds what the field saw of each pixel's primary
+ * ray; shadow rays add to steps and fallbacks, never to it; the stats split
+ * the totals the same way. */
+static void test_primary_steps_plane(void **state)
+{
+    (void)state;
+    sdft_render_params p = small_params();
+    p.threads = 1;
+    p.trace.method = SDFT_RELAXED, p.trace.omega = 1.5f; /* fallbacks too */
+    /* A sphere alone: its box leaves the eye outside, so that no evaluation is at the eye, where every ray meets. */
+    pixel_counter pc = {.scene = {.centre = {0, 0.3f, 0}, .radius = 0.8f}, .width = p.width, .height = p.height};
+    const size_t n = (size_t)p.width * (size_t)p.height;
+    pc.per_pixel = calloc(n, sizeof *pc.per_pixel);
+    assert_non_null(pc.per_pixel);
+    sdft_field f = test_field(&pc.scene);
+    f.distance = counted_distance, f.ctx = &pc;
+
+    sdft_image depth, full;
+    sdft_render_stats sd, sf;
+    assert_int_equal(sdft_image_alloc(&depth, p.width, p.height), 0);
+    assert_int_equal(sdft_image_alloc(&full, p.width, p.height), 0);
+    p.depth_only = 1; /* primary rays alone: no normals, no shadow rays */
+    assert_int_equal(sdft_render(&f, &p, &depth, &sd, NULL, 0), 0);
+    assert_int_equal(pc.stray, 0);
+    uint64_t sum = 0;
+    for (size_t i = 0; i < n; i++) {
+        assert_int_equal(depth.primary_steps[i], pc.per_pixel[i]);
+        assert_int_equal(depth.steps[i], pc.per_pixel[i]);
+        sum += pc.per_pixel[i];
+    }
+    assert_true(sd.primary_steps == sum && sd.steps == sum && sd.primary_fallbacks == sd.fallbacks);
+
+    p.depth_only = 0; /* with normals and shadow rays */
+    assert_int_equal(sdft_render(&f, &p, &full, &sf, NULL, 0), 0);
+    assert_memory_equal(full.primary_steps, depth.primary_steps, n * sizeof(uint32_t));
+    uint64_t shadow = 0, shadowed_pixels = 0;
+    for (size_t i = 0; i < n; i++) {
+        assert_true(full.steps[i] >= full.primary_steps[i] && full.fallbacks[i] >= depth.fallbacks[i]);
+        shadow += full.steps[i] - full.primary_steps[i];
+        shadowed_pixels += full.steps[i] > full.primary_steps[i];
+    }
+    assert_true(shadowed_pixels > 100);
+    assert_true(sf.primary_steps == sd.primary_steps && sf.steps - sf.primary_steps == shadow);
+    assert_true(sf.primary_fallbacks == sd.fallbacks && sf.fallbacks >= sf.primary_fallbacks);
+    sdft_image_free(&depth);
+    sdft_image_free(&full);
+    free(pc.per_pixel);
+}
+
 static void test_screen_space(void **state)
 {
     (void)state;
@@ -369,6 +447,7 @@ int main(void)
         cmocka_unit_test(test_depth_is_analytic),
         cmocka_unit_test(test_thread_count_invariant),
         cmocka_unit_test(test_shadows_and_counts),
+        cmocka_unit_test(test_primary_steps_plane),
         cmocka_unit_test(test_screen_space),
         cmocka_unit_test(test_bad_params),
         cmocka_unit_test(test_cones_never_pass_a_surface),

@@ -37,6 +37,7 @@ typedef struct sdft_image {
     float *normal;       /* unit world-space normal, 3 floats per pixel; 0 where nothing is hit */
     uint32_t *steps;     /* SDF evaluations, primary + shadow ray (not the shared cones') */
     uint32_t *fallbacks; /* fallbacks, primary + shadow ray */
+    uint32_t *primary_steps; /* SDF evaluations of the primary ray alone (Bán–Valasek Fig. 2) */
     uint8_t *status;     /* sdft_status of the primary ray */
 } sdft_image;
 
@@ -45,8 +46,10 @@ typedef struct sdft_render_stats {
     uint64_t rays;         /* primary + shadow rays */
     uint64_t primary_rays; /* width * height */
     uint64_t steps;        /* SDF evaluations over all rays (each ray's own trace) */
+    uint64_t primary_steps; /* of them, the primary rays'; steps - primary_steps: the shadow rays' */
     uint64_t cone_steps;   /* SDF evaluations of the cones, shared by their rays (0 without cones) */
     uint64_t fallbacks;
+    uint64_t primary_fallbacks; /* of them, the primary rays' */
     uint64_t hits;         /* primary rays that hit */
     uint64_t nonconverged; /* primary rays that did not converge */
 } sdft_render_stats;

@@ -323,14 +323,18 @@ static void print_json(const render_source *src, const sdft_render_params *p, co
     json_string(src->name);
     printf(", \"method\": \"%s\", \"omega\": %.6g, \"beta\": %.6g, \"eps\": %.6g, \"max_steps\": %u, "
            "\"width\": %d, \"height\": %d, \"shadows\": %s, \"screen_space\": %s, \"cones\": %s, \"threads\": %d, "
-           "\"ms\": %.3f, \"rays\": %llu, \"primary_rays\": %llu, \"steps\": %llu, \"cone_steps\": %llu, "
-           "\"fallbacks\": %llu, \"mean_steps\": %.4f, \"mean_cone_steps\": %.4f, \"mean_fallbacks\": %.4f, "
-           "\"nonconverged\": %.6f, \"hit_fraction\": %.6f}\n",
+           "\"ms\": %.3f, \"rays\": %llu, \"primary_rays\": %llu, \"steps\": %llu, \"primary_steps\": %llu, "
+           "\"cone_steps\": %llu, \"fallbacks\": %llu, \"primary_fallbacks\": %llu, \"mean_steps\": %.4f, "
+           "\"mean_primary_steps\": %.4f, \"mean_shadow_steps\": %.4f, \"mean_cone_steps\": %.4f, "
+           "\"mean_fallbacks\": %.4f, \"mean_primary_fallbacks\": %.4f, \"nonconverged\": %.6f, "
+           "\"hit_fraction\": %.6f}\n",
            sdft_method_name(p->trace.method), p->trace.omega, p->trace.beta, p->trace.eps, p->trace.max_steps, p->width,
            p->height, p->shadows ? "true" : "false", p->screen_space ? "true" : "false", p->cones ? "true" : "false",
            p->threads, st->ms, (unsigned long long)st->rays, (unsigned long long)st->primary_rays,
-           (unsigned long long)st->steps, (unsigned long long)st->cone_steps, (unsigned long long)st->fallbacks,
-           (double)st->steps / primary, (double)st->cone_steps / primary, (double)st->fallbacks / primary,
+           (unsigned long long)st->steps, (unsigned long long)st->primary_steps, (unsigned long long)st->cone_steps,
+           (unsigned long long)st->fallbacks, (unsigned long long)st->primary_fallbacks, (double)st->steps / primary,
+           (double)st->primary_steps / primary, (double)(st->steps - st->primary_steps) / primary,
+           (double)st->cone_steps / primary, (double)st->fallbacks / primary, (double)st->primary_fallbacks / primary,
            (double)st->nonconverged / primary, (double)st->hits / primary);
 }
 

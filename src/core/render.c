@@ -59,8 +59,10 @@ int sdft_image_alloc(sdft_image *img, int width, int height)
     img->normal = malloc(3 * n * sizeof *img->normal);
     img->steps = malloc(n * sizeof *img->steps);
     img->fallbacks = malloc(n * sizeof *img->fallbacks);
+    img->primary_steps = malloc(n * sizeof *img->primary_steps);
     img->status = malloc(n * sizeof *img->status);
-    if (!img->rgb || !img->depth || !img->normal || !img->steps || !img->fallbacks || !img->status) {
+    if (!img->rgb || !img->depth || !img->normal || !img->steps || !img->fallbacks || !img->primary_steps ||
+        !img->status) {
         sdft_image_free(img);
         return -1;
     }
@@ -74,6 +76,7 @@ void sdft_image_free(sdft_image *img)
     free(img->normal);
     free(img->steps);
     free(img->fallbacks);
+    free(img->primary_steps);
     free(img->status);
     memset(img, 0, sizeof *img);
 }
@@ -89,6 +92,7 @@ typedef struct pixel_result {
     sdft_vec3 rgb, normal;
     float depth;
     uint32_t steps, fallbacks, rays;
+    uint32_t primary_steps, primary_fallbacks; /* the primary ray's share of steps and fallbacks */
     sdft_status status;
 } pixel_result;
 
@@ -126,7 +130,13 @@ static int shade_pixel(const frame *fr, sdft_scratch *s, sdft_ray ray, sdft_hit 
     const sdft_field *f = fr->f;
     const sdft_render_params *rp = fr->rp;
     const sdft_trace_params *tp = &fr->tp;
-    *out = (pixel_result){.depth = INFINITY, .steps = h.steps, .fallbacks = h.fallbacks, .rays = 1, .status = h.status};
+    *out = (pixel_result){.depth = INFINITY,
+                          .steps = h.steps,
+                          .fallbacks = h.fallbacks,
+                          .rays = 1,
+                          .primary_steps = h.steps,
+                          .primary_fallbacks = h.fallbacks,
+                          .status = h.status};
     /* A non-converged ray is shaded as a hit only with the screen-space
      * criterion, whose best candidate is meant to be used (Keinert §3.2). */
     int surface = h.status == SDFT_HIT || (h.status == SDFT_NOT_CONVERGED && tp->pixel_radius > 0.0f);
@@ -177,6 +187,7 @@ static float farthest_corner(sdft_aabb b, sdft_vec3 p)
 /* Sums over one tile, added up in tile order after the parallel loop. */
 typedef struct tile_stats {
     uint64_t rays, steps, fallbacks, hits, nonconverged;
+    uint64_t primary_steps, primary_fallbacks;
     uint32_t cone_steps;
 } tile_stats;
 
@@ -190,8 +201,10 @@ static void store_pixel(const frame *fr, int x, int y, const pixel_result *px, s
     img->depth[i] = px->depth;
     img->steps[i] = px->steps;
     img->fallbacks[i] = px->fallbacks;
+    img->primary_steps[i] = px->primary_steps;
     img->status[i] = (uint8_t)px->status;
     ts->rays += px->rays, ts->steps += px->steps, ts->fallbacks += px->fallbacks;
+    ts->primary_steps += px->primary_steps, ts->primary_fallbacks += px->primary_fallbacks;
     ts->hits += px->status == SDFT_HIT;
     ts->nonconverged += px->status == SDFT_NOT_CONVERGED;
 }
@@ -213,6 +226,8 @@ static void render_block(const frame *fr, sdft_scratch *s, int x0, int y0, int x
             rays[n] = sdft_view_ray(&fr->view, (float)x + 0.5f, (float)y + 0.5f);
             rays[n].tnear = tnear;
         }
+    if (n == 0) /* never, as blocks are not empty; saying so spares GCC a false "may be uninitialized" */
+        return;
     sdft_trace_stream(fr->f, s, rays, hits, n, &fr->tp);
     for (size_t k = 0; k < n; k++)
         if (shade_pixel(fr, s, rays[k], hits[k], &px[k], &shadows[m]))
@@ -326,6 +341,8 @@ int sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_imag
         st.rays += per_tile[tile].rays;
         st.steps += per_tile[tile].steps;
         st.fallbacks += per_tile[tile].fallbacks;
+        st.primary_steps += per_tile[tile].primary_steps;
+        st.primary_fallbacks += per_tile[tile].primary_fallbacks;
         st.hits += per_tile[tile].hits;
         st.nonconverged += per_tile[tile].nonconverged;
         st.cone_steps += per_tile[tile].cone_steps;

@@ -9,7 +9,7 @@
 #include "atomic_file.h"
 #include "image_io.h"
 
-enum { EXR_CHANNELS = 9 };
+enum { EXR_CHANNELS = 10 };
 
 /* OpenEXR reports errors through a callback; keep the first for msg. */
 typedef struct exr_errors {
@@ -105,6 +105,7 @@ int sdft_write_exr(const char *path, const sdft_image *img, char *msg, unsigned 
         {"N.Z", EXR_PIXEL_FLOAT, split + 5 * n},
         {"steps", EXR_PIXEL_UINT, img->steps},
         {"fallbacks", EXR_PIXEL_UINT, img->fallbacks},
+        {"primary_steps", EXR_PIXEL_UINT, img->primary_steps},
     };
 
     atomic_file af;

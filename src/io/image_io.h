@@ -16,7 +16,8 @@ extern "C" {
 
 /* Scanline OpenEXR, ZIP compressed, through OpenEXRCore: R, G, B (float,
  * linear), Z (float: primary-ray t, inf on a miss), N.X, N.Y, N.Z (float),
- * steps and fallbacks (uint: primary + shadow ray). */
+ * steps and fallbacks (uint: primary + shadow ray), primary_steps (uint:
+ * the primary ray's steps alone). */
 int sdft_write_exr(const char *path, const sdft_image *img, char *msg, unsigned msg_len);
 
 /* Reads channels names[0..n-1] of a scanline OpenEXR file as float planes
