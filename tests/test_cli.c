@@ -18,9 +18,10 @@ static char out[1 << 16];
 static void test_help_lists_every_option(void **state)
 {
     (void)state;
-    static const char *const flags[] = {"--scene", "--method", "--omega",  "--beta",    "--eps",         "--max-steps",
-                                        "--width", "--height", "--camera", "--fov",     "--no-shadows",  "--threads",
-                                        "-o ",     "--png",    "--json",   "--heatmap", "--screen-space"};
+    static const char *const flags[] = {"--scene",      "--method",       "--omega",      "--beta",   "--eps",
+                                        "--max-steps",  "--width",        "--height",     "--camera", "--fov",
+                                        "--no-shadows", "--threads",      "-o ",          "--png",    "--json",
+                                        "--heatmap",    "--screen-space", "--heatmap-max"};
     for (int which = 0; which < 2; which++) {
         assert_int_equal(tu_run(out, sizeof out, "%s %s", SDFT_CLI, which ? "render --help" : "--help"), 0);
         for (size_t i = 0; i < sizeof flags / sizeof flags[0]; i++)
@@ -83,6 +84,10 @@ static void test_bad_input(void **state)
         "--png " SDFT_TEST_TMP "/no/such/dir/x.png",
         "--heatmap steps " SDFT_TEST_TMP "/no/such/dir/h.png",
         "--width",
+        "--heatmap-max 40",
+        "--heatmap-max 0 --heatmap steps " SDFT_TEST_TMP "/cli_bad_heat.png",
+        "--heatmap-max x --heatmap steps " SDFT_TEST_TMP "/cli_bad_heat.png",
+        "--heatmap steps " SDFT_TEST_TMP "/cli_bad_heat.png --heatmap-max",
     };
     char exr[512];
     tu_tmp(exr, sizeof exr, "cli_bad.exr");
@@ -165,7 +170,7 @@ static void test_json_report(void **state)
 
     /* No shadows: one ray per pixel. Options override the defaults. */
     render_json("--scene dodecahedron --no-shadows --width 20 --height 10 --method enhanced --eps 0.001 --max-steps 64 "
-                "--camera 0,2,9,0,0,0 --fov 50 --screen-space",
+                "--camera 0,2,9,0,0,0 --fov 50 --screen-space --heatmap-max 12",
                 json, sizeof json);
     assert_true(json_number(json, "rays") == 200);
     assert_true(json_number(json, "primary_steps") == json_number(json, "steps"));

@@ -253,7 +253,7 @@ static void test_heatmap(void **state)
     fill_image(&img);
     char path[512], msg[256] = "";
     tu_tmp(path, sizeof path, "io_heat.png");
-    assert_int_equal(sdft_write_heatmap(path, &img, SDFT_HEATMAP_STEPS, msg, sizeof msg), 0);
+    assert_int_equal(sdft_write_heatmap(path, &img, SDFT_HEATMAP_STEPS, 0, msg, sizeof msg), 0);
     int w, h;
     unsigned char *px = read_png(path, &w, &h);
     assert_int_equal(w, W);
@@ -271,11 +271,27 @@ static void test_heatmap(void **state)
     assert_true(px[3 * last] > 200 && px[3 * last + 1] < 30);
     free(px);
 
-    assert_int_equal(sdft_write_heatmap(path, &img, SDFT_HEATMAP_FALLBACKS, msg, sizeof msg), 0);
+    assert_int_equal(sdft_write_heatmap(path, &img, SDFT_HEATMAP_FALLBACKS, 0, msg, sizeof msg), 0);
     px = read_png(path, &w, &h);
     unsigned char want[3];
     sdft_heatmap_colour(4.0, 4.0, want); /* fallbacks 0..4: scale 4 */
     assert_memory_equal(px + 3 * 4, want, 3);
+    free(px);
+
+    /* A fixed scale (--heatmap-max 40) draws exactly what the data's own
+     * scale draws for the counts clamped at 40, whose largest is 40: the
+     * same colours, larger counts red, and the same legend, ticks 0..40. */
+    assert_int_equal(sdft_write_heatmap(path, &img, SDFT_HEATMAP_STEPS, 40, msg, sizeof msg), 0);
+    unsigned char *fixed = read_png(path, &w, &h);
+    assert_true(img.steps[W * H - 1] > 40);
+    for (int i = 0; i < W * H; i++)
+        img.steps[i] = img.steps[i] < 40 ? img.steps[i] : 40;
+    assert_int_equal(sdft_write_heatmap(path, &img, SDFT_HEATMAP_STEPS, 0, msg, sizeof msg), 0);
+    int w2, h2;
+    px = read_png(path, &w2, &h2);
+    assert_true(w2 == w && h2 == h);
+    assert_memory_equal(fixed, px, 3 * (size_t)w * (size_t)h);
+    free(fixed);
     free(px);
     sdft_image_free(&img);
 }
@@ -307,7 +323,7 @@ static void test_failed_writes_leave_nothing(void **state)
     assert_false(tu_file_exists(missing));
     assert_int_not_equal(sdft_check_writable(missing, msg, sizeof msg), 0);
     assert_int_not_equal(sdft_write_png(SDFT_TEST_TMP "/no/such/out.png", &img, msg, sizeof msg), 0);
-    assert_int_not_equal(sdft_write_heatmap(SDFT_TEST_TMP "/no/such/h.png", &img, 0, msg, sizeof msg), 0);
+    assert_int_not_equal(sdft_write_heatmap(SDFT_TEST_TMP "/no/such/h.png", &img, 0, 0, msg, sizeof msg), 0);
 
     /* The target is a folder: everything is written, the rename fails. */
     char dir[512];

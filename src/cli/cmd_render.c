@@ -24,6 +24,7 @@ typedef struct render_opts {
     int omega_set;                /* --omega given; else the method's default */
     float omega, beta, eps;
     long max_steps, width, height, threads;
+    long heatmap_max;        /* --heatmap-max: the scale's top; 0: the largest count, rounded up */
     int camera_set, fov_set; /* override the scene's view */
     float camera[6], fov;
     int shadows, screen_space, cones, depth_only, json;
@@ -69,6 +70,8 @@ void cmd_render_help(FILE *out)
         "  --threads N           OpenMP threads, 0 = all cores (default 0)\n"
         "  --png OUT.png         sRGB preview (default none)\n"
         "  --heatmap steps|fallbacks OUT.png  false-colour map of the per-pixel counts (default none)\n"
+        "  --heatmap-max N       the heatmap's scale runs 0..N, larger counts are red, so that maps share a scale\n"
+        "                        (default: the largest count, rounded up to a multiple of 4)\n"
         "  --json                print one JSON object of statistics on stdout (default off)\n",
         sdft_method_name(d.trace.method), sdft_default_omega(SDFT_RELAXED), sdft_default_omega(SDFT_ENHANCED),
         d.trace.beta, d.trace.eps, d.trace.max_steps, d.width, d.height);
@@ -120,7 +123,7 @@ static int parse_opts(int argc, char **argv, render_opts *o, char *msg, unsigned
                     !strcmp(a, "--beta") || !strcmp(a, "--eps") || !strcmp(a, "--max-steps") || !strcmp(a, "--width") ||
                     !strcmp(a, "--height") || !strcmp(a, "--camera") || !strcmp(a, "--fov") ||
                     !strcmp(a, "--threads") || !strcmp(a, "--png") || !strcmp(a, "--heatmap") || !strcmp(a, "--grid") ||
-                    !strcmp(a, "--grid-name");
+                    !strcmp(a, "--grid-name") || !strcmp(a, "--heatmap-max");
         if (!known) {
             snprintf(msg, len, "unknown option '%s' (try: sdftrace render --help)", a);
             return -1;
@@ -175,6 +178,9 @@ static int parse_opts(int argc, char **argv, render_opts *o, char *msg, unsigned
         } else if (!strcmp(a, "--height")) {
             rc = arg_long(a, v, 1, MAX_SIDE, &n, msg, len);
             o->height = n;
+        } else if (!strcmp(a, "--heatmap-max")) {
+            rc = arg_long(a, v, 1, MAX_STEPS, &n, msg, len);
+            o->heatmap_max = n;
         } else if (!strcmp(a, "--threads")) {
             rc = arg_long(a, v, 0, MAX_THREADS, &n, msg, len);
             o->threads = n;
@@ -199,6 +205,8 @@ static int check_opts(const render_opts *o, char *msg, unsigned len)
         snprintf(msg, len, "-o OUT.exr is required");
     else if (o->width * o->height > MAX_PIXELS)
         snprintf(msg, len, "%ldx%ld is more than %ld pixels", o->width, o->height, MAX_PIXELS);
+    else if (o->heatmap_max && !o->heatmap)
+        snprintf(msg, len, "--heatmap-max needs --heatmap");
     else if (o->camera_set && o->camera[0] == o->camera[3] && o->camera[1] == o->camera[4] &&
              o->camera[2] == o->camera[5])
         snprintf(msg, len, "--camera: the eye and the look-at point must differ");
@@ -292,7 +300,7 @@ static int write_outputs(const render_opts *o, const sdft_image *img, char *msg,
         remove(o->out);
         return -1;
     }
-    if (o->heatmap && sdft_write_heatmap(o->heatmap, img, o->heatmap_kind, msg, len)) {
+    if (o->heatmap && sdft_write_heatmap(o->heatmap, img, o->heatmap_kind, (unsigned long)o->heatmap_max, msg, len)) {
         remove(o->out);
         if (o->png)
             remove(o->png);

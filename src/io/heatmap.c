@@ -96,11 +96,13 @@ static void draw_legend(canvas *c, int top, unsigned long scale)
         int x = x0 + span * k / (TICKS - 1);
         for (int y = 0; y < TICK_H; y++)
             put(c, x, top + BAR_Y + BAR_H + y, INK);
-        draw_number(c, scale * (unsigned long)k / (TICKS - 1), x, top + BAR_Y + BAR_H + TICK_H + 2, INK);
+        draw_number(c, (scale * (unsigned long)k + (TICKS - 1) / 2) / (TICKS - 1), x, top + BAR_Y + BAR_H + TICK_H + 2,
+                    INK);
     }
 }
 
-int sdft_write_heatmap(const char *path, const sdft_image *img, sdft_heatmap_kind kind, char *msg, unsigned msg_len)
+int sdft_write_heatmap(const char *path, const sdft_image *img, sdft_heatmap_kind kind, unsigned long max, char *msg,
+                       unsigned msg_len)
 {
     const uint32_t *counts = kind == SDFT_HEATMAP_FALLBACKS ? img->fallbacks : img->steps;
     size_t n = (size_t)img->width * (size_t)img->height;
@@ -110,7 +112,7 @@ int sdft_write_heatmap(const char *path, const sdft_image *img, sdft_heatmap_kin
         snprintf(msg, msg_len, "out of memory writing %s", path);
         return -1;
     }
-    unsigned long scale = heatmap_scale(counts, n);
+    unsigned long scale = max ? max : heatmap_scale(counts, n);
     for (size_t i = 0; i < n; i++)
         sdft_heatmap_colour((double)counts[i], (double)scale, c.rgb + 3 * i);
     draw_legend(&c, img->height, scale);

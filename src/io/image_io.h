@@ -34,8 +34,11 @@ int sdft_write_png(const char *path, const sdft_image *img, char *msg, unsigned 
 typedef enum sdft_heatmap_kind { SDFT_HEATMAP_STEPS = 0, SDFT_HEATMAP_FALLBACKS } sdft_heatmap_kind;
 
 /* A PNG of the image's steps or fallbacks, green (low) to red (high) as in
- * Bán–Valasek Fig. 1, with a legend bar and numeric tick labels below. */
-int sdft_write_heatmap(const char *path, const sdft_image *img, sdft_heatmap_kind kind, char *msg, unsigned msg_len);
+ * Bán–Valasek Fig. 1, with a legend bar and numeric tick labels below. The
+ * scale runs from 0 to `max` (counts above it are red), so that several maps
+ * can share one; max 0 takes the largest count rounded up to a multiple of 4. */
+int sdft_write_heatmap(const char *path, const sdft_image *img, sdft_heatmap_kind kind, unsigned long max, char *msg,
+                       unsigned msg_len);
 
 /* The colour of a count on the heatmap's scale [0, max]: 8-bit RGB. */
 void sdft_heatmap_colour(double value, double max, unsigned char rgb[3]);
