@@ -1,12 +1,15 @@
 # sdftrace — the two Quick-start commands:
 #   make demo   install what is missing, build, render the default scene
 #   make test   install what is missing, build with sanitizers, run every test
+#               (bench-quick's pipeline included, as the ctest bench_quick)
+#   make bench  the study: regenerate bench/results/ (bakes, table, figures);
+#               commits nothing. make bench-quick: the same, small, checked.
 # Debian packages live in one list: .ci/debian-packages.
 
 PACKAGES := $(shell cat .ci/debian-packages)
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps build demo test bench clean
+.PHONY: all deps build demo test bench bench-quick clean
 
 all: build
 
@@ -33,7 +36,10 @@ test: deps
 	cd build-test && ctest --output-on-failure -j $(JOBS)
 
 bench: build
-	./bench/run.sh
+	./bench/study.sh
+
+bench-quick: build
+	./bench/study.sh --quick
 
 clean:
 	rm -rf build build-test out

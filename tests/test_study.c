@@ -1,0 +1,186 @@
+/* sdftrace tests — the study (bench/study): a rerun of a row's command line
+ * through `sdftrace render --json` gives that row's counts to the last
+ * digit, on the procedural scene and on both grids; and bad arguments get
+ * one line and a non-zero exit, from the program and from bench/study.sh. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "testutil.h"
+
+static char out[1 << 16];
+
+/* Field `col` (0-based) of a CSV line whose fields hold no commas, but for a
+ * last, quoted one: copied into buf without its quotes. */
+static const char *csv_field(const char *line, int col, char *buf, size_t len)
+{
+    const char *p = line;
+    for (int k = 0; k < col && p; k++)
+        p = strchr(p, ',') ? strchr(p, ',') + 1 : NULL;
+    assert_non_null(p);
+    const char *end = *p == '"' ? strchr(p + 1, '"') : strpbrk(p, ",\n");
+    if (*p == '"')
+        p++;
+    size_t n = end ? (size_t)(end - p) : strlen(p);
+    assert_true(n < len);
+    memcpy(buf, p, n);
+    buf[n] = '\0';
+    return buf;
+}
+
+static int csv_column(const char *header, const char *name)
+{
+    char buf[64];
+    for (int col = 0; col < 40; col++)
+        if (!strcmp(csv_field(header, col, buf, sizeof buf), name))
+            return col;
+    fail_msg("no column %s", name);
+    return -1;
+}
+
+/* The text after "key": in a JSON line, up to the next comma or brace. */
+static const char *json_text(const char *json, const char *key, char *buf, size_t len)
+{
+    char pattern[64];
+    snprintf(pattern, sizeof pattern, "\"%s\": ", key);
+    const char *p = strstr(json, pattern);
+    assert_non_null(p);
+    p += strlen(pattern);
+    size_t n = strcspn(p, ",}");
+    assert_true(n < len);
+    memcpy(buf, p, n);
+    buf[n] = '\0';
+    return buf;
+}
+
+static void test_rows_rerun_exactly(void **state)
+{
+    (void)state;
+    const char *grids = SDFT_TEST_TMP "/study-grids", *res = SDFT_TEST_TMP "/study-out";
+    assert_int_equal(tu_run(out, sizeof out, "rm -rf %s %s && mkdir -p %s %s", grids, res, grids, res), 0);
+    for (int full = 0; full < 2; full++)
+        assert_int_equal(tu_run(out, sizeof out, "%s bake --scene temple --res 32%s -o %s/temple-%s-32.nvdb", SDFT_CLI,
+                                full ? " --full" : "", grids, full ? "full" : "band"),
+                         0);
+    int rc = tu_run(out, sizeof out,
+                    "%s --out %s --grids %s --res 32 --width 40 --height 24 --repeats 1 --sweep 0 --scenes temple "
+                    "--caps 1000,16 --parts table,keinert --cli %s --row-exr %s/study-row.exr --quiet",
+                    SDFT_STUDY, res, grids, SDFT_CLI, SDFT_TEST_TMP);
+    if (rc)
+        fail_msg("study failed: %s", out);
+
+    char path[512];
+    snprintf(path, sizeof path, "%s/results.csv", res);
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    static char header[4096], line[8192];
+    assert_non_null(fgets(header, sizeof header, f));
+    const int c_rep = csv_column(header, "representation"), c_shadows = csv_column(header, "shadows");
+    const int c_cap = csv_column(header, "max_steps"), c_ss = csv_column(header, "screen_space");
+    const int c_mean = csv_column(header, "mean_steps"), c_primary = csv_column(header, "mean_primary_steps");
+    const int c_steps = csv_column(header, "steps"), c_cmd = csv_column(header, "command");
+    /* A few small rows of each kind: every representation, with and without
+     * shadows, both caps, and one of Keinert's screen-space rows. */
+    int checked = 0, seen[3][2][2] = {{{0}}}, screen_space = 0, rows = 0;
+    while (fgets(line, sizeof line, f)) {
+        rows++;
+        char rep[32], shadows[8], cap[16], ss[8], mean[32], primary[32], steps[32], cmd[4096], got[32];
+        csv_field(line, c_rep, rep, sizeof rep);
+        csv_field(line, c_shadows, shadows, sizeof shadows);
+        csv_field(line, c_cap, cap, sizeof cap);
+        csv_field(line, c_ss, ss, sizeof ss);
+        const int r = !strcmp(rep, "procedural") ? 0 : !strcmp(rep, "band") ? 1 : 2, s = atoi(shadows);
+        const int k = !strcmp(cap, "16");
+        const int take = *ss == '1' ? !screen_space++ : !seen[r][s][k]++;
+        if (!take)
+            continue;
+        csv_field(line, c_cmd, cmd, sizeof cmd);
+        if (tu_run(out, sizeof out, "%s 2>&1", cmd))
+            fail_msg("'%s' failed: %s", cmd, out);
+        if (strcmp(json_text(out, "mean_steps", got, sizeof got), csv_field(line, c_mean, mean, sizeof mean)) ||
+            strcmp(json_text(out, "mean_primary_steps", got, sizeof got),
+                   csv_field(line, c_primary, primary, sizeof primary)) ||
+            strcmp(json_text(out, "steps", got, sizeof got), csv_field(line, c_steps, steps, sizeof steps)))
+            fail_msg("'%s' gives %s, the study's row says mean_steps %s, steps %s", cmd, out, mean, steps);
+        checked++;
+    }
+    fclose(f);
+    assert_int_equal(checked, 3 * 2 * 2 + 1);
+    assert_int_equal(rows, 3 * 2 * 2 * 6 + 12); /* the table's rows and Keinert's */
+    print_message("%d of %d rows rerun through sdftrace render: the same counts\n", checked, rows);
+}
+
+/* Bad arguments: one line, a non-zero exit, no results. */
+static void test_bad_arguments(void **state)
+{
+    (void)state;
+    const char *dir = SDFT_TEST_TMP "/study-bad";
+    assert_int_equal(tu_run(out, sizeof out, "rm -rf %s && mkdir -p %s && chmod 555 %s", dir, dir, dir), 0);
+    static const char *const cases[] = {
+        "--scenes nosuch",
+        "--scenes temple,nosuch",
+        "--width 0",
+        "--height -3",
+        "--res 0",
+        "--res 2048",
+        "--repeats 0",
+        "--sweep x",
+        "--caps 0",
+        "--caps ''",
+        "--reps procedural,nosuch",
+        "--parts nosuch",
+        "--bogus",
+        "--width",
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        int rc = tu_run(out, sizeof out, "%s --out %s/out %s", SDFT_STUDY, SDFT_TEST_TMP, cases[i]);
+        if (rc == 0 || tu_lines(out) != 1)
+            fail_msg("case '%s': rc %d, output '%s'", cases[i], rc, out);
+    }
+    /* No --out; an unwritable one (unless root, who may write anywhere); a missing grid. */
+    assert_int_not_equal(tu_run(out, sizeof out, "%s --scenes temple", SDFT_STUDY), 0);
+    assert_int_equal(tu_lines(out), 1);
+    assert_int_not_equal(tu_run(out, sizeof out, "%s --out %s/no/such/dir", SDFT_STUDY, SDFT_TEST_TMP), 0);
+    assert_int_equal(tu_lines(out), 1);
+    if (tu_run(NULL, 0, "test -w %s", dir) != 0) {
+        assert_int_not_equal(tu_run(out, sizeof out, "%s --out %s", SDFT_STUDY, dir), 0);
+        assert_int_equal(tu_lines(out), 1);
+    }
+    assert_int_not_equal(tu_run(out, sizeof out,
+                                "%s --out %s --grids %s/none --res 16 --width 8 --height 8 --parts table --quiet",
+                                SDFT_STUDY, SDFT_TEST_TMP, SDFT_TEST_TMP),
+                         0);
+    assert_int_equal(tu_lines(out), 1);
+    assert_non_null(strstr(out, "none/temple-band-16.nvdb"));
+
+    /* The driver checks the same before it bakes anything. */
+    static const char *const driver[] = {"--bogus", "--out", "--build /no/such/build"};
+    for (size_t i = 0; i < sizeof driver / sizeof driver[0]; i++) {
+        int rc = tu_run(out, sizeof out, "sh %s %s", SDFT_STUDY_SH, driver[i]);
+        if (rc == 0 || tu_lines(out) != 1)
+            fail_msg("study.sh '%s': rc %d, output '%s'", driver[i], rc, out);
+    }
+    int rc = tu_run(out, sizeof out, "SCENES=nosuch sh %s --quick --build %s", SDFT_STUDY_SH, SDFT_BUILD_DIR);
+    if (rc == 0 || tu_lines(out) != 1)
+        fail_msg("study.sh with an unknown scene: rc %d, output '%s'", rc, out);
+    rc = tu_run(out, sizeof out, "WIDTH=0 sh %s --quick --build %s", SDFT_STUDY_SH, SDFT_BUILD_DIR);
+    if (rc == 0 || tu_lines(out) != 1)
+        fail_msg("study.sh with width 0: rc %d, output '%s'", rc, out);
+    tu_run(NULL, 0, "chmod 755 %s", dir);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_rows_rerun_exactly),
+        cmocka_unit_test(test_bad_arguments),
+    };
+    return cmocka_run_group_tests_name("study", tests, NULL, NULL);
+}
