@@ -16,7 +16,7 @@ set xrange [0 : 150]
 set grid
 set xlabel "SDF evaluations k"
 set ylabel "rays not finished after k"
-set key bottom left
+set key top right
 set multiplot layout n, 3 title "Share of primary rays still marching after k evaluations (no shadows, 1000 steps)"
 do for [s = 1:n] {
     do for [r = 1:3] {

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -60,6 +61,18 @@ void study_run_free(study_run *run)
         free(run->fig1[k]);
 }
 
+/* A file descriptor from mkstemp, given the mode a plain fopen would give
+ * (mkstemp makes it 0600). */
+static int usual_mode(int fd)
+{
+    if (fd >= 0) {
+        const mode_t mask = umask(022);
+        umask(mask);
+        fchmod(fd, 0666 & ~mask);
+    }
+    return fd;
+}
+
 /* A text file written under a temporary name and renamed when closed. */
 typedef struct out_file {
     FILE *f;
@@ -70,7 +83,7 @@ static int out_open(out_file *o, const char *dir, const char *name)
 {
     snprintf(o->path, sizeof o->path, "%s/%s", dir, name);
     snprintf(o->tmp, sizeof o->tmp, "%s.tmp-XXXXXX", o->path);
-    int fd = mkstemp(o->tmp);
+    int fd = usual_mode(mkstemp(o->tmp));
     o->f = fd < 0 ? NULL : fdopen(fd, "w");
     if (!o->f) {
         fprintf(stderr, "study: cannot write %s: %s\n", o->path, strerror(errno));
@@ -99,7 +112,7 @@ int study_write_file(const char *path, const void *data, size_t size)
 {
     char tmp[4300];
     snprintf(tmp, sizeof tmp, "%s.tmp-XXXXXX", path);
-    int fd = mkstemp(tmp);
+    int fd = usual_mode(mkstemp(tmp));
     FILE *f = fd < 0 ? NULL : fdopen(fd, "wb");
     int bad = !f || fwrite(data, 1, size, f) != size;
     if (f)
