@@ -6,12 +6,12 @@
 #include "winding_sign.h"
 
 #include <openvdb/tools/MeshToVolume.h>
-#include <openvdb/tools/SignedFloodFill.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <mutex>
@@ -52,7 +52,8 @@ Vec3 worldOf(const BoxGeometry &box, const openvdb::Coord &ijk)
 
 // The exact band (band.h) as a tree with background `band` voxels in world
 // units: a leaf per block, its band voxels active, signed by `sign` when
-// given (else unsigned). Inactive values are +background.
+// given (else unsigned). Inactive values are +background, or -background
+// where `sign` puts them inside.
 openvdb::FloatGrid::Ptr exactBandGrid(const TriangleMesh &mesh, const BoxGeometry &box, float band,
                                       const WindingSign *sign, Progress &progress)
 {
@@ -70,6 +71,8 @@ openvdb::FloatGrid::Ptr exactBandGrid(const TriangleMesh &mesh, const BoxGeometr
             for (int v = 0; v < kBlockSize; ++v)
                 if (std::isfinite(distance[v]))
                     leaf->setValueOn(openvdb::Index(v), distance[v]);
+                else if (distance[v] < 0)
+                    leaf->setValueOnly(openvdb::Index(v), -background);
             std::lock_guard<std::mutex> lock(leavesMutex);
             leaves.push_back(leaf);
         },
@@ -80,35 +83,99 @@ openvdb::FloatGrid::Ptr exactBandGrid(const TriangleMesh &mesh, const BoxGeometr
     return grid;
 }
 
-// Gives the inactive values of a signed band the sign of their side:
-// OpenVDB's signed flood fill inside leaves, the winding number at the
-// centre of every tile (a flood fill would leak through a mesh's holes).
-void signOffBand(openvdb::FloatTree &tree, const BoxGeometry &box, const FastWinding &winding)
+// Appends the 8^3 cubes of the cube of size^3 voxels at `origin` with their
+// sides: octants the bound decides whole pass their side to every 8^3 cube
+// in them; 8^3 cubes it cannot decide get side 0.
+template <typename Cube>
+void splitCube(const WindingSign &sign, const std::array<int, 3> &origin, int size, std::vector<Cube> &out)
 {
+    const int half = size / 2;
+    for (int o = 0; o < 8; ++o) {
+        const std::array<int, 3> at{origin[0] + (o >> 2) * half, origin[1] + ((o >> 1) & 1) * half,
+                                    origin[2] + (o & 1) * half};
+        const int side = sign.cubeSide(at, half);
+        if (side == 0 && half > kBlockDim) {
+            splitCube(sign, at, half, out);
+            continue;
+        }
+        for (int x = 0; x < half; x += kBlockDim)
+            for (int y = 0; y < half; y += kBlockDim)
+                for (int z = 0; z < half; z += kBlockDim)
+                    out.push_back({{at[0] + x, at[1] + y, at[2] + z}, side});
+    }
+}
+
+// Gives every tile of a band tree whose leaves WindingSign has signed voxel
+// by voxel the side its winding number gives (a flood fill would leak
+// through a mesh's holes, and a tile's centre speaks only for itself): a
+// cube the bound decides (WindingSign::cubeSide) takes one value; one it
+// cannot decide is split into octants down to 8^3, and an 8^3 cube it cannot
+// decide becomes a leaf of inactive voxels signed one by one.
+void signTiles(openvdb::FloatTree &tree, const WindingSign &sign, Progress &progress)
+{
+    using Leaf = openvdb::FloatTree::LeafNodeType;
     const float background = tree.background();
-    openvdb::tools::signedFloodFill(tree);
-    // Tile centres first, their winding numbers in parallel, then the
-    // values in the same (deterministic) iteration order.
-    std::vector<Vec3> centres;
+    struct Cube {
+        std::array<int, 3> origin;
+        int side; // -1 inside, +1 outside, 0 split
+    };
+    std::vector<Cube> tiles;
+    std::vector<int> sizes;
     for (auto it = tree.cbeginValueOff(); it; ++it) {
         if (!it.isTileValue())
             continue;
         openvdb::CoordBBox bbox;
         it.getBoundingBox(bbox);
-        const openvdb::Vec3d c = bbox.getCenter();
-        centres.push_back({box.origin[0] + c[0] * box.voxelSize, box.origin[1] + c[1] * box.voxelSize,
-                           box.origin[2] + c[2] * box.voxelSize});
+        tiles.push_back({{bbox.min()[0], bbox.min()[1], bbox.min()[2]}, 0});
+        sizes.push_back(bbox.dim()[0]);
     }
-    std::vector<uint8_t> inside(centres.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, centres.size(), 64), [&](const tbb::blocked_range<size_t> &r) {
-        for (size_t i = r.begin(); i != r.end(); ++i)
-            inside[i] = winding(centres[i]) > 0.5;
+    // Each undecided tile's 8^3 cubes, in parallel; then the undecided ones
+    // become leaves.
+    std::vector<std::vector<Cube>> parts(tiles.size());
+    std::atomic<size_t> done{0};
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 16), [&](const tbb::blocked_range<size_t> &r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+            tiles[i].side = sign.cubeSide(tiles[i].origin, sizes[i]);
+            if (tiles[i].side == 0 && sizes[i] > kBlockDim)
+                splitCube(sign, tiles[i].origin, sizes[i], parts[i]);
+            else if (tiles[i].side == 0)
+                parts[i].push_back(tiles[i]);
+        }
+        progress.report(int(100.0 * double(done.fetch_add(r.size()) + r.size()) / double(tiles.size())));
     });
+    std::vector<Cube> cubes;
+    for (const auto &part : parts)
+        cubes.insert(cubes.end(), part.begin(), part.end());
+    std::vector<Leaf *> leaves(cubes.size(), nullptr);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, cubes.size(), 16), [&](const tbb::blocked_range<size_t> &r) {
+        float distance[kBlockSize];
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+            if (cubes[i].side != 0)
+                continue;
+            std::fill(distance, distance + kBlockSize, INFINITY);
+            sign.signBlock(cubes[i].origin, distance);
+            const openvdb::Coord at(cubes[i].origin[0], cubes[i].origin[1], cubes[i].origin[2]);
+            leaves[i] = new Leaf(at, background, false);
+            for (int v = 0; v < kBlockSize; ++v)
+                if (distance[v] < 0)
+                    leaves[i]->setValueOnly(openvdb::Index(v), -background);
+        }
+    });
+    // Values first, in the iteration order of the list; then the structure.
     size_t next = 0;
     for (auto it = tree.beginValueOff(); it; ++it) {
         if (!it.isTileValue())
             continue;
-        it.setValue(inside[next++] ? -background : background);
+        const Cube &tile = tiles[next++];
+        if (tile.side != 0)
+            it.setValue(tile.side < 0 ? -background : background);
+    }
+    for (size_t i = 0; i < cubes.size(); ++i) {
+        const openvdb::Coord at(cubes[i].origin[0], cubes[i].origin[1], cubes[i].origin[2]);
+        if (leaves[i])
+            tree.addLeaf(leaves[i]); // the tree takes ownership
+        else
+            tree.addTile(1, at, cubes[i].side < 0 ? -background : background, false);
     }
 }
 
@@ -216,10 +283,10 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
         progress.stage(winding ? "exact distance, sign" : "exact distance", 0, opt.full ? 60 : 100);
         std::unique_ptr<WindingSign> sign;
         if (winding)
-            sign.reset(new WindingSign(mesh, *tree, box.origin, box.voxelSize));
+            sign.reset(new WindingSign(mesh, *tree, box.origin, box.voxelSize, band));
         grid = exactBandGrid(mesh, box, band, sign.get(), progress);
         if (winding)
-            signOffBand(grid->tree(), box, *tree);
+            signTiles(grid->tree(), *sign, progress);
         stats.windingSeconds = seconds(t0);
     }
     grid->setTransform(xform);
