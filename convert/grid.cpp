@@ -2,6 +2,7 @@
 #include "grid.h"
 
 #include "band.h"
+#include "nearest_triangle.h"
 #include "winding.h"
 #include "winding_sign.h"
 
@@ -179,39 +180,62 @@ void signTiles(openvdb::FloatTree &tree, const WindingSign &sign, Progress &prog
     }
 }
 
-// --full: every voxel of the box not yet in the band gets its exact
-// distance, signed by the winding number when `signByWinding`, else with the
-// sign its region already has (OpenVDB's flood fill, or none). Slab by slab:
-// distances in parallel, insertion into the tree serially.
-void fillBox(openvdb::FloatGrid &grid, const BoxGeometry &box, const FastWinding &tree, bool signByWinding,
-             Progress &progress)
+// --full: every voxel of the box not in the band gets its exact distance
+// (NearestTriangle), with the sign its value in the tree already has (the
+// winding sign of signTiles, OpenVDB's flood fill, or none). Block by block
+// in parallel, each 8^3 block a leaf: the band's leaf where there is one,
+// else a new leaf filled from the tile's value, added to the tree at the
+// end. Within a block, each voxel's search starts from the nearest triangle
+// of the voxel before it along z (of the row before, for a row's first).
+void fillBox(openvdb::FloatGrid &grid, const BoxGeometry &box, const NearestTriangle &nearest, Progress &progress)
 {
-    const int nx = box.dims[0], ny = box.dims[1], nz = box.dims[2];
-    std::vector<float> slab(size_t(ny) * nz);
-    std::vector<char> fill(size_t(ny) * nz);
-    openvdb::FloatGrid::Accessor acc = grid.getAccessor();
-    for (int i = 0; i < nx; ++i) {
-        tbb::parallel_for(tbb::blocked_range<int>(0, ny), [&](const tbb::blocked_range<int> &r) {
-            openvdb::FloatGrid::ConstAccessor read = grid.getConstAccessor();
-            for (int j = r.begin(); j != r.end(); ++j)
-                for (int k = 0; k < nz; ++k) {
-                    const openvdb::Coord ijk(i, j, k);
-                    const size_t at = size_t(j) * nz + k;
-                    fill[at] = !read.isValueOn(ijk);
-                    if (fill[at]) {
-                        const Vec3 q = worldOf(box, ijk);
-                        const float d = float(tree.distance(q));
-                        const bool inside = signByWinding ? tree(q) > 0.5 : read.getValue(ijk) < 0;
-                        slab[at] = inside ? -d : d;
+    using Leaf = openvdb::FloatTree::LeafNodeType;
+    openvdb::FloatTree &tree = grid.tree();
+    struct Block {
+        openvdb::Coord origin;
+        Leaf *leaf; // the band's, or null: a new one from `tile`
+        float tile;
+    };
+    std::vector<Block> blocks;
+    for (int x = 0; x < box.dims[0]; x += kBlockDim)
+        for (int y = 0; y < box.dims[1]; y += kBlockDim)
+            for (int z = 0; z < box.dims[2]; z += kBlockDim) {
+                const openvdb::Coord at(x, y, z);
+                blocks.push_back({at, tree.probeLeaf(at), tree.getValue(at)});
+            }
+    std::atomic<size_t> done{0};
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks.size()), [&](const tbb::blocked_range<size_t> &r) {
+        for (size_t b = r.begin(); b != r.end(); ++b) {
+            Block &block = blocks[b];
+            if (!block.leaf)
+                block.leaf = new Leaf(block.origin, block.tile, false);
+            Leaf &leaf = *block.leaf;
+            const int end[3] = {std::min(kBlockDim, box.dims[0] - block.origin[0]),
+                                std::min(kBlockDim, box.dims[1] - block.origin[1]),
+                                std::min(kBlockDim, box.dims[2] - block.origin[2])};
+            uint32_t rowSeed = NearestTriangle::kNone;
+            for (int x = 0; x < end[0]; ++x)
+                for (int y = 0; y < end[1]; ++y) {
+                    uint32_t seed = rowSeed;
+                    bool first = true;
+                    for (int z = 0; z < end[2]; ++z) {
+                        const openvdb::Index v = openvdb::Index((((x << kBlockLog2) | y) << kBlockLog2) | z);
+                        if (leaf.isValueOn(v))
+                            continue; // in the band: exact already
+                        const Vec3 q = worldOf(box, block.origin + openvdb::Coord(x, y, z));
+                        const float d = float(std::sqrt(nearest.distance2(q.data(), seed)));
+                        leaf.setValueOn(v, leaf.getValue(v) < 0 ? -d : d);
+                        if (first)
+                            rowSeed = seed;
+                        first = false;
                     }
                 }
-        });
-        for (int j = 0; j < ny; ++j)
-            for (int k = 0; k < nz; ++k)
-                if (fill[size_t(j) * nz + k])
-                    acc.setValueOn(openvdb::Coord(i, j, k), slab[size_t(j) * nz + k]);
-        progress.report(100 * (i + 1) / nx);
-    }
+        }
+        progress.report(int(100.0 * double(done.fetch_add(r.size()) + r.size()) / double(blocks.size())));
+    });
+    for (const Block &block : blocks)
+        if (!tree.probeConstLeaf(block.origin))
+            tree.addLeaf(block.leaf); // the tree takes ownership
 }
 
 double seconds(std::chrono::steady_clock::time_point since)
@@ -267,9 +291,8 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
     const bool winding = opt.sign == SignMethod::Winding;
     const float band = float(opt.band);
 
-    const bool needTree = winding || opt.full;
     std::unique_ptr<FastWinding> tree;
-    if (needTree)
+    if (winding)
         tree.reset(new FastWinding(mesh.points, mesh.triangles));
 
     openvdb::FloatGrid::Ptr grid;
@@ -292,7 +315,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
     grid->setTransform(xform);
     if (opt.full) {
         progress.stage("dense distances", 60, 100);
-        fillBox(*grid, box, *tree, winding, progress);
+        fillBox(*grid, box, NearestTriangle(mesh), progress);
     }
     grid->setGridClass(opt.sign == SignMethod::None ? openvdb::GRID_UNKNOWN : openvdb::GRID_LEVEL_SET);
     return grid;
