@@ -15,6 +15,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <mutex>
 #include <vector>
 
@@ -84,10 +85,16 @@ openvdb::FloatGrid::Ptr exactBandGrid(const TriangleMesh &mesh, const BoxGeometr
     return grid;
 }
 
+// The cubes of undecided tiles: 8^3 with their sides (0: a leaf signed voxel
+// by voxel).
+struct Cube {
+    std::array<int, 3> origin;
+    int side; // -1 inside, +1 outside, 0 split
+};
+
 // Appends the 8^3 cubes of the cube of size^3 voxels at `origin` with their
 // sides: octants the bound decides whole pass their side to every 8^3 cube
 // in them; 8^3 cubes it cannot decide get side 0.
-template <typename Cube>
 void splitCube(const WindingSign &sign, const std::array<int, 3> &origin, int size, std::vector<Cube> &out)
 {
     const int half = size / 2;
@@ -106,47 +113,105 @@ void splitCube(const WindingSign &sign, const std::array<int, 3> &origin, int si
     }
 }
 
+// The sides of one internal node's tiles. Its table of children is split
+// into octants: an octant that holds no child node is off the band whole
+// and is decided in one piece when the bound allows (far from the surface
+// most tiles go this way, many per winding number); otherwise it is split
+// down to single tiles, and a tile still undecided into cubes.
+template <typename NodeT> class NodeTileSides
+{
+  public:
+    NodeTileSides(const NodeT &node, const WindingSign &sign) : mNode(node), mSign(sign) {}
+
+    std::vector<std::pair<openvdb::Index, int>> decided; // (child offset, side)
+    std::vector<Cube> cubes;                             // of undecided tiles
+
+    void run() { octant({0, 0, 0}, kDim); }
+
+  private:
+    static constexpr int kDim = 1 << NodeT::LOG2DIM;         // children per axis
+    static constexpr int kChild = NodeT::ChildNodeType::DIM; // voxels per child per axis
+
+    static openvdb::Index offset(int x, int y, int z)
+    {
+        return openvdb::Index((((x << NodeT::LOG2DIM) | y) << NodeT::LOG2DIM) | z);
+    }
+
+    void octant(const std::array<int, 3> &at, int size)
+    {
+        bool children = false;
+        for (int x = at[0]; x < at[0] + size && !children; ++x)
+            for (int y = at[1]; y < at[1] + size && !children; ++y)
+                for (int z = at[2]; z < at[2] + size && !children; ++z)
+                    children = mNode.isChildMaskOn(offset(x, y, z));
+        const openvdb::Coord origin = mNode.offsetToGlobalCoord(offset(at[0], at[1], at[2]));
+        const std::array<int, 3> voxel{origin[0], origin[1], origin[2]};
+        if (!children) {
+            const int side = mSign.cubeSide(voxel, size * kChild);
+            if (side != 0) {
+                for (int x = at[0]; x < at[0] + size; ++x)
+                    for (int y = at[1]; y < at[1] + size; ++y)
+                        for (int z = at[2]; z < at[2] + size; ++z)
+                            decided.emplace_back(offset(x, y, z), side);
+                return;
+            }
+            if (size == 1) {
+                if (kChild == kBlockDim)
+                    cubes.push_back({voxel, 0});
+                else
+                    splitCube(mSign, voxel, kChild, cubes);
+                return;
+            }
+        } else if (size == 1) {
+            return; // a child node, signed on its own
+        }
+        const int half = size / 2;
+        for (int o = 0; o < 8; ++o)
+            octant({at[0] + (o >> 2) * half, at[1] + ((o >> 1) & 1) * half, at[2] + (o & 1) * half}, half);
+    }
+
+    const NodeT &mNode;
+    const WindingSign &mSign;
+};
+
 // Gives every tile of a band tree whose leaves WindingSign has signed voxel
 // by voxel the side its winding number gives (a flood fill would leak
-// through a mesh's holes, and a tile's centre speaks only for itself): a
-// cube the bound decides (WindingSign::cubeSide) takes one value; one it
-// cannot decide is split into octants down to 8^3, and an 8^3 cube it cannot
-// decide becomes a leaf of inactive voxels signed one by one.
+// through a mesh's holes, and a tile's centre speaks only for itself), node
+// by node in parallel (NodeTileSides); undecided 8^3 cubes become leaves of
+// inactive voxels signed one by one. The background beyond the tree's
+// internal nodes, far outside the box, stays outside.
 void signTiles(openvdb::FloatTree &tree, const WindingSign &sign, Progress &progress)
 {
     using Leaf = openvdb::FloatTree::LeafNodeType;
+    using Node1 = openvdb::FloatTree::RootNodeType::ChildNodeType::ChildNodeType;
+    using Node2 = openvdb::FloatTree::RootNodeType::ChildNodeType;
     const float background = tree.background();
-    struct Cube {
-        std::array<int, 3> origin;
-        int side; // -1 inside, +1 outside, 0 split
-    };
-    std::vector<Cube> tiles;
-    std::vector<int> sizes;
-    for (auto it = tree.cbeginValueOff(); it; ++it) {
-        if (!it.isTileValue())
-            continue;
-        openvdb::CoordBBox bbox;
-        it.getBoundingBox(bbox);
-        tiles.push_back({{bbox.min()[0], bbox.min()[1], bbox.min()[2]}, 0});
-        sizes.push_back(bbox.dim()[0]);
-    }
-    // Each undecided tile's 8^3 cubes, in parallel; then the undecided ones
-    // become leaves.
-    std::vector<std::vector<Cube>> parts(tiles.size());
+    std::vector<Node1 *> nodes1;
+    std::vector<Node2 *> nodes2;
+    tree.getNodes(nodes1);
+    tree.getNodes(nodes2);
+    const size_t count = nodes1.size() + nodes2.size();
+    std::vector<std::unique_ptr<NodeTileSides<Node1>>> sides1(nodes1.size());
+    std::vector<std::unique_ptr<NodeTileSides<Node2>>> sides2(nodes2.size());
     std::atomic<size_t> done{0};
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 16), [&](const tbb::blocked_range<size_t> &r) {
+    // Decisions: 80% of this stage; leaves and the tree: the rest.
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1), [&](const tbb::blocked_range<size_t> &r) {
         for (size_t i = r.begin(); i != r.end(); ++i) {
-            tiles[i].side = sign.cubeSide(tiles[i].origin, sizes[i]);
-            if (tiles[i].side == 0 && sizes[i] > kBlockDim)
-                splitCube(sign, tiles[i].origin, sizes[i], parts[i]);
-            else if (tiles[i].side == 0)
-                parts[i].push_back(tiles[i]);
+            if (i < nodes1.size()) {
+                sides1[i].reset(new NodeTileSides<Node1>(*nodes1[i], sign));
+                sides1[i]->run();
+            } else {
+                sides2[i - nodes1.size()].reset(new NodeTileSides<Node2>(*nodes2[i - nodes1.size()], sign));
+                sides2[i - nodes1.size()]->run();
+            }
         }
-        progress.report(int(100.0 * double(done.fetch_add(r.size()) + r.size()) / double(tiles.size())));
+        progress.report(int(80.0 * double(done.fetch_add(r.size()) + r.size()) / double(count)));
     });
     std::vector<Cube> cubes;
-    for (const auto &part : parts)
-        cubes.insert(cubes.end(), part.begin(), part.end());
+    for (const auto &s : sides1)
+        cubes.insert(cubes.end(), s->cubes.begin(), s->cubes.end());
+    for (const auto &s : sides2)
+        cubes.insert(cubes.end(), s->cubes.begin(), s->cubes.end());
     std::vector<Leaf *> leaves(cubes.size(), nullptr);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, cubes.size(), 16), [&](const tbb::blocked_range<size_t> &r) {
         float distance[kBlockSize];
@@ -162,15 +227,16 @@ void signTiles(openvdb::FloatTree &tree, const WindingSign &sign, Progress &prog
                     leaves[i]->setValueOnly(openvdb::Index(v), -background);
         }
     });
-    // Values first, in the iteration order of the list; then the structure.
-    size_t next = 0;
-    for (auto it = tree.beginValueOff(); it; ++it) {
-        if (!it.isTileValue())
-            continue;
-        const Cube &tile = tiles[next++];
-        if (tile.side != 0)
-            it.setValue(tile.side < 0 ? -background : background);
-    }
+    progress.report(90);
+    // Tile values node by node, then the new structure.
+    tbb::parallel_for(size_t(0), nodes1.size(), [&](size_t i) {
+        for (const auto &d : sides1[i]->decided)
+            nodes1[i]->addTile(d.first, d.second < 0 ? -background : background, false);
+    });
+    tbb::parallel_for(size_t(0), nodes2.size(), [&](size_t i) {
+        for (const auto &d : sides2[i]->decided)
+            nodes2[i]->addTile(d.first, d.second < 0 ? -background : background, false);
+    });
     for (size_t i = 0; i < cubes.size(); ++i) {
         const openvdb::Coord at(cubes[i].origin[0], cubes[i].origin[1], cubes[i].origin[2]);
         if (leaves[i])
@@ -178,6 +244,7 @@ void signTiles(openvdb::FloatTree &tree, const WindingSign &sign, Progress &prog
         else
             tree.addTile(1, at, cubes[i].side < 0 ? -background : background, false);
     }
+    progress.report(100);
 }
 
 // --full: every voxel of the box not in the band gets its exact distance

@@ -172,11 +172,14 @@ class BlockGradientBound
                 mNear.push_back(&e);
         }
     }
-    double at(const double *p) const
+    double at(const double *p) const { return at(p, 0.0, 0.0); }
+    // The bound at every point within `slack` of p, where no edge is nearer
+    // than `floor`.
+    double at(const double *p, double slack, double floor) const
     {
         double g = mFar;
         for (const auto *e : mNear)
-            g += e->current * edgeField(segmentDistance(*e, p) - mReach, e->length);
+            g += e->current * edgeField(std::max(segmentDistance(*e, p) - mReach - slack, floor), e->length);
         return g;
     }
 
@@ -266,16 +269,32 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
     world(kBlockSize - 1, hi);
     const BlockGradientBound gradient(mEdges, lo, hi, h);
     // Change of w per voxel length of a step from voxel v, with a margin for
-    // rounding; < 0 until computed.
-    double stepBound[kBlockSize];
+    // rounding; < 0 until computed. A voxel off the band takes the bound of
+    // its 2^3 cell, computed once at the cell's centre for every point within
+    // sqrt(3)/2 voxel of it, with no edge nearer than the clearance every
+    // point within sqrt(3)/2 voxel of an off-band voxel keeps (cubeSide).
+    auto inBand = [&](int v) { return std::isfinite(distance[v]); };
+    double stepBound[kBlockSize], cellBound[kBlockSize / 8];
     std::fill(stepBound, stepBound + kBlockSize, -1.0);
+    std::fill(cellBound, cellBound + kBlockSize / 8, -1.0);
+    const double clearance = std::max(mOffBand * (1 - 1e-6) - 0.5 * std::sqrt(3.0) * h, 0.0);
     auto stepAt = [&](int v) {
-        if (stepBound[v] < 0) {
+        if (stepBound[v] >= 0)
+            return stepBound[v];
+        if (inBand(v)) {
             double p[3];
             world(v, p);
-            stepBound[v] = gradient.at(p) * h * (1 + 1e-6);
+            return stepBound[v] = gradient.at(p) * h * (1 + 1e-6);
         }
-        return stepBound[v];
+        const int x = v >> (2 * kBlockLog2), y = (v >> kBlockLog2) & (kBlockDim - 1), z = v & (kBlockDim - 1);
+        const int cell = (((x >> 1) << (2 * kBlockLog2 - 2)) | ((y >> 1) << (kBlockLog2 - 1)) | (z >> 1));
+        if (cellBound[cell] < 0) {
+            const double c[3] = {mOrigin[0] + (origin[0] + (x | 1) - 0.5) * h,
+                                 mOrigin[1] + (origin[1] + (y | 1) - 0.5) * h,
+                                 mOrigin[2] + (origin[2] + (z | 1) - 0.5) * h};
+            cellBound[cell] = gradient.at(c, 0.5 * std::sqrt(3.0) * h, clearance) * h * (1 + 1e-6);
+        }
+        return stepBound[v] = cellBound[cell];
     };
     // The 26 neighbour offsets, their lengths in voxels, and the length in
     // world units (with a margin for rounding) that d(a) + d(b) must exceed.
@@ -326,12 +345,13 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
         drift[v] = 0;
         margin[v] = std::abs(anchorW[v] - 0.5);
     };
+    // First the band voxels, most certain first.
     for (;;) {
         if (heap.empty()) {
             // A new component: evaluate at its voxel farthest from the surface.
             int farthest = -1;
             for (int v = 0; v < kBlockSize; ++v)
-                if (!decided[v] && (farthest < 0 || reach[v] > reach[farthest]))
+                if (inBand(v) && !decided[v] && (farthest < 0 || reach[v] > reach[farthest]))
                     farthest = v;
             if (farthest < 0)
                 break;
@@ -347,7 +367,7 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
             evaluate(v); // no walk from an evaluated voxel decides it
         decided[v] = true;
         neighbours(v, [&](int u, double length) {
-            if (decided[u])
+            if (decided[u] || !inBand(u))
                 return;
             const double d = mEdges.empty() ? 0.0 : drift[v] + length * std::max(stepAt(v), stepAt(u));
             const double m = std::abs(anchorW[v] - 0.5) - d;
@@ -356,6 +376,37 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
                 drift[u] = d;
                 anchorW[u] = anchorW[v];
                 push(u);
+            }
+        });
+    }
+    // Then the voxels off the band, breadth first from the band: each takes
+    // the first walk that decides it (any walk proves its side), and one no
+    // walk reaches is evaluated.
+    std::vector<int> queue;
+    queue.reserve(kBlockSize);
+    for (int v = 0; v < kBlockSize; ++v)
+        if (decided[v])
+            queue.push_back(v);
+    for (size_t next = 0, start = 0;;) {
+        if (next == queue.size()) {
+            while (start < size_t(kBlockSize) && decided[start])
+                ++start;
+            if (start == size_t(kBlockSize))
+                break;
+            evaluate(int(start));
+            decided[start] = true;
+            queue.push_back(int(start));
+        }
+        const int v = queue[next++];
+        neighbours(v, [&](int u, double length) {
+            if (decided[u])
+                return;
+            const double d = mEdges.empty() ? 0.0 : drift[v] + length * std::max(stepAt(v), stepAt(u));
+            if (std::abs(anchorW[v] - 0.5) - d > kMargin) {
+                decided[u] = true;
+                drift[u] = d;
+                anchorW[u] = anchorW[v];
+                queue.push_back(u);
             }
         });
     }
