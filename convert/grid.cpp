@@ -312,6 +312,8 @@ double seconds(std::chrono::steady_clock::time_point since)
 
 } // namespace
 
+int buildGridEnd(const Options &opt) { return opt.full ? 95 : 90; }
+
 bool planBox(const TriangleMesh &mesh, const Options &opt, BoxGeometry &box, std::string &error)
 {
     double extent[3], longest = 0;
@@ -362,26 +364,32 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
     if (winding)
         tree.reset(new FastWinding(mesh.points, mesh.triangles));
 
+    // The bar: the band (with its leaves' signs) and the tiles' signs, then
+    // dense distances with --full, each its share of the run's time on the
+    // test meshes; writing takes the rest (main.cpp).
+    const int end = buildGridEnd(opt), bandEnd = opt.full ? 10 : 70, signEnd = opt.full ? 15 : end;
     openvdb::FloatGrid::Ptr grid;
     if (opt.sign == SignMethod::Flood) {
         // OpenVDB's own band and sign, for comparison.
-        progress.stage("distances", 0, opt.full ? 60 : 100);
+        progress.stage("distances", 0, signEnd);
         IndexSpaceMesh adapter(mesh, box);
         grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(progress, adapter, *xform, band, band, 0);
     } else {
         const auto t0 = std::chrono::steady_clock::now();
-        progress.stage(winding ? "exact distance, sign" : "exact distance", 0, opt.full ? 60 : 100);
+        progress.stage(winding ? "exact distance, sign" : "exact distance", 0, winding ? bandEnd : signEnd);
         std::unique_ptr<WindingSign> sign;
         if (winding)
             sign.reset(new WindingSign(mesh, *tree, box.origin, box.voxelSize, band));
         grid = exactBandGrid(mesh, box, band, sign.get(), progress);
-        if (winding)
+        if (winding) {
+            progress.stage("sign off the band", bandEnd, signEnd);
             signTiles(grid->tree(), *sign, progress);
+        }
         stats.windingSeconds = seconds(t0);
     }
     grid->setTransform(xform);
     if (opt.full) {
-        progress.stage("dense distances", 60, 100);
+        progress.stage("dense distances", signEnd, end);
         fillBox(*grid, box, NearestTriangle(mesh), progress);
     }
     grid->setGridClass(opt.sign == SignMethod::None ? openvdb::GRID_UNKNOWN : openvdb::GRID_LEVEL_SET);

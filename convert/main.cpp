@@ -123,19 +123,26 @@ int main(int argc, char** argv)
     Provenance how{opt.input, signMethodName(opt.sign), opt.band, opt.full};
     describeGrid(*grid, opt.name.empty() ? fileStem(opt.input) : opt.name, how);
 
-    progress.stage("writing", 100, 100);
+    // Writing has no progress of its own: the bar waits at its start and
+    // shows 100% once every file is in place.
+    progress.stage("writing", buildGridEnd(opt), 100);
     const size_t slash = opt.npy.find_last_of('/');
     const std::string npyName = slash == std::string::npos ? opt.npy : opt.npy.substr(slash + 1);
     const bool written = writeVdb(*grid, vdbFile.tmp, error) &&
                          (opt.nvdb.empty() || writeNvdb(*grid, opt.fp16, nvdbFile.tmp, error)) &&
                          (opt.npy.empty() || (writeNpy(*grid, box, npyFile.tmp, error) &&
                                               writeNpyJson(box, npyName, how, grid->background(), jsonFile.tmp, error)));
-    progress.finish();
-    if (!written)
+    if (!written) {
+        progress.finish();
         return fail(error, pending);
+    }
     for (PendingFile* f : pending)
-        if (!commitFile(*f, error))
+        if (!commitFile(*f, error)) {
+            progress.finish();
             return fail(error, pending);
+        }
+    progress.report(100);
+    progress.finish();
 
     if (!opt.quiet) {
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
