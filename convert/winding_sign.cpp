@@ -238,18 +238,26 @@ int WindingSign::cubeSide(const std::array<int, 3> &origin, int size) const
 // segment that cannot cross the mesh (a crossing point x would give
 // d(a) + d(b) <= |a-x| + |x-b| = |a-b|), so w is smooth between them and
 // changes along it by at most |a-b| times the larger gradient bound of a and
-// b (BlockGradientBound). A band voxel's d is its exact distance; a voxel off
-// the band has d >= the half-width r (band.h), and r stands in for it, so
-// with r >= 1 every two neighbours off the band pass the test (2r > sqrt(3)),
-// and with a thinner band the test decides as it does in the band. (Diagonal steps matter: next to a surface that is
+// b (BlockGradientBound). (Diagonal steps matter: next to a surface that is
 // not axis-aligned, a voxel nearer than half a voxel often has no face
-// neighbour far enough for the test, but one along a diagonal.) So: split the
-// block's band voxels into components connected by such steps; evaluate w
-// at the voxel farthest from the surface and walk the component breadth
-// first from it; a voxel whose walk from the last evaluated voxel (its
-// anchor, value w0) can have changed w by at most D, with |w0 - 1/2| > D,
-// has the anchor's sign when |w0 - 1/2| > D + kMargin; any other is
-// evaluated and becomes the anchor of the voxels reached through it.
+// neighbour far enough for the test, but one along a diagonal.) A band
+// voxel's d is its exact distance; a voxel off the band has d >= the
+// half-width r (band.h), and r stands in for it: with r >= 1 every two
+// neighbours off the band pass the test (2r > sqrt(3)), and with a thinner
+// band the test decides as it does in the band.
+//
+// So, first the band voxels: split them into components connected by such
+// steps; evaluate w at the voxel farthest from the surface and walk the
+// component from it, most certain first; a voxel whose walk from the last
+// evaluated voxel (its anchor, value w0) can have changed w by at most D has
+// the anchor's sign when |w0 - 1/2| > D + kMargin; any other is evaluated
+// and becomes the anchor of the voxels reached through it. Then the voxels
+// off the band, breadth first from the band's: the same rule, the first walk
+// that decides a voxel kept (any walk proves its side), a voxel no walk
+// reaches evaluated. Off the band the gradient bound is taken once per 2^3
+// cell, at its centre for every point within sqrt(3)/2 voxel of it, with no
+// edge nearer than r - sqrt(3)/2 voxels (every point that near an off-band
+// voxel is that far from the mesh).
 void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) const
 {
     const double h = mVoxelSize;
