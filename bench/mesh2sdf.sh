@@ -21,7 +21,7 @@
 #
 # usage: bench/mesh2sdf.sh [RES...]   (narrow band; default: 256 512 1024)
 # env:   BUILD=build  MESHES="spot ..."  SAMPLES=10000  THREADS=0
-#        DENSE="128 256" (dense resolutions; empty: none)
+#        DENSE="128 256" (dense resolutions; empty: none)  NARROW=0 (no narrow-band table)
 # Prints the tables on stdout; grids go to $BUILD/bench-mesh2sdf/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -31,6 +31,7 @@ MESHES=${MESHES:-"stanford-bunny spot teapot suzanne fandisk"}
 SAMPLES=${SAMPLES:-10000}
 THREADS=${THREADS:-0}
 DENSE=${DENSE-"128 256"}
+NARROW=${NARROW:-1}
 RESOLUTIONS=("$@")
 [ ${#RESOLUTIONS[@]} -gt 0 ] || RESOLUTIONS=(256 512 1024)
 M2S=$BUILD/mesh2sdf
@@ -61,6 +62,8 @@ longest_side() {
 
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", (b > 0 ? a / b : 0) }'; }
 
+# The narrow-band table.
+narrow_table() {
 echo "Narrow band (3 voxels), against vdb_tool -mesh2ls:"
 echo
 echo "| mesh | N | vdb_tool s | MiB | wrong sign | winding s | MiB | wrong sign | × vdb_tool | flood s | MiB | wrong sign | × vdb_tool |"
@@ -86,9 +89,11 @@ for name in $MESHES; do
     done
     unset T M W
 done
+echo
+}
+[ "$NARROW" = 0 ] || narrow_table
 
 [ -n "$DENSE" ] || exit 0
-echo
 echo "Dense (--full), against the per-point query on the same voxels:"
 echo
 echo "| mesh | N | box | mesh2sdf --full s | MiB | per-point s | × faster | largest difference, voxels | sign disagreements |"

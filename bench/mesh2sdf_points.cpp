@@ -121,7 +121,8 @@ int main(int argc, char **argv)
     for (size_t i = 0; i < count; ++i) {
         const bool sure = winding[i] < 0.25f || winding[i] > 0.75f;
         clear += sure;
-        if ((grid[i] < 0) != (value[i] < 0)) {
+        // Sign bits: a voxel on the surface holds -0 when it is inside.
+        if (std::signbit(grid[i]) != std::signbit(value[i])) {
             disagree += sure;
             continue;
         }
