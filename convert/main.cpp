@@ -13,8 +13,11 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <sys/resource.h>
+
+#include "sdftrace/error.h"
 
 using namespace mesh2sdf;
 
@@ -55,6 +58,11 @@ void printHealth(const std::string& path, const MeshHealth& h)
 
 int main(int argc, char** argv)
 {
+    if (argc == 2 && std::strcmp(argv[1], "--version") == 0) {
+        const int v = sdft_version();
+        std::printf("mesh2sdf %d.%d.%d\n", v / 10000, v / 100 % 100, v % 100);
+        return 0;
+    }
     Options opt;
     std::string error;
     if (!parseOptions(argc, argv, opt, error)) {

@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sdftrace/config.h"
 #include "testutil.h"
 
 #define BAND 3.0
@@ -964,6 +965,10 @@ static void test_help(void **state)
             fail_msg("--help does not list %s", flags[i]);
     assert_non_null(strstr(out, "default: 256"));
     assert_non_null(strstr(out, "4096"));
+    char want[64];
+    snprintf(want, sizeof want, "mesh2sdf %s\n", SDFT_VERSION_STRING);
+    assert_int_equal(tu_run(out, sizeof out, "%s --version", SDFT_MESH2SDF), 0);
+    assert_string_equal(out, want);
 }
 
 /* ---------------------------------------------------------- bad input */
@@ -972,16 +977,8 @@ static void test_help(void **state)
 static void assert_no_output(const char *path)
 {
     assert_false(tu_file_exists(path));
-    DIR *d = opendir(SDFT_TEST_TMP);
-    assert_non_null(d);
     const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
-    char prefix[256];
-    snprintf(prefix, sizeof prefix, "%s.tmp-", base);
-    struct dirent *e;
-    while ((e = readdir(d)))
-        if (!strncmp(e->d_name, prefix, strlen(prefix)))
-            fail_msg("temporary file left behind: %s", e->d_name);
-    closedir(d);
+    tu_assert_no_temporaries(SDFT_TEST_TMP, base);
 }
 
 /* mesh2sdf ARGS must fail with exactly one line starting "mesh2sdf: ". */
@@ -1119,6 +1116,8 @@ static void test_bad_input(void **state)
                                   {"--voxel-size 0.0001", "above the limit"},
                                   {"--res 64 --voxel-size 0.1", "not both"},
                                   {"--band 0", "--band must be"},
+                                  {"--band ' 2'", "--band must be"}, /* strict: no blanks, as sdftrace */
+                                  {"--res '32 '", "--res must be"},
                                   {"--sign maybe", "--sign must be"},
                                   {"--threads -2", "--threads must be"},
                                   {"--bogus", "unknown option"},
@@ -1141,12 +1140,19 @@ static void test_bad_input(void **state)
     expect_failure(args, "cannot write");
     assert_no_output(out_vdb);
 
-    /* and the same command with good paths works and writes all three */
-    char json[512];
+    /* and the same command with good paths works and writes all four, with
+     * the mode the umask gives (027 here: 0640, not mkstemp's 0600) */
+    char json[512], nvdb[512];
     tu_tmp(json, sizeof json, "bad_out.json");
-    snprintf(args, sizeof args, "%s '%s' -o '%s' --npy '%s' --res 32 --quiet", SDFT_MESH2SDF, cube, out_vdb, npy);
+    tu_tmp(nvdb, sizeof nvdb, "bad_out.nvdb");
+    snprintf(args, sizeof args, "umask 027 && %s '%s' -o '%s' --nvdb '%s' --npy '%s' --res 32 --quiet", SDFT_MESH2SDF,
+             cube, out_vdb, nvdb, npy);
     assert_int_equal(tu_run(NULL, 0, "%s", args), 0);
-    assert_true(tu_file_exists(out_vdb) && tu_file_exists(npy) && tu_file_exists(json));
+    const char *written[] = {out_vdb, nvdb, npy, json};
+    for (int i = 0; i < 4; i++) {
+        assert_true(tu_file_exists(written[i]));
+        assert_int_equal(tu_file_mode(written[i]), 0640);
+    }
 }
 
 /* The .vdb is a level set OpenVDB's own tools read; the .nvdb validates. */
