@@ -294,7 +294,7 @@ static void test_failed_writes_leave_nothing(void **state)
     assert_int_not_equal(sdft_write_png(SDFT_TEST_TMP "/no/such/out.png", &img, msg, sizeof msg), 0);
     assert_int_not_equal(sdft_write_heatmap(SDFT_TEST_TMP "/no/such/h.png", &img, 0, msg, sizeof msg), 0);
 
-    /* The target is a folder: everything is written, the rename fails. */
+    /* The target is a folder: refused before anything is written. */
     char dir[512];
     tu_tmp(dir, sizeof dir, "io_is_a_dir.exr");
     mkdir(dir, 0755);

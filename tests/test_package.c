@@ -343,6 +343,8 @@ static void test_install_and_consume(void **state)
     must_run("soname", cmd, "readelf -d %s/lib/libsdftrace.so%s%s", moved, "", "");
     snprintf(cmd, sizeof cmd, "%s/lib/%s", moved, soname);
     assert_true(tu_file_exists(cmd));
+    /* The OpenVDB component finds the core beside itself. */
+    must_run("runpath", "[$ORIGIN]", "readelf -d %s/lib/libsdftrace_vdb.so%s%s", moved, "", "");
 
     /* The installed tools say the project's version. */
     static const char *const tools[] = {"sdftrace", "mesh2sdf"};
