@@ -4,12 +4,15 @@
 #               (bench-quick's pipeline included, as the ctest bench_quick)
 #   make bench  the study: regenerate bench/results/ (bakes, table, figures);
 #               commits nothing. make bench-quick: the same, small, checked.
+# and, for using sdftrace as a library:
+#   make install PREFIX=/opt/sdftrace   build (Release) and install there
 # Debian packages live in one list: .ci/debian-packages.
 
 PACKAGES := $(shell cat .ci/debian-packages)
 JOBS ?= $(shell nproc)
+PREFIX ?= /usr/local
 
-.PHONY: all deps build demo test bench bench-quick clean
+.PHONY: all deps build demo test install bench bench-quick clean
 
 all: build
 
@@ -34,6 +37,9 @@ test: deps
 	cmake -S . -B build-test -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSDFT_SANITIZE=ON -DSDFT_WERROR=ON
 	cmake --build build-test -j $(JOBS)
 	cd build-test && ctest --output-on-failure -j $(JOBS)
+
+install: build
+	cmake --install build --prefix $(PREFIX)
 
 bench: build
 	./bench/study.sh

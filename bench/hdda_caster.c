@@ -26,7 +26,7 @@
 #include "sdftrace/grid.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
-#include "vdb.h"
+#include "sdftrace/vdb.h"
 
 typedef struct caster {
     pnanovdb_buf_t buf;
@@ -263,8 +263,10 @@ int main(int argc, char **argv)
     sdft_render_params rp = sdft_render_defaults();
     rp.width = w, rp.height = h, rp.camera = sc->camera, rp.light = sc->light, rp.shadows = 0;
     sdft_image img;
-    if (sdft_image_alloc(&img, w, h))
+    if (sdft_image_alloc(&img, w, h, msg, sizeof msg)) {
+        fprintf(stderr, "hdda_caster: %s\n", msg);
         return 1;
+    }
     static const char *const bound_suffix[] = {"", "-treebound", "-nobound"};
     /* $BOUNDS=1 keeps only the far-bound rows (2: and the tree bound's). */
     const char *nb = getenv("BOUNDS");

@@ -28,16 +28,16 @@
  * Grids come from `sdftrace bake` (bench/study.sh bakes them): DIR/SCENE-band-RES.nvdb
  * and DIR/SCENE-full-RES.nvdb. */
 #define _POSIX_C_SOURCE 200809L
-#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
+#include "atomic_file.h" /* src/util: sdft_check_writable */
+#include "parse.h"       /* src/util: sdft_parse_integer, sdft_parse_number */
 #include "sdftrace/grid.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
@@ -90,13 +90,12 @@ static void usage(FILE *out)
                  "  --dry-run       check the options, count the configurations, touch no grid\n");
 }
 
-/* A whole-string integer in [lo, hi]. */
+/* An integer in [lo, hi], parsed strictly as the tools parse theirs
+ * (src/util/parse.h: the whole text, no blanks, no overflow). */
 static int parse_int(const char *flag, const char *text, long lo, long hi, int *out)
 {
-    char *end = NULL;
-    errno = 0;
-    long v = text && *text ? strtol(text, &end, 10) : 0;
-    if (!text || !*text || *end || errno || v < lo || v > hi) {
+    long v;
+    if (sdft_parse_integer(text, &v) || v < lo || v > hi) {
         fail("%s must be an integer in [%ld, %ld], got '%s'", flag, lo, hi, text ? text : "");
         return -1;
     }
@@ -253,21 +252,19 @@ static int parse_options(int argc, char **argv, study_options *o)
     return 0;
 }
 
-/* The output folder exists and takes files: a temporary one is made and removed. */
+/* The output folder exists and takes files: the atomic writer's temporary
+ * file for results.csv is made there and removed, touching nothing else. */
 static int check_out_dir(const char *dir)
 {
-    char probe[4096];
-    if (snprintf(probe, sizeof probe, "%s/.study-probe-XXXXXX", dir) >= (int)sizeof probe) {
+    char probe[4096], msg[512];
+    if (snprintf(probe, sizeof probe, "%s/results.csv", dir) >= (int)sizeof probe) {
         fail("--out: path too long");
         return -1;
     }
-    int fd = mkstemp(probe);
-    if (fd < 0) {
-        fail("cannot write into %s: %s", dir, strerror(errno));
+    if (sdft_check_writable(probe, msg, sizeof msg)) {
+        fail("--out %s: %s", dir, msg);
         return -1;
     }
-    close(fd);
-    unlink(probe);
     return 0;
 }
 
@@ -448,18 +445,27 @@ static int open_sources(const study_options *o, study_run *run)
 
 /* ---- one configuration: its parameters and its command line ------------- */
 
+/* A number as `sdftrace render` parses it (src/cli/args.c, arg_float):
+ * the shared strict parser, then float. The study's own texts always parse. */
+static float cli_float(const char *text)
+{
+    double v = NAN;
+    (void)sdft_parse_number(text, &v);
+    return (float)v;
+}
+
 /* What `sdftrace render` makes of the command line study_command writes
  * (src/cli/cmd_render.c, make_params): the same defaults, the same parsing
- * of the numbers (strtod, then float). */
+ * of the numbers. */
 sdft_render_params study_params(const study_options *o, const study_config *c)
 {
     sdft_render_params p = sdft_render_defaults();
     p.trace.method = c->method;
-    p.trace.omega = (c->method == SDFT_RELAXED || c->method == SDFT_ENHANCED) ? (float)strtod(c->param, NULL)
-                                                                              : sdft_default_omega(c->method);
+    p.trace.omega =
+        (c->method == SDFT_RELAXED || c->method == SDFT_ENHANCED) ? cli_float(c->param) : sdft_default_omega(c->method);
     if (c->method == SDFT_AUTO)
-        p.trace.beta = (float)strtod(c->param, NULL);
-    p.trace.eps = (float)strtod(EPS_TEXT, NULL);
+        p.trace.beta = cli_float(c->param);
+    p.trace.eps = cli_float(EPS_TEXT);
     p.trace.max_steps = (uint32_t)c->cap;
     p.width = o->width, p.height = o->height;
     p.camera = c->scene->camera;
@@ -680,8 +686,9 @@ static void progress(const study_options *o, int pass, size_t done, size_t total
 static int run_passes(const study_options *o, study_run *run)
 {
     sdft_image img;
-    if (sdft_image_alloc(&img, o->width, o->height)) {
-        fail("out of memory for a %dx%d image", o->width, o->height);
+    char msg[512];
+    if (sdft_image_alloc(&img, o->width, o->height, msg, sizeof msg)) {
+        fail("%s", msg);
         return -1;
     }
     const size_t n = (size_t)o->width * (size_t)o->height;

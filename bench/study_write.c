@@ -1,17 +1,17 @@
 /* study — writing what bench/study.c measured: results.csv (every row, with
  * its command line), table.md (the paper's layout and the other groups),
  * and the data of the three figures for bench/fig*.gp. Every file goes
- * through a temporary file beside it and is renamed into place. */
+ * through sdftrace's atomic writer (src/util/atomic_file.h): a temporary
+ * file beside it, flushed and renamed into place, with the umask's mode. */
 #define _POSIX_C_SOURCE 200809L
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
+#include "atomic_file.h"
 #include "study.h"
 
 /* ---- small helpers ------------------------------------------------------ */
@@ -61,70 +61,69 @@ void study_run_free(study_run *run)
         free(run->fig1[k]);
 }
 
-/* A file descriptor from mkstemp, given the mode a plain fopen would give
- * (mkstemp makes it 0600). */
-static int usual_mode(int fd)
-{
-    if (fd >= 0) {
-        const mode_t mask = umask(022);
-        umask(mask);
-        fchmod(fd, 0666 & ~mask);
-    }
-    return fd;
-}
-
-/* A text file written under a temporary name and renamed when closed. */
+/* A file being written through the atomic writer: a stream on a duplicate
+ * of its descriptor, so that closing the stream leaves the writer's own for
+ * the commit (as src/io/png.c does). */
 typedef struct out_file {
+    sdft_atomic_file af;
     FILE *f;
-    char path[4200], tmp[4216];
 } out_file;
+
+static int out_begin(out_file *o, const char *path, const char *mode)
+{
+    char msg[512];
+    o->f = NULL;
+    if (sdft_atomic_begin(&o->af, path, msg, sizeof msg)) {
+        fprintf(stderr, "study: %s\n", msg);
+        return -1;
+    }
+    const int fd = dup(o->af.fd);
+    o->f = fd < 0 ? NULL : fdopen(fd, mode);
+    if (!o->f) {
+        if (fd >= 0)
+            close(fd);
+        sdft_atomic_abort(&o->af);
+        fprintf(stderr, "study: cannot write %s\n", path);
+        return -1;
+    }
+    return 0;
+}
 
 static int out_open(out_file *o, const char *dir, const char *name)
 {
-    snprintf(o->path, sizeof o->path, "%s/%s", dir, name);
-    snprintf(o->tmp, sizeof o->tmp, "%s.tmp-XXXXXX", o->path);
-    int fd = usual_mode(mkstemp(o->tmp));
-    o->f = fd < 0 ? NULL : fdopen(fd, "w");
-    if (!o->f) {
-        fprintf(stderr, "study: cannot write %s: %s\n", o->path, strerror(errno));
-        if (fd >= 0) {
-            close(fd);
-            unlink(o->tmp);
-        }
+    char path[4200];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    return out_begin(o, path, "w");
+}
+
+/* Closes the stream and renames the file into place; on a write error (or
+ * `failed`) the temporary file goes and the target is left as it was. */
+static int out_finish(out_file *o, int failed)
+{
+    char msg[512];
+    int bad = failed || ferror(o->f);
+    bad |= fclose(o->f) != 0;
+    o->f = NULL;
+    if (bad) {
+        fprintf(stderr, "study: cannot write %s\n", o->af.path);
+        sdft_atomic_abort(&o->af);
+        return -1;
+    }
+    if (sdft_atomic_commit(&o->af, msg, sizeof msg)) {
+        fprintf(stderr, "study: %s\n", msg);
         return -1;
     }
     return 0;
 }
 
-static int out_close(out_file *o)
-{
-    int bad = ferror(o->f);
-    bad |= fclose(o->f) != 0;
-    if (bad || rename(o->tmp, o->path) != 0) {
-        fprintf(stderr, "study: cannot write %s: %s\n", o->path, strerror(errno));
-        unlink(o->tmp);
-        return -1;
-    }
-    return 0;
-}
+static int out_close(out_file *o) { return out_finish(o, 0); }
 
 int study_write_file(const char *path, const void *data, size_t size)
 {
-    char tmp[4300];
-    snprintf(tmp, sizeof tmp, "%s.tmp-XXXXXX", path);
-    int fd = usual_mode(mkstemp(tmp));
-    FILE *f = fd < 0 ? NULL : fdopen(fd, "wb");
-    int bad = !f || fwrite(data, 1, size, f) != size;
-    if (f)
-        bad |= fclose(f) != 0;
-    else if (fd >= 0)
-        close(fd);
-    if (bad || rename(tmp, path) != 0) {
-        fprintf(stderr, "study: cannot write %s: %s\n", path, strerror(errno));
-        unlink(tmp);
+    out_file o;
+    if (out_begin(&o, path, "wb"))
         return -1;
-    }
-    return 0;
+    return out_finish(&o, fwrite(data, 1, size, o.f) != size);
 }
 
 static int cmp_double(const void *a, const void *b)

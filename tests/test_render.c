@@ -97,7 +97,7 @@ static void test_depth_is_analytic(void **state)
         p.trace.method = (sdft_method)m;
         p.trace.omega = sdft_default_omega((sdft_method)m);
         sdft_image img;
-        assert_int_equal(sdft_image_alloc(&img, p.width, p.height), 0);
+        assert_int_equal(sdft_image_alloc(&img, p.width, p.height, NULL, 0), 0);
         sdft_render_stats st;
         char msg[128] = "";
         assert_int_equal(sdft_render(&f, &p, &img, &st, msg, sizeof msg), 0);
@@ -153,7 +153,7 @@ static void test_thread_count_invariant(void **state)
     sdft_render_stats st[3];
     for (int k = 0; k < 3; k++) {
         p.threads = k + 1;
-        assert_int_equal(sdft_image_alloc(&img[k], p.width, p.height), 0);
+        assert_int_equal(sdft_image_alloc(&img[k], p.width, p.height, NULL, 0), 0);
         assert_int_equal(sdft_render(&f, &p, &img[k], &st[k], NULL, 0), 0);
     }
     for (int k = 1; k < 3; k++) {
@@ -178,7 +178,7 @@ static void test_shadows_and_counts(void **state)
     p.light = sdft_v3(6, 6, 0); /* the shadow falls around x = -1.09, z = 0 */
     p.threads = 1;
     sdft_image img;
-    assert_int_equal(sdft_image_alloc(&img, p.width, p.height), 0);
+    assert_int_equal(sdft_image_alloc(&img, p.width, p.height, NULL, 0), 0);
     sdft_render_stats st;
     assert_int_equal(sdft_render(&f, &p, &img, &st, NULL, 0), 0);
 
@@ -258,8 +258,8 @@ static void test_primary_steps_plane(void **state)
 
     sdft_image depth, full;
     sdft_render_stats sd, sf;
-    assert_int_equal(sdft_image_alloc(&depth, p.width, p.height), 0);
-    assert_int_equal(sdft_image_alloc(&full, p.width, p.height), 0);
+    assert_int_equal(sdft_image_alloc(&depth, p.width, p.height, NULL, 0), 0);
+    assert_int_equal(sdft_image_alloc(&full, p.width, p.height, NULL, 0), 0);
     p.depth_only = 1; /* primary rays alone: no normals, no shadow rays */
     assert_int_equal(sdft_render(&f, &p, &depth, &sd, NULL, 0), 0);
     assert_int_equal(pc.stray, 0);
@@ -297,7 +297,7 @@ static void test_screen_space(void **state)
     p.screen_space = 1;
     p.trace.eps = 0.0f;
     sdft_image img;
-    assert_int_equal(sdft_image_alloc(&img, p.width, p.height), 0);
+    assert_int_equal(sdft_image_alloc(&img, p.width, p.height, NULL, 0), 0);
     sdft_render_stats st;
     assert_int_equal(sdft_render(&f, &p, &img, &st, NULL, 0), 0);
     assert_true(st.hits > 300);
@@ -378,10 +378,10 @@ static void test_cones_and_depth_only(void **state)
         p.trace.omega = sdft_default_omega((sdft_method)m);
         sdft_image plain, coned, coned1, depth;
         sdft_render_stats sp, sc2, sc1, sd;
-        assert_int_equal(sdft_image_alloc(&plain, p.width, p.height), 0);
-        assert_int_equal(sdft_image_alloc(&coned, p.width, p.height), 0);
-        assert_int_equal(sdft_image_alloc(&coned1, p.width, p.height), 0);
-        assert_int_equal(sdft_image_alloc(&depth, p.width, p.height), 0);
+        assert_int_equal(sdft_image_alloc(&plain, p.width, p.height, NULL, 0), 0);
+        assert_int_equal(sdft_image_alloc(&coned, p.width, p.height, NULL, 0), 0);
+        assert_int_equal(sdft_image_alloc(&coned1, p.width, p.height, NULL, 0), 0);
+        assert_int_equal(sdft_image_alloc(&depth, p.width, p.height, NULL, 0), 0);
         assert_int_equal(sdft_render(&f, &p, &plain, &sp, NULL, 0), 0);
         p.depth_only = 1;
         assert_int_equal(sdft_render(&f, &p, &depth, &sd, NULL, 0), 0);
@@ -419,7 +419,7 @@ static void test_bad_params(void **state)
     sdft_field f = test_field(&sc);
     sdft_render_params good = small_params();
     sdft_image img;
-    assert_int_equal(sdft_image_alloc(&img, good.width, good.height), 0);
+    assert_int_equal(sdft_image_alloc(&img, good.width, good.height, NULL, 0), 0);
     sdft_render_params bad[6];
     for (int k = 0; k < 6; k++)
         bad[k] = good;
@@ -435,7 +435,7 @@ static void test_bad_params(void **state)
         assert_true(strlen(msg) > 0);
     }
     sdft_image_free(&img);
-    assert_int_not_equal(sdft_image_alloc(&img, 0, 5), 0);
+    assert_int_not_equal(sdft_image_alloc(&img, 0, 5, NULL, 0), 0);
     assert_null(img.rgb);
     sdft_image_free(&img);
 }

@@ -117,6 +117,37 @@ static void test_rows_rerun_exactly(void **state)
     print_message("%d of %d rows rerun through sdftrace render: the same counts\n", checked, rows);
 }
 
+/* Every file the study writes goes through the atomic writer: the mode the
+ * umask gives (as sdftrace's and mesh2sdf's outputs), no temporary left. */
+static void test_files_get_the_umask_mode(void **state)
+{
+    (void)state;
+    const char *res = SDFT_TEST_TMP "/study-mode";
+    static const unsigned masks[] = {022, 027, 002};
+    static const char *const files[] = {"results.csv",
+                                        "table.md",
+                                        "fig1.txt",
+                                        "fig2-temple-procedural.dat",
+                                        "fig1-temple-procedural-auto0.3-steps.u32",
+                                        "fig1-temple-procedural-relaxed1.5-fallbacks.u32"};
+    for (size_t m = 0; m < sizeof masks / sizeof masks[0]; m++) {
+        assert_int_equal(tu_run(out, sizeof out, "rm -rf %s && mkdir -p %s", res, res), 0);
+        int rc = tu_run(out, sizeof out,
+                        "umask %03o && %s --out %s --reps procedural --parts table --scenes temple --caps 1000 "
+                        "--width 8 --height 6 --repeats 1 --sweep 0 --quiet",
+                        masks[m], SDFT_STUDY, res);
+        if (rc)
+            fail_msg("study failed: %s", out);
+        for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) {
+            char path[512];
+            snprintf(path, sizeof path, "%s/%s", res, files[k]);
+            if (tu_file_mode(path) != (int)(0666 & ~masks[m]))
+                fail_msg("%s: mode %o under umask %03o", path, (unsigned)tu_file_mode(path), masks[m]);
+            tu_assert_no_temporaries(res, files[k]);
+        }
+    }
+}
+
 /* Bad arguments: one line, a non-zero exit, no results. */
 static void test_bad_arguments(void **state)
 {
@@ -180,6 +211,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rows_rerun_exactly),
+        cmocka_unit_test(test_files_get_the_umask_mode),
         cmocka_unit_test(test_bad_arguments),
     };
     return cmocka_run_group_tests_name("study", tests, NULL, NULL);

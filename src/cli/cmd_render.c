@@ -10,9 +10,10 @@
 #include "args.h"
 #include "commands.h"
 #include "image_io.h"
+#include "json.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
-#include "vdb.h"
+#include "sdftrace/vdb.h"
 
 enum { MAX_SIDE = 16384, MAX_STEPS = 10000000, MAX_THREADS = 1024 };
 static const long MAX_PIXELS = 64l * 1024 * 1024;
@@ -20,7 +21,7 @@ static const long MAX_PIXELS = 64l * 1024 * 1024;
 typedef struct render_opts {
     const char *scene;            /* --scene NAME */
     const char *grid, *grid_name; /* --grid FILE, --grid-name NAME */
-    int method;                   /* --method, sdft_method */
+    sdft_method method;           /* --method */
     int omega_set;                /* --omega given; else the method's default */
     float omega, beta, eps;
     long max_steps, width, height, threads;
@@ -93,7 +94,7 @@ static render_opts default_opts(void)
 }
 
 /* Fills opts from argv; 0, 1 (--help printed), or -1 with msg. */
-static int parse_opts(int argc, char **argv, render_opts *o, char *msg, unsigned len)
+static int parse_opts(int argc, char **argv, render_opts *o, char *msg, size_t len)
 {
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -146,13 +147,9 @@ static int parse_opts(int argc, char **argv, render_opts *o, char *msg, unsigned
             o->grid_name = v;
         else if (!strcmp(a, "--png"))
             o->png = v;
-        else if (!strcmp(a, "--method")) {
-            o->method = sdft_method_parse(v);
-            if (o->method < 0) {
-                snprintf(msg, len, "unknown method '%s' (sphere, relaxed, enhanced or auto)", v);
-                return -1;
-            }
-        } else if (!strcmp(a, "--omega")) {
+        else if (!strcmp(a, "--method"))
+            rc = sdft_method_parse(v, &o->method, msg, len) ? -1 : 0;
+        else if (!strcmp(a, "--omega")) {
             rc = arg_float(a, v, -1e30f, 1e30f, &o->omega, msg, len);
             o->omega_set = 1;
         } else if (!strcmp(a, "--beta"))
@@ -199,7 +196,7 @@ static int parse_opts(int argc, char **argv, render_opts *o, char *msg, unsigned
 }
 
 /* The checks that need all the options at once. */
-static int check_opts(const render_opts *o, char *msg, unsigned len)
+static int check_opts(const render_opts *o, char *msg, size_t len)
 {
     if (!o->out)
         snprintf(msg, len, "-o OUT.exr is required");
@@ -217,9 +214,9 @@ static int check_opts(const render_opts *o, char *msg, unsigned len)
 
 /* The field to render, with its default camera and light: the one place a
  * new kind of source (a grid file) comes in, with its release in close_field. */
-static int open_grid(const render_opts *o, render_source *src, char *msg, unsigned len);
+static int open_grid(const render_opts *o, render_source *src, char *msg, size_t len);
 
-static int open_field(const render_opts *o, render_source *src, char *msg, unsigned len)
+static int open_field(const render_opts *o, render_source *src, char *msg, size_t len)
 {
     if (o->grid)
         return open_grid(o, src, msg, len);
@@ -238,7 +235,7 @@ static int open_field(const render_opts *o, render_source *src, char *msg, unsig
 
 /* A grid file as the field. Its view: the scene's, given --scene, else a
  * camera in front of (+z) the active bounding box framing it, a light above. */
-static int open_grid(const render_opts *o, render_source *src, char *msg, unsigned len)
+static int open_grid(const render_opts *o, render_source *src, char *msg, size_t len)
 {
     const sdft_scene *scene = NULL;
     if (o->scene && !(scene = sdft_scene_find(o->scene))) {
@@ -268,8 +265,8 @@ static void close_field(render_source *src) { sdft_grid_free(src->grid); }
 static sdft_render_params make_params(const render_opts *o, const render_source *src)
 {
     sdft_render_params p = sdft_render_defaults();
-    p.trace.method = (sdft_method)o->method;
-    p.trace.omega = o->omega_set ? o->omega : sdft_default_omega((sdft_method)o->method);
+    p.trace.method = o->method;
+    p.trace.omega = o->omega_set ? o->omega : sdft_default_omega(o->method);
     p.trace.beta = o->beta;
     p.trace.eps = o->eps;
     p.trace.max_steps = (uint32_t)o->max_steps;
@@ -292,7 +289,7 @@ static sdft_render_params make_params(const render_opts *o, const render_source 
 
 /* Writes every requested file; on a failure removes the ones this run
  * already wrote, so the outputs appear together or not at all. */
-static int write_outputs(const render_opts *o, const sdft_image *img, char *msg, unsigned len)
+static int write_outputs(const render_opts *o, const sdft_image *img, char *msg, size_t len)
 {
     if (sdft_write_exr(o->out, img, msg, len))
         return -1;
@@ -309,26 +306,11 @@ static int write_outputs(const render_opts *o, const sdft_image *img, char *msg,
     return 0;
 }
 
-static void json_string(const char *s)
-{
-    putchar('"');
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            printf("\\%c", c);
-        else if (c < 0x20)
-            printf("\\u%04x", c);
-        else
-            putchar(c);
-    }
-    putchar('"');
-}
-
 static void print_json(const render_source *src, const sdft_render_params *p, const sdft_render_stats *st)
 {
     double primary = (double)st->primary_rays;
     printf("{\"scene\": ");
-    json_string(src->name);
+    sdft_json_put_string(stdout, src->name);
     printf(", \"method\": \"%s\", \"omega\": %.6g, \"beta\": %.6g, \"eps\": %.6g, \"max_steps\": %u, "
            "\"width\": %d, \"height\": %d, \"shadows\": %s, \"screen_space\": %s, \"cones\": %s, \"threads\": %d, "
            "\"ms\": %.3f, \"rays\": %llu, \"primary_rays\": %llu, \"steps\": %llu, \"primary_steps\": %llu, "
@@ -376,8 +358,7 @@ int cmd_render(int argc, char **argv)
     sdft_image img;
     sdft_render_stats st;
     int rc = 0;
-    if (sdft_image_alloc(&img, p.width, p.height)) {
-        snprintf(msg, sizeof msg, "out of memory for a %dx%d image", p.width, p.height);
+    if (sdft_image_alloc(&img, p.width, p.height, msg, sizeof msg)) {
         rc = 1;
     } else if (sdft_render(&src.field, &p, &img, &st, msg, sizeof msg)) {
         rc = 2; /* parameters the renderer rejects, e.g. a degenerate camera */

@@ -289,7 +289,7 @@ static int classify(const sdft_grid *g, grid_far *far, int8_t *sign)
     return 0;
 }
 
-int grid_far_build(sdft_grid *g)
+sdft_error sdft_grid_far_build(sdft_grid *g)
 {
     grid_far *far = &g->far;
     memset(far, 0, sizeof *far);
@@ -314,11 +314,11 @@ int grid_far_build(sdft_grid *g)
     uint16_t *corner = malloc(sizeof(uint16_t) * nvert);
     if (!sign || !d2 || !corner) {
         free(sign), free(d2), free(corner);
-        return SDFT_GRID_ENOMEM;
+        return SDFT_ENOMEM;
     }
     if (classify(g, far, sign)) {
         free(sign), free(d2), free(corner);
-        return SDFT_GRID_ENOMEM;
+        return SDFT_ENOMEM;
     }
     /* Sites: the corners of occupied cells. */
     for (size_t i = 0; i < nvert; i++)
@@ -332,7 +332,7 @@ int grid_far_build(sdft_grid *g)
                            (size_t)(x + (k & 1))] = 0.0;
     if (edt3(d2, nv)) {
         free(sign), free(d2), free(corner);
-        return SDFT_GRID_ENOMEM;
+        return SDFT_ENOMEM;
     }
     const double most = (double)((1u << FAR_DISTANCE_BITS) - 1u);
 #pragma omp parallel for schedule(static)
@@ -355,10 +355,10 @@ int grid_far_build(sdft_grid *g)
         far->origin[k] = (float)far->c0[k] * (float)S - 0.5f;
     const float bonus = g->background - g->sigma_max * (0.8660254f + 1.4142136f);
     far->bonus = bonus > 0.0f ? bonus : 0.0f;
-    return SDFT_GRID_OK;
+    return SDFT_OK;
 }
 
-void grid_far_free(sdft_grid *g)
+void sdft_grid_far_free(sdft_grid *g)
 {
     free(g->far.corner);
     g->far.corner = NULL;

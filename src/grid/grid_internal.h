@@ -6,13 +6,16 @@
 #define PNANOVDB_C
 #include <nanovdb/PNanoVDB.h>
 
+#include "../core/fail.h"
 #include "sdftrace/grid.h"
 
 /* The far bound (grid_bound.c): cells of `cell`^3 voxels over the active
- * box, each occupied (it holds a leaf) or empty with its tiles' sign; and
- * at the cells' corners the index distance to the occupied ones. Both in
- * one table of 16-bit words, so a lookup reads four cache lines, not five,
- * and a 1024^3 grid's table (32 MiB) mostly stays in cache. */
+ * box (4^3, half a leaf's edge, unless the box is too big for the table's
+ * cap), each occupied (it holds an active voxel, or inactive values of both
+ * signs) or empty with its values' sign; and at the cells' corners the
+ * index distance to the occupied ones. Both in one table of 16-bit words,
+ * so a lookup reads four cache lines, not five, and a 1024^3 grid's table
+ * (32 MiB) mostly stays in cache. */
 typedef struct grid_far {
     uint16_t *corner;   /* (n[0] + 1) x (n[1] + 1) x (n[2] + 1) corners, x fastest; NULL: no far bound.
                          * Bits 0-13: the index distance x 4, rounded down, saturated (still a bound);
@@ -20,7 +23,7 @@ typedef struct grid_far {
                          * FAR_EMPTY_NEGATIVE when empty, 0 when occupied or there is none */
     int32_t c0[3];      /* first cell, in cells */
     int n[3];           /* cells per axis */
-    int cell;           /* S: voxels per cell edge, 8 * 2^k */
+    int cell;           /* S: voxels per cell edge, 4 * 2^k */
     float inv_cell;     /* 1 / S */
     float origin[3];    /* index coordinates of corner 0: c0 S - 1/2 */
     float bonus;        /* world units added to smin e(x): the band's guarantee */
@@ -41,7 +44,8 @@ typedef struct grid_leaves {
 /* One NanoVDB grid plus the numbers the sampler reads on every call,
  * decoded once from the grid's header. Immutable after loading. */
 struct sdft_grid {
-    uint32_t *words;              /* the grid's bytes, 32-byte aligned, owned */
+    uint32_t *words;              /* the grid's bytes, 32-byte aligned */
+    int owned;                    /* 1: words is ours to free; 0: borrowed (sdft_grid_borrow_buffer) */
     size_t size;                  /* bytes */
     pnanovdb_buf_t buf;
     pnanovdb_grid_handle_t grid;  /* at address 0 */
@@ -62,17 +66,16 @@ struct sdft_grid {
 };
 
 /* Decodes and checks a grid already copied into g->words / g->size. */
-int grid_init(sdft_grid *g, char *msg, unsigned msg_len);
+sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len);
 
-/* Builds / frees g->far (grid_bound.c). Needs g fully decoded. */
-int grid_far_build(sdft_grid *g);
-void grid_far_free(sdft_grid *g);
+/* Builds / frees g->far (grid_bound.c). Needs g fully decoded. SDFT_OK or
+ * SDFT_ENOMEM. */
+sdft_error sdft_grid_far_build(sdft_grid *g);
+void sdft_grid_far_free(sdft_grid *g);
 
-/* Builds / frees g->leaves (grid_leaves.c). Needs g fully decoded. */
-int grid_leaves_build(sdft_grid *g);
-void grid_leaves_free(sdft_grid *g);
-
-/* Printf into msg (if any); returns code. */
-int grid_fail(char *msg, unsigned msg_len, int code, const char *fmt, ...);
+/* Builds / frees g->leaves (grid_leaves.c). Needs g fully decoded. SDFT_OK
+ * (also when the grid gets no directory) or SDFT_ENOMEM. */
+sdft_error sdft_grid_leaves_build(sdft_grid *g);
+void sdft_grid_leaves_free(sdft_grid *g);
 
 #endif

@@ -22,12 +22,12 @@
 
 enum { MAX_BLOCKS = 1 << 24 }; /* 64 MiB of entries: a 2048^3 box */
 
-int grid_leaves_build(sdft_grid *g)
+sdft_error sdft_grid_leaves_build(sdft_grid *g)
 {
     grid_leaves *d = &g->leaves;
     *d = (grid_leaves){0};
     if (g->type != PNANOVDB_GRID_TYPE_FLOAT || g->size / 4u > UINT32_MAX)
-        return SDFT_GRID_OK; /* the accessor serves these */
+        return SDFT_OK; /* the accessor serves these */
     size_t blocks = 1;
     for (int k = 0; k < 3; k++) {
         d->b0[k] = g->ilo[k] >> 3; /* arithmetic shift: floor division by 8 */
@@ -35,10 +35,10 @@ int grid_leaves_build(sdft_grid *g)
         blocks *= (size_t)d->n[k];
     }
     if (blocks > MAX_BLOCKS)
-        return SDFT_GRID_OK;
+        return SDFT_OK;
     uint32_t *word = calloc(blocks, sizeof *word);
     if (!word)
-        return SDFT_GRID_ENOMEM;
+        return SDFT_ENOMEM;
 
     pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
     const uint64_t count = pnanovdb_tree_get_node_count_leaf(g->buf, tree);
@@ -64,10 +64,10 @@ int grid_leaves_build(sdft_grid *g)
         word[((size_t)bz * (size_t)d->n[1] + by) * (size_t)d->n[0] + bx] = (uint32_t)(values.byte_offset / 4u);
     }
     d->word = word;
-    return SDFT_GRID_OK;
+    return SDFT_OK;
 }
 
-void grid_leaves_free(sdft_grid *g)
+void sdft_grid_leaves_free(sdft_grid *g)
 {
     free(g->leaves.word);
     g->leaves.word = NULL;

@@ -397,6 +397,8 @@ static inline int is_float(const sdft_grid *g) { return g->type == PNANOVDB_GRID
 
 sdft_field sdft_grid_field_with(const sdft_grid *g, sdft_grid_bound bound)
 {
+    if (!g || (unsigned)bound > SDFT_GRID_BOUND_NONE)
+        return (sdft_field){0};
     sdft_vec3 vs = g->voxel_size;
     const int kind = !is_float(g) ? 2 : g->diagonal ? 0 : 1;
     const int b = bound == SDFT_GRID_BOUND_TREE ? 1 : bound == SDFT_GRID_BOUND_NONE ? 2 : 0;
@@ -416,6 +418,11 @@ sdft_field sdft_grid_field_without_bound(const sdft_grid *g) { return sdft_grid_
 
 float sdft_grid_sample_with(const sdft_grid *g, sdft_grid_bound bound, sdft_scratch *s, sdft_vec3 p, int *level)
 {
+    if (!g || !s || s->owner.ctx != g || s->owner.init != grid_scratch_init) {
+        if (level)
+            *level = -1;
+        return NAN;
+    }
     float x[3];
     to_index(g, g->diagonal, p, x);
     if (bound != SDFT_GRID_BOUND_FAR && bound != SDFT_GRID_BOUND_TREE)
