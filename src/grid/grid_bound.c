@@ -311,7 +311,7 @@ int grid_far_build(sdft_grid *g)
     const size_t ncell = (size_t)n[0] * n[1] * n[2], nvert = (size_t)nv[0] * nv[1] * nv[2];
     int8_t *sign = malloc(ncell);
     double *d2 = malloc(sizeof(double) * nvert);
-    uint16_t *corner = malloc(sizeof(uint16_t) * nvert);
+    uint16_t *corner = sdft_grid_table_alloc(sizeof(uint16_t) * nvert);
     if (!sign || !d2 || !corner) {
         free(sign), free(d2), free(corner);
         return SDFT_GRID_ENOMEM;

@@ -250,8 +250,8 @@ static sdft_grid *grid_alloc(uint64_t size)
     sdft_grid *g = calloc(1, sizeof *g);
     if (!g)
         return NULL;
-    size_t padded = (size_t)((size + 31u) & ~(uint64_t)31u);
-    g->words = padded ? aligned_alloc(32, padded) : NULL;
+    size_t padded = (size_t)((size + 63u) & ~(uint64_t)63u);
+    g->words = padded ? sdft_grid_table_alloc(padded) : NULL;
     if (!g->words) {
         free(g);
         return NULL;
