@@ -52,8 +52,15 @@ typedef struct sdft_render_stats {
 } sdft_render_stats;
 
 /* Defaults: sdft_trace_defaults(), 1280x720, shadows on, no screen-space,
- * no cones (every ray's trace from the eye, as the papers count steps). */
+ * cones on: the fastest settings that give the same picture.
+ * sdft_render_papers turns cones and the exact root off. */
 sdft_render_params sdft_render_defaults(void);
+
+/* Switches p to the papers' way of counting (Bán–Valasek, Keinert et al.):
+ * every primary ray traced on its own from the eye (no cones), stepping to
+ * eps to the end (no exact root). The grid bench's `-papers` rows and the
+ * method-by-method study use it. */
+void sdft_render_papers(sdft_render_params *p);
 
 int sdft_image_alloc(sdft_image *img, int width, int height); /* 0 on success */
 void sdft_image_free(sdft_image *img);
