@@ -337,16 +337,25 @@ static int make_configs(const sdft_camera *cam, int w, int h, config *c, int *n)
 int main(int argc, char **argv)
 {
     if (argc == 6 && strcmp(argv[1], "--view") == 0) {
-        sdft_grid *g = NULL;
+        /* A .vdb's bounds from its metadata: no need to load a big grid. */
         char msg[512];
+        sdft_aabb b;
         sdft_camera cam;
         const int w = atoi(argv[4]), h = atoi(argv[5]);
-        if (w < 1 || h < 1 || sdft_grid_open(argv[2], NULL, &g, msg, sizeof msg) || !view_of(argv[3], g, w, h, &cam)) {
-            fprintf(stderr, "hdda_caster: unknown grid, view or size\n");
+        const sdft_scene *sc = sdft_scene_find(argv[3]);
+        if (w < 1 || h < 1 || (!sc && strcmp(argv[3], "front") != 0)) {
+            fprintf(stderr, "hdda_caster: unknown view or size\n");
             return 2;
         }
+        if (sc) {
+            cam = sc->camera;
+        } else if (sdft_vdb_bounds(argv[2], NULL, &b, msg, sizeof msg) == 0) {
+            cam = sdft_camera_front(b, w, h, 40.0f);
+        } else {
+            fprintf(stderr, "hdda_caster: %s\n", msg);
+            return 1;
+        }
         print_view(&cam, w, h);
-        sdft_grid_free(g);
         return 0;
     }
     if (argc < 3) {

@@ -441,6 +441,43 @@ static void test_far_bound_never_exceeds_distance(void **state)
     sdft_grid_free(g);
 }
 
+/* The far bound's cells, classified through the leaf directory (regions
+ * without leaves whole, blocks by their masks and tile markers), are the
+ * cells the tree walk finds: the same corner table, bit for bit, for a
+ * scene's grid and a union of spheres, at 4-voxel cells and at coarser
+ * ones (as a big grid gets). */
+static void test_far_cells_from_directory_match_tree(void **state)
+{
+    (void)state;
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    sdft_field spheres = spheres_field();
+    sdft_grid *grids[2] = {bake(&sc->field, 96, 0, NULL), bake(&spheres, 128, 0, NULL)};
+    for (int i = 0; i < 2; i++)
+        for (size_t most = 1u << 24; most >= 128; most /= 16) { /* 4-voxel cells, then 8, 16 */
+            sdft_grid *g = grids[i];
+            grid_far_free(g);
+            assert_int_equal(grid_far_build_cells(g, most), 0);
+            const grid_far a = g->far;
+            const size_t corners = (size_t)(a.n[0] + 1) * (a.n[1] + 1) * (a.n[2] + 1);
+            g->far.corner = NULL;
+            const grid_leaves directory = g->leaves;
+            g->leaves.top = NULL; /* the tree walk */
+            assert_int_equal(grid_far_build_cells(g, most), 0);
+            g->leaves = directory;
+            assert_int_equal(g->far.cell, a.cell);
+            assert_memory_equal(g->far.corner, a.corner, corners * sizeof *a.corner);
+            size_t occupied = 0;
+            for (size_t k = 0; k < corners; k++)
+                occupied += (a.corner[k] >> FAR_DISTANCE_BITS) == 0;
+            print_message("cells of %d voxels: %zu corners, %zu of occupied cells\n", a.cell, corners, occupied);
+            assert_true(occupied > 10);
+            free(a.corner);
+        }
+    for (int i = 0; i < 2; i++)
+        sdft_grid_free(grids[i]);
+}
+
 /* The far bound is continuous: points a hundredth of a voxel apart differ
  * by far less than a voxel (the tree bound jumps by the band at every tile
  * edge). The corner correction's square root is steep only right at cell
@@ -813,6 +850,57 @@ static void round_trip(const char *file)
     sdft_grid_free(disk);
 }
 
+/* A .vdb streamed into NanoVDB leaf by leaf (vdb_stream.cpp, the default)
+ * is the grid NanoVDB's own converter makes of it: the same voxels and
+ * active states everywhere (tiles and background included), as float and
+ * as Fp16 (the same codes), and the same samples. A grid of several
+ * thousand leaves, so that the stream runs in several batches. */
+static void test_streamed_load_matches_nanovdb_converter(void **state)
+{
+    (void)state;
+    char path[512], msg[256];
+    tu_tmp(path, sizeof path, "streamed.vdb");
+    remove(path);
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    sdft_grid_free(bake(&sc->field, 256, 0, path));
+    static const sdft_quant quants[2] = {SDFT_QUANT_NONE, SDFT_QUANT_FP16};
+    for (int q = 0; q < 2; q++) {
+        sdft_grid *g[2] = {NULL, NULL};
+        for (int streamed = 0; streamed < 2; streamed++) {
+            sdft_vdb_options o = sdft_vdb_options_defaults();
+            o.quant = quants[q];
+            o.stream = streamed;
+            const int rc = sdft_vdb_open(path, NULL, &o, &g[streamed], msg, sizeof msg);
+            if (rc)
+                print_error("%s\n", msg);
+            assert_int_equal(rc, 0);
+        }
+        pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g[1]->buf, g[1]->grid);
+        print_message("%s: %llu leaves, %zu bytes streamed, %zu converted\n", sdft_grid_type_name(g[1]),
+                      (unsigned long long)pnanovdb_tree_get_node_count_leaf(g[1]->buf, tree), g[1]->size, g[0]->size);
+        assert_true(pnanovdb_tree_get_node_count_leaf(g[1]->buf, tree) > 2048);
+        assert_string_equal(sdft_grid_type_name(g[1]), sdft_grid_type_name(g[0]));
+        assert_int_equal(g[1]->size, g[0]->size);
+        assert_string_equal(sdft_grid_name(g[1]), sdft_grid_name(g[0]));
+        assert_memory_equal(g[1]->w2i, g[0]->w2i, sizeof g[0]->w2i);
+        same_voxels(g[0], g[1]);
+        sdft_scratch s0, s1;
+        sdft_field f0 = sdft_grid_field(g[0]), f1 = sdft_grid_field(g[1]);
+        sdft_scratch_init(&f0, &s0);
+        sdft_scratch_init(&f1, &s1);
+        tu_rng r = tu_rng_seed(31);
+        for (int i = 0; i < 20000; i++) {
+            sdft_vec3 p = sdft_v3(tu_uniform(&r, sc->field.bounds.lo.x, sc->field.bounds.hi.x),
+                                  tu_uniform(&r, sc->field.bounds.lo.y, sc->field.bounds.hi.y),
+                                  tu_uniform(&r, sc->field.bounds.lo.z, sc->field.bounds.hi.z));
+            assert_true(f0.distance(f0.ctx, &s0, p) == f1.distance(f1.ctx, &s1, p));
+        }
+        sdft_grid_free(g[0]);
+        sdft_grid_free(g[1]);
+    }
+}
+
 static void test_round_trip_vdb(void **state)
 {
     (void)state;
@@ -950,10 +1038,12 @@ int main(void)
         cmocka_unit_test(test_tree_bound_on_a_scene),
         cmocka_unit_test(test_far_bound_never_exceeds_distance),
         cmocka_unit_test(test_far_bound_is_continuous),
+        cmocka_unit_test(test_far_cells_from_directory_match_tree),
         cmocka_unit_test(test_grid_trace_is_safe),
         cmocka_unit_test(test_cell_root_against_brute_force),
         cmocka_unit_test(test_exact_root_on_a_grid),
         cmocka_unit_test(test_grid_render_matches_procedural),
+        cmocka_unit_test(test_streamed_load_matches_nanovdb_converter),
         cmocka_unit_test(test_round_trip_vdb),
         cmocka_unit_test(test_round_trip_nvdb),
         cmocka_unit_test(test_errors),

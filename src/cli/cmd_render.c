@@ -276,7 +276,10 @@ static int open_grid(const render_opts *o, render_source *src, char *msg, unsign
         snprintf(msg, len, "--fp16 converts a .vdb file; %s is loaded as it is stored", o->grid);
         return -1;
     }
-    if (vdb ? sdft_vdb_load(o->grid, o->grid_name, o->fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE, &g, msg, len)
+    sdft_vdb_options vo = sdft_vdb_options_defaults();
+    vo.quant = o->fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE;
+    vo.progress = !o->quiet;
+    if (vdb ? sdft_vdb_open(o->grid, o->grid_name, &vo, &g, msg, len)
             : sdft_grid_open(o->grid, o->grid_name, &g, msg, len))
         return -1;
     *src = (render_source){.field = sdft_grid_field(g), .name = sdft_grid_name(g), .grid = g};

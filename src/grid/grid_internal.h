@@ -74,6 +74,7 @@ int grid_init(sdft_grid *g, char *msg, unsigned msg_len);
 
 /* Builds / frees g->far (grid_bound.c). Needs g fully decoded. */
 int grid_far_build(sdft_grid *g);
+int grid_far_build_cells(sdft_grid *g, size_t most_cells); /* cells of 4 * 2^k voxels, at most most_cells */
 void grid_far_free(sdft_grid *g);
 
 /* Builds / frees g->leaves (grid_leaves.c). Needs g fully decoded. */
@@ -93,6 +94,12 @@ int sdft_grid_cell_root(const float v[8], const double u0[3], const double du[3]
 /* Memory for a big table (grid_memory.c): 64-byte aligned, and on 2 MiB
  * huge pages where the kernel offers them; free() releases it. */
 void *sdft_grid_table_alloc(size_t bytes);
+
+/* A grid made from one NanoVDB grid in `words` (size bytes, from
+ * sdft_grid_table_alloc), which it takes over: freed with the grid, or at
+ * once when the grid is rejected. The C++ seam's loader hands its buffer
+ * over this way, without a copy. */
+int sdft_grid_adopt(void *words, size_t size, sdft_grid **out, char *msg, unsigned msg_len);
 
 /* Printf into msg (if any); returns code. */
 int grid_fail(char *msg, unsigned msg_len, int code, const char *fmt, ...);

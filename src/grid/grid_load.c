@@ -206,10 +206,11 @@ int grid_init(sdft_grid *g, char *msg, unsigned msg_len)
         wlo = sdft_min_v(wlo, w), whi = sdft_max_v(whi, w);
     }
     g->bounds = (sdft_aabb){wlo, whi};
-    if (g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET && g->background > 0.0f && grid_far_build(g))
-        return grid_fail(msg, msg_len, SDFT_GRID_ENOMEM, "grid '%s': out of memory for its far bound", g->name);
+    /* The directory first: the far bound reads the cells' signs through it. */
     if (grid_leaves_build(g))
         return grid_fail(msg, msg_len, SDFT_GRID_ENOMEM, "grid '%s': out of memory for its leaf directory", g->name);
+    if (g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET && g->background > 0.0f && grid_far_build(g))
+        return grid_fail(msg, msg_len, SDFT_GRID_ENOMEM, "grid '%s': out of memory for its far bound", g->name);
     return SDFT_GRID_OK;
 }
 
@@ -280,6 +281,19 @@ static int finish(sdft_grid *g, sdft_grid **out, char *msg, unsigned msg_len)
     }
     *out = g;
     return SDFT_GRID_OK;
+}
+
+int sdft_grid_adopt(void *words, size_t size, sdft_grid **out, char *msg, unsigned msg_len)
+{
+    *out = NULL;
+    sdft_grid *g = calloc(1, sizeof *g);
+    if (!g) {
+        free(words);
+        return grid_fail(msg, msg_len, SDFT_GRID_ENOMEM, "out of memory");
+    }
+    g->words = words;
+    g->size = size;
+    return finish(g, out, msg, msg_len);
 }
 
 int sdft_grid_from_buffer(const void *data, size_t size, const char *name, sdft_grid **out, char *msg,

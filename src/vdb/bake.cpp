@@ -103,28 +103,6 @@ struct Baker {
     }
 };
 
-struct Progress {
-    bool on;
-    std::atomic<uint64_t> done{0};
-    std::atomic<int> shown{-1};
-    uint64_t total = 1;
-    const char *what = "bake";
-    void step()
-    {
-        if (!on)
-            return;
-        int pct = int(100 * (done.fetch_add(1) + 1) / total);
-        int old = shown.load();
-        if (pct > old && shown.compare_exchange_strong(old, pct))
-            std::fprintf(stderr, "\r%s: %3d%%", what, pct);
-    }
-    void finish()
-    {
-        if (on)
-            std::fprintf(stderr, "\r%s: done\n", what);
-    }
-};
-
 int write_file(openvdb::FloatGrid::Ptr grid, const sdft_bake_params *p, const char *path, char *msg, unsigned msg_len)
 {
     const char *dot = std::strrchr(path, '.');
@@ -250,8 +228,9 @@ extern "C" int sdft_bake(const sdft_field *f, const sdft_bake_params *p, const c
     }
 
     // 2. The leaves, voxel by voxel.
-    Progress progress;
+    sdft_vdb::Progress progress;
     progress.on = p->progress && isatty(2);
+    progress.what = "bake";
     progress.total = std::max<uint64_t>(1, leaf_origins.size());
     std::vector<LeafT *> leaves(leaf_origins.size(), nullptr);
     std::mutex tiles_mutex;

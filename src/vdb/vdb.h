@@ -24,9 +24,33 @@ typedef enum sdft_quant {
     SDFT_QUANT_FPN       /* variable bit rate, NanoVDB's AbsDiff oracle */
 } sdft_quant;
 
+/* How a `.vdb` file is loaded. */
+typedef struct sdft_vdb_options {
+    sdft_quant quant; /* how the NanoVDB copy stores leaf values [SDFT_QUANT_NONE: float] */
+    int progress;     /* 1: a progress line on stderr while loading, when stderr is a terminal [0] */
+    int stream;       /* 1: float and Fp16 copies streamed leaf by leaf (vdb_stream.cpp) [1]; 0: through
+                       * nanovdb::openToNanoVDB with the whole OpenVDB grid in memory (the reference the
+                       * tests hold the stream to) */
+} sdft_vdb_options;
+
+sdft_vdb_options sdft_vdb_options_defaults(void);
+
 /* Loads a scalar grid of a `.vdb` file: by name, else the first scalar level
- * set, else the first scalar grid; doubles become floats. Converted with
- * nanovdb::openToNanoVDB into *out (free with sdft_grid_free). */
+ * set, else the first scalar grid; doubles become floats. Float and Fp16
+ * copies are streamed leaf by leaf from OpenVDB's delayed loading into the
+ * NanoVDB buffer (vdb_stream.cpp), so the OpenVDB tree and the NanoVDB
+ * grid are never in memory together; Fp8, Fp4 and FpN go through
+ * nanovdb::openToNanoVDB. *out: free with sdft_grid_free. */
+int sdft_vdb_open(const char *path, const char *name, const sdft_vdb_options *o, sdft_grid **out, char *msg,
+                  unsigned msg_len);
+
+/* The world box of the active voxels' cells of a `.vdb` file's grid (chosen
+ * as sdft_vdb_open chooses), from its metadata and transform alone, without
+ * reading the tree: what sdft_grid_world_bounds gives once loaded (OpenVDB
+ * writes the active index box as the grid's file_bbox_min / file_bbox_max). */
+int sdft_vdb_bounds(const char *path, const char *name, sdft_aabb *bounds, char *msg, unsigned msg_len);
+
+/* sdft_vdb_open with `quant` and no progress. */
 int sdft_vdb_load(const char *path, const char *name, sdft_quant quant, sdft_grid **out, char *msg, unsigned msg_len);
 
 /* `.vdb` through sdft_vdb_load, `.nvdb` through sdft_grid_load_nvdb, chosen

@@ -47,10 +47,20 @@ static bool is_scalar(const openvdb::GridBase &g)
     return g.isType<openvdb::FloatGrid>() || g.isType<openvdb::DoubleGrid>();
 }
 
+extern "C" sdft_vdb_options sdft_vdb_options_defaults(void) { return sdft_vdb_options{SDFT_QUANT_NONE, 0, 1}; }
 
 extern "C" int sdft_vdb_load(const char *path, const char *name, sdft_quant quant, sdft_grid **out, char *msg,
                              unsigned msg_len)
 {
+    sdft_vdb_options o = sdft_vdb_options_defaults();
+    o.quant = quant;
+    return sdft_vdb_open(path, name, &o, out, msg, msg_len);
+}
+
+extern "C" int sdft_vdb_open(const char *path, const char *name, const sdft_vdb_options *o, sdft_grid **out, char *msg,
+                             unsigned msg_len)
+{
+    const sdft_quant quant = o->quant;
     *out = nullptr;
     if (FILE *f = std::fopen(path, "rb"))
         std::fclose(f);
@@ -59,7 +69,7 @@ extern "C" int sdft_vdb_load(const char *path, const char *name, sdft_quant quan
     try {
         openvdb::initialize();
         openvdb::io::File file(path);
-        file.open(false);
+        file.open(true); // delayed loading: leaf values stay in the (mapped) file until read
         openvdb::GridPtrVecPtr metas = file.readAllGridMetadata();
         openvdb::GridBase::Ptr chosen;
         if (name) {
@@ -99,6 +109,8 @@ extern "C" int sdft_vdb_load(const char *path, const char *name, sdft_quant quan
         }
         if (grid->activeVoxelCount() == 0)
             return fail(msg, msg_len, SDFT_GRID_EEMPTY, "grid '" + grid_name + "' in " + path + " is empty: no active voxels");
+        if (o->stream && (quant == SDFT_QUANT_NONE || quant == SDFT_QUANT_FP16))
+            return sdft_vdb::stream_to_nano(*grid, path, quant, o->progress != 0, out, msg, msg_len);
         return sdft_vdb::to_nano(*grid, quant, out, msg, msg_len);
     } catch (const std::exception &e) {
         return fail(msg, msg_len, SDFT_GRID_EFORMAT, std::string("cannot read ") + path + ": " + e.what());
@@ -114,4 +126,30 @@ extern "C" int sdft_grid_open(const char *path, const char *name, sdft_grid **ou
         return sdft_vdb_load(path, name, SDFT_QUANT_NONE, out, msg, msg_len);
     *out = nullptr;
     return fail(msg, msg_len, SDFT_GRID_EFORMAT, std::string(path) + ": expected a .vdb or .nvdb file");
+}
+
+extern "C" int sdft_vdb_bounds(const char *path, const char *name, sdft_aabb *bounds, char *msg, unsigned msg_len)
+{
+    try {
+        openvdb::initialize();
+        openvdb::io::File file(path);
+        file.open(true);
+        openvdb::GridBase::Ptr chosen;
+        const openvdb::GridPtrVecPtr metas = file.readAllGridMetadata();
+        for (auto &m : *metas)
+            if (!chosen && (name ? m->getName() == name : is_scalar(*m)))
+                chosen = m;
+        if (!chosen)
+            return fail(msg, msg_len, SDFT_GRID_ENOTFOUND, std::string(path) + " has no such grid");
+        const openvdb::GridBase::Ptr grid = file.readGridMetadata(chosen->getName());
+        const openvdb::Vec3i lo = grid->metaValue<openvdb::Vec3i>("file_bbox_min"),
+                             hi = grid->metaValue<openvdb::Vec3i>("file_bbox_max");
+        const openvdb::BBoxd world = grid->transform().indexToWorld(
+            openvdb::BBoxd(openvdb::Vec3d(lo[0], lo[1], lo[2]) - 0.5, openvdb::Vec3d(hi[0], hi[1], hi[2]) + 0.5));
+        *bounds = sdft_aabb{{float(world.min()[0]), float(world.min()[1]), float(world.min()[2])},
+                            {float(world.max()[0]), float(world.max()[1]), float(world.max()[2])}};
+        return SDFT_GRID_OK;
+    } catch (const std::exception &e) {
+        return fail(msg, msg_len, SDFT_GRID_EFORMAT, std::string("cannot read ") + path + ": " + e.what());
+    }
 }
