@@ -288,8 +288,9 @@ static int add_config(config *c, int *n, const char *label, sdft_render_params r
 enum { MAX_CONFIGS = 40 };
 
 /* The rows: ROWS=targets (default) sdftrace as `sdftrace render` runs it
- * (its defaults, no shadows), depth alone, and the papers' counting (every
- * ray from the eye); ROWS=variants every variant as a full render and
+ * (its defaults, no shadows), depth alone, without the exact last-cell
+ * root, and the papers' counting (every ray from the eye, every step to
+ * eps); ROWS=variants every variant as a full render and
  * depth alone, at constant eps and with the screen-space criterion, with
  * each bound. */
 static int make_configs(const sdft_camera *cam, int w, int h, config *c, int *n)
@@ -301,11 +302,13 @@ static int make_configs(const sdft_camera *cam, int w, int h, config *c, int *n)
     const char *rows = getenv("ROWS");
     *n = 0;
     if (!rows || strcmp(rows, "variants") != 0) {
-        sdft_render_params depth = base, papers = base;
+        sdft_render_params depth = base, no_root = base, papers = base;
         depth.depth_only = 1;
+        no_root.trace.exact_root = 0;
         sdft_render_papers(&papers);
         return add_config(c, n, "sdftrace-render", base, SDFT_GRID_BOUND_FAR) ||
                add_config(c, n, "sdftrace-depth", depth, SDFT_GRID_BOUND_FAR) ||
+               add_config(c, n, "sdftrace-render-no-exact-root", no_root, SDFT_GRID_BOUND_FAR) ||
                add_config(c, n, "sdftrace-render-papers", papers, SDFT_GRID_BOUND_FAR);
     }
     static const char *const bound_suffix[] = {"", "-treebound", "-nobound"};

@@ -356,6 +356,15 @@ static void json_string(const char *s)
     putchar('"');
 }
 
+/* The traced grid's NanoVDB bytes; 0 for a procedural scene. */
+static size_t grid_bytes(const render_source *src)
+{
+    size_t size = 0;
+    if (src->grid)
+        sdft_grid_data(src->grid, &size);
+    return size;
+}
+
 static void print_json(const render_source *src, const sdft_render_params *p, const sdft_render_stats *st)
 {
     double primary = (double)st->primary_rays;
@@ -366,13 +375,14 @@ static void print_json(const render_source *src, const sdft_render_params *p, co
            "\"threads\": %d, "
            "\"ms\": %.3f, \"rays\": %llu, \"primary_rays\": %llu, \"steps\": %llu, \"cone_steps\": %llu, "
            "\"fallbacks\": %llu, \"mean_steps\": %.4f, \"mean_cone_steps\": %.4f, \"mean_fallbacks\": %.4f, "
-           "\"nonconverged\": %.6f, \"hit_fraction\": %.6f}\n",
+           "\"nonconverged\": %.6f, \"hit_fraction\": %.6f, \"grid_bytes\": %zu}\n",
            sdft_method_name(p->trace.method), p->trace.omega, p->trace.beta, p->trace.eps, p->trace.max_steps, p->width,
            p->height, p->shadows ? "true" : "false", p->screen_space ? "true" : "false", p->cones ? "true" : "false",
            p->trace.exact_root ? "true" : "false", p->threads, st->ms, (unsigned long long)st->rays,
            (unsigned long long)st->primary_rays, (unsigned long long)st->steps, (unsigned long long)st->cone_steps,
            (unsigned long long)st->fallbacks, (double)st->steps / primary, (double)st->cone_steps / primary,
-           (double)st->fallbacks / primary, (double)st->nonconverged / primary, (double)st->hits / primary);
+           (double)st->fallbacks / primary, (double)st->nonconverged / primary, (double)st->hits / primary,
+           grid_bytes(src));
 }
 
 /* The one line on stderr when a render is done: what was made, how much

@@ -123,6 +123,7 @@ typedef struct frame {
     float feature;        /* the field's feature size: the normal's step */
     sdft_view view;
     float cone_tfar; /* with cones: beyond it every primary ray has left the field's box */
+    float cone_tnear; /* the eye's distance to the field's box: no primary ray meets the surface before it */
 } frame;
 
 /* A pixel's colour and normal given its primary ray's hit, lit as if the
@@ -168,6 +169,13 @@ static void shadow_pixel(sdft_hit h, pixel_result *out)
     out->rays++;
     if (h.status == SDFT_HIT)
         out->rgb = lit(0.0f);
+}
+
+/* The distance from p to box b (0 inside it). */
+static float box_distance(sdft_aabb b, sdft_vec3 p)
+{
+    const sdft_vec3 out = sdft_max_v(sdft_max_v(sdft_sub(b.lo, p), sdft_sub(p, b.hi)), sdft_v3(0, 0, 0));
+    return sdft_length(out);
 }
 
 /* The distance from p to the farthest corner of box b. */
@@ -308,7 +316,7 @@ static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *
     }
     /* The tile's bundle, then each BLOCK x BLOCK bundle from there, then
      * each ray from there (all start at 0 without cones). */
-    const float t_tile = block_start(fr, s, x0, y0, x1, y1, 0.0f, ts);
+    const float t_tile = block_start(fr, s, x0, y0, x1, y1, fr->cone_tnear, ts);
     for (int by = y0; by < y1; by += BLOCK)
         for (int bx = x0; bx < x1; bx += BLOCK) {
             const int bx1 = bx + BLOCK < x1 ? bx + BLOCK : x1, by1 = by + BLOCK < y1 ? by + BLOCK : y1;
@@ -367,7 +375,8 @@ int sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_imag
                       .tp = tp,
                       .feature = sdft_field_feature_size(f),
                       .view = sdft_camera_view(&params->camera, params->width, params->height),
-                      .cone_tfar = farthest_corner(f->bounds, params->camera.from)};
+                      .cone_tfar = farthest_corner(f->bounds, params->camera.from),
+                      .cone_tnear = box_distance(f->bounds, params->camera.from)};
     int threads = params->threads > 0 ? params->threads : omp_get_max_threads();
 
     double t0 = omp_get_wtime();
