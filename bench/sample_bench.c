@@ -66,6 +66,13 @@ static float logging_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
     return l->inner.distance(l->inner.ctx, s, p);
 }
 
+static int logging_root(const void *ctx, sdft_scratch *s, sdft_vec3 org, sdft_vec3 dir, float t0, float t1, float *t,
+                        uint32_t *reads)
+{
+    const logging *l = ctx;
+    return l->inner.root(l->inner.ctx, s, org, dir, t0, t1, t, reads);
+}
+
 static void logging_scratch_init(const void *ctx, sdft_scratch *s)
 {
     const logging *l = ctx;
@@ -79,7 +86,9 @@ static points traced_points(const sdft_grid *g, size_t want, int band_only)
     points all = {0}, kept = {0};
     logging l = {sdft_grid_field(g), &all};
     sdft_field f = l.inner;
+    /* Every callback of a wrapped field takes the wrapper's ctx. */
     f.distance = logging_distance, f.scratch_init = logging_scratch_init, f.normal = NULL, f.ctx = &l;
+    f.root = l.inner.root ? logging_root : NULL;
     sdft_render_params rp = sdft_render_defaults();
     rp.camera = sdft_camera_front(f.bounds, rp.width, rp.height, 40.0f);
     rp.shadows = 0, rp.depth_only = 1, rp.threads = 1;

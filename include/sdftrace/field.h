@@ -48,7 +48,9 @@ typedef struct sdft_field {
     sdft_vec3 (*normal)(const void *ctx, sdft_scratch *scratch, sdft_vec3 p);
     /* Prepares a thread's scratch. Optional: NULL when the field needs none. */
     void (*scratch_init)(const void *ctx, sdft_scratch *scratch);
-    /* Shared data; owned by whoever made the field, must outlive it. */
+    /* Shared data; owned by whoever made the field, must outlive it. Every
+     * callback gets it: a field that wraps another and replaces ctx must
+     * wrap (or clear) each of the inner field's callbacks too. */
     const void *ctx;
     /* Every point with distance <= 0 lies in this box; rays are clipped to it. */
     sdft_aabb bounds;
