@@ -1,12 +1,15 @@
 # sdftrace — the two Quick-start commands:
 #   make demo   install what is missing, build, render the default scene
 #   make test   install what is missing, build with sanitizers, run every test
+# and, for using sdftrace as a library:
+#   make install PREFIX=/opt/sdftrace   build (Release) and install there
 # Debian packages live in one list: .ci/debian-packages.
 
 PACKAGES := $(shell cat .ci/debian-packages)
 JOBS ?= $(shell nproc)
+PREFIX ?= /usr/local
 
-.PHONY: all deps build demo test bench clean
+.PHONY: all deps build demo test install bench clean
 
 all: build
 
@@ -31,6 +34,9 @@ test: deps
 	cmake -S . -B build-test -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSDFT_SANITIZE=ON -DSDFT_WERROR=ON
 	cmake --build build-test -j $(JOBS)
 	cd build-test && ctest --output-on-failure -j $(JOBS)
+
+install: build
+	cmake --install build --prefix $(PREFIX)
 
 bench: build
 	./bench/run.sh

@@ -26,7 +26,7 @@
 #include "sdftrace/grid.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
-#include "vdb.h"
+#include "sdftrace/vdb.h"
 
 typedef struct caster {
     pnanovdb_buf_t buf;
@@ -395,7 +395,7 @@ int main(int argc, char **argv)
     config cf[MAX_CONFIGS];
     int configs = 0;
     sdft_image img;
-    if (!hdda || !refined || make_configs(&cam, w, h, cf, &configs) || sdft_image_alloc(&img, w, h)) {
+    if (!hdda || !refined || make_configs(&cam, w, h, cf, &configs) || sdft_image_alloc(&img, w, h, msg, sizeof msg)) {
         fprintf(stderr, "hdda_caster: out of memory\n");
         return 1;
     }

@@ -1,17 +1,28 @@
 #!/usr/bin/env bash
-# mesh2sdf against OpenVDB's `vdb_tool -mesh2ls`, side by side: wall time,
+# mesh2sdf side by side with what it replaces, in two Markdown tables.
+#
+# Narrow band: mesh2sdf against OpenVDB's `vdb_tool -mesh2ls`: wall time,
 # peak memory (GNU time's maximum resident set) and the fraction of
 # wrong-sign sample points (mesh2sdf --check-sign: uniform points in the
 # mesh's box, exact winding number by brute force, clearly inside > 0.75 or
-# outside < 0.25, at least one voxel from the surface).
+# outside < 0.25, at least one voxel from the surface). Every tool gets the
+# same voxel size, the mesh's longest side / N, and the same band (3 voxels).
+# mesh2sdf runs with --sign winding (its default) and --sign flood
+# (OpenVDB's own sign, for comparison).
 #
-# Every tool gets the same voxel size: the mesh's longest side / N, and the
-# same narrow band (3 voxels). mesh2sdf is run with --sign winding (its
-# default) and --sign flood (OpenVDB's own sign, for comparison).
+# Dense (--full): mesh2sdf --full --npy against the per-point query that
+# libigl-style tools pay at every voxel (bench/mesh2sdf_points.cpp: nearest
+# triangle through a bounding volume hierarchy and the fast winding number,
+# per point), on the same voxels: mesh2sdf's wall time (loading, the band,
+# the signs, the dense pass and writing the .vdb and .npy) against the
+# per-point queries' own time (not loading), their ratio, and how far the two
+# grids differ (largest distance difference in voxels, sign disagreements at
+# clearly inside or outside voxels).
 #
-# usage: bench/mesh2sdf.sh [RES...]   (default: 256 512 1024)
+# usage: bench/mesh2sdf.sh [RES...]   (narrow band; default: 256 512 1024)
 # env:   BUILD=build  MESHES="spot ..."  SAMPLES=10000  THREADS=0
-# Prints a Markdown table on stdout; grids go to $BUILD/bench-mesh2sdf/.
+#        DENSE="128 256" (dense resolutions; empty: none)  NARROW=0 (no narrow-band table)
+# Prints the tables on stdout; grids go to $BUILD/bench-mesh2sdf/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${BUILD:-build}
@@ -19,19 +30,24 @@ MESH_DIR=${MESH_DIR:-tests/data/meshes}
 MESHES=${MESHES:-"stanford-bunny spot teapot suzanne fandisk"}
 SAMPLES=${SAMPLES:-10000}
 THREADS=${THREADS:-0}
+DENSE=${DENSE-"128 256"}
+NARROW=${NARROW:-1}
 RESOLUTIONS=("$@")
 [ ${#RESOLUTIONS[@]} -gt 0 ] || RESOLUTIONS=(256 512 1024)
 M2S=$BUILD/mesh2sdf
+POINTS=$BUILD/bench/mesh2sdf_points
 OUT=$BUILD/bench-mesh2sdf
 [ -x "$M2S" ] || { echo "bench/mesh2sdf.sh: build $M2S first (cmake --build $BUILD --target mesh2sdf)" >&2; exit 1; }
+[ -z "$DENSE" ] || [ -x "$POINTS" ] || { echo "bench/mesh2sdf.sh: build $POINTS first (cmake --build $BUILD --target mesh2sdf_points)" >&2; exit 1; }
 command -v vdb_tool >/dev/null || { echo "bench/mesh2sdf.sh: vdb_tool not found (libopenvdb-tools)" >&2; exit 1; }
 [ -x /usr/bin/time ] || { echo "bench/mesh2sdf.sh: /usr/bin/time not found (package time)" >&2; exit 1; }
 mkdir -p "$OUT"
 
-# Runs a command under GNU time; prints "seconds peak_MiB".
+# Runs a command under GNU time; prints "seconds peak_MiB"; its stdout goes
+# to $OUT/stdout.log.
 measure() {
     local log=$OUT/time.log
-    /usr/bin/time -v -o "$log" "$@" >/dev/null 2>"$OUT/stderr.log" || {
+    /usr/bin/time -v -o "$log" "$@" >"$OUT/stdout.log" 2>"$OUT/stderr.log" || {
         echo "bench/mesh2sdf.sh: failed: $*" >&2; cat "$OUT/stderr.log" >&2; exit 1; }
     awk -F': ' '/Elapsed \(wall clock\)/ { n = split($2, t, ":"); s = 0; for (i = 1; i <= n; i++) s = s * 60 + t[i] }
                 /Maximum resident set size/ { m = $2 / 1024 }
@@ -44,6 +60,12 @@ longest_side() {
          END { m = 0; for (k = 2; k <= 4; k++) if (hi[k] - lo[k] > m) m = hi[k] - lo[k]; printf "%.9g\n", m }' "$1"
 }
 
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", (b > 0 ? a / b : 0) }'; }
+
+# The narrow-band table.
+narrow_table() {
+echo "Narrow band (3 voxels), against vdb_tool -mesh2ls:"
+echo
 echo "| mesh | N | vdb_tool s | MiB | wrong sign | winding s | MiB | wrong sign | × vdb_tool | flood s | MiB | wrong sign | × vdb_tool |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 for name in $MESHES; do
@@ -63,9 +85,31 @@ for name in $MESHES; do
         W[$grid]=${frac#wrong_fraction=}
     done < <("$M2S" "$mesh" "${grids[@]}" --samples "$SAMPLES")
     for n in "${RESOLUTIONS[@]}"; do
-        ratio_w=$(awk -v a="${T[wind$n]}" -v b="${T[vdb$n]}" 'BEGIN { printf "%.2f", (b > 0 ? a / b : 0) }')
-        ratio_f=$(awk -v a="${T[flood$n]}" -v b="${T[vdb$n]}" 'BEGIN { printf "%.2f", (b > 0 ? a / b : 0) }')
-        echo "| $name | $n | ${T[vdb$n]} | ${M[vdb$n]} | ${W[$OUT/$name-$n-vdbtool.vdb]} | ${T[wind$n]} | ${M[wind$n]} | ${W[$OUT/$name-$n-winding.vdb]} | $ratio_w | ${T[flood$n]} | ${M[flood$n]} | ${W[$OUT/$name-$n-flood.vdb]} | $ratio_f |"
+        echo "| $name | $n | ${T[vdb$n]} | ${M[vdb$n]} | ${W[$OUT/$name-$n-vdbtool.vdb]} | ${T[wind$n]} | ${M[wind$n]} | ${W[$OUT/$name-$n-winding.vdb]} | $(ratio "${T[wind$n]}" "${T[vdb$n]}") | ${T[flood$n]} | ${M[flood$n]} | ${W[$OUT/$name-$n-flood.vdb]} | $(ratio "${T[flood$n]}" "${T[vdb$n]}") |"
     done
     unset T M W
+done
+echo
+}
+[ "$NARROW" = 0 ] || narrow_table
+
+[ -n "$DENSE" ] || exit 0
+echo "Dense (--full), against the per-point query on the same voxels:"
+echo
+echo "| mesh | N | box | mesh2sdf --full s | MiB | per-point s | × faster | largest difference, voxels | sign disagreements |"
+echo "|---|---|---|---|---|---|---|---|---|"
+for name in $MESHES; do
+    mesh=$MESH_DIR/$name.obj
+    side=$(longest_side "$mesh")
+    for n in $DENSE; do
+        h=$(awk -v s="$side" -v n="$n" 'BEGIN { printf "%.9g", s / n }')
+        npy=$OUT/$name-$n-full.npy
+        read -r t m < <(measure "$M2S" "$mesh" -o "$OUT/$name-$n-full.vdb" --npy "$npy" --voxel-size "$h" --full --threads "$THREADS" --quiet)
+        box=$(awk -F'[][]' '/"shape"/ { gsub(/, /, "x", $2); print $2 }' "${npy%.npy}.json")
+        line=$("$POINTS" "$mesh" "$npy" "$THREADS")
+        p=$(sed -n 's/.*seconds=\([^ ]*\).*/\1/p' <<<"$line")
+        e=$(sed -n 's/.*max_error_voxels=\([^ ]*\).*/\1/p' <<<"$line")
+        d=$(sed -n 's/.*sign_disagreements=\([^ ]*\) clear=\([^ ]*\).*/\1 of \2/p' <<<"$line")
+        echo "| $name | $n | $box | $t | $m | $p | $(ratio "$p" "$t") | $e | $d |"
+    done
 done

@@ -2,18 +2,20 @@
 #include "grid.h"
 
 #include "band.h"
+#include "nearest_triangle.h"
 #include "winding.h"
 #include "winding_sign.h"
 
 #include <openvdb/tools/MeshToVolume.h>
-#include <openvdb/tools/SignedFloodFill.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <mutex>
 #include <vector>
 
@@ -52,7 +54,8 @@ Vec3 worldOf(const BoxGeometry &box, const openvdb::Coord &ijk)
 
 // The exact band (band.h) as a tree with background `band` voxels in world
 // units: a leaf per block, its band voxels active, signed by `sign` when
-// given (else unsigned). Inactive values are +background.
+// given (else unsigned). Inactive values are +background, or -background
+// where `sign` puts them inside.
 openvdb::FloatGrid::Ptr exactBandGrid(const TriangleMesh &mesh, const BoxGeometry &box, float band,
                                       const WindingSign *sign, Progress &progress)
 {
@@ -70,6 +73,8 @@ openvdb::FloatGrid::Ptr exactBandGrid(const TriangleMesh &mesh, const BoxGeometr
             for (int v = 0; v < kBlockSize; ++v)
                 if (std::isfinite(distance[v]))
                     leaf->setValueOn(openvdb::Index(v), distance[v]);
+                else if (distance[v] < 0)
+                    leaf->setValueOnly(openvdb::Index(v), -background);
             std::lock_guard<std::mutex> lock(leavesMutex);
             leaves.push_back(leaf);
         },
@@ -80,71 +85,224 @@ openvdb::FloatGrid::Ptr exactBandGrid(const TriangleMesh &mesh, const BoxGeometr
     return grid;
 }
 
-// Gives the inactive values of a signed band the sign of their side:
-// OpenVDB's signed flood fill inside leaves, the winding number at the
-// centre of every tile (a flood fill would leak through a mesh's holes).
-void signOffBand(openvdb::FloatTree &tree, const BoxGeometry &box, const FastWinding &winding)
+// The cubes of undecided tiles: 8^3 with their sides (0: a leaf signed voxel
+// by voxel).
+struct Cube {
+    std::array<int, 3> origin;
+    int side; // -1 inside, +1 outside, 0 split
+};
+
+// Appends the 8^3 cubes of the cube of size^3 voxels at `origin` with their
+// sides: octants the bound decides whole pass their side to every 8^3 cube
+// in them; 8^3 cubes it cannot decide get side 0.
+void splitCube(const WindingSign &sign, const std::array<int, 3> &origin, int size, std::vector<Cube> &out)
 {
-    const float background = tree.background();
-    openvdb::tools::signedFloodFill(tree);
-    // Tile centres first, their winding numbers in parallel, then the
-    // values in the same (deterministic) iteration order.
-    std::vector<Vec3> centres;
-    for (auto it = tree.cbeginValueOff(); it; ++it) {
-        if (!it.isTileValue())
+    const int half = size / 2;
+    for (int o = 0; o < 8; ++o) {
+        const std::array<int, 3> at{origin[0] + (o >> 2) * half, origin[1] + ((o >> 1) & 1) * half,
+                                    origin[2] + (o & 1) * half};
+        const int side = sign.cubeSide(at, half);
+        if (side == 0 && half > kBlockDim) {
+            splitCube(sign, at, half, out);
             continue;
-        openvdb::CoordBBox bbox;
-        it.getBoundingBox(bbox);
-        const openvdb::Vec3d c = bbox.getCenter();
-        centres.push_back({box.origin[0] + c[0] * box.voxelSize, box.origin[1] + c[1] * box.voxelSize,
-                           box.origin[2] + c[2] * box.voxelSize});
-    }
-    std::vector<uint8_t> inside(centres.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, centres.size(), 64), [&](const tbb::blocked_range<size_t> &r) {
-        for (size_t i = r.begin(); i != r.end(); ++i)
-            inside[i] = winding(centres[i]) > 0.5;
-    });
-    size_t next = 0;
-    for (auto it = tree.beginValueOff(); it; ++it) {
-        if (!it.isTileValue())
-            continue;
-        it.setValue(inside[next++] ? -background : background);
+        }
+        for (int x = 0; x < half; x += kBlockDim)
+            for (int y = 0; y < half; y += kBlockDim)
+                for (int z = 0; z < half; z += kBlockDim)
+                    out.push_back({{at[0] + x, at[1] + y, at[2] + z}, side});
     }
 }
 
-// --full: every voxel of the box not yet in the band gets its exact
-// distance, signed by the winding number when `signByWinding`, else with the
-// sign its region already has (OpenVDB's flood fill, or none). Slab by slab:
-// distances in parallel, insertion into the tree serially.
-void fillBox(openvdb::FloatGrid &grid, const BoxGeometry &box, const FastWinding &tree, bool signByWinding,
-             Progress &progress)
+// The sides of one internal node's tiles. Its table of children is split
+// into octants: an octant that holds no child node is off the band whole
+// and is decided in one piece when the bound allows (far from the surface
+// most tiles go this way, many per winding number); otherwise it is split
+// down to single tiles, and a tile still undecided into cubes.
+template <typename NodeT> class NodeTileSides
 {
-    const int nx = box.dims[0], ny = box.dims[1], nz = box.dims[2];
-    std::vector<float> slab(size_t(ny) * nz);
-    std::vector<char> fill(size_t(ny) * nz);
-    openvdb::FloatGrid::Accessor acc = grid.getAccessor();
-    for (int i = 0; i < nx; ++i) {
-        tbb::parallel_for(tbb::blocked_range<int>(0, ny), [&](const tbb::blocked_range<int> &r) {
-            openvdb::FloatGrid::ConstAccessor read = grid.getConstAccessor();
-            for (int j = r.begin(); j != r.end(); ++j)
-                for (int k = 0; k < nz; ++k) {
-                    const openvdb::Coord ijk(i, j, k);
-                    const size_t at = size_t(j) * nz + k;
-                    fill[at] = !read.isValueOn(ijk);
-                    if (fill[at]) {
-                        const Vec3 q = worldOf(box, ijk);
-                        const float d = float(tree.distance(q));
-                        const bool inside = signByWinding ? tree(q) > 0.5 : read.getValue(ijk) < 0;
-                        slab[at] = inside ? -d : d;
+  public:
+    NodeTileSides(const NodeT &node, const WindingSign &sign) : mNode(node), mSign(sign) {}
+
+    std::vector<std::pair<openvdb::Index, int>> decided; // (child offset, side)
+    std::vector<Cube> cubes;                             // of undecided tiles
+
+    void run() { octant({0, 0, 0}, kDim); }
+
+  private:
+    static constexpr int kDim = 1 << NodeT::LOG2DIM;         // children per axis
+    static constexpr int kChild = NodeT::ChildNodeType::DIM; // voxels per child per axis
+
+    static openvdb::Index offset(int x, int y, int z)
+    {
+        return openvdb::Index((((x << NodeT::LOG2DIM) | y) << NodeT::LOG2DIM) | z);
+    }
+
+    void octant(const std::array<int, 3> &at, int size)
+    {
+        bool children = false;
+        for (int x = at[0]; x < at[0] + size && !children; ++x)
+            for (int y = at[1]; y < at[1] + size && !children; ++y)
+                for (int z = at[2]; z < at[2] + size && !children; ++z)
+                    children = mNode.isChildMaskOn(offset(x, y, z));
+        const openvdb::Coord origin = mNode.offsetToGlobalCoord(offset(at[0], at[1], at[2]));
+        const std::array<int, 3> voxel{origin[0], origin[1], origin[2]};
+        if (!children) {
+            const int side = mSign.cubeSide(voxel, size * kChild);
+            if (side != 0) {
+                for (int x = at[0]; x < at[0] + size; ++x)
+                    for (int y = at[1]; y < at[1] + size; ++y)
+                        for (int z = at[2]; z < at[2] + size; ++z)
+                            decided.emplace_back(offset(x, y, z), side);
+                return;
+            }
+            if (size == 1) {
+                if (kChild == kBlockDim)
+                    cubes.push_back({voxel, 0});
+                else
+                    splitCube(mSign, voxel, kChild, cubes);
+                return;
+            }
+        } else if (size == 1) {
+            return; // a child node, signed on its own
+        }
+        const int half = size / 2;
+        for (int o = 0; o < 8; ++o)
+            octant({at[0] + (o >> 2) * half, at[1] + ((o >> 1) & 1) * half, at[2] + (o & 1) * half}, half);
+    }
+
+    const NodeT &mNode;
+    const WindingSign &mSign;
+};
+
+// Gives every tile of a band tree whose leaves WindingSign has signed voxel
+// by voxel the side its winding number gives (a flood fill would leak
+// through a mesh's holes, and a tile's centre speaks only for itself), node
+// by node in parallel (NodeTileSides); undecided 8^3 cubes become leaves of
+// inactive voxels signed one by one. The background beyond the tree's
+// internal nodes, far outside the box, stays outside.
+void signTiles(openvdb::FloatTree &tree, const WindingSign &sign, Progress &progress)
+{
+    using Leaf = openvdb::FloatTree::LeafNodeType;
+    using Node1 = openvdb::FloatTree::RootNodeType::ChildNodeType::ChildNodeType;
+    using Node2 = openvdb::FloatTree::RootNodeType::ChildNodeType;
+    const float background = tree.background();
+    std::vector<Node1 *> nodes1;
+    std::vector<Node2 *> nodes2;
+    tree.getNodes(nodes1);
+    tree.getNodes(nodes2);
+    const size_t count = nodes1.size() + nodes2.size();
+    std::vector<std::unique_ptr<NodeTileSides<Node1>>> sides1(nodes1.size());
+    std::vector<std::unique_ptr<NodeTileSides<Node2>>> sides2(nodes2.size());
+    std::atomic<size_t> done{0};
+    // Decisions: 80% of this stage; leaves and the tree: the rest.
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1), [&](const tbb::blocked_range<size_t> &r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+            if (i < nodes1.size()) {
+                sides1[i].reset(new NodeTileSides<Node1>(*nodes1[i], sign));
+                sides1[i]->run();
+            } else {
+                sides2[i - nodes1.size()].reset(new NodeTileSides<Node2>(*nodes2[i - nodes1.size()], sign));
+                sides2[i - nodes1.size()]->run();
+            }
+        }
+        progress.report(int(80.0 * double(done.fetch_add(r.size()) + r.size()) / double(count)));
+    });
+    std::vector<Cube> cubes;
+    for (const auto &s : sides1)
+        cubes.insert(cubes.end(), s->cubes.begin(), s->cubes.end());
+    for (const auto &s : sides2)
+        cubes.insert(cubes.end(), s->cubes.begin(), s->cubes.end());
+    std::vector<Leaf *> leaves(cubes.size(), nullptr);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, cubes.size(), 16), [&](const tbb::blocked_range<size_t> &r) {
+        float distance[kBlockSize];
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+            if (cubes[i].side != 0)
+                continue;
+            std::fill(distance, distance + kBlockSize, INFINITY);
+            sign.signBlock(cubes[i].origin, distance);
+            const openvdb::Coord at(cubes[i].origin[0], cubes[i].origin[1], cubes[i].origin[2]);
+            leaves[i] = new Leaf(at, background, false);
+            for (int v = 0; v < kBlockSize; ++v)
+                if (distance[v] < 0)
+                    leaves[i]->setValueOnly(openvdb::Index(v), -background);
+        }
+    });
+    progress.report(90);
+    // Tile values node by node, then the new structure.
+    tbb::parallel_for(size_t(0), nodes1.size(), [&](size_t i) {
+        for (const auto &d : sides1[i]->decided)
+            nodes1[i]->addTile(d.first, d.second < 0 ? -background : background, false);
+    });
+    tbb::parallel_for(size_t(0), nodes2.size(), [&](size_t i) {
+        for (const auto &d : sides2[i]->decided)
+            nodes2[i]->addTile(d.first, d.second < 0 ? -background : background, false);
+    });
+    for (size_t i = 0; i < cubes.size(); ++i) {
+        const openvdb::Coord at(cubes[i].origin[0], cubes[i].origin[1], cubes[i].origin[2]);
+        if (leaves[i])
+            tree.addLeaf(leaves[i]); // the tree takes ownership
+        else
+            tree.addTile(1, at, cubes[i].side < 0 ? -background : background, false);
+    }
+    progress.report(100);
+}
+
+// --full: every voxel of the box not in the band gets its exact distance
+// (NearestTriangle), with the sign its value in the tree already has (the
+// winding sign of signTiles, OpenVDB's flood fill, or none). Block by block
+// in parallel, each 8^3 block a leaf: the band's leaf where there is one,
+// else a new leaf filled from the tile's value, added to the tree at the
+// end. Within a block, each voxel's search starts from the nearest triangle
+// of the voxel before it along z (of the row before, for a row's first).
+void fillBox(openvdb::FloatGrid &grid, const BoxGeometry &box, const NearestTriangle &nearest, Progress &progress)
+{
+    using Leaf = openvdb::FloatTree::LeafNodeType;
+    openvdb::FloatTree &tree = grid.tree();
+    struct Block {
+        openvdb::Coord origin;
+        Leaf *leaf; // the band's, or null: a new one from `tile`
+        float tile;
+    };
+    std::vector<Block> blocks;
+    for (int x = 0; x < box.dims[0]; x += kBlockDim)
+        for (int y = 0; y < box.dims[1]; y += kBlockDim)
+            for (int z = 0; z < box.dims[2]; z += kBlockDim) {
+                const openvdb::Coord at(x, y, z);
+                blocks.push_back({at, tree.probeLeaf(at), tree.getValue(at)});
+            }
+    std::atomic<size_t> done{0};
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks.size()), [&](const tbb::blocked_range<size_t> &r) {
+        for (size_t b = r.begin(); b != r.end(); ++b) {
+            Block &block = blocks[b];
+            if (!block.leaf)
+                block.leaf = new Leaf(block.origin, block.tile, false);
+            Leaf &leaf = *block.leaf;
+            const int end[3] = {std::min(kBlockDim, box.dims[0] - block.origin[0]),
+                                std::min(kBlockDim, box.dims[1] - block.origin[1]),
+                                std::min(kBlockDim, box.dims[2] - block.origin[2])};
+            uint32_t rowSeed = NearestTriangle::kNone;
+            for (int x = 0; x < end[0]; ++x)
+                for (int y = 0; y < end[1]; ++y) {
+                    uint32_t seed = rowSeed;
+                    bool first = true;
+                    for (int z = 0; z < end[2]; ++z) {
+                        const openvdb::Index v = openvdb::Index((((x << kBlockLog2) | y) << kBlockLog2) | z);
+                        if (leaf.isValueOn(v))
+                            continue; // in the band: exact already
+                        const Vec3 q = worldOf(box, block.origin + openvdb::Coord(x, y, z));
+                        const float d = float(std::sqrt(nearest.distance2(q.data(), seed)));
+                        leaf.setValueOn(v, leaf.getValue(v) < 0 ? -d : d);
+                        if (first)
+                            rowSeed = seed;
+                        first = false;
                     }
                 }
-        });
-        for (int j = 0; j < ny; ++j)
-            for (int k = 0; k < nz; ++k)
-                if (fill[size_t(j) * nz + k])
-                    acc.setValueOn(openvdb::Coord(i, j, k), slab[size_t(j) * nz + k]);
-        progress.report(100 * (i + 1) / nx);
-    }
+        }
+        progress.report(int(100.0 * double(done.fetch_add(r.size()) + r.size()) / double(blocks.size())));
+    });
+    for (const Block &block : blocks)
+        if (!tree.probeConstLeaf(block.origin))
+            tree.addLeaf(block.leaf); // the tree takes ownership
 }
 
 double seconds(std::chrono::steady_clock::time_point since)
@@ -153,6 +311,8 @@ double seconds(std::chrono::steady_clock::time_point since)
 }
 
 } // namespace
+
+int buildGridEnd(const Options &opt) { return opt.full ? 95 : 90; }
 
 bool planBox(const TriangleMesh &mesh, const Options &opt, BoxGeometry &box, std::string &error)
 {
@@ -200,32 +360,37 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
     const bool winding = opt.sign == SignMethod::Winding;
     const float band = float(opt.band);
 
-    const bool needTree = winding || opt.full;
     std::unique_ptr<FastWinding> tree;
-    if (needTree)
+    if (winding)
         tree.reset(new FastWinding(mesh.points, mesh.triangles));
 
+    // The bar: the band (with its leaves' signs) and the tiles' signs, then
+    // dense distances with --full, each its share of the run's time on the
+    // test meshes; writing takes the rest (main.cpp).
+    const int end = buildGridEnd(opt), bandEnd = opt.full ? 10 : 70, signEnd = opt.full ? 15 : end;
     openvdb::FloatGrid::Ptr grid;
     if (opt.sign == SignMethod::Flood) {
         // OpenVDB's own band and sign, for comparison.
-        progress.stage("distances", 0, opt.full ? 60 : 100);
+        progress.stage("distances", 0, signEnd);
         IndexSpaceMesh adapter(mesh, box);
         grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(progress, adapter, *xform, band, band, 0);
     } else {
         const auto t0 = std::chrono::steady_clock::now();
-        progress.stage(winding ? "exact distance, sign" : "exact distance", 0, opt.full ? 60 : 100);
+        progress.stage(winding ? "exact distance, sign" : "exact distance", 0, winding ? bandEnd : signEnd);
         std::unique_ptr<WindingSign> sign;
         if (winding)
-            sign.reset(new WindingSign(mesh, *tree, box.origin, box.voxelSize));
+            sign.reset(new WindingSign(mesh, *tree, box.origin, box.voxelSize, band));
         grid = exactBandGrid(mesh, box, band, sign.get(), progress);
-        if (winding)
-            signOffBand(grid->tree(), box, *tree);
+        if (winding) {
+            progress.stage("sign off the band", bandEnd, signEnd);
+            signTiles(grid->tree(), *sign, progress);
+        }
         stats.windingSeconds = seconds(t0);
     }
     grid->setTransform(xform);
     if (opt.full) {
-        progress.stage("dense distances", 60, 100);
-        fillBox(*grid, box, *tree, winding, progress);
+        progress.stage("dense distances", signEnd, end);
+        fillBox(*grid, box, NearestTriangle(mesh), progress);
     }
     grid->setGridClass(opt.sign == SignMethod::None ? openvdb::GRID_UNKNOWN : openvdb::GRID_LEVEL_SET);
     return grid;

@@ -38,7 +38,10 @@ struct BuildStats {
 
 /// The signed (or, with SignMethod::None, unsigned) distance grid in world
 /// units: a GRID_LEVEL_SET with background band * voxelSize and the box's
-/// transform. `progress` receives OpenVDB's and the sign pass's progress.
+/// transform. Its stages fill `progress` from 0 to buildGridEnd(opt) %.
+/// Where on the progress bar building ends and writing begins, in percent.
+int buildGridEnd(const Options &opt);
+
 openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &box, const Options &opt,
                                   Progress &progress, BuildStats &stats);
 

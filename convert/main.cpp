@@ -13,8 +13,11 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <sys/resource.h>
+
+#include "sdftrace/error.h"
 
 using namespace mesh2sdf;
 
@@ -55,6 +58,11 @@ void printHealth(const std::string& path, const MeshHealth& h)
 
 int main(int argc, char** argv)
 {
+    if (argc == 2 && std::strcmp(argv[1], "--version") == 0) {
+        const int v = sdft_version();
+        std::printf("mesh2sdf %d.%d.%d\n", v / 10000, v / 100 % 100, v % 100);
+        return 0;
+    }
     Options opt;
     std::string error;
     if (!parseOptions(argc, argv, opt, error)) {
@@ -123,19 +131,26 @@ int main(int argc, char** argv)
     Provenance how{opt.input, signMethodName(opt.sign), opt.band, opt.full};
     describeGrid(*grid, opt.name.empty() ? fileStem(opt.input) : opt.name, how);
 
-    progress.stage("writing", 100, 100);
+    // Writing has no progress of its own: the bar waits at its start and
+    // shows 100% once every file is in place.
+    progress.stage("writing", buildGridEnd(opt), 100);
     const size_t slash = opt.npy.find_last_of('/');
     const std::string npyName = slash == std::string::npos ? opt.npy : opt.npy.substr(slash + 1);
     const bool written = writeVdb(*grid, vdbFile.tmp, error) &&
                          (opt.nvdb.empty() || writeNvdb(*grid, opt.fp16, nvdbFile.tmp, error)) &&
                          (opt.npy.empty() || (writeNpy(*grid, box, npyFile.tmp, error) &&
                                               writeNpyJson(box, npyName, how, grid->background(), jsonFile.tmp, error)));
-    progress.finish();
-    if (!written)
+    if (!written) {
+        progress.finish();
         return fail(error, pending);
+    }
     for (PendingFile* f : pending)
-        if (!commitFile(*f, error))
+        if (!commitFile(*f, error)) {
+            progress.finish();
             return fail(error, pending);
+        }
+    progress.report(100);
+    progress.finish();
 
     if (!opt.quiet) {
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -1,11 +1,10 @@
 // mesh2sdf — command line parsing (see options.h).
 #include "options.h"
 
-#include <cerrno>
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
+
+#include "util/parse.h"
 
 namespace mesh2sdf {
 
@@ -21,27 +20,18 @@ const char* signMethodName(SignMethod m)
 
 namespace {
 
+// The shared strict parsers (src/util/parse.h): the whole text, finite,
+// no blanks, no overflow.
 bool parseInt(const char* s, long lo, long hi, int& out)
 {
-    char* end = nullptr;
-    errno = 0;
-    const long v = std::strtol(s, &end, 10);
-    if (errno || end == s || *end || v < lo || v > hi)
+    long v;
+    if (sdft_parse_integer(s, &v) || v < lo || v > hi)
         return false;
     out = int(v);
     return true;
 }
 
-bool parseDouble(const char* s, double& out)
-{
-    char* end = nullptr;
-    errno = 0;
-    const double v = std::strtod(s, &end);
-    if (errno || end == s || *end || !std::isfinite(v))
-        return false;
-    out = v;
-    return true;
-}
+bool parseDouble(const char* s, double& out) { return sdft_parse_number(s, &out) == 0; }
 
 } // namespace
 
@@ -83,6 +73,7 @@ void printHelp()
         "                         (< 0.25) points where GRID's sign is wrong\n"
         "  --samples N            points for --check-sign (default: 10000)\n"
         "  -h, --help             this help\n"
+        "  --version              the version, sdftrace's\n"
         "\n"
         "Dense outputs (--full, --npy) are limited to 2^31 voxels.\n"
         "Exit status: 0 on success, 1 on bad input or a failed write (one line on\n"

@@ -1,37 +1,24 @@
 // mesh2sdf — output files (see output.h).
 #include "output.h"
 
-#include <nanovdb/util/IO.h>
-#include <nanovdb/util/OpenToNanoVDB.h>
-
 #include <cerrno>
 #include <cstdio>
-#include <cstdlib>
 #include <cstring>
-#include <sys/stat.h>
-#include <unistd.h>
 #include <vector>
+
+#include "util/json.h"
+#include "vdb/vdb_internal.h"
 
 namespace mesh2sdf {
 
 bool reserveFile(const std::string& path, PendingFile& file, std::string& error)
 {
-    struct stat st;
-    if (stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) {
-        error = "output is a folder, not a file: " + path;
+    char msg[512];
+    if (sdft_atomic_begin(&file.file, path.c_str(), msg, sizeof msg)) {
+        error = msg;
         return false;
     }
-    std::string tmpl = path + ".tmp-XXXXXX";
-    std::vector<char> buf(tmpl.begin(), tmpl.end());
-    buf.push_back('\0');
-    const int fd = mkstemp(buf.data());
-    if (fd < 0) {
-        error = "cannot write " + path + ": " + std::strerror(errno);
-        return false;
-    }
-    close(fd);
-    file.path = path;
-    file.tmp = buf.data();
+    file.tmp = file.file.tmp_path;
     return true;
 }
 
@@ -39,22 +26,19 @@ bool commitFile(PendingFile& file, std::string& error)
 {
     if (file.tmp.empty())
         return true;
-    // mkstemp made the file 0600; give it the usual permissions.
-    const mode_t mask = umask(0);
-    umask(mask);
-    chmod(file.tmp.c_str(), 0666 & ~mask);
-    if (std::rename(file.tmp.c_str(), file.path.c_str()) != 0) {
-        error = "cannot rename " + file.tmp + " to " + file.path + ": " + std::strerror(errno);
+    char msg[512];
+    file.tmp.clear();
+    if (sdft_atomic_commit(&file.file, msg, sizeof msg)) {
+        error = msg;
         return false;
     }
-    file.tmp.clear();
     return true;
 }
 
 void discardFile(PendingFile& file)
 {
     if (!file.tmp.empty())
-        std::remove(file.tmp.c_str());
+        sdft_atomic_abort(&file.file);
     file.tmp.clear();
 }
 
@@ -67,35 +51,30 @@ void describeGrid(openvdb::FloatGrid& grid, const std::string& name, const Prove
     grid.insertMeta("mesh2sdf_full", openvdb::BoolMetadata(how.full));
 }
 
-bool writeVdb(const openvdb::FloatGrid& grid, const std::string& tmp, std::string& error)
+namespace {
+
+// The shared grid-file writer, its one line into `error`.
+bool writeGrid(const openvdb::FloatGrid& grid, bool nvdb, sdft_quant quant, const std::string& tmp,
+               std::string& error)
 {
-    try {
-        openvdb::io::File file(tmp);
-        openvdb::GridCPtrVec grids{grid.copyGrid()};
-        file.write(grids);
-        file.close();
-    } catch (const std::exception& e) {
-        error = "cannot write " + tmp + ": " + e.what();
+    char msg[1024];
+    if (sdft_vdb::write_grid(grid, nvdb, quant, tmp, tmp, msg, sizeof msg)) {
+        error = msg;
         return false;
     }
     return true;
 }
 
+} // namespace
+
+bool writeVdb(const openvdb::FloatGrid& grid, const std::string& tmp, std::string& error)
+{
+    return writeGrid(grid, false, SDFT_QUANT_NONE, tmp, error);
+}
+
 bool writeNvdb(const openvdb::FloatGrid& grid, bool fp16, const std::string& tmp, std::string& error)
 {
-    try {
-        if (fp16) {
-            auto handle = nanovdb::openToNanoVDB<nanovdb::HostBuffer, openvdb::FloatTree, nanovdb::Fp16>(grid);
-            nanovdb::io::writeGrid(tmp, handle);
-        } else {
-            auto handle = nanovdb::openToNanoVDB(grid);
-            nanovdb::io::writeGrid(tmp, handle);
-        }
-    } catch (const std::exception& e) {
-        error = "cannot write " + tmp + ": " + e.what();
-        return false;
-    }
-    return true;
+    return writeGrid(grid, true, fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE, tmp, error);
 }
 
 bool writeNpy(const openvdb::FloatGrid& grid, const BoxGeometry& box, const std::string& tmp, std::string& error)
@@ -132,28 +111,6 @@ bool writeNpy(const openvdb::FloatGrid& grid, const BoxGeometry& box, const std:
     return ok;
 }
 
-namespace {
-
-std::string jsonString(const std::string& s)
-{
-    std::string out = "\"";
-    for (char c : s) {
-        if (c == '"' || c == '\\') {
-            out += '\\';
-            out += c;
-        } else if (static_cast<unsigned char>(c) < 0x20) {
-            char esc[8];
-            std::snprintf(esc, sizeof esc, "\\u%04x", c);
-            out += esc;
-        } else {
-            out += c;
-        }
-    }
-    return out + "\"";
-}
-
-} // namespace
-
 bool writeNpyJson(const BoxGeometry& box, const std::string& npyName, const Provenance& how, float background,
                   const std::string& tmp, std::string& error)
 {
@@ -162,9 +119,10 @@ bool writeNpyJson(const BoxGeometry& box, const std::string& npyName, const Prov
         error = "cannot write " + tmp + ": " + std::strerror(errno);
         return false;
     }
+    std::fprintf(f, "{\n  \"array\": ");
+    sdft_json_put_string(f, npyName.c_str());
     std::fprintf(f,
-                 "{\n"
-                 "  \"array\": %s,\n"
+                 ",\n"
                  "  \"dtype\": \"float32\",\n"
                  "  \"shape\": [%d, %d, %d],\n"
                  "  \"axis_order\": \"a[i, j, k] is the distance at origin + (i, j, k) * voxel_size (x, y, z); C "
@@ -175,12 +133,13 @@ bool writeNpyJson(const BoxGeometry& box, const std::string& npyName, const Prov
                  "  \"background\": %.9g,\n"
                  "  \"band_voxels\": %.17g,\n"
                  "  \"full\": %s,\n"
-                 "  \"sign\": %s,\n"
-                 "  \"source_mesh\": %s\n"
-                 "}\n",
-                 jsonString(npyName).c_str(), box.dims[0], box.dims[1], box.dims[2], box.origin[0], box.origin[1],
-                 box.origin[2], box.voxelSize, double(background), how.band, how.full ? "true" : "false",
-                 jsonString(how.sign).c_str(), jsonString(how.source).c_str());
+                 "  \"sign\": ",
+                 box.dims[0], box.dims[1], box.dims[2], box.origin[0], box.origin[1], box.origin[2], box.voxelSize,
+                 double(background), how.band, how.full ? "true" : "false");
+    sdft_json_put_string(f, how.sign.c_str());
+    std::fprintf(f, ",\n  \"source_mesh\": ");
+    sdft_json_put_string(f, how.source.c_str());
+    std::fprintf(f, "\n}\n");
     const bool bad = std::ferror(f) != 0;
     const bool ok = (std::fclose(f) == 0) && !bad;
     if (!ok)

@@ -1,7 +1,9 @@
 // mesh2sdf — writing the grid: OpenVDB (.vdb), NanoVDB (.nvdb), dense NumPy
 // (.npy) with a sidecar JSON. Every file is written under a temporary name
 // in its destination folder and renamed at the end, so a failure never
-// leaves a half-written file at the destination.
+// leaves a half-written file at the destination: sdftrace's one atomic
+// writer (src/util/atomic_file.h), and its one grid-file writer
+// (src/vdb/vdb_internal.h) for .vdb and .nvdb.
 #ifndef MESH2SDF_OUTPUT_H
 #define MESH2SDF_OUTPUT_H
 
@@ -11,17 +13,20 @@
 
 #include <string>
 
+#include "util/atomic_file.h"
+
 namespace mesh2sdf {
 
-/// A destination and the temporary file reserved next to it.
+/// A destination and the temporary file reserved next to it (`tmp`).
 struct PendingFile {
-    std::string path, tmp;
+    sdft_atomic_file file{};
+    std::string tmp;
 };
 
 /// Creates the temporary file (proving the folder is writable). Fails with
 /// one line if the folder is missing or unwritable, or `path` is a folder.
 bool reserveFile(const std::string& path, PendingFile& file, std::string& error);
-/// Renames the temporary file onto the destination.
+/// Flushes the temporary file and renames it onto the destination.
 bool commitFile(PendingFile& file, std::string& error);
 /// Removes the temporary file, if any.
 void discardFile(PendingFile& file);

@@ -1,12 +1,9 @@
 // mesh2sdf — progress bar (see progress.h).
 #include "progress.h"
 
-#include <cstdio>
-#include <unistd.h>
-
 namespace mesh2sdf {
 
-Progress::Progress(bool enabled) : mDraw(enabled && isatty(STDERR_FILENO)) {}
+Progress::Progress(bool enabled) { sdft_progress_bar_init(&mBar, enabled); }
 
 Progress::~Progress() { finish(); }
 
@@ -29,37 +26,10 @@ bool Progress::wasInterrupted(int percent)
 
 void Progress::report(int percent)
 {
-    if (!mDraw)
-        return;
-    if (percent < 0)
-        percent = 0;
-    if (percent > 100)
-        percent = 100;
-    const int overall = mFrom + (mTo - mFrom) * percent / 100;
-    int shown = mShown.load();
-    // Draw each overall percent once, from whichever thread gets there first.
-    while (overall > shown) {
-        if (mShown.compare_exchange_weak(shown, overall)) {
-            constexpr int kWidth = 40;
-            char bar[kWidth + 1];
-            const int filled = overall * kWidth / 100;
-            for (int i = 0; i < kWidth; ++i)
-                bar[i] = i < filled ? '#' : '.';
-            bar[kWidth] = '\0';
-            std::fprintf(stderr, "\r[%s] %3d%% %-24s", bar, overall, mLabel);
-            std::fflush(stderr);
-            return;
-        }
-    }
+    percent = percent < 0 ? 0 : percent > 100 ? 100 : percent;
+    sdft_progress_bar_show(&mBar, mLabel, mFrom + (mTo - mFrom) * percent / 100);
 }
 
-void Progress::finish()
-{
-    if (mDraw && mShown.load() >= 0) {
-        std::fprintf(stderr, "\r%*s\r", 80, "");
-        std::fflush(stderr);
-        mShown = -1;
-    }
-}
+void Progress::finish() { sdft_progress_bar_clear(&mBar); }
 
 } // namespace mesh2sdf

@@ -1,12 +1,13 @@
 // mesh2sdf — progress on stderr through OpenVDB's interrupter interface.
 // The conversion runs in stages; each stage maps its own 0..100 % onto a
-// slice of the overall bar. Drawn only when stderr is a terminal.
+// slice of the overall bar. Drawn by sdftrace's one progress bar
+// (src/util/progress.h), only when stderr is a terminal.
 #ifndef MESH2SDF_PROGRESS_H
 #define MESH2SDF_PROGRESS_H
 
 #include <openvdb/util/NullInterrupter.h>
 
-#include <atomic>
+#include "util/progress.h"
 
 namespace mesh2sdf {
 
@@ -30,10 +31,9 @@ public:
     bool wasInterrupted(int percent = -1) override;
 
 private:
-    bool mDraw;
+    sdft_progress_bar mBar;
     const char* mLabel = "";
     int mFrom = 0, mTo = 100;
-    std::atomic<int> mShown{-1};
 };
 
 } // namespace mesh2sdf

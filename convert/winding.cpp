@@ -1,6 +1,7 @@
 // mesh2sdf — hierarchical generalized winding number (see winding.h).
 #include "winding.h"
 
+#include "median_split.h"
 #include "triangle_distance.h"
 
 #include <algorithm>
@@ -105,8 +106,8 @@ FastWinding::FastWinding(const std::vector<std::array<float, 3>> &points,
     mOrder = std::move(order);
 }
 
-// Splits [first, first + count) of `order` at the median centroid along the
-// longest axis of the centroids' bounds. Returns the node's index.
+// Splits [first, first + count) of `order` at the median (median_split.h).
+// Returns the node's index.
 uint32_t FastWinding::build(uint32_t first, uint32_t count, std::vector<uint32_t> &order,
                             const std::vector<Vec3> &centroids)
 {
@@ -117,19 +118,7 @@ uint32_t FastWinding::build(uint32_t first, uint32_t count, std::vector<uint32_t
     if (count <= kLeafSize)
         return index;
 
-    Vec3 lo = centroids[order[first]], hi = lo;
-    for (uint32_t i = first; i < first + count; ++i)
-        for (int k = 0; k < 3; ++k) {
-            lo[k] = std::min(lo[k], centroids[order[i]][k]);
-            hi[k] = std::max(hi[k], centroids[order[i]][k]);
-        }
-    int axis = 0;
-    for (int k = 1; k < 3; ++k)
-        if (hi[k] - lo[k] > hi[axis] - lo[axis])
-            axis = k;
-    const uint32_t half = count / 2;
-    std::nth_element(order.begin() + first, order.begin() + first + half, order.begin() + first + count,
-                     [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+    const uint32_t half = splitAtMedian(order, first, count, centroids);
     const uint32_t left = build(first, half, order, centroids);
     const uint32_t right = build(first + half, count - half, order, centroids);
     mNodes[index].left = left;

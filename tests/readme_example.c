@@ -41,10 +41,11 @@ int main(void)
     sdft_image img;
     sdft_render_stats stats;
     char msg[128];
-    if (sdft_image_alloc(&img, rp.width, rp.height))
-        return 1;
-    if (sdft_render(&field, &rp, &img, &stats, msg, sizeof msg)) {
-        fprintf(stderr, "%s\n", msg);
+    sdft_error err = sdft_image_alloc(&img, rp.width, rp.height, msg, sizeof msg);
+    if (!err)
+        err = sdft_render(&field, &rp, &img, &stats, msg, sizeof msg);
+    if (err) { /* every fallible call: a code, and one line saying why */
+        fprintf(stderr, "%s: %s\n", sdft_error_name(err), msg);
         sdft_image_free(&img);
         return 1;
     }

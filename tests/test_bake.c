@@ -10,6 +10,7 @@
 
 #include <cmocka.h>
 
+#include "sdftrace/config.h"
 #include "testutil.h"
 
 static char out[16384];
@@ -116,9 +117,40 @@ static void test_nvdb_accepted_by_nanovdb_tools(void **state)
     assert_non_null(strstr(out, "Float16"));
 }
 
+/* A bake's file gets the mode a plain fopen would, 0666 less the umask
+ * (it used to keep mkstemp's 0600), under two umasks. */
+static void test_output_modes(void **state)
+{
+    (void)state;
+    static const int masks[] = {027, 002};
+    static const char *const files[] = {"mode.vdb", "mode.nvdb"};
+    for (int m = 0; m < 2; m++)
+        for (int f = 0; f < 2; f++) {
+            char path[512];
+            tu_tmp(path, sizeof path, files[f]);
+            remove(path);
+            assert_int_equal(tu_run(out, sizeof out, "umask %03o && %s bake --scene dodecahedron --res 16 -o %s",
+                                    masks[m], SDFT_CLI, path),
+                             0);
+            assert_int_equal(tu_file_mode(path), 0666 & ~masks[m]);
+        }
+}
+
+/* --version: the library's version, which is the project's. */
+static void test_version(void **state)
+{
+    (void)state;
+    char want[64];
+    snprintf(want, sizeof want, "sdftrace %s\n", SDFT_VERSION_STRING);
+    assert_int_equal(tu_run(out, sizeof out, "%s --version", SDFT_CLI), 0);
+    assert_string_equal(out, want);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_output_modes),
+        cmocka_unit_test(test_version),
         cmocka_unit_test(test_help),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_vdb_accepted_by_openvdb_tools),

@@ -55,52 +55,60 @@ static void test_scenes(void **state)
         assert_non_null(strstr(out, names[i]));
 }
 
-/* Every case: non-zero exit, exactly one line (stdout + stderr), no file. */
+/* Every case: non-zero exit, exactly one line (stdout + stderr) naming the
+ * problem, no file; and the same command without the bad option renders,
+ * so no case passes by failing for another reason. */
 static void test_bad_input(void **state)
 {
     (void)state;
-    static const char *const cases[] = {
-        "--scene nosuch",
-        "--method foo",
-        "--method relaxed --omega 2",
-        "--method relaxed --omega 0.9",
-        "--method enhanced --omega 1.5",
-        "--method enhanced --omega 0",
-        "--beta 1",
-        "--beta 0",
-        "--beta nan",
-        "--omega inf --method relaxed",
-        "--width 0",
-        "--width -5",
-        "--width 12abc",
-        "--height 100000",
-        "--width 16384 --height 16384",
-        "--eps -1",
-        "--eps nan",
-        "--eps 0",
-        "--max-steps 0",
-        "--max-steps 2.5",
-        "--fov 0",
-        "--fov 180",
-        "--fov NaN",
-        "--camera 1,2,3",
-        "--camera 1,2,3,1,2,3",
-        "--camera 1,2,3,4,5,x",
-        "--threads -1",
-        "--bogus",
-        "--heatmap bogus " SDFT_TEST_TMP "/cli_bad_heat.png",
-        "--png " SDFT_TEST_TMP "/no/such/dir/x.png",
-        "--heatmap steps " SDFT_TEST_TMP "/no/such/dir/h.png",
-        "--width",
+    static const char *const cases[][2] = {
+        {"--scene nosuch", "unknown scene"},
+        {"--method foo", "unknown method"},
+        {"--method relaxed --omega 2", "omega"},
+        {"--method relaxed --omega 0.9", "omega"},
+        {"--method enhanced --omega 1.5", "omega"},
+        {"--method enhanced --omega 0", "omega"},
+        {"--beta 1", "beta"},
+        {"--beta 0", "beta"},
+        {"--beta nan", "--beta"},
+        {"--omega inf --method relaxed", "--omega"},
+        {"--width 0", "--width"},
+        {"--width -5", "--width"},
+        {"--width 12abc", "--width"},
+        {"--width ' 12'", "--width"},
+        {"--height 100000", "--height"},
+        {"--width 16384 --height 16384", "pixels"},
+        {"--eps -1", "--eps"},
+        {"--eps nan", "--eps"},
+        {"--eps 0", "eps"},
+        {"--max-steps 0", "--max-steps"},
+        {"--max-steps 2.5", "--max-steps"},
+        {"--fov 0", "--fov"},
+        {"--fov 180", "--fov"},
+        {"--fov NaN", "--fov"},
+        {"--camera 1,2,3", "--camera"},
+        {"--camera 1,2,3,1,2,3", "--camera"},
+        {"--camera 1,2,3,4,5,x", "--camera"},
+        {"--threads -1", "--threads"},
+        {"--bogus", "unknown option"},
+        {"--heatmap bogus " SDFT_TEST_TMP "/cli_bad_heat.png", "--heatmap"},
+        {"--png " SDFT_TEST_TMP "/no/such/dir/x.png", "cannot write"},
+        {"--heatmap steps " SDFT_TEST_TMP "/no/such/dir/h.png", "cannot write"},
+        {"--width", "needs a value"},
     };
     char exr[512];
     tu_tmp(exr, sizeof exr, "cli_bad.exr");
+    remove(exr);
+    assert_int_equal(
+        tu_run(out, sizeof out, "%s render --scene dodecahedron --width 16 --height 9 -o %s", SDFT_CLI, exr), 0);
+    assert_true(tu_file_exists(exr));
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         remove(exr);
-        const char *scene = strstr(cases[i], "--scene") ? "" : "--scene dodecahedron";
-        int rc = tu_run(out, sizeof out, "%s render %s --width 16 --height 9 -o %s %s", SDFT_CLI, scene, exr, cases[i]);
-        if (rc == 0 || lines(out) != 1 || tu_file_exists(exr))
-            fail_msg("case '%s': rc %d, output '%s'", cases[i], rc, out);
+        const char *scene = strstr(cases[i][0], "--scene") ? "" : "--scene dodecahedron";
+        int rc =
+            tu_run(out, sizeof out, "%s render %s --width 16 --height 9 -o %s %s", SDFT_CLI, scene, exr, cases[i][0]);
+        if (rc == 0 || lines(out) != 1 || tu_file_exists(exr) || !strstr(out, cases[i][1]))
+            fail_msg("case '%s': rc %d, output '%s' (want one line naming '%s')", cases[i][0], rc, out, cases[i][1]);
     }
     assert_false(tu_file_exists(SDFT_TEST_TMP "/cli_bad_heat.png"));
     /* Missing -o, missing --scene, unwritable output. */
@@ -198,12 +206,35 @@ static void test_summary_line(void **state)
     assert_int_not_equal(tu_run(out, sizeof out, "%s render --scene figure --fp16 -o %s", SDFT_CLI, exr), 0);
 }
 
+/* Outputs get the mode a plain fopen would, 0666 less the umask, under two
+ * umasks (so neither 0600 nor a fixed 0644 passes). */
+static void test_output_modes(void **state)
+{
+    (void)state;
+    static const int masks[] = {027, 002};
+    char exr[512], png[512], heat[512];
+    tu_tmp(exr, sizeof exr, "cli_mode.exr");
+    tu_tmp(png, sizeof png, "cli_mode.png");
+    tu_tmp(heat, sizeof heat, "cli_mode_heat.png");
+    for (int m = 0; m < 2; m++) {
+        remove(exr), remove(png), remove(heat);
+        int rc = tu_run(out, sizeof out,
+                        "umask %03o && %s render --scene dodecahedron --width 16 --height 9 -o %s --png %s "
+                        "--heatmap steps %s",
+                        masks[m], SDFT_CLI, exr, png, heat);
+        assert_int_equal(rc, 0);
+        const int want = 0666 & ~masks[m];
+        assert_int_equal(tu_file_mode(exr), want);
+        assert_int_equal(tu_file_mode(png), want);
+        assert_int_equal(tu_file_mode(heat), want);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_help_lists_every_option),
-        cmocka_unit_test(test_scenes),
-        cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_output_modes), cmocka_unit_test(test_help_lists_every_option),
+        cmocka_unit_test(test_scenes),       cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_json_report),
         cmocka_unit_test(test_summary_line),
     };

@@ -15,8 +15,8 @@
 #include "sdftrace/grid.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
+#include "sdftrace/vdb.h"
 #include "testutil.h"
-#include "vdb.h"
 
 /* ---- fields of our own ---------------------------------------------------- */
 
@@ -286,8 +286,8 @@ static void test_quantized_grids(void **state)
     sdft_render_params rp = sdft_render_defaults();
     rp.width = 160, rp.height = 90, rp.camera = sc->camera, rp.light = sc->light, rp.shadows = 0;
     sdft_image want, got;
-    assert_int_equal(sdft_image_alloc(&want, rp.width, rp.height), 0);
-    assert_int_equal(sdft_image_alloc(&got, rp.width, rp.height), 0);
+    assert_int_equal(sdft_image_alloc(&want, rp.width, rp.height, NULL, 0), 0);
+    assert_int_equal(sdft_image_alloc(&got, rp.width, rp.height, NULL, 0), 0);
     sdft_field rf = sdft_grid_field(ref);
     assert_int_equal(sdft_render(&rf, &rp, &want, NULL, msg, sizeof msg), 0);
     for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
@@ -456,14 +456,14 @@ static void test_far_cells_from_directory_match_tree(void **state)
     for (int i = 0; i < 2; i++)
         for (size_t most = 1u << 24; most >= 128; most /= 16) { /* 4-voxel cells, then 8, 16 */
             sdft_grid *g = grids[i];
-            grid_far_free(g);
-            assert_int_equal(grid_far_build_cells(g, most), 0);
+            sdft_grid_far_free(g);
+            assert_int_equal(sdft_grid_far_build_cells(g, most), 0);
             const grid_far a = g->far;
             const size_t corners = (size_t)(a.n[0] + 1) * (a.n[1] + 1) * (a.n[2] + 1);
             g->far.corner = NULL;
             const grid_leaves directory = g->leaves;
             g->leaves.top = NULL; /* the tree walk */
-            assert_int_equal(grid_far_build_cells(g, most), 0);
+            assert_int_equal(sdft_grid_far_build_cells(g, most), 0);
             g->leaves = directory;
             assert_int_equal(g->far.cell, a.cell);
             assert_memory_equal(g->far.corner, a.corner, corners * sizeof *a.corner);
@@ -785,8 +785,8 @@ static void test_grid_render_matches_procedural(void **state)
     rp.shadows = 0;
     char msg[256];
     sdft_image a, b;
-    assert_int_equal(sdft_image_alloc(&a, rp.width, rp.height), 0);
-    assert_int_equal(sdft_image_alloc(&b, rp.width, rp.height), 0);
+    assert_int_equal(sdft_image_alloc(&a, rp.width, rp.height, NULL, 0), 0);
+    assert_int_equal(sdft_image_alloc(&b, rp.width, rp.height, NULL, 0), 0);
     assert_int_equal(sdft_render(&sc->field, &rp, &a, NULL, msg, sizeof msg), 0);
     assert_int_equal(sdft_render(&gf, &rp, &b, NULL, msg, sizeof msg), 0);
     int both = 0, close = 0, one = 0, n = rp.width * rp.height;
@@ -913,6 +913,183 @@ static void test_round_trip_nvdb(void **state)
     round_trip("roundtrip.nvdb");
 }
 
+/* ---- a scratch remembers its grid ------------------------------------------------ */
+
+/* A scratch prepared for one grid is refused by every entry point given
+ * another grid's field, never read through the first grid's cached
+ * accessor; fields of the same grid with another bound share it. */
+static void test_scratch_remembers_its_grid(void **state)
+{
+    (void)state;
+    sdft_field f = spheres_field();
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    sdft_grid *a = bake(&f, 32, 0, NULL), *b = bake(&sc->field, 40, 0, NULL);
+    sdft_field fa = sdft_grid_field(a), fb = sdft_grid_field(b),
+               fa_tree = sdft_grid_field_with(a, SDFT_GRID_BOUND_TREE);
+    sdft_scratch s;
+    sdft_scratch_init(&fa, &s);
+    const sdft_trace_params p = sdft_trace_defaults();
+    sdft_ray rays[4];
+    for (int k = 0; k < 4; k++)
+        rays[k] = (sdft_ray){.org = {0.1f * k, 0.05f, 4}, .tnear = 0, .dir = {0, 0, -1}, .tfar = INFINITY};
+    sdft_hit hits[4];
+    char msg[256];
+
+    assert_int_equal(sdft_trace(&fa, &s, &rays[0], &p).status, SDFT_HIT);
+    assert_int_equal(sdft_trace(&fa_tree, &s, &rays[0], &p).status, SDFT_HIT); /* the same grid */
+    sdft_hit wrong = sdft_trace(&fb, &s, &rays[0], &p);
+    assert_int_equal(wrong.status, SDFT_INVALID);
+    assert_int_equal(wrong.steps, 0);
+    sdft_trace_stream(&fb, &s, rays, hits, 4, &p);
+    for (int k = 0; k < 4; k++)
+        assert_int_equal(hits[k].status, SDFT_INVALID);
+    uint32_t steps = 0;
+    assert_true(sdft_cone_march(&fb, &s, rays[0].org, rays[0].dir, 0.01f, 0.0f, 10.0f, &steps) == 0.0f);
+    assert_int_equal(steps, 0);
+    assert_int_equal(sdft_trace_check(&fb, &s, &p, msg, sizeof msg), SDFT_EINVAL);
+    assert_non_null(strstr(msg, "another field"));
+    int level = 0;
+    assert_true(isnan(sdft_grid_sample(b, &s, sdft_v3(0, 0, 0), &level)));
+    assert_int_equal(level, -1);
+    assert_false(isnan(sdft_grid_sample(a, &s, sdft_v3(0, 0, 0), &level)));
+
+    /* Prepared for b, it serves b and no longer a. */
+    sdft_scratch_init(&fb, &s);
+    assert_int_not_equal(sdft_trace(&fb, &s, &rays[0], &p).status, SDFT_INVALID);
+    assert_int_equal(sdft_trace(&fa, &s, &rays[0], &p).status, SDFT_INVALID);
+    /* A procedural field keeps no state: it takes any scratch, and its own
+     * scratch serves no grid. */
+    assert_int_equal(sdft_trace(&f, &s, &rays[0], &p).status, SDFT_HIT);
+    sdft_scratch_init(&f, &s);
+    assert_int_equal(sdft_trace(&fa, &s, &rays[0], &p).status, SDFT_INVALID);
+    sdft_grid_free(a);
+    sdft_grid_free(b);
+}
+
+/* ---- borrowed buffers ----------------------------------------------------------- */
+
+/* A renderer's own NanoVDB bytes, borrowed in place: the grid reads them
+ * (its data pointer is the caller's), samples and traces exactly as a
+ * copy, picks a grid of a multi-grid buffer by name, and leaves the bytes
+ * to their owner when freed (they sit inside a larger allocation, so a
+ * free() of them would be an error AddressSanitizer reports). */
+static void test_borrowed_buffer(void **state)
+{
+    (void)state;
+    sdft_field f = spheres_field();
+    sdft_grid *first = bake(&f, 32, 0, NULL), *second = bake(&f, 24, 1, NULL);
+    size_t n1, n2;
+    const void *b1 = sdft_grid_data(first, &n1), *b2 = sdft_grid_data(second, &n2);
+    assert_int_equal(n1 % 32, 0);
+    unsigned char *block = aligned_alloc(32, 64 + n1 + n2);
+    assert_non_null(block);
+    unsigned char *mine = block + 64;
+    memcpy(mine, b1, n1);
+    memcpy(mine + n1, b2, n2);
+    /* Grid names: both "sdf"; rename the second in its header to pick it. */
+    memcpy(mine + n1 + PNANOVDB_GRID_OFF_GRID_NAME, "second", 7);
+
+    char msg[256];
+    sdft_grid *lent = NULL, *lent2 = NULL;
+    assert_int_equal(sdft_grid_borrow_buffer(mine, n1 + n2, NULL, &lent, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_grid_borrow_buffer(mine, n1 + n2, "second", &lent2, msg, sizeof msg), SDFT_OK);
+    size_t got;
+    assert_ptr_equal(sdft_grid_data(lent, &got), mine);
+    assert_int_equal(got, n1);
+    assert_ptr_equal(sdft_grid_data(lent2, &got), mine + n1);
+    assert_string_equal(sdft_grid_name(lent2), "second");
+    same_voxels(first, lent);
+    same_voxels(second, lent2);
+
+    sdft_field fc = sdft_grid_field(first), fl = sdft_grid_field(lent);
+    sdft_scratch sc, sl;
+    sdft_scratch_init(&fc, &sc);
+    sdft_scratch_init(&fl, &sl);
+    const sdft_trace_params p = sdft_trace_defaults();
+    tu_rng r = tu_rng_seed(21);
+    int hits = 0;
+    for (int i = 0; i < 200; i++) {
+        sdft_vec3 d = sdft_normalize(sdft_v3(tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1)));
+        sdft_ray ray = {.org = sdft_scale(d, -3.0f), .tnear = 0, .dir = d, .tfar = INFINITY};
+        ray.org.x += tu_uniform(&r, -0.3f, 0.3f);
+        sdft_hit hc = sdft_trace(&fc, &sc, &ray, &p), hl = sdft_trace(&fl, &sl, &ray, &p);
+        assert_memory_equal(&hc, &hl, sizeof hc);
+        hits += hc.status == SDFT_HIT;
+    }
+    assert_true(hits > 100);
+    sdft_grid_free(lent);
+    sdft_grid_free(lent2);
+    assert_memory_equal(mine, b1, n1); /* untouched, still the caller's */
+    free(block);
+    sdft_grid_free(first);
+    sdft_grid_free(second);
+}
+
+/* ---- which grid: .vdb and .nvdb alike ----------------------------------------------- */
+
+/* Files written by OpenVDB's vdb_tool and converted by NanoVDB's
+ * nanovdb_convert, each grid in the same order: every selection gives the
+ * same code and the same grid from both loaders, and the grid the rule
+ * (include/sdftrace/grid.h) names. */
+static void test_grid_selection_is_the_same_for_vdb_and_nvdb(void **state)
+{
+    (void)state;
+    char vdb[512], nvdb[512], cmd_out[4096];
+    static const struct {
+        const char *tool_args; /* vdb_tool writes its stack top first */
+        struct {
+            const char *name; /* NULL: the default choice */
+            sdft_error code;
+            const char *picked;
+        } cases[5];
+    } files[2] = {
+        {"-sphere radius=1 dim=32 name=ball -grad keep=1 -sphere radius=0.5 dim=32 name=s0 -ls2fog keep=0",
+         /* ls2fog_s0 (fog), grad_ball (vec3), ball (level set) */
+         {{NULL, SDFT_OK, "ball"},
+          {"ls2fog_s0", SDFT_OK, "ls2fog_s0"},
+          {"ball", SDFT_OK, "ball"},
+          {"grad_ball", SDFT_ENOTSCALAR, NULL},
+          {"nosuch", SDFT_ENOTFOUND, NULL}}},
+        {"-sphere radius=1 dim=32 name=b -grad keep=0 -sphere radius=0.5 dim=32 name=s0 -ls2fog keep=0",
+         /* ls2fog_s0 (fog), grad_b (vec3): no level set, the first scalar grid */
+         {{NULL, SDFT_OK, "ls2fog_s0"},
+          {"grad_b", SDFT_ENOTSCALAR, NULL},
+          {"", SDFT_ENOTFOUND, NULL},
+          {"ls2fog_s0", SDFT_OK, "ls2fog_s0"},
+          {"b", SDFT_ENOTFOUND, NULL}}},
+    };
+    for (int k = 0; k < 2; k++) {
+        tu_tmp(vdb, sizeof vdb, k ? "choose2.vdb" : "choose1.vdb");
+        tu_tmp(nvdb, sizeof nvdb, k ? "choose2.nvdb" : "choose1.nvdb");
+        remove(vdb), remove(nvdb);
+        int rc = tu_run(cmd_out, sizeof cmd_out, "vdb_tool -quiet %s -o %s && nanovdb_convert -f %s %s",
+                        files[k].tool_args, vdb, vdb, nvdb);
+        if (rc)
+            print_error("%s\n", cmd_out);
+        assert_int_equal(rc, 0);
+        for (int c = 0; c < 5; c++) {
+            const char *name = files[k].cases[c].name;
+            sdft_grid *gv = NULL, *gn = NULL;
+            char mv[256] = "", mn[256] = "";
+            const sdft_error rv = sdft_vdb_load(vdb, name, SDFT_QUANT_NONE, &gv, mv, sizeof mv);
+            const sdft_error rn = sdft_grid_load_nvdb(nvdb, name, &gn, mn, sizeof mn);
+            print_message("%s '%s': .vdb %s %s | .nvdb %s %s\n", k ? "choose2" : "choose1", name ? name : "(null)",
+                          sdft_error_name(rv), gv ? sdft_grid_name(gv) : mv, sdft_error_name(rn),
+                          gn ? sdft_grid_name(gn) : mn);
+            assert_int_equal(rv, files[k].cases[c].code);
+            assert_int_equal(rn, files[k].cases[c].code);
+            if (files[k].cases[c].picked) {
+                assert_string_equal(sdft_grid_name(gv), files[k].cases[c].picked);
+                assert_string_equal(sdft_grid_name(gn), files[k].cases[c].picked);
+                assert_int_equal(sdft_grid_active_voxels(gv), sdft_grid_active_voxels(gn));
+            }
+            sdft_grid_free(gv);
+            sdft_grid_free(gn);
+        }
+    }
+}
+
 /* ---- errors -------------------------------------------------------------------------- */
 
 static void expect_error(const char *path, const char *name, int code, const char *needle)
@@ -955,21 +1132,21 @@ static void test_errors(void **state)
     sdft_grid_free(bake(&f, 32, 0, tu_tmp(good_vdb, sizeof good_vdb, "good.vdb")));
     sdft_grid_free(bake(&f, 32, 0, tu_tmp(good_nvdb, sizeof good_nvdb, "good.nvdb")));
 
-    expect_error(tu_tmp(bad, sizeof bad, "missing.vdb"), NULL, SDFT_GRID_EIO, "cannot open");
-    expect_error(tu_tmp(bad, sizeof bad, "missing.nvdb"), NULL, SDFT_GRID_EIO, "cannot open");
-    expect_error(good_vdb, "nosuch", SDFT_GRID_ENOTFOUND, "no grid named 'nosuch'");
-    expect_error(good_nvdb, "nosuch", SDFT_GRID_ENOTFOUND, "no grid named 'nosuch'");
+    expect_error(tu_tmp(bad, sizeof bad, "missing.vdb"), NULL, SDFT_EIO, "cannot open");
+    expect_error(tu_tmp(bad, sizeof bad, "missing.nvdb"), NULL, SDFT_EIO, "cannot open");
+    expect_error(good_vdb, "nosuch", SDFT_ENOTFOUND, "no grid named 'nosuch'");
+    expect_error(good_nvdb, "nosuch", SDFT_ENOTFOUND, "no grid named 'nosuch'");
 
     copy_prefix(good_vdb, tu_tmp(bad, sizeof bad, "truncated.vdb"), 600, 0);
-    expect_error(bad, NULL, SDFT_GRID_EFORMAT, "cannot read");
+    expect_error(bad, NULL, SDFT_EFORMAT, "cannot read");
     copy_prefix(good_vdb, tu_tmp(bad, sizeof bad, "corrupt.vdb"), 0, 1);
-    expect_error(bad, NULL, SDFT_GRID_EFORMAT, "cannot read");
+    expect_error(bad, NULL, SDFT_EFORMAT, "cannot read");
     copy_prefix(good_nvdb, tu_tmp(bad, sizeof bad, "truncated.nvdb"), 2000, 0);
-    expect_error(bad, NULL, SDFT_GRID_EFORMAT, "truncated");
+    expect_error(bad, NULL, SDFT_EFORMAT, "truncated");
     copy_prefix(good_nvdb, tu_tmp(bad, sizeof bad, "header.nvdb"), 100, 0);
-    expect_error(bad, NULL, SDFT_GRID_EFORMAT, "truncated");
+    expect_error(bad, NULL, SDFT_EFORMAT, "truncated");
     copy_prefix(good_nvdb, tu_tmp(bad, sizeof bad, "corrupt.nvdb"), 0, 1);
-    expect_error(bad, NULL, SDFT_GRID_EFORMAT, "");
+    expect_error(bad, NULL, SDFT_EFORMAT, "");
 
     /* A Vec3f grid (the sphere's gradient), written by OpenVDB's own tools. */
     char vec[512], vecn[512];
@@ -983,8 +1160,8 @@ static void test_errors(void **state)
     if (rc)
         print_error("%s\n", cmd_out);
     assert_int_equal(rc, 0);
-    expect_error(vec, NULL, SDFT_GRID_ENOTSCALAR, "no scalar grid");
-    expect_error(vecn, NULL, SDFT_GRID_ENOTSCALAR, "no scalar grid");
+    expect_error(vec, NULL, SDFT_ENOTSCALAR, "no scalar grid");
+    expect_error(vecn, NULL, SDFT_ENOTSCALAR, "no scalar grid");
 
     /* An empty level set: a sphere eroded away. */
     char empty[512];
@@ -993,7 +1170,7 @@ static void test_errors(void **state)
     rc = tu_run(cmd_out, sizeof cmd_out,
                 "vdb_tool -quiet -sphere radius=0.1 voxel=0.05 name=gone -erode radius=4 -o %s", empty);
     assert_int_equal(rc, 0);
-    expect_error(empty, NULL, SDFT_GRID_EEMPTY, "empty");
+    expect_error(empty, NULL, SDFT_EEMPTY, "empty");
 
     sdft_grid *g = NULL;
     char msg[256];
@@ -1022,7 +1199,7 @@ static void test_bake_errors(void **state)
     sdft_field far = f;
     far.bounds = (sdft_aabb){{5, 5, 5}, {6, 6, 6}};
     tu_tmp(path, sizeof path, "never.vdb");
-    assert_int_equal(sdft_bake(&far, &p, path, NULL, NULL, msg, sizeof msg), SDFT_GRID_EEMPTY);
+    assert_int_equal(sdft_bake(&far, &p, path, NULL, NULL, msg, sizeof msg), SDFT_EEMPTY);
     assert_false(tu_file_exists(path));
 }
 
@@ -1046,6 +1223,9 @@ int main(void)
         cmocka_unit_test(test_streamed_load_matches_nanovdb_converter),
         cmocka_unit_test(test_round_trip_vdb),
         cmocka_unit_test(test_round_trip_nvdb),
+        cmocka_unit_test(test_scratch_remembers_its_grid),
+        cmocka_unit_test(test_borrowed_buffer),
+        cmocka_unit_test(test_grid_selection_is_the_same_for_vdb_and_nvdb),
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_bake_errors),
     };

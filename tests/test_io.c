@@ -23,7 +23,7 @@ enum { W = 37, H = 21 }; /* more than one 16-line ZIP chunk, odd sizes */
 /* An image whose every plane holds distinct, checkable values. */
 static void fill_image(sdft_image *img)
 {
-    assert_int_equal(sdft_image_alloc(img, W, H), 0);
+    assert_int_equal(sdft_image_alloc(img, W, H, NULL, 0), 0);
     for (int i = 0; i < W * H; i++) {
         for (int k = 0; k < 3; k++) {
             img->rgb[3 * i + k] = 0.001f * (float)i + 0.25f * (float)k;
@@ -108,18 +108,6 @@ static const void *channel(const exr_readback *rb, const char *name, int type)
     return NULL;
 }
 
-/* No ".NAME.tmp*" file is left in the test folder. */
-static void assert_no_temporaries(const char *name)
-{
-    DIR *d = opendir(SDFT_TEST_TMP);
-    assert_non_null(d);
-    char prefix[256];
-    snprintf(prefix, sizeof prefix, ".%s.tmp", name);
-    for (struct dirent *e; (e = readdir(d));)
-        assert_true(strncmp(e->d_name, prefix, strlen(prefix)) != 0);
-    closedir(d);
-}
-
 static void test_exr_round_trip(void **state)
 {
     (void)state;
@@ -129,7 +117,7 @@ static void test_exr_round_trip(void **state)
     tu_tmp(path, sizeof path, "io_round_trip.exr");
     remove(path);
     assert_int_equal(sdft_write_exr(path, &img, msg, sizeof msg), 0);
-    assert_no_temporaries("io_round_trip.exr");
+    tu_assert_no_temporaries(SDFT_TEST_TMP, "io_round_trip.exr");
 
     exr_readback rb;
     read_exr(path, &rb);
@@ -306,21 +294,21 @@ static void test_failed_writes_leave_nothing(void **state)
     assert_int_not_equal(sdft_write_png(SDFT_TEST_TMP "/no/such/out.png", &img, msg, sizeof msg), 0);
     assert_int_not_equal(sdft_write_heatmap(SDFT_TEST_TMP "/no/such/h.png", &img, 0, msg, sizeof msg), 0);
 
-    /* The target is a folder: everything is written, the rename fails. */
+    /* The target is a folder: refused before anything is written. */
     char dir[512];
     tu_tmp(dir, sizeof dir, "io_is_a_dir.exr");
     mkdir(dir, 0755);
     msg[0] = '\0';
     assert_int_not_equal(sdft_write_exr(dir, &img, msg, sizeof msg), 0);
     assert_true(strlen(msg) > 0);
-    assert_no_temporaries("io_is_a_dir.exr");
+    tu_assert_no_temporaries(SDFT_TEST_TMP, "io_is_a_dir.exr");
     assert_int_not_equal(sdft_write_png(dir, &img, msg, sizeof msg), 0);
-    assert_no_temporaries("io_is_a_dir.exr");
+    tu_assert_no_temporaries(SDFT_TEST_TMP, "io_is_a_dir.exr");
 
     char ok[512];
     assert_int_equal(sdft_check_writable(tu_tmp(ok, sizeof ok, "io_check.exr"), msg, sizeof msg), 0);
     assert_false(tu_file_exists(ok));
-    assert_no_temporaries("io_check.exr");
+    tu_assert_no_temporaries(SDFT_TEST_TMP, "io_check.exr");
     sdft_image_free(&img);
 }
 

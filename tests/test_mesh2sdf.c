@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sdftrace/config.h"
 #include "testutil.h"
 
 #define BAND 3.0
@@ -236,6 +237,95 @@ static void make_icosphere(mesh *m, int levels)
         }
         mesh_free(m);
         *m = next;
+    }
+}
+
+/* Meshes whose winding number crosses 1/2 away from the surface, where a
+ * flood fill leaks through holes and one winding number per tile speaks for
+ * the tile's centre only. A band of the sphere of radius r between polar
+ * angles th0 and th1 (radians), nth rings by nph segments, facing outward
+ * (inward when `inward`); quad (i, j) is left out where `hole(i, j)`; with
+ * th0 = 0 a pole vertex closes the top. */
+typedef int (*hole_fn)(int i, int j);
+
+static void add_sphere_band(mesh *m, double r, double th0, double th1, int nth, int nph, int inward, hole_fn hole)
+{
+    const int pole = th0 == 0, first = m->nv;
+    if (pole)
+        mesh_vertex(m, 0, 0, r);
+    for (int i = pole; i <= nth; i++) {
+        const double th = th0 + (th1 - th0) * i / nth;
+        for (int j = 0; j < nph; j++) {
+            const double ph = 2 * 3.14159265358979323846 * j / nph;
+            mesh_vertex(m, r * sin(th) * cos(ph), r * sin(th) * sin(ph), r * cos(th));
+        }
+    }
+#define RING(i, j) ((i) == 0 && pole ? first : first + pole + ((i)-pole) * nph + ((j) % nph))
+    for (int i = 0; i < nth; i++)
+        for (int j = 0; j < nph; j++) {
+            if (hole && hole(i, j))
+                continue;
+            const int a = RING(i, j), b = RING(i, j + 1), c = RING(i + 1, j + 1), d = RING(i + 1, j);
+            const int t[2][3] = {{a, d, c}, {a, c, b}};
+            for (int k = 0; k < 2 - (i == 0 && pole); k++)
+                if (inward)
+                    mesh_triangle(m, t[k][0], t[k][2], t[k][1]);
+                else
+                    mesh_triangle(m, t[k][0], t[k][1], t[k][2]);
+        }
+#undef RING
+}
+
+/* An insect's thin double-walled open shell: two nearly parallel sheets, the
+ * outer facing out and the inner facing in, with the same large windows cut
+ * through both, so the wall between them is inside. */
+static int window(int i, int j) { return (i / 3) % 2 == 1 && (j / 4) % 3 == 1; }
+
+static void make_double_wall(mesh *m)
+{
+    add_sphere_band(m, 1.0, 0, 2.4, 12, 24, 0, window);
+    add_sphere_band(m, 0.85, 0, 2.4, 12, 24, 1, window);
+}
+
+/* Three open hemispherical cups nested in one another. */
+static void make_nested_cups(mesh *m)
+{
+    for (int c = 0; c < 3; c++)
+        add_sphere_band(m, 1.0 - 0.25 * c, 0, 1.5707963267948966, 8, 20, 0, NULL);
+}
+
+/* A closed sphere but for a slit two segments wide down its side and two
+ * small holes at its poles. */
+static int slit(int i, int j) { return j < 2 && i >= 2 && i <= 9; }
+
+static void make_slit_sphere(mesh *m) { add_sphere_band(m, 1.0, 0.05, 3.14159265358979323846 - 0.05, 12, 24, 0, slit); }
+
+/* Eight open discs of radius 1 stacked a little apart, all facing the same
+ * way (pages of a book): the winding number runs from 4 below the stack to
+ * -4 above it around the rim, so it crosses 1/2 steeply off the band, inside
+ * single tiles. Heights avoid lattice points. */
+static void make_sheet_stack(mesh *m)
+{
+    for (int c = 0; c < 8; c++) {
+        const double z = 0.0317 * c + 0.0071;
+        const int first = m->nv, rings = 3, segments = 16;
+        mesh_vertex(m, 0, 0, z);
+        for (int i = 1; i <= rings; i++)
+            for (int j = 0; j < segments; j++) {
+                const double r = (double)i / rings, ph = 2 * 3.14159265358979323846 * j / segments;
+                mesh_vertex(m, r * cos(ph), r * sin(ph), z);
+            }
+#define DISC(i, j) ((i) == 0 ? first : first + 1 + ((i)-1) * segments + ((j) % segments))
+        for (int i = 0; i < rings; i++)
+            for (int j = 0; j < segments; j++) {
+                if (i == 0) {
+                    mesh_triangle(m, first, DISC(1, j), DISC(1, j + 1));
+                    continue;
+                }
+                mesh_triangle(m, DISC(i, j), DISC(i + 1, j), DISC(i + 1, j + 1));
+                mesh_triangle(m, DISC(i, j), DISC(i + 1, j + 1), DISC(i, j + 1));
+            }
+#undef DISC
     }
 }
 
@@ -612,6 +702,208 @@ static void test_sign_fandisk(void **state)
     check_sign("fandisk", 3000);
 }
 
+/* At `samples` random voxels of a --full grid, |value| must equal the
+ * brute-force distance to the nearest triangle within 1e-4 voxel, in the
+ * band and off it. */
+static void check_dense_distances(const char *name, const mesh *m, const dense *g, int samples)
+{
+    tu_rng rng = tu_rng_seed(11);
+    double worst = 0;
+    int off_band = 0;
+    for (int s = 0; s < samples; s++) {
+        int ijk[3];
+        for (int k = 0; k < 3; k++) {
+            ijk[k] = (int)tu_uniform(&rng, 0, (float)g->n[k]);
+            if (ijk[k] >= g->n[k])
+                ijk[k] = g->n[k] - 1;
+        }
+        double p[3], best = INFINITY;
+        dense_point(g, ijk[0], ijk[1], ijk[2], p);
+        for (int t = 0; t < m->nt; t++)
+            best = fmin(best,
+                        tri_dist2(p, &m->v[3 * m->t[3 * t]], &m->v[3 * m->t[3 * t + 1]], &m->v[3 * m->t[3 * t + 2]]));
+        const double exact = sqrt(best), err = fabs(fabs(dense_at(g, ijk[0], ijk[1], ijk[2])) - exact) / g->h;
+        off_band += exact > BAND * g->h;
+        worst = fmax(worst, err);
+    }
+    printf("%s --full %dx%dx%d: %d random voxels (%d off the band), largest distance error %.2e voxel\n", name, g->n[0],
+           g->n[1], g->n[2], samples, off_band, worst);
+    assert_true(off_band > samples / 4);
+    assert_true(worst <= 1e-4);
+}
+
+/* Converts `m` at `res`, narrow band and --full, and holds every stride-th
+ * lattice point (in each axis) that the brute-force winding number calls
+ * clearly inside (> 0.75) or outside (< 0.25) to the grid's sign, in the
+ * band and off it. */
+static void check_every_clear_point(const char *name, const mesh *m, int res, int stride)
+{
+    char off[512], full_name[256], flags[64];
+    snprintf(full_name, sizeof full_name, "%s.off", name);
+    tu_tmp(off, sizeof off, full_name);
+    write_off(off, m);
+    dense band = {0}, full = {0};
+    snprintf(flags, sizeof flags, "--res %d", res);
+    convert(off, name, flags, &band);
+    snprintf(full_name, sizeof full_name, "%s_full", name);
+    snprintf(flags, sizeof flags, "--res %d --full", res);
+    convert(off, full_name, flags, &full);
+    assert_memory_equal(band.n, full.n, sizeof band.n);
+    long clear = 0, inside = 0, off_band = 0, wrong_band = 0, wrong_full = 0;
+    for (int i = 0; i < band.n[0]; i += stride)
+        for (int j = 0; j < band.n[1]; j += stride)
+            for (int k = 0; k < band.n[2]; k += stride) {
+                double p[3];
+                dense_point(&band, i, j, k, p);
+                const double w = winding(m, p);
+                if (w > 0.25 && w < 0.75)
+                    continue;
+                const int in = w > 0.75;
+                const float b = dense_at(&band, i, j, k);
+                clear++;
+                inside += in;
+                off_band += fabs(b) >= BAND * band.h * (1 - 1e-6);
+                wrong_band += !!signbit(b) != in;
+                wrong_full += !!signbit(dense_at(&full, i, j, k)) != in;
+            }
+    printf("%s %d^3: %ld clear lattice points (%ld inside, %ld off the band), wrong sign: %ld narrow band, %ld "
+           "--full\n",
+           name, res, clear, inside, off_band, wrong_band, wrong_full);
+    check_dense_distances(name, m, &full, 300);
+    free(band.data);
+    free(full.data);
+    assert_true(inside > clear / 100 && off_band > clear / 4);
+    assert_int_equal(wrong_band, 0);
+    assert_int_equal(wrong_full, 0);
+}
+
+static void check_built_mesh(void (*make)(mesh *), const char *name, int res, int stride)
+{
+    mesh m = {0};
+    make(&m);
+    check_every_clear_point(name, &m, res, stride);
+    mesh_free(&m);
+}
+
+static void test_sign_double_wall(void **state)
+{
+    (void)state;
+    check_built_mesh(make_double_wall, "double_wall", 128, 3);
+}
+
+static void test_sign_nested_cups(void **state)
+{
+    (void)state;
+    check_built_mesh(make_nested_cups, "nested_cups", 64, 2);
+}
+
+static void test_sign_slit_sphere(void **state)
+{
+    (void)state;
+    check_built_mesh(make_slit_sphere, "slit_sphere", 96, 2);
+}
+
+static void test_sign_sheet_stack(void **state)
+{
+    (void)state;
+    check_built_mesh(make_sheet_stack, "sheet_stack", 96, 1);
+}
+
+/* The bunny's base has holes; at 256^3, lattice points of a 48^3 lattice
+ * over the padded box that lie within 10 voxels of a boundary edge (where
+ * the winding number is between its interior's 1 and the outside's 0) and
+ * off the band must have the sign of their brute-force winding number
+ * wherever it is clear. */
+static int edge_order(const void *a, const void *b)
+{
+    const int *x = a, *y = b;
+    return x[0] != y[0] ? (x[0] > y[0]) - (x[0] < y[0]) : (x[1] > y[1]) - (x[1] < y[1]);
+}
+
+static void test_sign_bunny_base(void **state)
+{
+    (void)state;
+    char in[1024];
+    snprintf(in, sizeof in, "%s/stanford-bunny.obj", SDFT_MESH_DIR);
+    mesh m = {0};
+    assert_int_equal(read_obj(in, &m), 0);
+    /* Boundary edges: used by one triangle (the file's vertices are shared). */
+    int *edges = malloc(sizeof(int) * 6 * (size_t)m.nt), n = 0;
+    for (int t = 0; t < m.nt; t++)
+        for (int e = 0; e < 3; e++) {
+            int a = m.t[3 * t + e], b = m.t[3 * t + (e + 1) % 3];
+            edges[2 * n] = a < b ? a : b;
+            edges[2 * n + 1] = a < b ? b : a;
+            n++;
+        }
+    qsort(edges, (size_t)n, 2 * sizeof(int), edge_order);
+    int boundary = 0;
+    for (int i = 0; i < n;) {
+        int j = i;
+        while (j < n && !edge_order(&edges[2 * i], &edges[2 * j]))
+            j++;
+        if (j - i == 1) {
+            edges[2 * boundary] = edges[2 * i];
+            edges[2 * boundary + 1] = edges[2 * i + 1];
+            boundary++;
+        }
+        i = j;
+    }
+    dense g = {0};
+    convert(in, "bunny_base", "--res 256", &g);
+    const double reach = 10 * g.h;
+    long near = 0, clear = 0, wrong = 0;
+    for (int a = 0; a < 48; a++)
+        for (int b = 0; b < 48; b++)
+            for (int c = 0; c < 48; c++) {
+                const int ijk[3] = {(int)((a + 0.5) * g.n[0] / 48), (int)((b + 0.5) * g.n[1] / 48),
+                                    (int)((c + 0.5) * g.n[2] / 48)};
+                double p[3];
+                dense_point(&g, ijk[0], ijk[1], ijk[2], p);
+                const float value = dense_at(&g, ijk[0], ijk[1], ijk[2]);
+                if (fabs(value) < BAND * g.h * (1 - 1e-6))
+                    continue; /* in the band */
+                int close = 0;
+                for (int e = 0; e < boundary && !close; e++)
+                    close = seg_dist2(p, &m.v[3 * edges[2 * e]], &m.v[3 * edges[2 * e + 1]]) < reach * reach;
+                if (!close)
+                    continue;
+                near++;
+                const double w = winding(&m, p);
+                if (w > 0.25 && w < 0.75)
+                    continue;
+                clear++;
+                wrong += (value < 0) != (w > 0.75);
+            }
+    printf("stanford-bunny 256^3: %d boundary edges, %ld lattice points off the band near them, %ld clear, %ld "
+           "wrong sign\n",
+           boundary, near, clear, wrong);
+    free(edges);
+    free(g.data);
+    mesh_free(&m);
+    assert_true(clear > 50);
+    assert_int_equal(wrong, 0);
+}
+
+/* --full on the five shared meshes: exact distances at random voxels. */
+static void test_full_distances(void **state)
+{
+    (void)state;
+    const char *names[] = {"stanford-bunny", "spot", "teapot", "suzanne", "fandisk"};
+    for (size_t i = 0; i < sizeof names / sizeof *names; i++) {
+        char in[1024], name[256];
+        snprintf(in, sizeof in, "%s/%s.obj", SDFT_MESH_DIR, names[i]);
+        snprintf(name, sizeof name, "%s_full", names[i]);
+        mesh m = {0};
+        assert_int_equal(read_obj(in, &m), 0);
+        dense g = {0};
+        convert(in, name, "--res 64 --full", &g);
+        check_dense_distances(names[i], &m, &g, 200);
+        free(g.data);
+        mesh_free(&m);
+    }
+}
+
 static void test_render_round_trip(void **state)
 {
     (void)state;
@@ -673,6 +965,10 @@ static void test_help(void **state)
             fail_msg("--help does not list %s", flags[i]);
     assert_non_null(strstr(out, "default: 256"));
     assert_non_null(strstr(out, "4096"));
+    char want[64];
+    snprintf(want, sizeof want, "mesh2sdf %s\n", SDFT_VERSION_STRING);
+    assert_int_equal(tu_run(out, sizeof out, "%s --version", SDFT_MESH2SDF), 0);
+    assert_string_equal(out, want);
 }
 
 /* ---------------------------------------------------------- bad input */
@@ -681,16 +977,8 @@ static void test_help(void **state)
 static void assert_no_output(const char *path)
 {
     assert_false(tu_file_exists(path));
-    DIR *d = opendir(SDFT_TEST_TMP);
-    assert_non_null(d);
     const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
-    char prefix[256];
-    snprintf(prefix, sizeof prefix, "%s.tmp-", base);
-    struct dirent *e;
-    while ((e = readdir(d)))
-        if (!strncmp(e->d_name, prefix, strlen(prefix)))
-            fail_msg("temporary file left behind: %s", e->d_name);
-    closedir(d);
+    tu_assert_no_temporaries(SDFT_TEST_TMP, base);
 }
 
 /* mesh2sdf ARGS must fail with exactly one line starting "mesh2sdf: ". */
@@ -828,6 +1116,8 @@ static void test_bad_input(void **state)
                                   {"--voxel-size 0.0001", "above the limit"},
                                   {"--res 64 --voxel-size 0.1", "not both"},
                                   {"--band 0", "--band must be"},
+                                  {"--band ' 2'", "--band must be"}, /* strict: no blanks, as sdftrace */
+                                  {"--res '32 '", "--res must be"},
                                   {"--sign maybe", "--sign must be"},
                                   {"--threads -2", "--threads must be"},
                                   {"--bogus", "unknown option"},
@@ -850,12 +1140,19 @@ static void test_bad_input(void **state)
     expect_failure(args, "cannot write");
     assert_no_output(out_vdb);
 
-    /* and the same command with good paths works and writes all three */
-    char json[512];
+    /* and the same command with good paths works and writes all four, with
+     * the mode the umask gives (027 here: 0640, not mkstemp's 0600) */
+    char json[512], nvdb[512];
     tu_tmp(json, sizeof json, "bad_out.json");
-    snprintf(args, sizeof args, "%s '%s' -o '%s' --npy '%s' --res 32 --quiet", SDFT_MESH2SDF, cube, out_vdb, npy);
+    tu_tmp(nvdb, sizeof nvdb, "bad_out.nvdb");
+    snprintf(args, sizeof args, "umask 027 && %s '%s' -o '%s' --nvdb '%s' --npy '%s' --res 32 --quiet", SDFT_MESH2SDF,
+             cube, out_vdb, nvdb, npy);
     assert_int_equal(tu_run(NULL, 0, "%s", args), 0);
-    assert_true(tu_file_exists(out_vdb) && tu_file_exists(npy) && tu_file_exists(json));
+    const char *written[] = {out_vdb, nvdb, npy, json};
+    for (int i = 0; i < 4; i++) {
+        assert_true(tu_file_exists(written[i]));
+        assert_int_equal(tu_file_mode(written[i]), 0640);
+    }
 }
 
 /* The .vdb is a level set OpenVDB's own tools read; the .nvdb validates. */
@@ -903,6 +1200,12 @@ int main(void)
         cmocka_unit_test(test_sign_teapot),
         cmocka_unit_test(test_sign_fandisk),
         cmocka_unit_test(test_sign_bunny),
+        cmocka_unit_test(test_sign_double_wall),
+        cmocka_unit_test(test_sign_nested_cups),
+        cmocka_unit_test(test_sign_slit_sphere),
+        cmocka_unit_test(test_sign_sheet_stack),
+        cmocka_unit_test(test_sign_bunny_base),
+        cmocka_unit_test(test_full_distances),
         cmocka_unit_test(test_render_round_trip),
     };
     return cmocka_run_group_tests_name("mesh2sdf", tests, NULL, NULL);

@@ -10,25 +10,11 @@
 
 #include <cmocka.h>
 
+#include "testutil.h"
+
 #define main readme_example_main
 #include "readme_example.c"
 #undef main
-
-/* The whole of a file, NUL-terminated; NULL if unreadable. */
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *s = malloc((size_t)n + 1);
-    size_t got = fread(s, 1, (size_t)n, f);
-    s[got] = '\0';
-    fclose(f);
-    return s;
-}
 
 static void test_example_runs(void **state)
 {
@@ -39,24 +25,7 @@ static void test_example_runs(void **state)
 static void test_readme_shows_the_example(void **state)
 {
     (void)state;
-    /* This file sits in ROOT/tests/; the README in ROOT. */
-    char root[4096], path[4200];
-    snprintf(root, sizeof root, "%s", __FILE__);
-    char *cut = strstr(root, "tests/test_readme_example.c");
-    assert_non_null(cut);
-    if (cut == root)
-        strcpy(root, "./");
-    else
-        *cut = '\0';
-    snprintf(path, sizeof path, "%s/README.md", root);
-    char *readme = slurp(path);
-    snprintf(path, sizeof path, "%s/tests/readme_example.c", root);
-    char *example = slurp(path);
-    assert_non_null(readme);
-    assert_non_null(example);
-    assert_non_null(strstr(readme, example));
-    free(readme);
-    free(example);
+    assert_true(tu_readme_shows("tests/readme_example.c"));
 }
 
 int main(void)

@@ -96,7 +96,7 @@ static void test_depth_is_analytic(void **state)
         p.trace.method = (sdft_method)m;
         p.trace.omega = sdft_default_omega((sdft_method)m);
         sdft_image img;
-        assert_int_equal(sdft_image_alloc(&img, p.width, p.height), 0);
+        assert_int_equal(sdft_image_alloc(&img, p.width, p.height, NULL, 0), 0);
         sdft_render_stats st;
         char msg[128] = "";
         assert_int_equal(sdft_render(&f, &p, &img, &st, msg, sizeof msg), 0);
@@ -152,7 +152,7 @@ static void test_thread_count_invariant(void **state)
     sdft_render_stats st[3];
     for (int k = 0; k < 3; k++) {
         p.threads = k + 1;
-        assert_int_equal(sdft_image_alloc(&img[k], p.width, p.height), 0);
+        assert_int_equal(sdft_image_alloc(&img[k], p.width, p.height, NULL, 0), 0);
         assert_int_equal(sdft_render(&f, &p, &img[k], &st[k], NULL, 0), 0);
     }
     for (int k = 1; k < 3; k++) {
@@ -178,7 +178,7 @@ static void test_shadows_and_counts(void **state)
     p.light = sdft_v3(6, 6, 0); /* the shadow falls around x = -1.09, z = 0 */
     p.threads = 1;
     sdft_image img;
-    assert_int_equal(sdft_image_alloc(&img, p.width, p.height), 0);
+    assert_int_equal(sdft_image_alloc(&img, p.width, p.height, NULL, 0), 0);
     sdft_render_stats st;
     assert_int_equal(sdft_render(&f, &p, &img, &st, NULL, 0), 0);
 
@@ -221,7 +221,7 @@ static void test_screen_space(void **state)
     p.screen_space = 1;
     p.trace.eps = 0.0f;
     sdft_image img;
-    assert_int_equal(sdft_image_alloc(&img, p.width, p.height), 0);
+    assert_int_equal(sdft_image_alloc(&img, p.width, p.height, NULL, 0), 0);
     sdft_render_stats st;
     assert_int_equal(sdft_render(&f, &p, &img, &st, NULL, 0), 0);
     assert_true(st.hits > 300);
@@ -303,10 +303,10 @@ static void test_cones_and_depth_only(void **state)
         p.trace.omega = sdft_default_omega((sdft_method)m);
         sdft_image plain, coned, coned1, depth;
         sdft_render_stats sp, sc2, sc1, sd;
-        assert_int_equal(sdft_image_alloc(&plain, p.width, p.height), 0);
-        assert_int_equal(sdft_image_alloc(&coned, p.width, p.height), 0);
-        assert_int_equal(sdft_image_alloc(&coned1, p.width, p.height), 0);
-        assert_int_equal(sdft_image_alloc(&depth, p.width, p.height), 0);
+        assert_int_equal(sdft_image_alloc(&plain, p.width, p.height, NULL, 0), 0);
+        assert_int_equal(sdft_image_alloc(&coned, p.width, p.height, NULL, 0), 0);
+        assert_int_equal(sdft_image_alloc(&coned1, p.width, p.height, NULL, 0), 0);
+        assert_int_equal(sdft_image_alloc(&depth, p.width, p.height, NULL, 0), 0);
         assert_int_equal(sdft_render(&f, &p, &plain, &sp, NULL, 0), 0);
         p.depth_only = 1;
         assert_int_equal(sdft_render(&f, &p, &depth, &sd, NULL, 0), 0);
@@ -365,8 +365,8 @@ static void test_culled_tiles_match_traced_ones(void **state)
     p.width = 160, p.height = 90;
     sdft_image a, b;
     sdft_render_stats sa, sb;
-    assert_int_equal(sdft_image_alloc(&a, p.width, p.height), 0);
-    assert_int_equal(sdft_image_alloc(&b, p.width, p.height), 0);
+    assert_int_equal(sdft_image_alloc(&a, p.width, p.height, NULL, 0), 0);
+    assert_int_equal(sdft_image_alloc(&b, p.width, p.height, NULL, 0), 0);
     assert_int_equal(sdft_render(&small, &p, &a, &sa, NULL, 0), 0);
     assert_int_equal(sdft_render(&wide, &p, &b, &sb, NULL, 0), 0);
     const size_t n = (size_t)p.width * p.height;
@@ -399,7 +399,7 @@ static void test_bad_params(void **state)
     sdft_field f = test_field(&sc);
     sdft_render_params good = small_params();
     sdft_image img;
-    assert_int_equal(sdft_image_alloc(&img, good.width, good.height), 0);
+    assert_int_equal(sdft_image_alloc(&img, good.width, good.height, NULL, 0), 0);
     sdft_render_params bad[6];
     for (int k = 0; k < 6; k++)
         bad[k] = good;
@@ -415,7 +415,7 @@ static void test_bad_params(void **state)
         assert_true(strlen(msg) > 0);
     }
     sdft_image_free(&img);
-    assert_int_not_equal(sdft_image_alloc(&img, 0, 5), 0);
+    assert_int_not_equal(sdft_image_alloc(&img, 0, 5, NULL, 0), 0);
     assert_null(img.rgb);
     sdft_image_free(&img);
 }

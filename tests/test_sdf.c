@@ -198,6 +198,11 @@ static void test_capsule(void **state)
     }
 }
 
+/* The plane dot(p, n) + d = 0 built from a point on it, q0 = -d n, and two
+ * unit vectors u, v spanning it: the nearest point of the plane to p is q0
+ * plus p's components along u and v, so the distance is |p - foot| (in
+ * double), negative on the side opposite n. (Checking sdft_sd_plane against
+ * itself, at the foot it computes, would pass for a function returning 0.) */
 static void test_plane(void **state)
 {
     (void)state;
@@ -205,13 +210,14 @@ static void test_plane(void **state)
     for (int i = 0; i < N_POINTS; i++) {
         sdft_vec3 n = rand_unit(&rng), p = rand_point(&rng, 3.0f);
         float d = tu_uniform(&rng, -1.0f, 1.0f);
-        float f = sdft_sd_plane(p, n, d);
-        /* Stepping back by f along n lands on the plane, and any other
-         * point of the plane is farther away. */
-        sdft_vec3 foot = sdft_madd(p, n, -f);
-        assert_close(sdft_sd_plane(foot, n, d), 0.0, 1e-5);
-        sdft_vec3 other = sdft_add(foot, sdft_cross(n, rand_unit(&rng)));
-        assert_true(dist3(p, other) >= fabsf(f) - 1e-5);
+        sdft_vec3 u = sdft_normalize(sdft_cross(n, rand_unit(&rng))), v = sdft_cross(n, u);
+        sdft_vec3 q0 = sdft_scale(n, -d), r = sdft_sub(p, q0);
+        sdft_vec3 foot = sdft_add(q0, sdft_add(sdft_scale(u, sdft_dot(r, u)), sdft_scale(v, sdft_dot(r, v))));
+        double truth = dist3(p, foot) * (sdft_dot(sdft_sub(p, foot), n) < 0.0f ? -1.0 : 1.0);
+        assert_close(sdft_sd_plane(p, n, d), truth, 1e-5);
+        /* and any other point of the plane is farther away */
+        sdft_vec3 other = sdft_add(foot, sdft_scale(u, tu_uniform(&rng, -1.0f, 1.0f)));
+        assert_true(dist3(p, other) >= fabs(truth) - 1e-5);
     }
 }
 

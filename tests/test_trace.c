@@ -412,24 +412,28 @@ static void test_params_check(void **state)
     sdft_trace_params p = sdft_trace_defaults();
     assert_int_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
     p.method = SDFT_RELAXED, p.omega = 2.0f;
-    assert_int_not_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
+    assert_int_equal(sdft_trace_params_check(&p, msg, sizeof msg), SDFT_EINVAL);
     assert_non_null(strstr(msg, "omega"));
     p.omega = 0.99f;
-    assert_int_not_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
+    assert_int_equal(sdft_trace_params_check(&p, msg, sizeof msg), SDFT_EINVAL);
     p.method = SDFT_ENHANCED, p.omega = 0.0f;
-    assert_int_not_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
+    assert_int_equal(sdft_trace_params_check(&p, msg, sizeof msg), SDFT_EINVAL);
     p.omega = 1.0f;
     assert_int_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
     p.method = SDFT_AUTO, p.beta = 1.0f;
-    assert_int_not_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
+    assert_int_equal(sdft_trace_params_check(&p, msg, sizeof msg), SDFT_EINVAL);
     p.beta = NAN;
-    assert_int_not_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
+    assert_int_equal(sdft_trace_params_check(&p, msg, sizeof msg), SDFT_EINVAL);
     p.beta = 0.3f, p.eps = NAN;
-    assert_int_not_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
+    assert_int_equal(sdft_trace_params_check(&p, msg, sizeof msg), SDFT_EINVAL);
     p.eps = 1e-4f, p.max_steps = 0;
-    assert_int_not_equal(sdft_trace_params_check(&p, msg, sizeof msg), 0);
-    assert_int_equal(sdft_method_parse("enhanced"), SDFT_ENHANCED);
-    assert_int_equal(sdft_method_parse("hart"), -1);
+    assert_int_equal(sdft_trace_params_check(&p, msg, sizeof msg), SDFT_EINVAL);
+    sdft_method m = SDFT_SPHERE;
+    assert_int_equal(sdft_method_parse("enhanced", &m, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(m, SDFT_ENHANCED);
+    assert_int_equal(sdft_method_parse("hart", &m, msg, sizeof msg), SDFT_EINVAL);
+    assert_non_null(strstr(msg, "hart"));
+    assert_int_equal(m, SDFT_ENHANCED);
 }
 
 /* ---- safety through every scene ----------------------------------------- */
@@ -503,9 +507,29 @@ static void test_no_hit_beyond_first_crossing_in_scenes(void **state)
     }
 }
 
+/* A field with per-thread state (here, its evaluation counter) refuses a
+ * scratch prepared for another field: nothing is traced, nothing counted. */
+static void test_scratch_belongs_to_its_field(void **state)
+{
+    (void)state;
+    const shape ball = {.centre = {0, 0, 0}, .radius = 1.0f}, block = {.centre = {0, 0, 0}, .half = {1, 1, 1}};
+    sdft_field fs = make_field(sphere_distance, &ball), fb = make_field(box_distance, &block);
+    sdft_scratch s;
+    sdft_scratch_init(&fs, &s);
+    const sdft_ray ray = {.org = {0, 0, 5}, .tnear = 0, .dir = {0, 0, -1}, .tfar = INFINITY};
+    const sdft_trace_params p = sdft_trace_defaults();
+    sdft_hit h = sdft_trace(&fb, &s, &ray, &p);
+    assert_int_equal(h.status, SDFT_INVALID);
+    assert_int_equal(*counter(&s), 0);
+    h = sdft_trace(&fs, &s, &ray, &p);
+    assert_int_equal(h.status, SDFT_HIT);
+    assert_int_equal(*counter(&s), h.steps);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_scratch_belongs_to_its_field),
         cmocka_unit_test(test_hits_sphere),
         cmocka_unit_test(test_hits_box),
         cmocka_unit_test(test_hits_plane),

@@ -1,4 +1,6 @@
-/* sdftrace — a pinhole camera and the primary rays it shoots. */
+/* sdftrace — a pinhole camera and the primary rays it shoots. World units
+ * and degrees; every struct is plain data, passed and returned by value or
+ * read through the caller's pointer. */
 #ifndef SDFTRACE_CAMERA_H
 #define SDFTRACE_CAMERA_H
 
@@ -15,7 +17,7 @@ typedef struct sdft_camera {
 
 /* Ray through image position (px, py) of a width x height image, pixel
  * centres at integer + 0.5, y down. tnear 0, tfar INFINITY, unit dir. */
-sdft_ray sdft_camera_ray(const sdft_camera *c, int width, int height, float px, float py);
+SDFT_API sdft_ray sdft_camera_ray(const sdft_camera *c, int width, int height, float px, float py);
 
 /* A camera set up once for one image size, so that a ray costs a few
  * multiplies and a normalisation (the frame and tan(fov / 2) are taken
@@ -28,12 +30,16 @@ typedef struct sdft_view {
     sdft_vec3 top_left;       /* w - u * half-width + v * half-height: image position (0, 0) */
 } sdft_view;
 
-sdft_view sdft_camera_view(const sdft_camera *c, int width, int height);
+SDFT_API sdft_view sdft_camera_view(const sdft_camera *c, int width, int height);
 
 static inline sdft_ray sdft_view_ray(const sdft_view *v, float px, float py)
 {
-    sdft_vec3 d = sdft_madd(sdft_madd(v->top_left, v->right_per_px, px), v->down_per_px, py);
-    return (sdft_ray){.org = v->from, .tnear = 0.0f, .dir = sdft_normalize(d), .tfar = INFINITY};
+    sdft_ray ray;
+    ray.org = v->from;
+    ray.tnear = 0.0f;
+    ray.dir = sdft_normalize(sdft_madd(sdft_madd(v->top_left, v->right_per_px, px), v->down_per_px, py));
+    ray.tfar = INFINITY;
+    return ray;
 }
 
 /* A camera in front of box b (on its +z side, looking along -z, y up) whose
@@ -43,7 +49,7 @@ static inline sdft_ray sdft_view_ray(const sdft_view *v, float px, float py)
 sdft_camera sdft_camera_front(sdft_aabb b, int width, int height, float fov_deg);
 
 /* Half a pixel's footprint at unit distance: Keinert's pixelRadius. */
-float sdft_camera_pixel_radius(const sdft_camera *c, int height);
+SDFT_API float sdft_camera_pixel_radius(const sdft_camera *c, int height);
 
 /* The cone of the rays through the image rectangle [x0, x1] x [y0, y1]
  * (pixel units): its axis, the unit ray through the rectangle's centre, and
@@ -51,7 +57,7 @@ float sdft_camera_pixel_radius(const sdft_camera *c, int height);
  * The angle to the axis is quasi-convex over the image plane (the points
  * within a given angle of the axis form a convex cone), so the largest
  * lies at a corner; the result is nudged up for rounding. */
-float sdft_view_cone(const sdft_view *v, float x0, float y0, float x1, float y1, sdft_vec3 *axis);
+SDFT_API float sdft_view_cone(const sdft_view *v, float x0, float y0, float x1, float y1, sdft_vec3 *axis);
 
 #ifdef __cplusplus
 }

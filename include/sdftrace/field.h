@@ -16,6 +16,7 @@
 
 #include <stdint.h>
 
+#include "sdftrace/config.h"
 #include "vec3.h"
 
 #ifdef __cplusplus
@@ -27,16 +28,28 @@ typedef struct sdft_aabb {
     sdft_vec3 lo, hi;
 } sdft_aabb;
 
-/* Per-thread mutable state of a field (its sampler). Plain bytes, so it can
- * live on a thread's stack; SDFT_SCRATCH_BYTES bounds every field's need. */
+/* Per-thread mutable state of a field (its sampler: a grid keeps its NanoVDB
+ * read accessor here). Plain bytes, so it lives on a thread's stack;
+ * SDFT_SCRATCH_BYTES bounds every field's need, and a field's scratch_init
+ * and callbacks use `bytes` only. `owner` records the field the scratch was
+ * prepared for (sdft_scratch_init): the tracer and the renderer refuse a
+ * scratch prepared for another field rather than read through another
+ * grid's cached accessor. Never set it by hand. */
 #define SDFT_SCRATCH_BYTES 192
 #ifdef __cplusplus
 #define SDFT_ALIGNAS(n) alignas(n)
 #else
 #define SDFT_ALIGNAS(n) _Alignas(n)
 #endif
+struct sdft_scratch;
+typedef void (*sdft_scratch_init_fn)(const void *ctx, struct sdft_scratch *scratch);
+typedef struct sdft_scratch_owner {
+    const void *ctx;           /* the field's ctx */
+    sdft_scratch_init_fn init; /* and its scratch_init */
+} sdft_scratch_owner;
 typedef struct sdft_scratch {
     SDFT_ALIGNAS(16) unsigned char bytes[SDFT_SCRATCH_BYTES];
+    sdft_scratch_owner owner;
 } sdft_scratch;
 
 typedef struct sdft_field {
@@ -46,8 +59,9 @@ typedef struct sdft_field {
     /* Unit outward normal at p (e.g. a grid's own gradient). Optional: NULL
      * means tetrahedral differences of `distance` (sdft_field_normal). */
     sdft_vec3 (*normal)(const void *ctx, sdft_scratch *scratch, sdft_vec3 p);
-    /* Prepares a thread's scratch. Optional: NULL when the field needs none. */
-    void (*scratch_init)(const void *ctx, sdft_scratch *scratch);
+    /* Prepares a thread's scratch (its `bytes`). Optional: NULL when the
+     * field keeps no per-thread state; then any scratch will do. */
+    sdft_scratch_init_fn scratch_init;
     /* Shared data; owned by whoever made the field, must outlive it. Every
      * callback gets it: a field that wraps another and replaces ctx must
      * wrap (or clear) each of the inner field's callbacks too. */
@@ -70,12 +84,27 @@ typedef struct sdft_field {
     float root_reach; /* world units; with root */
 } sdft_field;
 
+/* Prepares s for field f on the calling thread: f's scratch_init, and s
+ * remembers f (its ctx and scratch_init). Call it once per thread and field,
+ * before the first trace. */
 static inline void sdft_scratch_init(const sdft_field *f, sdft_scratch *s)
 {
     if (f->scratch_init)
         f->scratch_init(f->ctx, s);
+    s->owner.ctx = f->ctx;
+    s->owner.init = f->scratch_init;
 }
 
+/* 1 when s may serve f: f keeps no per-thread state, or s was prepared for
+ * f (or for a field with the same ctx and scratch_init, e.g. the same grid
+ * with another bound). sdft_trace, sdft_trace_stream and sdft_cone_march
+ * check it once per call. */
+static inline int sdft_scratch_serves(const sdft_scratch *s, const sdft_field *f)
+{
+    return !f->scratch_init || (s->owner.ctx == f->ctx && s->owner.init == f->scratch_init);
+}
+
+/* f at world point p: the distance callback itself, unchecked (the hot path). */
 static inline float sdft_field_distance(const sdft_field *f, sdft_scratch *s, sdft_vec3 p)
 {
     return f->distance(f->ctx, s, p);
@@ -83,15 +112,16 @@ static inline float sdft_field_distance(const sdft_field *f, sdft_scratch *s, sd
 
 /* The length scale for numerical differences: feature_size, or 1e-4 of the
  * bounds' diagonal when that is 0. World units. */
-float sdft_field_feature_size(const sdft_field *f);
+SDFT_API float sdft_field_feature_size(const sdft_field *f);
 
 /* Unit normal at p: the field's own `normal`, else tetrahedral differences
- * (four evaluations, step = sdft_field_feature_size). */
-sdft_vec3 sdft_field_normal(const sdft_field *f, sdft_scratch *s, sdft_vec3 p);
+ * (four evaluations, step = sdft_field_feature_size). s must serve f
+ * (sdft_scratch_serves); this is per hit, so it is not checked here. */
+SDFT_API sdft_vec3 sdft_field_normal(const sdft_field *f, sdft_scratch *s, sdft_vec3 p);
 
 /* Ray-box slab test: on overlap sets [*t0, *t1] (clamped to [tnear, tfar])
  * and returns 1; returns 0 when the ray misses the box within that range. */
-int sdft_aabb_clip(sdft_aabb box, sdft_vec3 org, sdft_vec3 dir, float tnear, float tfar, float *t0, float *t1);
+SDFT_API int sdft_aabb_clip(sdft_aabb box, sdft_vec3 org, sdft_vec3 dir, float tnear, float tfar, float *t0, float *t1);
 
 #ifdef __cplusplus
 }

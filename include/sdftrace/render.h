@@ -8,12 +8,16 @@
 #include <stdint.h>
 
 #include "camera.h"
+#include "sdftrace/config.h"
+#include "sdftrace/error.h"
 #include "trace.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
+/* How to render. It will grow: make one with sdft_render_defaults() and set
+ * the fields you change, never with an aggregate initializer alone. */
 typedef struct sdft_render_params {
     sdft_trace_params trace; /* used for primary and shadow rays alike */
     int width, height;       /* pixels, >= 1 */
@@ -28,8 +32,8 @@ typedef struct sdft_render_params {
     int threads;             /* 0: OpenMP's default */
 } sdft_render_params;
 
-/* One image's planes, row-major, y down; owned by the image
- * (sdft_image_alloc / sdft_image_free). */
+/* One image's planes, row-major, y down. The planes are owned by the image:
+ * sdft_image_alloc allocates them, sdft_image_free releases them. */
 typedef struct sdft_image {
     int width, height;
     float *rgb;          /* linear RGB, 3 floats per pixel */
@@ -37,7 +41,7 @@ typedef struct sdft_image {
     float *normal;       /* unit world-space normal, 3 floats per pixel; 0 where nothing is hit */
     uint32_t *steps;     /* SDF evaluations, primary + shadow ray (not the shared cones') */
     uint32_t *fallbacks; /* fallbacks, primary + shadow ray */
-    uint8_t *status;     /* sdft_status of the primary ray */
+    uint8_t *status;     /* sdft_status of the primary ray (never SDFT_INVALID: sdft_render checks first) */
 } sdft_image;
 
 typedef struct sdft_render_stats {
@@ -51,24 +55,34 @@ typedef struct sdft_render_stats {
     uint64_t nonconverged; /* primary rays that did not converge */
 } sdft_render_stats;
 
-/* Defaults: sdft_trace_defaults(), 1280x720, shadows on, no screen-space,
- * cones on: the fastest settings that give the same picture.
- * sdft_render_papers turns cones and the exact root off. */
-sdft_render_params sdft_render_defaults(void);
+/* Defaults: sdft_trace_defaults(), 1280x720, a camera at (0, 1, 5) looking
+ * at the origin with a 45 degree field of view, a light at (5, 10, 5),
+ * shadows on, no screen-space, depth and shading, all threads, and cones
+ * on: the fastest settings that give the same picture. sdft_render_papers
+ * turns cones and the exact root off. */
+SDFT_API sdft_render_params sdft_render_defaults(void);
 
 /* Switches p to the papers' way of counting (Bán–Valasek, Keinert et al.):
  * every primary ray traced on its own from the eye (no cones), stepping to
  * eps to the end (no exact root). The grid bench's `-papers` rows and the
  * method-by-method study use it. */
-void sdft_render_papers(sdft_render_params *p);
+SDFT_API void sdft_render_papers(sdft_render_params *p);
 
-int sdft_image_alloc(sdft_image *img, int width, int height); /* 0 on success */
-void sdft_image_free(sdft_image *img);
+/* Allocates every plane of a width x height image into *img (its old
+ * contents are not freed). SDFT_OK; SDFT_EINVAL for a NULL img or a size
+ * below 1 or too large; SDFT_ENOMEM. On failure *img is all zero. */
+SDFT_API sdft_error sdft_image_alloc(sdft_image *img, int width, int height, char *msg, size_t msg_len);
 
-/* Renders field f into img (already allocated at params' size). Returns 0,
- * or non-zero with a one-line reason in msg for bad parameters. */
-int sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_image *img,
-                sdft_render_stats *stats, char *msg, unsigned msg_len);
+/* Frees the planes and zeroes *img; an all-zero image (or NULL) is fine. */
+SDFT_API void sdft_image_free(sdft_image *img);
+
+/* Renders field f into img, which must be allocated at params' size, with
+ * a scratch per thread of its own (the caller's scratch is not used).
+ * stats may be NULL. SDFT_OK; SDFT_EINVAL with the reason for a NULL
+ * argument or a bad parameter (the image's size, the camera, the light,
+ * sdft_trace_params_check); SDFT_ENOMEM. */
+SDFT_API sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_image *img,
+                                sdft_render_stats *stats, char *msg, size_t msg_len);
 
 #ifdef __cplusplus
 }

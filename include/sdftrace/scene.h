@@ -7,6 +7,7 @@
 
 #include "camera.h"
 #include "field.h"
+#include "sdftrace/config.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -20,11 +21,13 @@ typedef struct sdft_scene {
     sdft_vec3 light;         /* point light position, world units */
 } sdft_scene;
 
-/* All scenes, in listing order; *count receives their number. */
-const sdft_scene *const *sdft_scenes(size_t *count);
+/* All scenes, in listing order; *count (if not NULL) receives their number.
+ * The array and the scenes are static, read-only data: never freed. */
+SDFT_API const sdft_scene *const *sdft_scenes(size_t *count);
 
-/* The scene called `name`, or NULL. */
-const sdft_scene *sdft_scene_find(const char *name);
+/* The scene called `name`, or NULL (no such scene, or name NULL): a lookup,
+ * not an error. */
+SDFT_API const sdft_scene *sdft_scene_find(const char *name);
 
 #ifdef __cplusplus
 }

@@ -12,6 +12,7 @@
 #ifndef SDFTRACE_SDF_H
 #define SDFTRACE_SDF_H
 
+#include "sdftrace/config.h"
 #include "vec3.h"
 
 #ifdef __cplusplus
@@ -129,7 +130,7 @@ typedef struct sdft_mat3 {
 } sdft_mat3;
 
 /* Rotation by `angle` about the unit `axis` (right-handed). */
-sdft_mat3 sdft_mat3_rotation(sdft_vec3 axis, float angle);
+SDFT_API sdft_mat3 sdft_mat3_rotation(sdft_vec3 axis, float angle);
 
 /* m * v: a local direction or point into world. */
 static inline sdft_vec3 sdft_mat3_apply(const sdft_mat3 *r, sdft_vec3 v)
@@ -183,11 +184,11 @@ static inline sdft_vec3 sdft_op_repeat(sdft_vec3 p, sdft_vec3 period)
 /* Limited repetition: copies at cells -count..count per axis (whole
  * numbers); points beyond the last cell see the last copy. Same exactness as
  * sdft_op_repeat. */
-sdft_vec3 sdft_op_repeat_limited(sdft_vec3 p, sdft_vec3 period, sdft_vec3 count);
+SDFT_API sdft_vec3 sdft_op_repeat_limited(sdft_vec3 p, sdft_vec3 period, sdft_vec3 count);
 
 /* N copies around the y axis: the point turned into the sector centred on
  * +x (angle 0). Exact for shapes inside the sector and symmetric about z=0. */
-sdft_vec3 sdft_op_repeat_angular_y(sdft_vec3 p, int n);
+SDFT_API sdft_vec3 sdft_op_repeat_angular_y(sdft_vec3 p, int n);
 
 /* A point located in a (limited) repetition, for copies that differ per cell
  * (e.g. heights by hash). The cell-wall bound: if every cell's shape lies at
@@ -204,7 +205,7 @@ typedef struct sdft_cell {
 
 /* Locates p among cells -count..count (count < 0: unlimited) of size
  * `period` (<= 0: that axis is not repeated). */
-sdft_cell sdft_cell_locate(sdft_vec3 p, sdft_vec3 period, sdft_vec3 count);
+SDFT_API sdft_cell sdft_cell_locate(sdft_vec3 p, sdft_vec3 period, sdft_vec3 count);
 
 /* The cell-wall bound of a shape lying `margin` inside its cell. */
 static inline float sdft_cell_bound(const sdft_cell *c, float d_own, float margin)

@@ -1,7 +1,9 @@
 /* sdftrace — the tracing variants.
  *
  * Four ways to find the first root of f(o + t d) along a ray, each a short
- * function that reads like its listing in the papers (../shared/seeds):
+ * function that reads like its listing in the papers (Bán and Valasek,
+ * "Automatic step size relaxation in sphere tracing", 2023; Keinert et al.,
+ * "Enhanced sphere tracing", 2014):
  *   SDFT_SPHERE   Hart's sphere tracing         (Bán–Valasek Algorithm 1)
  *   SDFT_RELAXED  Keinert et al. over-relaxed  (Algorithm 2, Keinert Listing 2), omega in [1, 2)
  *   SDFT_ENHANCED Bálint–Valasek enhanced       (Algorithm 3), omega in (0, 1]
@@ -19,6 +21,8 @@
 #include <stdint.h>
 
 #include "field.h"
+#include "sdftrace/config.h"
+#include "sdftrace/error.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -43,9 +47,14 @@ typedef enum sdft_method {
 typedef enum sdft_status {
     SDFT_HIT = 0,
     SDFT_MISS,
-    SDFT_NOT_CONVERGED
+    SDFT_NOT_CONVERGED,
+    SDFT_INVALID /* refused, nothing traced: a NULL argument, an unknown method, or a
+                  * scratch prepared for another field (sdft_trace_check says which) */
 } sdft_status;
 
+/* How to trace. It will grow: make one with sdft_trace_defaults() and set
+ * the fields you change, never with an aggregate initializer alone, so that
+ * a field added later gets its default. */
 typedef struct sdft_trace_params {
     sdft_method method;
     float omega;        /* relaxed: [1, 2); enhanced: (0, 1] */
@@ -69,35 +78,54 @@ typedef struct sdft_hit {
     uint32_t fallbacks;  /* relaxed steps rejected: consecutive unbounding spheres disjoint */
 } sdft_hit;
 
-/* The defaults of the papers' measurements: auto, beta 0.3, 1000 steps,
- * omega 1.5 / 0.88 for relaxed / enhanced when chosen, eps 1e-4, no
- * screen-space; and the field's exact root where it has one (exact_root 1,
- * which the papers' way of counting turns off). */
-sdft_trace_params sdft_trace_defaults(void);
+/* The defaults of the papers' measurements: auto, beta 0.3, eps 1e-4, 1000
+ * steps, no screen-space, and omega 1; and the field's exact root where it
+ * has one (exact_root 1, which the papers' way of counting turns off).
+ * Omega is the relaxed and enhanced variants' only parameter and has no
+ * value right for both: after choosing one of them, set omega =
+ * sdft_default_omega(method) (1.5 or 0.88). */
+SDFT_API sdft_trace_params sdft_trace_defaults(void);
 
 /* Default omega of a method (relaxed 1.5, enhanced 0.88, else 1). */
-float sdft_default_omega(sdft_method m);
+SDFT_API float sdft_default_omega(sdft_method m);
 
-/* Checks a parameter set; on error returns non-zero and writes one line to msg. */
-int sdft_trace_params_check(const sdft_trace_params *p, char *msg, unsigned msg_len);
+/* Checks a parameter set: SDFT_OK, or SDFT_EINVAL with one line in msg (an
+ * unknown method, omega or beta outside its variant's range, a negative or
+ * NaN eps or pixel radius, both 0, max_steps 0). */
+SDFT_API sdft_error sdft_trace_params_check(const sdft_trace_params *p, char *msg, size_t msg_len);
+
+/* Everything sdft_trace would refuse (SDFT_INVALID), and the parameter
+ * checks above: SDFT_OK, or SDFT_EINVAL with the reason. */
+SDFT_API sdft_error sdft_trace_check(const sdft_field *f, const sdft_scratch *s, const sdft_trace_params *p, char *msg,
+                                     size_t msg_len);
 
 /* Traces one ray: clips it to the field's bounds, then runs the chosen
- * variant. Thread-safe given a per-thread scratch; allocates nothing. */
-sdft_hit sdft_trace(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p);
+ * variant. Returns status SDFT_INVALID, having traced nothing, when an
+ * argument is NULL, the method is unknown or s does not serve f
+ * (sdft_scratch_serves); the other parameters are the caller's to check
+ * once (sdft_trace_params_check). Thread-safe given a per-thread scratch;
+ * allocates nothing; every pointer stays the caller's. */
+SDFT_API sdft_hit sdft_trace(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p);
 
 /* Traces n rays: hits[k] is exactly what sdft_trace(f, s, &rays[k], p)
- * returns, same t and counts. Up to 4 rays march at once, interleaved, so
- * that one ray's memory loads overlap another's (Open VKL's stream entry
- * points, for a tracer): on a grid this is the faster way to trace a
- * block of rays. Thread-safe given a per-thread scratch; allocates nothing. */
-void sdft_trace_stream(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
-                       const sdft_trace_params *p);
+ * returns, same t and counts (every hit SDFT_INVALID when sdft_trace
+ * would refuse). Up to 4 rays march at once, interleaved, so that one
+ * ray's memory loads overlap another's (Open VKL's stream entry points, for
+ * a tracer): on a grid this is the faster way to trace a block of rays.
+ * Thread-safe given a per-thread scratch; allocates nothing. */
+SDFT_API void sdft_trace_stream(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                                const sdft_trace_params *p);
 
-/* The variants themselves, on the unclipped ray [ray->tnear, ray->tfar]. */
-sdft_hit sdft_trace_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p);
-sdft_hit sdft_trace_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p);
-sdft_hit sdft_trace_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p);
-sdft_hit sdft_trace_auto(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p);
+/* The variants themselves, on the unclipped ray [ray->tnear, ray->tfar],
+ * unchecked: p->method is ignored, and s must serve f. */
+SDFT_API sdft_hit sdft_trace_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray,
+                                    const sdft_trace_params *p);
+SDFT_API sdft_hit sdft_trace_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray,
+                                     const sdft_trace_params *p);
+SDFT_API sdft_hit sdft_trace_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray,
+                                      const sdft_trace_params *p);
+SDFT_API sdft_hit sdft_trace_auto(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray,
+                                  const sdft_trace_params *p);
 
 /* Cone marching, a pre-pass for a bundle of rays that leave one origin
  * (the primary rays through a block of pixels): with `axis` a unit vector
@@ -107,13 +135,18 @@ sdft_hit sdft_trace_auto(const sdft_field *f, sdft_scratch *s, const sdft_ray *r
  * the axis from tnear while the ball is much wider than the cone
  * (f > 1.25 spread t), at most 64 evaluations, and returns a t from which
  * every ray of the bundle may start its own trace: no surface lies on any
- * of them before it. Adds the evaluations to *steps. */
-float sdft_cone_march(const sdft_field *f, sdft_scratch *s, sdft_vec3 org, sdft_vec3 axis, float spread, float tnear,
-                      float tfar, uint32_t *steps);
+ * of them before it. Adds the evaluations to *steps. Returns tnear, having
+ * evaluated nothing, when an argument is NULL or s does not serve f. */
+SDFT_API float sdft_cone_march(const sdft_field *f, sdft_scratch *s, sdft_vec3 org, sdft_vec3 axis, float spread,
+                               float tnear, float tfar, uint32_t *steps);
 
-/* "sphere" / "relaxed" / "enhanced" / "auto" and back; -1 if unknown. */
-const char *sdft_method_name(sdft_method m);
-int sdft_method_parse(const char *name);
+/* "sphere", "relaxed", "enhanced" or "auto"; "unknown" for any other value.
+ * A static string. */
+SDFT_API const char *sdft_method_name(sdft_method m);
+
+/* The method called `name` into *out: SDFT_OK, or SDFT_EINVAL (an unknown
+ * name, or a NULL argument) with one line in msg. */
+SDFT_API sdft_error sdft_method_parse(const char *name, sdft_method *out, char *msg, size_t msg_len);
 
 #ifdef __cplusplus
 }

@@ -1,5 +1,6 @@
 /* sdftrace — 3-vectors: a plain struct and the few inline operations the
- * tracer, the SDF toolkit and the renderer share. World units throughout. */
+ * tracer, the SDF toolkit and the renderer share. World units throughout;
+ * everything is by value, nothing is allocated. */
 #ifndef SDFTRACE_VEC3_H
 #define SDFTRACE_VEC3_H
 
@@ -14,7 +15,14 @@ typedef struct sdft_vec3 {
 static inline float sdft_minf(float a, float b) { return a < b ? a : b; }
 static inline float sdft_maxf(float a, float b) { return a > b ? a : b; }
 
-static inline sdft_vec3 sdft_v3(float x, float y, float z) { return (sdft_vec3){x, y, z}; }
+/* Written out rather than as a compound literal, so that the header is
+ * also C++. */
+static inline sdft_vec3 sdft_v3(float x, float y, float z)
+{
+    sdft_vec3 v;
+    v.x = x, v.y = y, v.z = z;
+    return v;
+}
 static inline sdft_vec3 sdft_add(sdft_vec3 a, sdft_vec3 b) { return sdft_v3(a.x + b.x, a.y + b.y, a.z + b.z); }
 static inline sdft_vec3 sdft_sub(sdft_vec3 a, sdft_vec3 b) { return sdft_v3(a.x - b.x, a.y - b.y, a.z - b.z); }
 static inline sdft_vec3 sdft_mul(sdft_vec3 a, sdft_vec3 b) { return sdft_v3(a.x * b.x, a.y * b.y, a.z * b.z); }

@@ -1,29 +1,14 @@
-/* sdftrace CLI — option values. strtod/strtol accept leading blanks, "nan",
- * "inf" and trailing junk; we accept none of those. */
+/* sdftrace CLI — option values: the shared strict parser, then the range. */
 #include "args.h"
 
-#include <ctype.h>
-#include <errno.h>
-#include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 
-static int parse_double(const char *text, const char **end, double *out)
-{
-    if (!text || !*text || isspace((unsigned char)*text))
-        return -1;
-    char *stop = NULL;
-    errno = 0;
-    *out = strtod(text, &stop);
-    *end = stop;
-    return (stop == text || errno == ERANGE || !isfinite(*out)) ? -1 : 0;
-}
+#include "parse.h"
 
-int arg_float(const char *flag, const char *text, float lo, float hi, float *out, char *msg, unsigned msg_len)
+int arg_float(const char *flag, const char *text, float lo, float hi, float *out, char *msg, size_t msg_len)
 {
-    const char *end;
     double v;
-    if (parse_double(text, &end, &v) || *end) {
+    if (sdft_parse_number(text, &v)) {
         snprintf(msg, msg_len, "%s needs a finite number, got '%s'", flag, text ? text : "");
         return -1;
     }
@@ -35,12 +20,10 @@ int arg_float(const char *flag, const char *text, float lo, float hi, float *out
     return 0;
 }
 
-int arg_long(const char *flag, const char *text, long lo, long hi, long *out, char *msg, unsigned msg_len)
+int arg_long(const char *flag, const char *text, long lo, long hi, long *out, char *msg, size_t msg_len)
 {
-    char *end = NULL;
-    errno = 0;
-    long v = (text && *text && !isspace((unsigned char)*text)) ? strtol(text, &end, 10) : 0;
-    if (!text || !end || end == text || *end || errno == ERANGE) {
+    long v;
+    if (sdft_parse_integer(text, &v)) {
         snprintf(msg, msg_len, "%s needs an integer, got '%s'", flag, text ? text : "");
         return -1;
     }
@@ -52,19 +35,15 @@ int arg_long(const char *flag, const char *text, long lo, long hi, long *out, ch
     return 0;
 }
 
-int arg_floats(const char *flag, const char *text, int n, float *out, char *msg, unsigned msg_len)
+int arg_floats(const char *flag, const char *text, int n, float *out, char *msg, size_t msg_len)
 {
-    const char *p = text;
-    for (int i = 0; i < n; i++) {
-        double v;
-        const char *end;
-        if (parse_double(p, &end, &v) || (i + 1 < n ? *end != ',' : *end != '\0')) {
-            snprintf(msg, msg_len, "%s needs %d comma-separated finite numbers, got '%s'", flag, n, text ? text : "");
-            return -1;
-        }
-        out[i] = (float)v;
-        p = end + 1;
+    double v[16];
+    if (n > 16 || sdft_parse_numbers(text, n, v)) {
+        snprintf(msg, msg_len, "%s needs %d comma-separated finite numbers, got '%s'", flag, n, text ? text : "");
+        return -1;
     }
+    for (int i = 0; i < n; i++)
+        out[i] = (float)v[i];
     return 0;
 }
 

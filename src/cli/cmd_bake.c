@@ -5,8 +5,16 @@
 
 #include "args.h"
 #include "commands.h"
+#include "progress.h"
 #include "sdftrace/scene.h"
-#include "vdb.h"
+#include "sdftrace/vdb.h"
+
+/* The bake's progress, drawn as the shared progress bar. */
+static int show_progress(void *user, float done)
+{
+    sdft_progress_bar_show(user, "baking", (int)(100.0f * done));
+    return 0;
+}
 
 void cmd_bake_help(FILE *out)
 {
@@ -31,7 +39,6 @@ int cmd_bake(int argc, char **argv)
     sdft_bake_params p = sdft_bake_defaults();
     const char *scene_name = NULL, *out = NULL;
     int band_set = 0;
-    p.progress = 1;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         long n = 0;
@@ -99,7 +106,13 @@ int cmd_bake(int argc, char **argv)
         return 2;
     }
     sdft_bake_stats st;
-    if (sdft_bake(&scene->field, &p, out, NULL, &st, msg, sizeof msg)) {
+    sdft_progress_bar bar;
+    sdft_progress_bar_init(&bar, 1);
+    p.progress = show_progress;
+    p.progress_user = &bar;
+    const sdft_error rc = sdft_bake(&scene->field, &p, out, NULL, &st, msg, sizeof msg);
+    sdft_progress_bar_clear(&bar);
+    if (rc) {
         cli_error("bake", msg);
         return 1;
     }

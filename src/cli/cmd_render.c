@@ -11,9 +11,11 @@
 #include "args.h"
 #include "commands.h"
 #include "image_io.h"
+#include "json.h"
+#include "progress.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
-#include "vdb.h"
+#include "sdftrace/vdb.h"
 
 enum { MAX_SIDE = 16384, MAX_STEPS = 10000000, MAX_THREADS = 1024 };
 static const long MAX_PIXELS = 64l * 1024 * 1024;
@@ -21,7 +23,7 @@ static const long MAX_PIXELS = 64l * 1024 * 1024;
 typedef struct render_opts {
     const char *scene;            /* --scene NAME */
     const char *grid, *grid_name; /* --grid FILE, --grid-name NAME */
-    int method;                   /* --method, sdft_method */
+    sdft_method method;           /* --method */
     int omega_set;                /* --omega given; else the method's default */
     float omega, beta, eps;
     long max_steps, width, height, threads;
@@ -100,7 +102,7 @@ static render_opts default_opts(void)
 }
 
 /* Fills opts from argv; 0, 1 (--help printed), or -1 with msg. */
-static int parse_opts(int argc, char **argv, render_opts *o, char *msg, unsigned len)
+static int parse_opts(int argc, char **argv, render_opts *o, char *msg, size_t len)
 {
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -173,13 +175,9 @@ static int parse_opts(int argc, char **argv, render_opts *o, char *msg, unsigned
             o->grid_name = v;
         else if (!strcmp(a, "--png"))
             o->png = v;
-        else if (!strcmp(a, "--method")) {
-            o->method = sdft_method_parse(v);
-            if (o->method < 0) {
-                snprintf(msg, len, "unknown method '%s' (sphere, relaxed, enhanced or auto)", v);
-                return -1;
-            }
-        } else if (!strcmp(a, "--omega")) {
+        else if (!strcmp(a, "--method"))
+            rc = sdft_method_parse(v, &o->method, msg, len) ? -1 : 0;
+        else if (!strcmp(a, "--omega")) {
             rc = arg_float(a, v, -1e30f, 1e30f, &o->omega, msg, len);
             o->omega_set = 1;
         } else if (!strcmp(a, "--beta"))
@@ -223,7 +221,7 @@ static int parse_opts(int argc, char **argv, render_opts *o, char *msg, unsigned
 }
 
 /* The checks that need all the options at once. */
-static int check_opts(const render_opts *o, char *msg, unsigned len)
+static int check_opts(const render_opts *o, char *msg, size_t len)
 {
     if (!o->out)
         snprintf(msg, len, "-o OUT.exr is required");
@@ -241,9 +239,9 @@ static int check_opts(const render_opts *o, char *msg, unsigned len)
 
 /* The field to render, with its default camera and light: the one place a
  * new kind of source (a grid file) comes in, with its release in close_field. */
-static int open_grid(const render_opts *o, render_source *src, char *msg, unsigned len);
+static int open_grid(const render_opts *o, render_source *src, char *msg, size_t len);
 
-static int open_field(const render_opts *o, render_source *src, char *msg, unsigned len)
+static int open_field(const render_opts *o, render_source *src, char *msg, size_t len)
 {
     if (o->grid)
         return open_grid(o, src, msg, len);
@@ -260,9 +258,16 @@ static int open_field(const render_opts *o, render_source *src, char *msg, unsig
     return 0;
 }
 
+/* A .vdb file's loading, drawn as the shared progress bar. */
+static int show_loading(void *user, float done)
+{
+    sdft_progress_bar_show(user, "loading", (int)(100.0f * done));
+    return 0;
+}
+
 /* A grid file as the field. Its view: the scene's, given --scene, else a
  * camera in front of (+z) the active bounding box framing it, a light above. */
-static int open_grid(const render_opts *o, render_source *src, char *msg, unsigned len)
+static int open_grid(const render_opts *o, render_source *src, char *msg, size_t len)
 {
     const sdft_scene *scene = NULL;
     if (o->scene && !(scene = sdft_scene_find(o->scene))) {
@@ -276,11 +281,16 @@ static int open_grid(const render_opts *o, render_source *src, char *msg, unsign
         snprintf(msg, len, "--fp16 converts a .vdb file; %s is loaded as it is stored", o->grid);
         return -1;
     }
+    sdft_progress_bar bar;
+    sdft_progress_bar_init(&bar, !o->quiet);
     sdft_vdb_options vo = sdft_vdb_options_defaults();
     vo.quant = o->fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE;
-    vo.progress = !o->quiet;
-    if (vdb ? sdft_vdb_open(o->grid, o->grid_name, &vo, &g, msg, len)
-            : sdft_grid_open(o->grid, o->grid_name, &g, msg, len))
+    vo.progress = show_loading;
+    vo.progress_user = &bar;
+    const sdft_error rc = vdb ? sdft_vdb_open(o->grid, o->grid_name, &vo, &g, msg, len)
+                              : sdft_grid_open(o->grid, o->grid_name, &g, msg, len);
+    sdft_progress_bar_clear(&bar);
+    if (rc)
         return -1;
     *src = (render_source){.field = sdft_grid_field(g), .name = sdft_grid_name(g), .grid = g};
     if (scene) {
@@ -299,8 +309,8 @@ static void close_field(render_source *src) { sdft_grid_free(src->grid); }
 static sdft_render_params make_params(const render_opts *o, const render_source *src)
 {
     sdft_render_params p = sdft_render_defaults();
-    p.trace.method = (sdft_method)o->method;
-    p.trace.omega = o->omega_set ? o->omega : sdft_default_omega((sdft_method)o->method);
+    p.trace.method = o->method;
+    p.trace.omega = o->omega_set ? o->omega : sdft_default_omega(o->method);
     p.trace.beta = o->beta;
     p.trace.eps = o->eps;
     p.trace.max_steps = (uint32_t)o->max_steps;
@@ -324,7 +334,7 @@ static sdft_render_params make_params(const render_opts *o, const render_source 
 
 /* Writes every requested file; on a failure removes the ones this run
  * already wrote, so the outputs appear together or not at all. */
-static int write_outputs(const render_opts *o, const sdft_image *img, char *msg, unsigned len)
+static int write_outputs(const render_opts *o, const sdft_image *img, char *msg, size_t len)
 {
     if (sdft_write_exr(o->out, img, msg, len))
         return -1;
@@ -341,21 +351,6 @@ static int write_outputs(const render_opts *o, const sdft_image *img, char *msg,
     return 0;
 }
 
-static void json_string(const char *s)
-{
-    putchar('"');
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            printf("\\%c", c);
-        else if (c < 0x20)
-            printf("\\u%04x", c);
-        else
-            putchar(c);
-    }
-    putchar('"');
-}
-
 /* The traced grid's NanoVDB bytes; 0 for a procedural scene. */
 static size_t grid_bytes(const render_source *src)
 {
@@ -369,7 +364,7 @@ static void print_json(const render_source *src, const sdft_render_params *p, co
 {
     double primary = (double)st->primary_rays;
     printf("{\"scene\": ");
-    json_string(src->name);
+    sdft_json_put_string(stdout, src->name);
     printf(", \"method\": \"%s\", \"omega\": %.6g, \"beta\": %.6g, \"eps\": %.6g, \"max_steps\": %u, "
            "\"width\": %d, \"height\": %d, \"shadows\": %s, \"screen_space\": %s, \"cones\": %s, \"exact_root\": %s, "
            "\"threads\": %d, "
@@ -428,8 +423,7 @@ int cmd_render(int argc, char **argv)
     sdft_image img;
     sdft_render_stats st;
     int rc = 0;
-    if (sdft_image_alloc(&img, p.width, p.height)) {
-        snprintf(msg, sizeof msg, "out of memory for a %dx%d image", p.width, p.height);
+    if (sdft_image_alloc(&img, p.width, p.height, msg, sizeof msg)) {
         rc = 1;
     } else if (sdft_render(&src.field, &p, &img, &st, msg, sizeof msg)) {
         rc = 2; /* parameters the renderer rejects, e.g. a degenerate camera */

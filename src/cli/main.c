@@ -4,6 +4,7 @@
 
 #include "args.h"
 #include "commands.h"
+#include "sdftrace/error.h"
 
 static const sdft_command commands[] = {
     {"scenes", "list the procedural scenes, one per line", cmd_scenes, cmd_scenes_help},
@@ -15,7 +16,8 @@ enum { COMMAND_COUNT = sizeof commands / sizeof commands[0] };
 static void help(FILE *out)
 {
     fprintf(out, "sdftrace: sphere tracing of signed distance fields with four tracing variants\n\n"
-                 "usage: sdftrace COMMAND [OPTIONS]    (sdftrace COMMAND --help for one command)\n\ncommands:\n");
+                 "usage: sdftrace COMMAND [OPTIONS]    (sdftrace COMMAND --help for one command)\n"
+                 "       sdftrace --version\n\ncommands:\n");
     for (int i = 0; i < COMMAND_COUNT; i++)
         fprintf(out, "  %-8s  %s\n", commands[i].name, commands[i].summary);
     for (int i = 0; i < COMMAND_COUNT; i++) {
@@ -32,6 +34,11 @@ int main(int argc, char **argv)
     }
     if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
         help(stdout);
+        return 0;
+    }
+    if (strcmp(argv[1], "--version") == 0) {
+        const int v = sdft_version();
+        printf("sdftrace %d.%d.%d\n", v / 10000, v / 100 % 100, v % 100);
         return 0;
     }
     for (int i = 0; i < COMMAND_COUNT; i++)

@@ -18,6 +18,8 @@ enum { MAX_CONE_STEPS = 64 };
 float sdft_cone_march(const sdft_field *f, sdft_scratch *s, sdft_vec3 org, sdft_vec3 axis, float spread, float tnear,
                       float tfar, uint32_t *steps)
 {
+    if (!f || !f->distance || !s || !steps || !sdft_scratch_serves(s, f))
+        return tnear;
     float t = tnear;
     for (int i = 0; i < MAX_CONE_STEPS && t < tfar; i++) {
         const float r = f->distance(f->ctx, s, sdft_madd(org, axis, t));

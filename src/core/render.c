@@ -23,6 +23,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fail.h"
 #include "sdftrace/render.h"
 
 enum { TILE = 16, BLOCK = 4 };
@@ -50,15 +51,21 @@ sdft_render_params sdft_render_defaults(void)
 
 void sdft_render_papers(sdft_render_params *p)
 {
+    if (!p)
+        return;
     p->cones = 0;
     p->trace.exact_root = 0;
 }
 
-int sdft_image_alloc(sdft_image *img, int width, int height)
+sdft_error sdft_image_alloc(sdft_image *img, int width, int height, char *msg, size_t msg_len)
 {
+    if (!img)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no image (NULL)");
     memset(img, 0, sizeof *img);
-    if (width < 1 || height < 1 || (size_t)width > SIZE_MAX / 16 / (size_t)height)
-        return -1;
+    if (width < 1 || height < 1)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "image size %dx%d: both must be at least 1", width, height);
+    if ((size_t)width > SIZE_MAX / 16 / (size_t)height)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "image size %dx%d is too large", width, height);
     size_t n = (size_t)width * (size_t)height;
     img->width = width, img->height = height;
     img->rgb = malloc(3 * n * sizeof *img->rgb);
@@ -69,13 +76,15 @@ int sdft_image_alloc(sdft_image *img, int width, int height)
     img->status = malloc(n * sizeof *img->status);
     if (!img->rgb || !img->depth || !img->normal || !img->steps || !img->fallbacks || !img->status) {
         sdft_image_free(img);
-        return -1;
+        return sdft_fail(msg, msg_len, SDFT_ENOMEM, "out of memory for a %dx%d image", width, height);
     }
-    return 0;
+    return SDFT_OK;
 }
 
 void sdft_image_free(sdft_image *img)
 {
+    if (!img)
+        return;
     free(img->rgb);
     free(img->depth);
     free(img->normal);
@@ -327,9 +336,11 @@ static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *
 
 static const char *render_params_problem(const sdft_field *f, const sdft_render_params *rp, const sdft_image *img)
 {
-    const sdft_camera *c = &rp->camera;
     if (!f || !f->distance)
-        return "the field has no distance function";
+        return "no field, or a field without a distance function";
+    if (!rp)
+        return "no render parameters (NULL)";
+    const sdft_camera *c = &rp->camera;
     if (rp->width < 1 || rp->height < 1)
         return "width and height must be at least 1";
     if (!img || img->width != rp->width || img->height != rp->height || !img->rgb)
@@ -347,29 +358,24 @@ static const char *render_params_problem(const sdft_field *f, const sdft_render_
     return NULL;
 }
 
-int sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_image *img, sdft_render_stats *stats,
-                char *msg, unsigned msg_len)
+sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_image *img, sdft_render_stats *stats,
+                       char *msg, size_t msg_len)
 {
     const char *why = render_params_problem(f, params, img);
-    if (why) {
-        if (msg && msg_len)
-            snprintf(msg, msg_len, "%s", why);
-        return -1;
-    }
+    if (why)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "%s", why);
     sdft_trace_params tp = params->trace;
     if (params->screen_space)
         tp.pixel_radius = sdft_camera_pixel_radius(&params->camera, params->height);
-    if (sdft_trace_params_check(&tp, msg, msg_len))
-        return -1;
+    const sdft_error rc = sdft_trace_params_check(&tp, msg, msg_len);
+    if (rc)
+        return rc;
 
     int tiles_x = (params->width + TILE - 1) / TILE, tiles_y = (params->height + TILE - 1) / TILE;
     int tiles = tiles_x * tiles_y;
     tile_stats *per_tile = malloc((size_t)tiles * sizeof *per_tile);
-    if (!per_tile) {
-        if (msg && msg_len)
-            snprintf(msg, msg_len, "out of memory for %d tiles", tiles);
-        return -1;
-    }
+    if (!per_tile)
+        return sdft_fail(msg, msg_len, SDFT_ENOMEM, "out of memory for %d tiles", tiles);
     const frame fr = {.f = f,
                       .rp = params,
                       .tp = tp,
@@ -403,5 +409,5 @@ int sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_imag
     free(per_tile);
     if (stats)
         *stats = st;
-    return 0;
+    return SDFT_OK;
 }

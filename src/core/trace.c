@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "fail.h"
 #include "march.h"
 
 static const char *const method_names[SDFT_METHOD_COUNT] = {"sphere", "relaxed", "enhanced", "auto"};
@@ -13,12 +14,16 @@ const char *sdft_method_name(sdft_method m)
     return (unsigned)m < SDFT_METHOD_COUNT ? method_names[m] : "unknown";
 }
 
-int sdft_method_parse(const char *name)
+sdft_error sdft_method_parse(const char *name, sdft_method *out, char *msg, size_t msg_len)
 {
+    if (!name || !out)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "sdft_method_parse: NULL %s", name ? "out" : "name");
     for (int m = 0; m < SDFT_METHOD_COUNT; m++)
-        if (name && strcmp(name, method_names[m]) == 0)
-            return m;
-    return -1;
+        if (strcmp(name, method_names[m]) == 0) {
+            *out = (sdft_method)m;
+            return SDFT_OK;
+        }
+    return sdft_fail(msg, msg_len, SDFT_EINVAL, "unknown method '%s' (sphere, relaxed, enhanced or auto)", name);
 }
 
 float sdft_default_omega(sdft_method m)
@@ -39,10 +44,12 @@ sdft_trace_params sdft_trace_defaults(void)
     };
 }
 
-int sdft_trace_params_check(const sdft_trace_params *p, char *msg, unsigned msg_len)
+sdft_error sdft_trace_params_check(const sdft_trace_params *p, char *msg, size_t msg_len)
 {
     const char *why = NULL;
-    if ((unsigned)p->method >= SDFT_METHOD_COUNT)
+    if (!p)
+        why = "no trace parameters (NULL)";
+    else if ((unsigned)p->method >= SDFT_METHOD_COUNT)
         why = "unknown tracing method";
     else if (p->method == SDFT_RELAXED && !(p->omega >= 1.0f && p->omega < 2.0f))
         why = "omega must be in [1, 2) for relaxed tracing";
@@ -58,13 +65,39 @@ int sdft_trace_params_check(const sdft_trace_params *p, char *msg, unsigned msg_
         why = "eps and pixel radius cannot both be 0";
     else if (p->max_steps < 1)
         why = "max steps must be at least 1";
-    if (why && msg && msg_len)
-        snprintf(msg, msg_len, "%s", why);
-    return why != NULL;
+    return why ? sdft_fail(msg, msg_len, SDFT_EINVAL, "%s", why) : SDFT_OK;
 }
+
+/* Why sdft_trace would refuse (f, s, p), or NULL. Once per call, never per
+ * evaluation. */
+static const char *refusal(const sdft_field *f, const sdft_scratch *s, const sdft_trace_params *p)
+{
+    if (!f || !f->distance)
+        return "no field, or a field without a distance function";
+    if (!s)
+        return "no scratch (NULL)";
+    if (!p)
+        return "no trace parameters (NULL)";
+    if ((unsigned)p->method >= SDFT_METHOD_COUNT)
+        return "unknown tracing method";
+    if (!sdft_scratch_serves(s, f))
+        return "the scratch was prepared for another field (sdft_scratch_init it for this one)";
+    return NULL;
+}
+
+sdft_error sdft_trace_check(const sdft_field *f, const sdft_scratch *s, const sdft_trace_params *p, char *msg,
+                            size_t msg_len)
+{
+    const char *why = refusal(f, s, p);
+    return why ? sdft_fail(msg, msg_len, SDFT_EINVAL, "%s", why) : sdft_trace_params_check(p, msg, msg_len);
+}
+
+static sdft_hit refused(void) { return (sdft_hit){.t = NAN, .distance = NAN, .status = SDFT_INVALID}; }
 
 sdft_hit sdft_trace(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p)
 {
+    if (!ray || refusal(f, s, p))
+        return refused();
     sdft_ray clipped;
     sdft_hit miss;
     if (!march_clip(f, ray, &clipped, &miss))
@@ -73,17 +106,37 @@ sdft_hit sdft_trace(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, c
     case SDFT_SPHERE: return sdft_trace_sphere(f, s, &clipped, p);
     case SDFT_RELAXED: return sdft_trace_relaxed(f, s, &clipped, p);
     case SDFT_ENHANCED: return sdft_trace_enhanced(f, s, &clipped, p);
-    default: return sdft_trace_auto(f, s, &clipped, p);
+    case SDFT_AUTO:
+        return sdft_trace_auto(f, s, &clipped, p);
+    default:
+        return refused(); /* refusal() has ruled it out */
     }
 }
 
 void sdft_trace_stream(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
                        const sdft_trace_params *p)
 {
+    if (!hits)
+        return;
+    if ((!rays && n) || refusal(f, s, p)) {
+        for (size_t i = 0; i < n; i++)
+            hits[i] = refused();
+        return;
+    }
     switch (p->method) {
-    case SDFT_SPHERE: march_stream_sphere(f, s, rays, hits, n, p); break;
-    case SDFT_RELAXED: march_stream_relaxed(f, s, rays, hits, n, p); break;
-    case SDFT_ENHANCED: march_stream_enhanced(f, s, rays, hits, n, p); break;
-    default: march_stream_auto(f, s, rays, hits, n, p); break;
+    case SDFT_SPHERE:
+        sdft_march_stream_sphere(f, s, rays, hits, n, p);
+        break;
+    case SDFT_RELAXED:
+        sdft_march_stream_relaxed(f, s, rays, hits, n, p);
+        break;
+    case SDFT_ENHANCED:
+        sdft_march_stream_enhanced(f, s, rays, hits, n, p);
+        break;
+    case SDFT_AUTO:
+        sdft_march_stream_auto(f, s, rays, hits, n, p);
+        break;
+    default:
+        break; /* refusal() has ruled it out */
     }
 }

@@ -436,9 +436,9 @@ static int classify_from_directory(const sdft_grid *g, grid_far *far, int8_t *si
     return 0;
 }
 
-int grid_far_build(sdft_grid *g) { return grid_far_build_cells(g, MAX_CELLS); }
+sdft_error sdft_grid_far_build(sdft_grid *g) { return sdft_grid_far_build_cells(g, MAX_CELLS); }
 
-int grid_far_build_cells(sdft_grid *g, size_t most_cells)
+sdft_error sdft_grid_far_build_cells(sdft_grid *g, size_t most_cells)
 {
     grid_far *far = &g->far;
     memset(far, 0, sizeof *far);
@@ -463,7 +463,7 @@ int grid_far_build_cells(sdft_grid *g, size_t most_cells)
     uint16_t *corner = sdft_grid_table_alloc(sizeof(uint16_t) * nvert);
     if (!sign || !d2 || !corner) {
         free(sign), free(d2), free(corner);
-        return SDFT_GRID_ENOMEM;
+        return SDFT_ENOMEM;
     }
     int failed;
     if (g->leaves.top && S <= 64) {
@@ -474,7 +474,7 @@ int grid_far_build_cells(sdft_grid *g, size_t most_cells)
     }
     if (failed || dilate_sign_changes(n, sign)) {
         free(sign), free(d2), free(corner);
-        return SDFT_GRID_ENOMEM;
+        return SDFT_ENOMEM;
     }
     /* Sites: the corners of occupied cells. */
     for (size_t i = 0; i < nvert; i++)
@@ -488,7 +488,7 @@ int grid_far_build_cells(sdft_grid *g, size_t most_cells)
                            (size_t)(x + (k & 1))] = 0.0f;
     if (edt3(d2, nv)) {
         free(sign), free(d2), free(corner);
-        return SDFT_GRID_ENOMEM;
+        return SDFT_ENOMEM;
     }
     const double most = (double)((1u << FAR_DISTANCE_BITS) - 1u);
 #pragma omp parallel for schedule(static)
@@ -511,10 +511,10 @@ int grid_far_build_cells(sdft_grid *g, size_t most_cells)
         far->origin[k] = (float)far->c0[k] * (float)S - 0.5f;
     const float bonus = g->background - g->sigma_max * (0.8660254f + 1.4142136f);
     far->bonus = bonus > 0.0f ? bonus : 0.0f;
-    return SDFT_GRID_OK;
+    return SDFT_OK;
 }
 
-void grid_far_free(sdft_grid *g)
+void sdft_grid_far_free(sdft_grid *g)
 {
     free(g->far.corner);
     g->far.corner = NULL;

@@ -6,13 +6,16 @@
 #define PNANOVDB_C
 #include <nanovdb/PNanoVDB.h>
 
+#include "../core/fail.h"
 #include "sdftrace/grid.h"
 
 /* The far bound (grid_bound.c): cells of `cell`^3 voxels over the active
- * box, each occupied (it holds a leaf) or empty with its tiles' sign; and
- * at the cells' corners the index distance to the occupied ones. Both in
- * one table of 16-bit words, so a lookup reads four cache lines, not five,
- * and a 1024^3 grid's table (32 MiB) mostly stays in cache. */
+ * box (4^3, half a leaf's edge, unless the box is too big for the table's
+ * cap), each occupied (it holds an active voxel, or inactive values of both
+ * signs) or empty with its values' sign; and at the cells' corners the
+ * index distance to the occupied ones. Both in one table of 16-bit words,
+ * so a lookup reads four cache lines, not five, and a 1024^3 grid's table
+ * (32 MiB) mostly stays in cache. */
 typedef struct grid_far {
     uint16_t *corner;   /* (n[0] + 1) x (n[1] + 1) x (n[2] + 1) corners, x fastest; NULL: no far bound.
                          * Bits 0-13: the index distance x 4, rounded down, saturated (still a bound);
@@ -20,7 +23,7 @@ typedef struct grid_far {
                          * FAR_EMPTY_NEGATIVE when empty, 0 when occupied or there is none */
     int32_t c0[3];      /* first cell, in cells */
     int n[3];           /* cells per axis */
-    int cell;           /* S: voxels per cell edge, 8 * 2^k */
+    int cell;           /* S: voxels per cell edge, 4 * 2^k */
     float inv_cell;     /* 1 / S */
     float origin[3];    /* index coordinates of corner 0: c0 S - 1/2 */
     float bonus;        /* world units added to smin e(x): the band's guarantee */
@@ -49,7 +52,10 @@ typedef struct grid_leaves {
 /* One NanoVDB grid plus the numbers the sampler reads on every call,
  * decoded once from the grid's header. Immutable after loading. */
 struct sdft_grid {
-    uint32_t *words;              /* the grid's bytes, 32-byte aligned, owned */
+    uint32_t *words;              /* the grid's bytes, 64-byte aligned when owned */
+    int owned;                    /* 1: words is ours to free; 0: borrowed (sdft_grid_borrow_buffer) */
+    void (*release)(void *);      /* adopted (sdft_grid_adopt_buffer): release(release_data) when freed */
+    void *release_data;
     size_t size;                  /* bytes */
     pnanovdb_buf_t buf;
     pnanovdb_grid_handle_t grid;  /* at address 0 */
@@ -70,16 +76,18 @@ struct sdft_grid {
 };
 
 /* Decodes and checks a grid already copied into g->words / g->size. */
-int grid_init(sdft_grid *g, char *msg, unsigned msg_len);
+sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len);
 
-/* Builds / frees g->far (grid_bound.c). Needs g fully decoded. */
-int grid_far_build(sdft_grid *g);
-int grid_far_build_cells(sdft_grid *g, size_t most_cells); /* cells of 4 * 2^k voxels, at most most_cells */
-void grid_far_free(sdft_grid *g);
+/* Builds / frees g->far (grid_bound.c). Needs g fully decoded, its
+ * directory included. SDFT_OK or SDFT_ENOMEM. */
+sdft_error sdft_grid_far_build(sdft_grid *g);
+sdft_error sdft_grid_far_build_cells(sdft_grid *g, size_t most_cells); /* cells of 4 * 2^k voxels, at most most_cells */
+void sdft_grid_far_free(sdft_grid *g);
 
-/* Builds / frees g->leaves (grid_leaves.c). Needs g fully decoded. */
-int grid_leaves_build(sdft_grid *g);
-void grid_leaves_free(sdft_grid *g);
+/* Builds / frees g->leaves (grid_leaves.c). Needs g fully decoded. SDFT_OK
+ * (also when the grid gets no directory) or SDFT_ENOMEM. */
+sdft_error sdft_grid_leaves_build(sdft_grid *g);
+void sdft_grid_leaves_free(sdft_grid *g);
 size_t sdft_grid_leaves_bytes(const sdft_grid *g); /* its tables' size */
 
 /* The exact last-cell root (grid_root.c): the grid field's sdft_field.root,
@@ -91,17 +99,9 @@ typedef int (*sdft_root_fn)(const void *ctx, sdft_scratch *s, sdft_vec3 org, sdf
 sdft_root_fn sdft_grid_root_for(const sdft_grid *g);
 int sdft_grid_cell_root(const float v[8], const double u0[3], const double du[3], double len, double *s);
 
-/* Memory for a big table (grid_memory.c): 64-byte aligned, and on 2 MiB
- * huge pages where the kernel offers them; free() releases it. */
+/* Memory for a big table (grid_memory.c): 64-byte aligned; free() releases
+ * it. */
 void *sdft_grid_table_alloc(size_t bytes);
 
-/* A grid made from one NanoVDB grid in `words` (size bytes, from
- * sdft_grid_table_alloc), which it takes over: freed with the grid, or at
- * once when the grid is rejected. The C++ seam's loader hands its buffer
- * over this way, without a copy. */
-int sdft_grid_adopt(void *words, size_t size, sdft_grid **out, char *msg, unsigned msg_len);
-
-/* Printf into msg (if any); returns code. */
-int grid_fail(char *msg, unsigned msg_len, int code, const char *fmt, ...);
 
 #endif

@@ -189,12 +189,12 @@ static void mark_tiles(const sdft_grid *g, grid_leaves *d)
     }
 }
 
-int grid_leaves_build(sdft_grid *g)
+sdft_error sdft_grid_leaves_build(sdft_grid *g)
 {
     grid_leaves *d = &g->leaves;
     *d = (grid_leaves){0};
     if (!has_directory(g->type) || g->size / 4u > UINT32_MAX)
-        return SDFT_GRID_OK; /* the accessor serves these */
+        return SDFT_OK; /* the accessor serves these */
     size_t regions = 1;
     for (int k = 0; k < 3; k++) {
         d->r0[k] = g->ilo[k] >> 6;
@@ -202,10 +202,10 @@ int grid_leaves_build(sdft_grid *g)
         regions *= (size_t)d->nr[k];
     }
     if (regions > MAX_REGIONS)
-        return SDFT_GRID_OK;
+        return SDFT_OK;
     d->top = sdft_grid_table_alloc(regions * sizeof *d->top);
     if (!d->top)
-        return SDFT_GRID_ENOMEM;
+        return SDFT_ENOMEM;
     memset(d->top, 0, regions * sizeof *d->top);
     builder bl = {d, 0};
     each_leaf(g, mark_leaf, &bl);
@@ -216,17 +216,17 @@ int grid_leaves_build(sdft_grid *g)
     const size_t entries = (size_t)bl.chunks * GRID_CHUNK_ENTRIES;
     d->chunk = sdft_grid_table_alloc((entries ? entries : 1) * sizeof *d->chunk);
     if (!d->chunk) {
-        grid_leaves_free(g);
-        return SDFT_GRID_ENOMEM;
+        sdft_grid_leaves_free(g);
+        return SDFT_ENOMEM;
     }
     memset(d->chunk, 0, entries * sizeof *d->chunk);
     each_leaf(g, fill_leaf, &bl);
     if (g->background > 0.0f && g->type != PNANOVDB_GRID_TYPE_DOUBLE)
         mark_tiles(g, d);
-    return SDFT_GRID_OK;
+    return SDFT_OK;
 }
 
-void grid_leaves_free(sdft_grid *g)
+void sdft_grid_leaves_free(sdft_grid *g)
 {
     free(g->leaves.top);
     free(g->leaves.chunk);

@@ -2,25 +2,17 @@
  * plain C. Every size and offset is checked against the bytes actually
  * present before PNanoVDB.h follows it, so a corrupt or truncated input is
  * an error with a reason, never a wild read. */
+#define _POSIX_C_SOURCE 200809L /* fileno */
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
+#include "grid_choose.h"
 #include "grid_internal.h"
-
-int grid_fail(char *msg, unsigned msg_len, int code, const char *fmt, ...)
-{
-    if (msg && msg_len) {
-        va_list ap;
-        va_start(ap, fmt);
-        vsnprintf(msg, msg_len, fmt, ap);
-        va_end(ap);
-    }
-    return code;
-}
 
 /* ---- what a grid holds ------------------------------------------------ */
 
@@ -69,7 +61,7 @@ static uint64_t leaf_bytes(const sdft_grid *g, uint64_t at, span s)
 
 /* Walks root -> upper -> lower -> leaf and checks that every child lies
  * wholly inside the grid's bytes. Linear in the node count. */
-static int check_tree(const sdft_grid *g, uint64_t root_at, char *msg, unsigned msg_len)
+static sdft_error check_tree(const sdft_grid *g, uint64_t root_at, char *msg, size_t msg_len)
 {
     const pnanovdb_grid_type_t t = g->type;
     span s = {g->size};
@@ -77,7 +69,7 @@ static int check_tree(const sdft_grid *g, uint64_t root_at, char *msg, unsigned 
     uint64_t tile_size = PNANOVDB_GRID_TYPE_GET(t, root_tile_size);
     uint64_t root_size = PNANOVDB_GRID_TYPE_GET(t, root_size);
     if (!fits(s, root_at, root_size + (uint64_t)tiles * tile_size))
-        return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "grid '%s' is corrupt: root table runs past the grid", g->name);
+        return sdft_fail(msg, msg_len, SDFT_EFORMAT, "grid '%s' is corrupt: root table runs past the grid", g->name);
     uint64_t upper_size = PNANOVDB_GRID_TYPE_GET(t, upper_size), lower_size = PNANOVDB_GRID_TYPE_GET(t, lower_size);
     for (uint32_t i = 0; i < tiles; i++) {
         pnanovdb_root_tile_handle_t tile = pnanovdb_root_get_tile(t, g->root, i);
@@ -86,7 +78,7 @@ static int check_tree(const sdft_grid *g, uint64_t root_at, char *msg, unsigned 
             continue;
         uint64_t up = root_at + (uint64_t)child;
         if (child < 0 || !fits(s, up, upper_size))
-            return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "grid '%s' is corrupt: upper node outside the grid", g->name);
+            return sdft_fail(msg, msg_len, SDFT_EFORMAT, "grid '%s' is corrupt: upper node outside the grid", g->name);
         pnanovdb_upper_handle_t upper = {{up}};
         for (uint32_t n = 0; n < 32768u; n++) {
             if (!pnanovdb_upper_get_child_mask(g->buf, upper, n))
@@ -94,7 +86,8 @@ static int check_tree(const sdft_grid *g, uint64_t root_at, char *msg, unsigned 
             int64_t off = pnanovdb_upper_get_table_child(t, g->buf, upper, n);
             uint64_t lo = up + (uint64_t)off;
             if (off <= 0 || !fits(s, lo, lower_size))
-                return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "grid '%s' is corrupt: lower node outside the grid", g->name);
+                return sdft_fail(msg, msg_len, SDFT_EFORMAT, "grid '%s' is corrupt: lower node outside the grid",
+                                 g->name);
             pnanovdb_lower_handle_t lower = {{lo}};
             for (uint32_t m = 0; m < 4096u; m++) {
                 if (!pnanovdb_lower_get_child_mask(g->buf, lower, m))
@@ -102,11 +95,12 @@ static int check_tree(const sdft_grid *g, uint64_t root_at, char *msg, unsigned 
                 int64_t loff = pnanovdb_lower_get_table_child(t, g->buf, lower, m);
                 uint64_t leaf = lo + (uint64_t)loff;
                 if (loff <= 0 || !fits(s, leaf, leaf_bytes(g, leaf, s)))
-                    return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "grid '%s' is corrupt: leaf node outside the grid", g->name);
+                    return sdft_fail(msg, msg_len, SDFT_EFORMAT, "grid '%s' is corrupt: leaf node outside the grid",
+                                     g->name);
             }
         }
     }
-    return SDFT_GRID_OK;
+    return SDFT_OK;
 }
 
 /* Gershgorin: the largest eigenvalue of A^T A is at most its largest
@@ -123,42 +117,42 @@ static float spectral_bound(const double a[9])
     return (float)sqrt(worst);
 }
 
-int grid_init(sdft_grid *g, char *msg, unsigned msg_len)
+sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len)
 {
     g->buf = pnanovdb_make_buf(g->words, g->size / 4);
     g->grid.address.byte_offset = 0;
     if (g->size < PNANOVDB_GRID_SIZE + PNANOVDB_TREE_SIZE)
-        return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "not a NanoVDB grid: only %zu bytes", g->size);
+        return sdft_fail(msg, msg_len, SDFT_EFORMAT, "not a NanoVDB grid: only %zu bytes", g->size);
     if (pnanovdb_grid_get_magic(g->buf, g->grid) != PNANOVDB_MAGIC_NUMBER)
-        return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "not a NanoVDB grid: bad magic number");
+        return sdft_fail(msg, msg_len, SDFT_EFORMAT, "not a NanoVDB grid: bad magic number");
     uint32_t major = pnanovdb_grid_get_version(g->buf, g->grid) >> 21u;
     if (major != PNANOVDB_MAJOR_VERSION_NUMBER)
-        return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "NanoVDB grid version %u, this build reads version %u", major,
+        return sdft_fail(msg, msg_len, SDFT_EFORMAT, "NanoVDB grid version %u, this build reads version %u", major,
                          PNANOVDB_MAJOR_VERSION_NUMBER);
     memcpy(g->name, (const char *)g->words + PNANOVDB_GRID_OFF_GRID_NAME, sizeof g->name - 1);
     g->name[sizeof g->name - 1] = '\0';
     uint64_t grid_size = pnanovdb_grid_get_grid_size(g->buf, g->grid);
     if (grid_size > g->size || grid_size < PNANOVDB_GRID_SIZE + PNANOVDB_TREE_SIZE)
-        return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "grid '%s' is truncated: %llu of %llu bytes", g->name,
+        return sdft_fail(msg, msg_len, SDFT_EFORMAT, "grid '%s' is truncated: %llu of %llu bytes", g->name,
                          (unsigned long long)g->size, (unsigned long long)grid_size);
     g->size = grid_size;
     g->buf = pnanovdb_make_buf(g->words, g->size / 4);
     g->type = pnanovdb_grid_get_grid_type(g->buf, g->grid);
     g->grid_class = pnanovdb_grid_get_grid_class(g->buf, g->grid);
     if (!type_is_scalar(g->type))
-        return grid_fail(msg, msg_len, SDFT_GRID_ENOTSCALAR, "grid '%s' holds %s values, not scalar distances", g->name,
+        return sdft_fail(msg, msg_len, SDFT_ENOTSCALAR, "grid '%s' holds %s values, not scalar distances", g->name,
                          type_name(g->type));
 
     pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
     uint64_t root_at = PNANOVDB_GRID_SIZE + pnanovdb_tree_get_node_offset_root(g->buf, tree);
     if (!fits((span){g->size}, root_at, PNANOVDB_GRID_TYPE_GET(g->type, root_size)))
-        return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "grid '%s' is corrupt: root node outside the grid", g->name);
+        return sdft_fail(msg, msg_len, SDFT_EFORMAT, "grid '%s' is corrupt: root node outside the grid", g->name);
     g->root = pnanovdb_tree_get_root(g->buf, tree);
-    int rc = check_tree(g, root_at, msg, msg_len);
+    const sdft_error rc = check_tree(g, root_at, msg, msg_len);
     if (rc)
         return rc;
     if (pnanovdb_tree_get_voxel_count(g->buf, tree) == 0)
-        return grid_fail(msg, msg_len, SDFT_GRID_EEMPTY, "grid '%s' is empty: no active voxels", g->name);
+        return sdft_fail(msg, msg_len, SDFT_EEMPTY, "grid '%s' is empty: no active voxels", g->name);
 
     /* The transform, in floats for the sampler. */
     pnanovdb_map_handle_t map = pnanovdb_grid_get_map(g->buf, g->grid);
@@ -181,7 +175,7 @@ int grid_init(sdft_grid *g, char *msg, unsigned msg_len)
     float inv_norm = spectral_bound(inv);
     g->sigma_min = inv_norm > 0 ? 1.0f / inv_norm : 0.0f;
     if (!(g->sigma_min > 0) || !isfinite(g->sigma_max) || !isfinite(g->sigma_min))
-        return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "grid '%s' has a singular transform", g->name);
+        return sdft_fail(msg, msg_len, SDFT_EFORMAT, "grid '%s' has a singular transform", g->name);
     g->voxel_size = sdft_v3((float)pnanovdb_grid_get_voxel_size(g->buf, g->grid, 0),
                             (float)pnanovdb_grid_get_voxel_size(g->buf, g->grid, 1),
                             (float)pnanovdb_grid_get_voxel_size(g->buf, g->grid, 2));
@@ -193,7 +187,7 @@ int grid_init(sdft_grid *g, char *msg, unsigned msg_len)
     g->ilo[0] = lo.x, g->ilo[1] = lo.y, g->ilo[2] = lo.z;
     g->ihi[0] = hi.x, g->ihi[1] = hi.y, g->ihi[2] = hi.z;
     if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z)
-        return grid_fail(msg, msg_len, SDFT_GRID_EEMPTY, "grid '%s' is empty: no active bounding box", g->name);
+        return sdft_fail(msg, msg_len, SDFT_EEMPTY, "grid '%s' is empty: no active bounding box", g->name);
     /* World box of the active cells [lo - 1/2, hi + 1/2]: the corners' hull. */
     sdft_vec3 wlo = sdft_v3(INFINITY, INFINITY, INFINITY), whi = sdft_scale(wlo, -1.0f);
     for (int c = 0; c < 8; c++) {
@@ -207,11 +201,11 @@ int grid_init(sdft_grid *g, char *msg, unsigned msg_len)
     }
     g->bounds = (sdft_aabb){wlo, whi};
     /* The directory first: the far bound reads the cells' signs through it. */
-    if (grid_leaves_build(g))
-        return grid_fail(msg, msg_len, SDFT_GRID_ENOMEM, "grid '%s': out of memory for its leaf directory", g->name);
-    if (g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET && g->background > 0.0f && grid_far_build(g))
-        return grid_fail(msg, msg_len, SDFT_GRID_ENOMEM, "grid '%s': out of memory for its far bound", g->name);
-    return SDFT_GRID_OK;
+    if (sdft_grid_leaves_build(g))
+        return sdft_fail(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its leaf directory", g->name);
+    if (g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET && g->background > 0.0f && sdft_grid_far_build(g))
+        return sdft_fail(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its far bound", g->name);
+    return SDFT_OK;
 }
 
 /* ---- choosing a grid --------------------------------------------------- */
@@ -222,28 +216,17 @@ typedef struct grid_entry {
     char name[256];
 } grid_entry;
 
-/* By name, else the first scalar level set, else the first scalar grid. */
-static int choose(const grid_entry *e, size_t n, const char *name, const char *what, size_t *pick, char *msg,
-                  unsigned msg_len)
+/* grid_choose.h's rule over what the source's headers say. */
+static sdft_error choose(const grid_entry *e, size_t n, const char *name, const char *what, size_t *pick, char *msg,
+                         size_t msg_len)
 {
-    if (n == 0)
-        return grid_fail(msg, msg_len, SDFT_GRID_ENOTFOUND, "%s holds no grids", what);
-    if (name) {
-        for (size_t i = 0; i < n; i++)
-            if (strcmp(e[i].name, name) == 0) {
-                *pick = i;
-                return SDFT_GRID_OK;
-            }
-        return grid_fail(msg, msg_len, SDFT_GRID_ENOTFOUND, "%s has no grid named '%s'", what, name);
-    }
-    for (int pass = 0; pass < 2; pass++)
-        for (size_t i = 0; i < n; i++)
-            if (type_is_scalar(e[i].type) && (pass == 1 || e[i].grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET)) {
-                *pick = i;
-                return SDFT_GRID_OK;
-            }
-    return grid_fail(msg, msg_len, SDFT_GRID_ENOTSCALAR, "%s holds no scalar grid (first grid '%s' is %s)", what,
-                     e[0].name, type_name(e[0].type));
+    sdft_grid_entry seen[64];
+    for (size_t i = 0; i < n && i < 64; i++)
+        seen[i] = (sdft_grid_entry){.name = e[i].name,
+                                    .type = type_name(e[i].type),
+                                    .scalar = type_is_scalar(e[i].type),
+                                    .level_set = e[i].grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET};
+    return sdft_grid_choose(seen, n, name, what, pick, msg, msg_len);
 }
 
 static sdft_grid *grid_alloc(uint64_t size)
@@ -259,54 +242,44 @@ static sdft_grid *grid_alloc(uint64_t size)
     }
     memset((char *)g->words + size, 0, padded - size);
     g->size = (size_t)size;
+    g->owned = 1;
     return g;
 }
 
 void sdft_grid_free(sdft_grid *g)
 {
     if (g) {
-        grid_far_free(g);
-        grid_leaves_free(g);
-        free(g->words);
+        sdft_grid_far_free(g);
+        sdft_grid_leaves_free(g);
+        if (g->owned)
+            free(g->words);
+        if (g->release)
+            g->release(g->release_data);
         free(g);
     }
 }
 
-static int finish(sdft_grid *g, sdft_grid **out, char *msg, unsigned msg_len)
+static sdft_error finish(sdft_grid *g, sdft_grid **out, char *msg, size_t msg_len)
 {
-    int rc = grid_init(g, msg, msg_len);
+    const sdft_error rc = sdft_grid_init(g, msg, msg_len);
     if (rc) {
         sdft_grid_free(g);
         return rc;
     }
     *out = g;
-    return SDFT_GRID_OK;
+    return SDFT_OK;
 }
 
-int sdft_grid_adopt(void *words, size_t size, sdft_grid **out, char *msg, unsigned msg_len)
+/* The grids of a GridHandle's buffer, back to back, each with its own size,
+ * and the one chosen. */
+static sdft_error scan_buffer(const unsigned char *bytes, size_t size, const char *name, grid_entry *entries,
+                              size_t *pick, char *msg, size_t msg_len)
 {
-    *out = NULL;
-    sdft_grid *g = calloc(1, sizeof *g);
-    if (!g) {
-        free(words);
-        return grid_fail(msg, msg_len, SDFT_GRID_ENOMEM, "out of memory");
-    }
-    g->words = words;
-    g->size = size;
-    return finish(g, out, msg, msg_len);
-}
-
-int sdft_grid_from_buffer(const void *data, size_t size, const char *name, sdft_grid **out, char *msg,
-                          unsigned msg_len)
-{
-    *out = NULL;
-    grid_entry entries[64];
     size_t n = 0;
-    const unsigned char *bytes = data;
-    /* A GridHandle's buffer: grids back to back, each with its own size. */
     for (uint64_t at = 0; at < size && n < 64;) {
         if (size - at < PNANOVDB_GRID_SIZE)
-            return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "buffer is truncated: %zu bytes after grid %zu", (size_t)(size - at), n);
+            return sdft_fail(msg, msg_len, SDFT_EFORMAT, "buffer is truncated: %zu bytes after grid %zu",
+                             (size_t)(size - at), n);
         uint64_t magic, gsize;
         uint32_t type, cls;
         memcpy(&magic, bytes + at + PNANOVDB_GRID_OFF_MAGIC, 8);
@@ -314,9 +287,9 @@ int sdft_grid_from_buffer(const void *data, size_t size, const char *name, sdft_
         memcpy(&type, bytes + at + PNANOVDB_GRID_OFF_GRID_TYPE, 4);
         memcpy(&cls, bytes + at + PNANOVDB_GRID_OFF_GRID_CLASS, 4);
         if (magic != PNANOVDB_MAGIC_NUMBER)
-            return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "not a NanoVDB buffer: bad magic number");
+            return sdft_fail(msg, msg_len, SDFT_EFORMAT, "not a NanoVDB buffer: bad magic number");
         if (gsize < PNANOVDB_GRID_SIZE || gsize > size - at)
-            return grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "buffer is truncated: grid %zu needs %llu bytes", n,
+            return sdft_fail(msg, msg_len, SDFT_EFORMAT, "buffer is truncated: grid %zu needs %llu bytes", n,
                              (unsigned long long)gsize);
         entries[n] = (grid_entry){.offset = at, .size = gsize, .type = type, .grid_class = cls};
         memcpy(entries[n].name, bytes + at + PNANOVDB_GRID_OFF_GRID_NAME, 255);
@@ -324,15 +297,75 @@ int sdft_grid_from_buffer(const void *data, size_t size, const char *name, sdft_
         n++;
         at += gsize;
     }
+    return choose(entries, n, name, "buffer", pick, msg, msg_len);
+}
+
+/* The checks both buffer entry points share, then the chosen grid's entry. */
+static sdft_error buffer_grid(const void *data, size_t size, const char *name, sdft_grid **out, grid_entry *chosen,
+                              char *msg, size_t msg_len)
+{
+    if (!out)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no place for the grid (out is NULL)");
+    *out = NULL;
+    if (!data || size == 0)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no buffer (NULL data or size 0)");
+    grid_entry entries[64];
     size_t pick;
-    int rc = choose(entries, n, name, "buffer", &pick, msg, msg_len);
+    const sdft_error rc = scan_buffer(data, size, name, entries, &pick, msg, msg_len);
+    if (!rc)
+        *chosen = entries[pick];
+    return rc;
+}
+
+/* A grid from a buffer's chosen grid: its bytes copied into the grid, or
+ * (borrow) read in place, which needs NanoVDB's 32-byte alignment. */
+static sdft_error grid_of_buffer(const void *data, size_t size, const char *name, int borrow, sdft_grid **out,
+                                 char *msg, size_t msg_len)
+{
+    grid_entry e;
+    const sdft_error rc = buffer_grid(data, size, name, out, &e, msg, msg_len);
     if (rc)
         return rc;
-    sdft_grid *g = grid_alloc(entries[pick].size);
+    const unsigned char *at = (const unsigned char *)data + e.offset;
+    if (borrow && (uintptr_t)at % 32u != 0)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "grid '%s' does not start 32-byte aligned: copy it instead",
+                         e.name);
+    sdft_grid *g = borrow ? calloc(1, sizeof *g) : grid_alloc(e.size);
     if (!g)
-        return grid_fail(msg, msg_len, SDFT_GRID_ENOMEM, "out of memory for a %llu-byte grid", (unsigned long long)entries[pick].size);
-    memcpy(g->words, bytes + entries[pick].offset, entries[pick].size);
+        return sdft_fail(msg, msg_len, SDFT_ENOMEM, "out of memory for a %llu-byte grid", (unsigned long long)e.size);
+    if (borrow)
+        g->words = (uint32_t *)(uintptr_t)at, g->size = (size_t)e.size; /* read only: PNanoVDB's type is not const */
+    else
+        memcpy(g->words, at, e.size);
     return finish(g, out, msg, msg_len);
+}
+
+sdft_error sdft_grid_from_buffer(const void *data, size_t size, const char *name, sdft_grid **out, char *msg,
+                                 size_t msg_len)
+{
+    return grid_of_buffer(data, size, name, 0, out, msg, msg_len);
+}
+
+sdft_error sdft_grid_borrow_buffer(const void *data, size_t size, const char *name, sdft_grid **out, char *msg,
+                                   size_t msg_len)
+{
+    return grid_of_buffer(data, size, name, 1, out, msg, msg_len);
+}
+
+sdft_error sdft_grid_adopt_buffer(void *data, size_t size, const char *name, void (*release)(void *data),
+                                  sdft_grid **out, char *msg, size_t msg_len)
+{
+    if (!release)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no release function (NULL): borrow the buffer instead");
+    const sdft_error rc = grid_of_buffer(data, size, name, 1, out, msg, msg_len);
+    if (rc) {
+        if (data)
+            release(data);
+        return rc;
+    }
+    (*out)->release = release;
+    (*out)->release_data = data;
+    return SDFT_OK;
 }
 
 /* ---- .nvdb files --------------------------------------------------------
@@ -345,21 +378,26 @@ enum { NVDB_HEADER = 16, NVDB_META = 176 };
 
 static int read_exact(FILE *f, void *dst, size_t n) { return fread(dst, 1, n, f) == n; }
 
-int sdft_grid_load_nvdb(const char *path, const char *name, sdft_grid **out, char *msg, unsigned msg_len)
+sdft_error sdft_grid_load_nvdb(const char *path, const char *name, sdft_grid **out, char *msg, size_t msg_len)
 {
+    if (!out)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no place for the grid (out is NULL)");
     *out = NULL;
+    if (!path)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no path (NULL)");
     FILE *f = fopen(path, "rb");
     if (!f)
-        return grid_fail(msg, msg_len, SDFT_GRID_EIO, "cannot open %s: %s", path, strerror(errno));
-    if (fseek(f, 0, SEEK_END) != 0) {
+        return sdft_fail(msg, msg_len, SDFT_EIO, "cannot open %s: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode) || fseek(f, 0, SEEK_END) != 0) {
         fclose(f);
-        return grid_fail(msg, msg_len, SDFT_GRID_EIO, "cannot read %s: not a regular file", path);
+        return sdft_fail(msg, msg_len, SDFT_EIO, "cannot read %s: not a regular file", path);
     }
     long end = ftell(f);
     rewind(f);
     grid_entry entries[64];
     size_t n = 0;
-    int rc = SDFT_GRID_OK;
+    sdft_error rc = SDFT_OK;
     uint64_t at = 0;
     while (at < (uint64_t)end && !rc) {
         unsigned char head[NVDB_HEADER];
@@ -367,21 +405,22 @@ int sdft_grid_load_nvdb(const char *path, const char *name, sdft_grid **out, cha
         uint32_t version;
         uint16_t count, codec;
         if (!read_exact(f, head, sizeof head)) {
-            rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s is truncated: incomplete segment header", path);
+            rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is truncated: incomplete segment header", path);
             break;
         }
         memcpy(&magic, head, 8), memcpy(&version, head + 8, 4), memcpy(&count, head + 12, 2), memcpy(&codec, head + 14, 2);
         if (magic != PNANOVDB_MAGIC_NUMBER) {
-            rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s is not a NanoVDB file (bad magic number)", path);
+            rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is not a NanoVDB file (bad magic number)", path);
             break;
         }
         if (version >> 21u != PNANOVDB_MAJOR_VERSION_NUMBER) {
-            rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s is NanoVDB version %u; this build reads %u", path,
+            rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is NanoVDB version %u; this build reads %u", path,
                            version >> 21u, PNANOVDB_MAJOR_VERSION_NUMBER);
             break;
         }
         if (codec != 0) {
-            rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s is compressed (codec %u); write it uncompressed", path, codec);
+            rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is compressed (codec %u); write it uncompressed", path,
+                           codec);
             break;
         }
         at += NVDB_HEADER;
@@ -390,11 +429,11 @@ int sdft_grid_load_nvdb(const char *path, const char *name, sdft_grid **out, cha
             unsigned char meta[NVDB_META];
             uint32_t name_size;
             if (n == 64) {
-                rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s holds more than 64 grids", path);
+                rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s holds more than 64 grids", path);
                 break;
             }
             if (!read_exact(f, meta, sizeof meta)) {
-                rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s is truncated: incomplete grid metadata", path);
+                rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is truncated: incomplete grid metadata", path);
                 break;
             }
             grid_entry *e = &entries[n];
@@ -404,13 +443,13 @@ int sdft_grid_load_nvdb(const char *path, const char *name, sdft_grid **out, cha
             memcpy(&e->type, meta + 32, 4), memcpy(&e->grid_class, meta + 36, 4);
             memcpy(&name_size, meta + 136, 4);
             if (file_size != e->size || name_size == 0 || name_size > 1u << 20) {
-                rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s is corrupt: bad sizes in grid metadata", path);
+                rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is corrupt: bad sizes in grid metadata", path);
                 break;
             }
             char tmp[256];
             size_t keep = name_size < sizeof tmp ? name_size : sizeof tmp;
             if (!read_exact(f, tmp, keep) || fseek(f, (long)(name_size - keep), SEEK_CUR) != 0) {
-                rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s is truncated: incomplete grid name", path);
+                rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is truncated: incomplete grid name", path);
                 break;
             }
             tmp[keep - 1] = '\0';
@@ -421,22 +460,23 @@ int sdft_grid_load_nvdb(const char *path, const char *name, sdft_grid **out, cha
         for (size_t i = first; i < n && !rc; i++) {
             entries[i].offset = at;
             if (entries[i].size > (uint64_t)end - at)
-                rc = grid_fail(msg, msg_len, SDFT_GRID_EFORMAT, "%s is truncated: grid '%s' needs %llu bytes, %llu left",
+                rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is truncated: grid '%s' needs %llu bytes, %llu left",
                                path, entries[i].name, (unsigned long long)entries[i].size,
                                (unsigned long long)((uint64_t)end - at));
             at += entries[i].size;
         }
         if (!rc && fseek(f, (long)at, SEEK_SET) != 0)
-            rc = grid_fail(msg, msg_len, SDFT_GRID_EIO, "cannot seek in %s", path);
+            rc = sdft_fail(msg, msg_len, SDFT_EIO, "cannot seek in %s", path);
     }
     size_t pick = 0;
     if (!rc)
         rc = choose(entries, n, name, path, &pick, msg, msg_len);
     sdft_grid *g = NULL;
     if (!rc && !(g = grid_alloc(entries[pick].size)))
-        rc = grid_fail(msg, msg_len, SDFT_GRID_ENOMEM, "out of memory for a %llu-byte grid", (unsigned long long)entries[pick].size);
+        rc = sdft_fail(msg, msg_len, SDFT_ENOMEM, "out of memory for a %llu-byte grid",
+                       (unsigned long long)entries[pick].size);
     if (!rc && (fseek(f, (long)entries[pick].offset, SEEK_SET) != 0 || !read_exact(f, g->words, g->size)))
-        rc = grid_fail(msg, msg_len, SDFT_GRID_EIO, "cannot read grid '%s' from %s", entries[pick].name, path);
+        rc = sdft_fail(msg, msg_len, SDFT_EIO, "cannot read grid '%s' from %s", entries[pick].name, path);
     fclose(f);
     if (rc) {
         sdft_grid_free(g);

@@ -342,6 +342,8 @@ static inline int is_float(const sdft_grid *g) { return g->type == PNANOVDB_GRID
 
 sdft_field sdft_grid_field_with(const sdft_grid *g, sdft_grid_bound bound)
 {
+    if (!g || (unsigned)bound > SDFT_GRID_BOUND_NONE)
+        return (sdft_field){0};
     sdft_vec3 vs = g->voxel_size;
     const int kind = is_float(g) ? (g->diagonal ? 0 : 1) : g->type == PNANOVDB_GRID_TYPE_FP16 ? 2 : 3;
     static const sdft_normal_fn normals[4] = {normal_float, normal_float, normal_fp16, normal_any};
@@ -364,6 +366,11 @@ sdft_field sdft_grid_field_without_bound(const sdft_grid *g) { return sdft_grid_
 
 float sdft_grid_sample_with(const sdft_grid *g, sdft_grid_bound bound, sdft_scratch *s, sdft_vec3 p, int *level)
 {
+    if (!g || !s || s->owner.ctx != g || s->owner.init != grid_scratch_init) {
+        if (level)
+            *level = -1;
+        return NAN;
+    }
     float x[3];
     to_index(g, g->diagonal, p, x);
     if (bound != SDFT_GRID_BOUND_FAR && bound != SDFT_GRID_BOUND_TREE)

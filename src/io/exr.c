@@ -81,7 +81,7 @@ static exr_result_t exr_write_planes(exr_context_t ctx, int part, const exr_plan
     return rc;
 }
 
-int sdft_write_exr(const char *path, const sdft_image *img, char *msg, unsigned msg_len)
+int sdft_write_exr(const char *path, const sdft_image *img, char *msg, size_t msg_len)
 {
     const int w = img->width, h = img->height;
     const size_t n = (size_t)w * (size_t)h;
@@ -107,8 +107,8 @@ int sdft_write_exr(const char *path, const sdft_image *img, char *msg, unsigned 
         {"fallbacks", EXR_PIXEL_UINT, img->fallbacks},
     };
 
-    atomic_file af;
-    if (atomic_begin(&af, path, msg, msg_len)) {
+    sdft_atomic_file af;
+    if (sdft_atomic_begin(&af, path, msg, msg_len)) {
         free(split);
         return -1;
     }
@@ -132,8 +132,8 @@ int sdft_write_exr(const char *path, const sdft_image *img, char *msg, unsigned 
     if (rc != EXR_ERR_SUCCESS) {
         snprintf(msg, msg_len, "cannot write %s: %s", path,
                  errors.text[0] ? errors.text : exr_get_default_error_message(rc));
-        atomic_abort(&af);
+        sdft_atomic_abort(&af);
         return -1;
     }
-    return atomic_commit(&af, msg, msg_len);
+    return sdft_atomic_commit(&af, msg, msg_len);
 }

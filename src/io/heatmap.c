@@ -100,7 +100,7 @@ static void draw_legend(canvas *c, int top, unsigned long scale)
     }
 }
 
-int sdft_write_heatmap(const char *path, const sdft_image *img, sdft_heatmap_kind kind, char *msg, unsigned msg_len)
+int sdft_write_heatmap(const char *path, const sdft_image *img, sdft_heatmap_kind kind, char *msg, size_t msg_len)
 {
     const uint32_t *counts = kind == SDFT_HEATMAP_FALLBACKS ? img->fallbacks : img->steps;
     size_t n = (size_t)img->width * (size_t)img->height;
@@ -114,7 +114,7 @@ int sdft_write_heatmap(const char *path, const sdft_image *img, sdft_heatmap_kin
     for (size_t i = 0; i < n; i++)
         sdft_heatmap_colour((double)counts[i], (double)scale, c.rgb + 3 * i);
     draw_legend(&c, img->height, scale);
-    int rc = io_write_png_rgb8(path, c.rgb, c.width, c.height, 0, msg, msg_len);
+    int rc = sdft_png_write_rgb8(path, c.rgb, c.width, c.height, 0, msg, msg_len);
     free(c.rgb);
     return rc;
 }

@@ -2,12 +2,15 @@
  * preview, and a false-colour heatmap of the per-pixel counts.
  *
  * Every writer goes through a temporary file in the target's folder and
- * renames it into place only when the file is complete, so a failure never
- * leaves a half-written file. Each returns 0, or non-zero with a one-line
- * reason in msg. None of them prints. */
+ * renames it into place only when the file is complete
+ * (src/util/atomic_file.h), so a failure never leaves a half-written file,
+ * and the file gets the mode the umask gives. Each returns 0, or non-zero
+ * with a one-line reason in msg. None of them prints. Internal to the
+ * tools (not installed). */
 #ifndef SDFTRACE_IMAGE_IO_H
 #define SDFTRACE_IMAGE_IO_H
 
+#include "atomic_file.h" /* sdft_check_writable */
 #include "sdftrace/render.h"
 
 #ifdef __cplusplus
@@ -17,7 +20,7 @@ extern "C" {
 /* Scanline OpenEXR, ZIP compressed, through OpenEXRCore: R, G, B (float,
  * linear), Z (float: primary-ray t, inf on a miss), N.X, N.Y, N.Z (float),
  * steps and fallbacks (uint: primary + shadow ray). */
-int sdft_write_exr(const char *path, const sdft_image *img, char *msg, unsigned msg_len);
+int sdft_write_exr(const char *path, const sdft_image *img, char *msg, size_t msg_len);
 
 /* Reads channels names[0..n-1] of a scanline OpenEXR file as float planes
  * (row-major, top row first; half and float channels), allocated into
@@ -25,23 +28,19 @@ int sdft_write_exr(const char *path, const sdft_image *img, char *msg, unsigned 
  * or non-zero with one line in msg (missing file, not scanline, a channel
  * absent, a corrupt chunk) and every plane NULL. */
 int sdft_read_exr_floats(const char *path, int n, const char *const names[], float *planes[], int *width, int *height,
-                         char *msg, unsigned msg_len);
+                         char *msg, size_t msg_len);
 
 /* 8-bit sRGB PNG of the image's linear RGB, through libpng. */
-int sdft_write_png(const char *path, const sdft_image *img, char *msg, unsigned msg_len);
+int sdft_write_png(const char *path, const sdft_image *img, char *msg, size_t msg_len);
 
 typedef enum sdft_heatmap_kind { SDFT_HEATMAP_STEPS = 0, SDFT_HEATMAP_FALLBACKS } sdft_heatmap_kind;
 
 /* A PNG of the image's steps or fallbacks, green (low) to red (high) as in
  * Bán–Valasek Fig. 1, with a legend bar and numeric tick labels below. */
-int sdft_write_heatmap(const char *path, const sdft_image *img, sdft_heatmap_kind kind, char *msg, unsigned msg_len);
+int sdft_write_heatmap(const char *path, const sdft_image *img, sdft_heatmap_kind kind, char *msg, size_t msg_len);
 
 /* The colour of a count on the heatmap's scale [0, max]: 8-bit RGB. */
 void sdft_heatmap_colour(double value, double max, unsigned char rgb[3]);
-
-/* Checks that a file can be created at path (creates and removes a
- * temporary file beside it); touches nothing at path itself. */
-int sdft_check_writable(const char *path, char *msg, unsigned msg_len);
 
 #ifdef __cplusplus
 }

@@ -13,30 +13,25 @@
 // exactly the invariant the tracer's tree bound relies on (src/grid/grid_sample.c):
 // every voxel a tile covers has |s| >= |tile value|. Leaves that survive are
 // evaluated voxel by voxel: |f| < band active with f, else inactive +-band.
-#include <stdlib.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
 
-#include <nanovdb/util/IO.h>
-#include <nanovdb/util/OpenToNanoVDB.h>
 #include <openvdb/openvdb.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "vdb.h"
+#include "../util/atomic_file.h"
 #include "vdb_internal.h"
 
-using sdft_vdb::fail;
 using LeafT = openvdb::FloatTree::LeafNodeType;
 
 namespace {
@@ -75,11 +70,11 @@ struct Baker {
         return std::fabs(v) > 1.7320508f * half * h + band ? std::copysign(band, v) : 0.0f;
     }
 
-    // All 512 voxels of the leaf at o; nullptr (and maybe a tile) when none
-    // is active and all share a sign.
-    LeafT *leaf(sdft_scratch *s, const openvdb::Coord &o, std::vector<Tile> &tiles) const
+    // All 512 voxels of the leaf at o; null (and maybe a tile) when none is
+    // active and all share a sign.
+    std::unique_ptr<LeafT> leaf(sdft_scratch *s, const openvdb::Coord &o, std::vector<Tile> &tiles) const
     {
-        auto *leaf = new LeafT(o, band, false);
+        auto leaf = std::make_unique<LeafT>(o, band, false);
         int active = 0, neg = 0;
         for (openvdb::Index i = 0; i < LeafT::SIZE; i++) {
             const openvdb::Coord ijk = leaf->offsetToGlobalCoord(i);
@@ -96,82 +91,81 @@ struct Baker {
         if (active == 0 && (neg == 0 || neg == int(LeafT::SIZE))) {
             if (neg)
                 tiles.push_back({o, 1, -band});
-            delete leaf;
             return nullptr;
         }
         return leaf;
     }
 };
 
-int write_file(openvdb::FloatGrid::Ptr grid, const sdft_bake_params *p, const char *path, char *msg, unsigned msg_len)
-{
-    const char *dot = std::strrchr(path, '.');
-    const bool nvdb = dot && std::strcmp(dot, ".nvdb") == 0;
-    std::string tmp = std::string(path) + ".tmp-XXXXXX";
-    int fd = mkstemp(&tmp[0]);
-    if (fd < 0)
-        return fail(msg, msg_len, SDFT_GRID_EIO, std::string("cannot write ") + path + ": " + std::strerror(errno));
-    close(fd);
-    try {
-        if (nvdb) {
-            auto handle = p->fp16 ? nanovdb::openToNanoVDB<nanovdb::HostBuffer, openvdb::FloatTree, nanovdb::Fp16>(*grid)
-                                  : nanovdb::openToNanoVDB<nanovdb::HostBuffer, openvdb::FloatTree, float>(*grid);
-            nanovdb::io::writeGrid(tmp, handle);
-        } else {
-            grid->setSaveFloatAsHalf(p->fp16 != 0);
-            openvdb::io::File file(tmp);
-            file.write({grid});
-            file.close();
-        }
-    } catch (const std::exception &e) {
-        unlink(tmp.c_str());
-        return fail(msg, msg_len, SDFT_GRID_EIO, std::string("cannot write ") + path + ": " + e.what());
+// The output file: its temporary file is made before any work, so that an
+// unwritable destination fails at once; removed unless committed.
+struct Output {
+    sdft_atomic_file af;
+    bool open = false;
+    ~Output()
+    {
+        if (open)
+            sdft_atomic_abort(&af);
     }
-    if (std::rename(tmp.c_str(), path) != 0) {
-        int err = errno;
-        unlink(tmp.c_str());
-        return fail(msg, msg_len, SDFT_GRID_EIO, std::string("cannot write ") + path + ": " + std::strerror(err));
+    sdft_error begin(const char *path, char *msg, size_t msg_len)
+    {
+        const sdft_error rc = sdft_atomic_begin(&af, path, msg, msg_len);
+        open = rc == SDFT_OK;
+        return rc;
     }
-    return SDFT_GRID_OK;
-}
+    // Writes the grid (.vdb or .nvdb by the target's extension) and renames
+    // it into place.
+    sdft_error write(const openvdb::FloatGrid &grid, bool fp16, char *msg, size_t msg_len)
+    {
+        const char *dot = std::strrchr(af.path, '.');
+        const bool nvdb = dot && std::strcmp(dot, ".nvdb") == 0;
+        if (sdft_error rc = sdft_vdb::write_grid(grid, nvdb, fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE, af.tmp_path,
+                                                 af.path, msg, msg_len))
+            return rc;
+        open = false;
+        return sdft_atomic_commit(&af, msg, msg_len);
+    }
+};
 
-} // namespace
-
-extern "C" sdft_bake_params sdft_bake_defaults(void)
+// What sdft_bake refuses before any work, or SDFT_OK.
+sdft_error check(const sdft_field *f, const sdft_bake_params *p, const char *path, char *msg, size_t msg_len)
 {
-    sdft_bake_params p;
-    std::memset(&p, 0, sizeof p);
-    p.res = 256;
-    p.band = 3.0f;
-    return p;
-}
-
-extern "C" int sdft_bake(const sdft_field *f, const sdft_bake_params *p, const char *path, sdft_grid **grid_out,
-                         sdft_bake_stats *stats, char *msg, unsigned msg_len)
-{
-    if (grid_out)
-        *grid_out = nullptr;
+    if (!f || !f->distance)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no field, or a field without a distance function");
+    if (!p)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no bake parameters (NULL)");
     if (p->res < 1 || p->res > SDFT_BAKE_MAX_RES)
-        return fail(msg, msg_len, SDFT_GRID_EFORMAT,
-                    "resolution must be in 1.." + std::to_string(SDFT_BAKE_MAX_RES) + ", got " + std::to_string(p->res));
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "resolution must be in 1..%d, got %d", SDFT_BAKE_MAX_RES, p->res);
     if (!p->full && !(p->band > 0.0f && p->band <= 1000.0f))
-        return fail(msg, msg_len, SDFT_GRID_EFORMAT, "band must be a number of voxels in (0, 1000]");
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "band must be a number of voxels in (0, 1000]");
+    if (p->threads < 0)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "threads must be >= 0, got %d", p->threads);
     if (path) {
         const char *dot = std::strrchr(path, '.');
         if (!dot || (std::strcmp(dot, ".vdb") != 0 && std::strcmp(dot, ".nvdb") != 0))
-            return fail(msg, msg_len, SDFT_GRID_EFORMAT, std::string(path) + ": output must end in .vdb or .nvdb");
+            return sdft_fail(msg, msg_len, SDFT_EINVAL, "%s: output must end in .vdb or .nvdb", path);
     }
+    const sdft_vec3 ext = sdft_sub(f->bounds.hi, f->bounds.lo);
+    if (!sdft_isfinite3(ext) || !sdft_isfinite3(f->bounds.lo) || !(sdft_minf(ext.x, sdft_minf(ext.y, ext.z)) >= 0.0f) ||
+        !(sdft_maxcomp(ext) > 0.0f))
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "the field's bounding box is empty or infinite");
+    return SDFT_OK;
+}
+
+sdft_error bake(const sdft_field *f, const sdft_bake_params *p, const char *path, sdft_grid **grid_out,
+                sdft_bake_stats *stats, char *msg, size_t msg_len)
+{
+    Output out;
+    if (path)
+        if (sdft_error rc = out.begin(path, msg, msg_len))
+            return rc;
     const sdft_aabb b = f->bounds;
     const sdft_vec3 ext = sdft_sub(b.hi, b.lo);
-    const float longest = sdft_maxcomp(ext);
-    if (!sdft_isfinite3(ext) || !(longest > 0.0f))
-        return fail(msg, msg_len, SDFT_GRID_EFORMAT, "the field's bounding box is empty or infinite");
-
     const auto t0 = std::chrono::steady_clock::now();
     Baker bk;
     bk.f = f;
     bk.lo = b.lo;
-    bk.h = longest / float(p->res);
+    bk.h = sdft_maxcomp(ext) / float(p->res);
     bk.band = (p->full ? 3.0f : p->band) * bk.h;
     bk.full = p->full != 0;
     const float e[3] = {ext.x, ext.y, ext.z};
@@ -227,30 +221,35 @@ extern "C" int sdft_bake(const sdft_field *f, const sdft_bake_params *p, const c
         std::vector<openvdb::Coord>().swap(t);
     }
 
-    // 2. The leaves, voxel by voxel.
+    // 2. The leaves, voxel by voxel; once the callback says stop, the rest
+    // are skipped.
     sdft_vdb::Progress progress;
-    progress.on = p->progress && isatty(2);
-    progress.what = "bake";
+    progress.fn = p->progress;
+    progress.user = p->progress_user;
     progress.total = std::max<uint64_t>(1, leaf_origins.size());
-    std::vector<LeafT *> leaves(leaf_origins.size(), nullptr);
+    std::vector<std::unique_ptr<LeafT>> leaves(leaf_origins.size());
     std::mutex tiles_mutex;
     arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, leaf_origins.size(), 64), [&](const tbb::blocked_range<size_t> &r) {
-            sdft_scratch s;
-            sdft_scratch_init(f, &s);
-            std::vector<Tile> local;
-            for (size_t i = r.begin(); i != r.end(); ++i) {
-                leaves[i] = bk.leaf(&s, leaf_origins[i], local);
-                progress.step();
-            }
-            evals += uint64_t(r.size()) * LeafT::SIZE;
-            if (!local.empty()) {
-                std::lock_guard<std::mutex> lock(tiles_mutex);
-                tiles.push_back(std::move(local));
-            }
-        });
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, leaf_origins.size(), 64),
+                          [&](const tbb::blocked_range<size_t> &r) {
+                              if (progress.stop)
+                                  return;
+                              sdft_scratch s;
+                              sdft_scratch_init(f, &s);
+                              std::vector<Tile> local;
+                              for (size_t i = r.begin(); i != r.end(); ++i) {
+                                  leaves[i] = bk.leaf(&s, leaf_origins[i], local);
+                                  progress.step();
+                              }
+                              evals += uint64_t(r.size()) * LeafT::SIZE;
+                              if (!local.empty()) {
+                                  std::lock_guard<std::mutex> lock(tiles_mutex);
+                                  tiles.push_back(std::move(local));
+                              }
+                          });
     });
-    progress.finish();
+    if (progress.stop)
+        return sdft_fail(msg, msg_len, SDFT_ECANCELED, "bake stopped by its progress callback");
 
     // 3. The tree: inside tiles, then the leaves (the tree takes them).
     openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(bk.band);
@@ -263,9 +262,9 @@ extern "C" int sdft_bake(const sdft_field *f, const sdft_bake_params *p, const c
         for (const Tile &t : list)
             tree.addTile(t.level, t.origin, t.value, false);
     uint64_t kept = 0;
-    for (LeafT *leaf : leaves)
+    for (auto &leaf : leaves)
         if (leaf) {
-            tree.addLeaf(leaf);
+            tree.addLeaf(leaf.release());
             kept++;
         }
     const auto t1 = std::chrono::steady_clock::now();
@@ -279,15 +278,32 @@ extern "C" int sdft_bake(const sdft_field *f, const sdft_bake_params *p, const c
         stats->voxel_size = bk.h;
     }
     if (tree.activeVoxelCount() == 0)
-        return fail(msg, msg_len, SDFT_GRID_EEMPTY, "the bake holds no surface: no voxel within the band");
-    try {
-        int rc = SDFT_GRID_OK;
-        if (path)
-            rc = write_file(grid, p, path, msg, msg_len);
-        if (!rc && grid_out)
-            rc = sdft_vdb::to_nano(*grid, p->fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE, grid_out, msg, msg_len);
+        return sdft_fail(msg, msg_len, SDFT_EEMPTY, "the bake holds no surface: no voxel within the band");
+    if (path)
+        if (sdft_error rc = out.write(*grid, p->fp16 != 0, msg, msg_len))
+            return rc;
+    if (grid_out)
+        return sdft_vdb::to_nano(*grid, p->fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE, grid_out, msg, msg_len);
+    return SDFT_OK;
+}
+
+} // namespace
+
+extern "C" sdft_bake_params sdft_bake_defaults(void)
+{
+    sdft_bake_params p;
+    std::memset(&p, 0, sizeof p);
+    p.res = 256;
+    p.band = 3.0f;
+    return p;
+}
+
+extern "C" sdft_error sdft_bake(const sdft_field *f, const sdft_bake_params *p, const char *path, sdft_grid **grid_out,
+                                sdft_bake_stats *stats, char *msg, size_t msg_len)
+{
+    if (grid_out)
+        *grid_out = nullptr;
+    if (sdft_error rc = check(f, p, path, msg, msg_len))
         return rc;
-    } catch (const std::exception &ex) {
-        return fail(msg, msg_len, SDFT_GRID_EIO, std::string("bake failed: ") + ex.what());
-    }
+    return sdft_vdb::guarded("bake", msg, msg_len, [&] { return bake(f, p, path, grid_out, stats, msg, msg_len); });
 }

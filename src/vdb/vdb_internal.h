@@ -1,57 +1,97 @@
-// sdftrace — what the C++ seam's translation units share. Internal header.
+// sdftrace — what the C++ seam's translation units share, and what mesh2sdf
+// borrows from them: NanoVDB conversion and the one NanoVDB / OpenVDB file
+// writer. Internal header; its symbols are hidden in libsdftrace_vdb.
 #ifndef SDFTRACE_VDB_INTERNAL_H
 #define SDFTRACE_VDB_INTERNAL_H
 
 #include <atomic>
 #include <cstdint>
-#include <cstdio>
+#include <mutex>
+#include <new>
 #include <string>
 
+#include <nanovdb/util/GridHandle.h>
 #include <openvdb/openvdb.h>
 
-#include "vdb.h"
+#include "../core/fail.h"
+#include "sdftrace/vdb.h"
 
-// The grid side's memory and adoption (src/grid): a big table on huge pages
-// where offered, and a grid made from a NanoVDB buffer from it, which it
-// then owns (freed with the grid, or on failure).
-extern "C" void *sdft_grid_table_alloc(size_t bytes);
-extern "C" int sdft_grid_adopt(void *words, size_t size, sdft_grid **out, char *msg, unsigned msg_len);
+// sdft_vdb_open and sdft_vdb_bounds once their arguments are checked
+// (vdb_open.c).
+extern "C" SDFT_INTERNAL sdft_error sdft_vdb_open_checked(const char *path, const char *name,
+                                                          const sdft_vdb_options *o, sdft_grid **out, char *msg,
+                                                          size_t msg_len);
+extern "C" SDFT_INTERNAL sdft_error sdft_vdb_bounds_checked(const char *path, const char *name, sdft_aabb *box,
+                                                            char *msg, size_t msg_len);
 
 namespace sdft_vdb {
 
 // Writes one line to msg; returns code.
-int fail(char *msg, unsigned msg_len, int code, const std::string &line);
+inline sdft_error fail(char *msg, size_t msg_len, sdft_error code, const std::string &line)
+{
+    return sdft_fail(msg, msg_len, code, "%s", line.c_str());
+}
 
-// NanoVDB copy of a float grid, leaves stored as `quant`.
-int to_nano(const openvdb::FloatGrid &grid, sdft_quant quant, sdft_grid **out, char *msg, unsigned msg_len);
+// Runs body() and returns its code; an exception becomes a code and one
+// line ("WHAT: reason"), so that none leaves an extern "C" function.
+template <typename Body> sdft_error guarded(const char *what, char *msg, size_t msg_len, Body &&body) noexcept
+{
+    try {
+        return body();
+    } catch (const std::bad_alloc &) {
+        return sdft_fail(msg, msg_len, SDFT_ENOMEM, "%s: out of memory", what);
+    } catch (const std::exception &e) {
+        return sdft_fail(msg, msg_len, SDFT_EINTERNAL, "%s: %s", what, e.what());
+    } catch (...) {
+        return sdft_fail(msg, msg_len, SDFT_EINTERNAL, "%s: unknown exception", what);
+    }
+}
+
+// NanoVDB's own conversion of a float grid, leaves stored as `quant`.
+nanovdb::GridHandle<> nano_handle(const openvdb::FloatGrid &grid, sdft_quant quant);
+
+// NanoVDB copy of a float grid, leaves stored as `quant`, as an sdft_grid.
+sdft_error to_nano(const openvdb::FloatGrid &grid, sdft_quant quant, sdft_grid **out, char *msg, size_t msg_len);
+
+// Writes `grid` to `path`: NanoVDB (.nvdb, leaves as `quant`) or OpenVDB
+// (.vdb, halves when quant is SDFT_QUANT_FP16), chosen by `nvdb`. Writes in
+// place: callers write to a temporary file (src/util/atomic_file.h) and
+// rename it. SDFT_OK, or SDFT_EIO with "cannot write LABEL: reason" (label:
+// the name to report, the final path rather than the temporary one). May
+// throw std::bad_alloc.
+sdft_error write_grid(const openvdb::FloatGrid &grid, bool nvdb, sdft_quant quant, const std::string &path,
+                      const std::string &label, char *msg, size_t msg_len);
 
 // A delay-loaded float grid (read from `path`) streamed into a NanoVDB grid
 // of float or Fp16 leaves (vdb_stream.cpp); the grid's leaves are deleted
-// as they are copied. `progress`: a progress line on stderr if a terminal.
-int stream_to_nano(openvdb::FloatGrid &grid, const char *path, sdft_quant quant, bool progress, sdft_grid **out,
-                   char *msg, unsigned msg_len);
+// as they are copied. progress may be NULL.
+sdft_error stream_to_nano(openvdb::FloatGrid &grid, const char *path, sdft_quant quant, sdft_progress_fn progress,
+                          void *progress_user, sdft_grid **out, char *msg, size_t msg_len);
 
-// A percentage on stderr, when on (the caller's terminal test), from any
-// thread: "\rWHAT:  42%", then "\rWHAT: done".
+// The caller's progress callback (sdftrace/vdb.h), called about once per
+// percent, one call at a time, with a fraction that never decreases; and
+// its answer, to stop. step() from any thread, once per unit of work.
 struct Progress {
-    bool on = false;
+    sdft_progress_fn fn = nullptr;
+    void *user = nullptr;
+    uint64_t total = 1;
     std::atomic<uint64_t> done{0};
     std::atomic<int> shown{-1};
-    uint64_t total = 1;
-    const char *what = "";
+    std::atomic<bool> stop{false};
+    std::mutex call;
+
     void step()
     {
-        if (!on)
+        const uint64_t now = done.fetch_add(1) + 1;
+        if (!fn || stop)
             return;
-        int pct = int(100 * (done.fetch_add(1) + 1) / total);
+        const int pct = int(100 * now / total);
         int old = shown.load();
-        if (pct > old && shown.compare_exchange_strong(old, pct))
-            std::fprintf(stderr, "\r%s: %3d%%", what, pct);
-    }
-    void finish()
-    {
-        if (on)
-            std::fprintf(stderr, "\r%s: done\n", what);
+        if (pct <= old || !shown.compare_exchange_strong(old, pct))
+            return;
+        std::lock_guard<std::mutex> lock(call);
+        if (!stop && shown.load() == pct && fn(user, float(pct) / 100.0f) != 0)
+            stop = true; // no call after the one that said stop
     }
 };
 

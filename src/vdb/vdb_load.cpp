@@ -1,40 +1,44 @@
-// sdftrace — `.vdb` files in: pick a scalar grid with OpenVDB, convert it with
-// NanoVDB's own converter, hand the NanoVDB buffer to the C side.
+// sdftrace — `.vdb` files in: pick a scalar grid with OpenVDB (by the rule
+// every loader shares, src/grid/grid_choose.h), convert it with NanoVDB's own
+// converter, hand the NanoVDB buffer to the C side.
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include <nanovdb/util/OpenToNanoVDB.h>
 #include <openvdb/openvdb.h>
 
-#include "vdb.h"
+#include "../grid/grid_choose.h"
 #include "vdb_internal.h"
 
 namespace sdft_vdb {
-
-int fail(char *msg, unsigned msg_len, int code, const std::string &line)
-{
-    if (msg && msg_len)
-        std::snprintf(msg, msg_len, "%s", line.c_str());
-    return code;
-}
 
 template <typename BuildT> static nanovdb::GridHandle<> convert(const openvdb::FloatGrid &grid)
 {
     return nanovdb::openToNanoVDB<nanovdb::HostBuffer, openvdb::FloatTree, BuildT>(grid);
 }
 
-int to_nano(const openvdb::FloatGrid &grid, sdft_quant quant, sdft_grid **out, char *msg, unsigned msg_len)
+nanovdb::GridHandle<> nano_handle(const openvdb::FloatGrid &grid, sdft_quant quant)
 {
-    nanovdb::GridHandle<> handle;
     switch (quant) {
-    case SDFT_QUANT_FP16: handle = convert<nanovdb::Fp16>(grid); break;
-    case SDFT_QUANT_FP8: handle = convert<nanovdb::Fp8>(grid); break;
-    case SDFT_QUANT_FP4: handle = convert<nanovdb::Fp4>(grid); break;
-    case SDFT_QUANT_FPN: handle = convert<nanovdb::FpN>(grid); break;
-    default: handle = convert<float>(grid); break;
+    case SDFT_QUANT_FP16:
+        return convert<nanovdb::Fp16>(grid);
+    case SDFT_QUANT_FP8:
+        return convert<nanovdb::Fp8>(grid);
+    case SDFT_QUANT_FP4:
+        return convert<nanovdb::Fp4>(grid);
+    case SDFT_QUANT_FPN:
+        return convert<nanovdb::FpN>(grid);
+    default:
+        return convert<float>(grid);
     }
+}
+
+sdft_error to_nano(const openvdb::FloatGrid &grid, sdft_quant quant, sdft_grid **out, char *msg, size_t msg_len)
+{
+    nanovdb::GridHandle<> handle = nano_handle(grid, quant);
     return sdft_grid_from_buffer(handle.data(), handle.size(), nullptr, out, msg, msg_len);
 }
 
@@ -47,109 +51,114 @@ static bool is_scalar(const openvdb::GridBase &g)
     return g.isType<openvdb::FloatGrid>() || g.isType<openvdb::DoubleGrid>();
 }
 
-extern "C" sdft_vdb_options sdft_vdb_options_defaults(void) { return sdft_vdb_options{SDFT_QUANT_NONE, 0, 1}; }
-
-extern "C" int sdft_vdb_load(const char *path, const char *name, sdft_quant quant, sdft_grid **out, char *msg,
-                             unsigned msg_len)
+// The grid called `name` of `file` (already chosen), as floats.
+static openvdb::FloatGrid::Ptr read_float_grid(openvdb::io::File &file, const std::string &name)
 {
-    sdft_vdb_options o = sdft_vdb_options_defaults();
-    o.quant = quant;
-    return sdft_vdb_open(path, name, &o, out, msg, msg_len);
+    openvdb::GridBase::Ptr base = file.readGrid(name);
+    openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+    if (grid)
+        return grid;
+    // A DoubleGrid: the same tree with float values. Tree's converting
+    // constructor static_casts every value, tiles included.
+    auto dbl = openvdb::gridPtrCast<openvdb::DoubleGrid>(base);
+    grid = openvdb::FloatGrid::create(std::make_shared<openvdb::FloatTree>(dbl->tree()));
+    grid->setTransform(dbl->transform().copy());
+    grid->setGridClass(dbl->getGridClass());
+    grid->setName(name);
+    return grid;
 }
 
-extern "C" int sdft_vdb_open(const char *path, const char *name, const sdft_vdb_options *o, sdft_grid **out, char *msg,
-                             unsigned msg_len)
+// Opens `path` with delayed loading (leaf values stay in the mapped file
+// until read) and picks its grid by the shared rule: SDFT_OK with *chosen.
+static sdft_error choose(openvdb::io::File &file, const char *path, const char *name, std::string *chosen, char *msg,
+                         size_t msg_len)
 {
-    const sdft_quant quant = o->quant;
-    *out = nullptr;
     if (FILE *f = std::fopen(path, "rb"))
         std::fclose(f);
     else
-        return fail(msg, msg_len, SDFT_GRID_EIO, std::string("cannot open ") + path + ": " + std::strerror(errno));
+        return fail(msg, msg_len, SDFT_EIO, std::string("cannot open ") + path + ": " + std::strerror(errno));
+    openvdb::initialize();
+    openvdb::GridPtrVecPtr metas;
     try {
-        openvdb::initialize();
-        openvdb::io::File file(path);
-        file.open(true); // delayed loading: leaf values stay in the (mapped) file until read
-        openvdb::GridPtrVecPtr metas = file.readAllGridMetadata();
-        openvdb::GridBase::Ptr chosen;
-        if (name) {
-            for (auto &m : *metas)
-                if (m->getName() == name)
-                    chosen = m;
-            if (!chosen)
-                return fail(msg, msg_len, SDFT_GRID_ENOTFOUND, std::string(path) + " has no grid named '" + name + "'");
-        } else {
-            for (int pass = 0; pass < 2 && !chosen; pass++)
-                for (auto &m : *metas)
-                    if (!chosen && is_scalar(*m) && (pass == 1 || m->getGridClass() == openvdb::GRID_LEVEL_SET))
-                        chosen = m;
-            if (!chosen) {
-                if (metas->empty())
-                    return fail(msg, msg_len, SDFT_GRID_ENOTFOUND, std::string(path) + " holds no grids");
-                const auto &first = *metas->front();
-                return fail(msg, msg_len, SDFT_GRID_ENOTSCALAR,
-                            std::string(path) + " holds no scalar grid (first grid '" + first.getName() + "' is " +
-                                first.valueType() + ")");
-            }
-        }
-        if (!is_scalar(*chosen))
-            return fail(msg, msg_len, SDFT_GRID_ENOTSCALAR,
-                        "grid '" + chosen->getName() + "' holds " + chosen->valueType() + " values, not scalar distances");
-        const std::string grid_name = chosen->getName();
-        openvdb::GridBase::Ptr base = file.readGrid(grid_name);
-        file.close();
-        openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
-        if (!grid) { // a DoubleGrid: the same tree with float values
-            auto dbl = openvdb::gridPtrCast<openvdb::DoubleGrid>(base);
-            // Tree's converting constructor static_casts every value, tiles included.
-            grid = openvdb::FloatGrid::create(std::make_shared<openvdb::FloatTree>(dbl->tree()));
-            grid->setTransform(dbl->transform().copy());
-            grid->setGridClass(dbl->getGridClass());
-            grid->setName(grid_name);
-        }
-        if (grid->activeVoxelCount() == 0)
-            return fail(msg, msg_len, SDFT_GRID_EEMPTY, "grid '" + grid_name + "' in " + path + " is empty: no active voxels");
-        if (o->stream && (quant == SDFT_QUANT_NONE || quant == SDFT_QUANT_FP16))
-            return sdft_vdb::stream_to_nano(*grid, path, quant, o->progress != 0, out, msg, msg_len);
-        return sdft_vdb::to_nano(*grid, quant, out, msg, msg_len);
-    } catch (const std::exception &e) {
-        return fail(msg, msg_len, SDFT_GRID_EFORMAT, std::string("cannot read ") + path + ": " + e.what());
-    }
-}
-
-extern "C" int sdft_grid_open(const char *path, const char *name, sdft_grid **out, char *msg, unsigned msg_len)
-{
-    const char *dot = std::strrchr(path, '.');
-    if (dot && std::strcmp(dot, ".nvdb") == 0)
-        return sdft_grid_load_nvdb(path, name, out, msg, msg_len);
-    if (dot && std::strcmp(dot, ".vdb") == 0)
-        return sdft_vdb_load(path, name, SDFT_QUANT_NONE, out, msg, msg_len);
-    *out = nullptr;
-    return fail(msg, msg_len, SDFT_GRID_EFORMAT, std::string(path) + ": expected a .vdb or .nvdb file");
-}
-
-extern "C" int sdft_vdb_bounds(const char *path, const char *name, sdft_aabb *bounds, char *msg, unsigned msg_len)
-{
-    try {
-        openvdb::initialize();
-        openvdb::io::File file(path);
         file.open(true);
-        openvdb::GridBase::Ptr chosen;
-        const openvdb::GridPtrVecPtr metas = file.readAllGridMetadata();
-        for (auto &m : *metas)
-            if (!chosen && (name ? m->getName() == name : is_scalar(*m)))
-                chosen = m;
-        if (!chosen)
-            return fail(msg, msg_len, SDFT_GRID_ENOTFOUND, std::string(path) + " has no such grid");
-        const openvdb::GridBase::Ptr grid = file.readGridMetadata(chosen->getName());
+        metas = file.readAllGridMetadata();
+    } catch (const std::bad_alloc &) {
+        throw;
+    } catch (const std::exception &e) {
+        return fail(msg, msg_len, SDFT_EFORMAT, std::string("cannot read ") + path + ": " + e.what());
+    }
+    std::vector<std::string> names, types;
+    for (const auto &m : *metas)
+        names.push_back(m->getName()), types.push_back(m->valueType());
+    std::vector<sdft_grid_entry> entries;
+    for (size_t i = 0; i < metas->size(); i++) {
+        const openvdb::GridBase &m = *(*metas)[i];
+        entries.push_back(
+            {names[i].c_str(), types[i].c_str(), is_scalar(m), m.getGridClass() == openvdb::GRID_LEVEL_SET});
+    }
+    size_t pick = 0;
+    if (sdft_error rc = sdft_grid_choose(entries.data(), entries.size(), name, path, &pick, msg, msg_len))
+        return rc;
+    *chosen = names[pick];
+    return SDFT_OK;
+}
+
+static sdft_error load(const char *path, const char *name, const sdft_vdb_options *o, sdft_grid **out, char *msg,
+                       size_t msg_len)
+{
+    openvdb::io::File file(path);
+    std::string chosen;
+    if (sdft_error rc = choose(file, path, name, &chosen, msg, msg_len))
+        return rc;
+    openvdb::FloatGrid::Ptr grid;
+    try {
+        grid = read_float_grid(file, chosen);
+        file.close();
+    } catch (const std::bad_alloc &) {
+        throw;
+    } catch (const std::exception &e) {
+        return fail(msg, msg_len, SDFT_EFORMAT, std::string("cannot read ") + path + ": " + e.what());
+    }
+    if (grid->activeVoxelCount() == 0)
+        return fail(msg, msg_len, SDFT_EEMPTY, "grid '" + chosen + "' in " + path + " is empty: no active voxels");
+    if (o->stream && (o->quant == SDFT_QUANT_NONE || o->quant == SDFT_QUANT_FP16))
+        return sdft_vdb::stream_to_nano(*grid, path, o->quant, o->progress, o->progress_user, out, msg, msg_len);
+    return sdft_vdb::to_nano(*grid, o->quant, out, msg, msg_len);
+}
+
+static sdft_error bounds(const char *path, const char *name, sdft_aabb *box, char *msg, size_t msg_len)
+{
+    openvdb::io::File file(path);
+    std::string chosen;
+    if (sdft_error rc = choose(file, path, name, &chosen, msg, msg_len))
+        return rc;
+    try {
+        // OpenVDB writes the active index box as file_bbox_min / file_bbox_max.
+        const openvdb::GridBase::Ptr grid = file.readGridMetadata(chosen);
         const openvdb::Vec3i lo = grid->metaValue<openvdb::Vec3i>("file_bbox_min"),
                              hi = grid->metaValue<openvdb::Vec3i>("file_bbox_max");
         const openvdb::BBoxd world = grid->transform().indexToWorld(
             openvdb::BBoxd(openvdb::Vec3d(lo[0], lo[1], lo[2]) - 0.5, openvdb::Vec3d(hi[0], hi[1], hi[2]) + 0.5));
-        *bounds = sdft_aabb{{float(world.min()[0]), float(world.min()[1]), float(world.min()[2])},
-                            {float(world.max()[0]), float(world.max()[1]), float(world.max()[2])}};
-        return SDFT_GRID_OK;
+        *box = sdft_aabb{{float(world.min()[0]), float(world.min()[1]), float(world.min()[2])},
+                         {float(world.max()[0]), float(world.max()[1]), float(world.max()[2])}};
+    } catch (const std::bad_alloc &) {
+        throw;
     } catch (const std::exception &e) {
-        return fail(msg, msg_len, SDFT_GRID_EFORMAT, std::string("cannot read ") + path + ": " + e.what());
+        return fail(msg, msg_len, SDFT_EFORMAT, std::string("cannot read ") + path + ": " + e.what());
     }
+    return SDFT_OK;
+}
+
+// The checked entry points are in vdb_open.c: in C, where an out-of-range
+// sdft_quant is a plain int, not undefined behaviour.
+extern "C" sdft_error sdft_vdb_open_checked(const char *path, const char *name, const sdft_vdb_options *o,
+                                            sdft_grid **out, char *msg, size_t msg_len)
+{
+    return sdft_vdb::guarded(path, msg, msg_len, [&] { return load(path, name, o, out, msg, msg_len); });
+}
+
+extern "C" sdft_error sdft_vdb_bounds_checked(const char *path, const char *name, sdft_aabb *box, char *msg,
+                                              size_t msg_len)
+{
+    return sdft_vdb::guarded(path, msg, msg_len, [&] { return bounds(path, name, box, msg, msg_len); });
 }

@@ -29,9 +29,11 @@
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -279,23 +281,29 @@ template <typename BuildT> struct Stream {
     }
 };
 
+// The grid's release function for the buffer it adopts.
+void release_buffer(void *buf) { std::free(buf); }
+
 template <typename BuildT>
-int stream(openvdb::FloatGrid &grid, const char *path, bool progress, sdft_grid **out, char *msg, unsigned msg_len)
+sdft_error stream(openvdb::FloatGrid &grid, const char *path, sdft_progress_fn progress, void *progress_user,
+                  sdft_grid **out, char *msg, size_t msg_len)
 {
     if (!grid.transform().baseMap()->isLinear())
-        return fail(msg, msg_len, SDFT_GRID_EFORMAT, "grid '" + grid.getName() + "' has a non-affine transform");
+        return fail(msg, msg_len, SDFT_EFORMAT, "grid '" + grid.getName() + "' has a non-affine transform");
     Stream<BuildT> s(grid);
     s.layout();
     const openvdb::CoordBBox active = grid.evalActiveVoxelBoundingBox();
     const uint64_t voxels = grid.tree().activeVoxelCount();
-    s.buf = static_cast<uint8_t *>(sdft_grid_table_alloc(s.size));
+    s.buf = static_cast<uint8_t *>(std::aligned_alloc(64, (s.size + 63) & ~uint64_t(63)));
     if (!s.buf)
-        return fail(msg, msg_len, SDFT_GRID_ENOMEM,
+        return fail(msg, msg_len, SDFT_ENOMEM,
                     "out of memory for a " + std::to_string(s.size >> 20) + " MiB grid '" + grid.getName() + "'");
     const Mapping mapping = find_mapping(path);
+    // The buffer is the grid's once adopted; until then, freed on every way out.
+    std::unique_ptr<uint8_t, void (*)(void *)> owned(s.buf, std::free);
     Progress shown;
-    shown.on = progress && isatty(2);
-    shown.what = "loading";
+    shown.fn = progress;
+    shown.user = progress_user;
     shown.total = s.leaves ? s.leaves : 1;
     // Lower nodes in batches of an eighth of the leaves, at most 32768
     // (64 MiB of values); after each, the file pages read so far and the
@@ -315,24 +323,25 @@ int stream(openvdb::FloatGrid &grid, const char *path, bool progress, sdft_grid 
         malloc_trim(0); // the deleted leaves' memory back to the system, not kept in malloc's free lists
 #endif
         l0 = l1;
+        if (shown.stop)
+            return fail(msg, msg_len, SDFT_ECANCELED, std::string("loading ") + path + " stopped by its progress callback");
     }
     for (uint64_t u = 0; u < s.uppers.size(); u++)
         s.write_upper(u);
     s.write_root(active);
     s.write_tree(voxels);
     s.write_grid(active);
-    shown.finish();
     grid.clear(); // the OpenVDB tree's nodes (~100 MB at 4096^3) go before the bounds are built
-    return sdft_grid_adopt(s.buf, s.size, out, msg, msg_len);
+    return sdft_grid_adopt_buffer(owned.release(), s.size, nullptr, release_buffer, out, msg, msg_len);
 }
 
 } // namespace
 
-int stream_to_nano(openvdb::FloatGrid &grid, const char *path, sdft_quant quant, bool progress, sdft_grid **out,
-                   char *msg, unsigned msg_len)
+sdft_error stream_to_nano(openvdb::FloatGrid &grid, const char *path, sdft_quant quant, sdft_progress_fn progress,
+                          void *progress_user, sdft_grid **out, char *msg, size_t msg_len)
 {
-    return quant == SDFT_QUANT_FP16 ? stream<nanovdb::Fp16>(grid, path, progress, out, msg, msg_len)
-                                    : stream<float>(grid, path, progress, out, msg, msg_len);
+    return quant == SDFT_QUANT_FP16 ? stream<nanovdb::Fp16>(grid, path, progress, progress_user, out, msg, msg_len)
+                                    : stream<float>(grid, path, progress, progress_user, out, msg, msg_len);
 }
 
 } // namespace sdft_vdb

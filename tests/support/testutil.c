@@ -1,8 +1,10 @@
 #define _POSIX_C_SOURCE 200809L /* popen, pclose */
 #include "testutil.h"
 
+#include <dirent.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -45,6 +47,56 @@ int tu_file_exists(const char *path)
 {
     struct stat st;
     return stat(path, &st) == 0;
+}
+
+char *tu_slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    const long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *s = n >= 0 ? malloc((size_t)n + 1) : NULL;
+    if (!s) {
+        fclose(f);
+        return NULL;
+    }
+    const size_t got = fread(s, 1, (size_t)n, f);
+    s[got] = '\0';
+    fclose(f);
+    return s;
+}
+
+int tu_readme_shows(const char *path)
+{
+    char full[4096];
+    snprintf(full, sizeof full, "%s/%s", SDFT_SOURCE_DIR, path);
+    char *readme = tu_slurp(SDFT_SOURCE_DIR "/README.md"), *text = tu_slurp(full);
+    const int shown = readme && text && strstr(readme, text) != NULL;
+    free(readme);
+    free(text);
+    return shown;
+}
+
+int tu_temporaries(const char *dir, const char *name)
+{
+    char prefix[512];
+    snprintf(prefix, sizeof prefix, ".%s.tmp-", name);
+    DIR *d = opendir(dir);
+    if (!d)
+        return 0;
+    int n = 0;
+    for (struct dirent *e; (e = readdir(d));)
+        n += strncmp(e->d_name, prefix, strlen(prefix)) == 0;
+    closedir(d);
+    return n;
+}
+
+int tu_file_mode(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 ? (int)(st.st_mode & 07777) : -1;
 }
 
 float tu_uniform(tu_rng *r, float lo, float hi)

@@ -16,6 +16,22 @@ const char *tu_tmp(char *buf, size_t len, const char *name);
 
 int tu_file_exists(const char *path);
 
+/* The whole of a file, NUL-terminated, for the caller to free; NULL if it
+ * cannot be read. */
+char *tu_slurp(const char *path);
+
+/* 1 when README.md holds the whole of the repository's file `path` (a
+ * path from the repository's root), so that what it shows cannot rot. */
+int tu_readme_shows(const char *path);
+
+/* How many temporary files of an atomic write to `name` (".NAME.tmp-*",
+ * src/util/atomic_file.h) are in folder `dir`. */
+int tu_temporaries(const char *dir, const char *name);
+#define tu_assert_no_temporaries(dir, name) assert_int_equal(tu_temporaries(dir, name), 0)
+
+/* The permission bits of path (e.g. 0644); -1 if it does not exist. */
+int tu_file_mode(const char *path);
+
 /* xorshift64*: deterministic, so failures reproduce. */
 typedef struct tu_rng {
     uint64_t state;

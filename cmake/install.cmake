@@ -1,0 +1,49 @@
+# Installing sdftrace: the public headers, the libraries (static and shared,
+# the shared ones with a versioned soname), a relocatable CMake package with
+# imported targets and components, and pkg-config files. The tools install
+# themselves (CMakeLists.txt).
+#
+#   find_package(sdftrace CONFIG REQUIRED)                          sdftrace::sdftrace, sdftrace::sdftrace_static
+#   find_package(sdftrace CONFIG REQUIRED COMPONENTS vdb)           also sdftrace::vdb (shared)
+#   find_package(sdftrace CONFIG REQUIRED COMPONENTS vdb_static)    also sdftrace::vdb_static (needs OpenVDB, C++)
+#   pkg-config --cflags --libs sdftrace  (sdftrace_vdb; --static for the static libraries)
+
+set(SDFT_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/sdftrace)
+
+install(DIRECTORY include/sdftrace DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
+install(FILES ${SDFT_GENERATED_INCLUDE}/sdftrace/config.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/sdftrace)
+
+set_target_properties(sdftrace PROPERTIES EXPORT_NAME sdftrace)
+set_target_properties(sdftrace_static PROPERTIES EXPORT_NAME sdftrace_static)
+install(TARGETS sdftrace sdftrace_static EXPORT sdftraceTargets
+        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+install(EXPORT sdftraceTargets NAMESPACE sdftrace:: DESTINATION ${SDFT_CMAKE_DIR})
+if(TARGET sdftrace_vdb)
+  set_target_properties(sdftrace_vdb PROPERTIES EXPORT_NAME vdb)
+  set_target_properties(sdftrace_vdb_static PROPERTIES EXPORT_NAME vdb_static)
+  # Two components: the shared library needs nothing of OpenVDB's at build
+  # time (its headers are C), the static one brings OpenVDB to the link.
+  install(TARGETS sdftrace_vdb EXPORT sdftrace_vdbTargets LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(TARGETS sdftrace_vdb_static EXPORT sdftrace_vdb_staticTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(EXPORT sdftrace_vdbTargets NAMESPACE sdftrace:: DESTINATION ${SDFT_CMAKE_DIR})
+  install(EXPORT sdftrace_vdb_staticTargets NAMESPACE sdftrace:: DESTINATION ${SDFT_CMAKE_DIR})
+endif()
+
+configure_package_config_file(cmake/sdftraceConfig.cmake.in ${CMAKE_CURRENT_BINARY_DIR}/sdftraceConfig.cmake
+                              INSTALL_DESTINATION ${SDFT_CMAKE_DIR})
+write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/sdftraceConfigVersion.cmake
+                                 COMPATIBILITY SameMinorVersion)
+install(FILES ${CMAKE_CURRENT_BINARY_DIR}/sdftraceConfig.cmake ${CMAKE_CURRENT_BINARY_DIR}/sdftraceConfigVersion.cmake
+        DESTINATION ${SDFT_CMAKE_DIR})
+
+# pkg-config: prefix found from the .pc file's own place, so the install
+# tree can move.
+file(RELATIVE_PATH SDFT_PC_TO_PREFIX /${CMAKE_INSTALL_LIBDIR}/pkgconfig /)
+string(REGEX REPLACE "/$" "" SDFT_PC_TO_PREFIX "${SDFT_PC_TO_PREFIX}")
+string(JOIN " " SDFT_PC_OPENMP ${OpenMP_C_FLAGS})
+configure_file(cmake/sdftrace.pc.in ${CMAKE_CURRENT_BINARY_DIR}/sdftrace.pc @ONLY)
+install(FILES ${CMAKE_CURRENT_BINARY_DIR}/sdftrace.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+if(TARGET sdftrace_vdb)
+  configure_file(cmake/sdftrace_vdb.pc.in ${CMAKE_CURRENT_BINARY_DIR}/sdftrace_vdb.pc @ONLY)
+  install(FILES ${CMAKE_CURRENT_BINARY_DIR}/sdftrace_vdb.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+endif()

@@ -1,0 +1,198 @@
+// mesh2sdf — exact nearest-triangle queries (see nearest_triangle.h).
+//
+// Why the answer is exact: the search visits every node unless a lower
+// bound on the distance from q to all of the node's triangles is at least
+// the best squared distance found so far, which is the distance to an
+// actual triangle; so no triangle nearer than the answer is ever skipped,
+// and the answer, a minimum of triangleDistance2 over triangles, is the
+// minimum over all of them.
+//
+// The two bounds of a node, both true lower bounds because each triangle is
+// the convex hull of its corners and both shapes are convex and hold every
+// corner: the distance to the node's box, and the distance to its disc, the
+// cylinder of points within `thickness` of the mean plane through `centre`
+// and within `radius` of `centre` across it. For q at height a above that
+// plane and lateral distance l from the centre, that distance is
+// sqrt(max(|a| - thickness, 0)^2 + max(l - radius, 0)^2). Far from a nearly
+// flat patch the box is a poor bound: a sphere around q that just reaches
+// the surface passes within a box's thickness of the surface over a wide
+// cap, and every box it touches must be opened; the disc of a flat patch is
+// thin, and only the patches under the sphere's contact are opened. Both
+// are computed in double precision and shrunk by a relative 1e-12, far
+// above their rounding error.
+//
+// A search that starts from a triangle whose distance U is near the answer
+// (a neighbouring voxel's nearest, at most a voxel step worse) prunes from
+// the first node on; one that starts with none descends nearer child first.
+#include "nearest_triangle.h"
+
+#include "median_split.h"
+#include "triangle_distance.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mesh2sdf
+{
+
+namespace
+{
+
+constexpr uint32_t kLeafSize = 4;
+constexpr double kShrink = 1 - 1e-12;
+
+} // namespace
+
+NearestTriangle::NearestTriangle(const TriangleMesh &mesh)
+{
+    const uint32_t n = uint32_t(mesh.triangles.size());
+    std::vector<std::array<double, 3>> centroids(n);
+    std::vector<uint32_t> order(n);
+    for (uint32_t t = 0; t < n; ++t) {
+        order[t] = t;
+        for (int k = 0; k < 3; ++k)
+            centroids[t][k] = (double(mesh.points[mesh.triangles[t][0]][k]) + mesh.points[mesh.triangles[t][1]][k] +
+                               mesh.points[mesh.triangles[t][2]][k]) /
+                              3.0;
+    }
+    mNodes.reserve(2 * (n / kLeafSize + 1));
+    if (n > 0)
+        build(0, n, order, centroids, mesh);
+    mTriangles.resize(size_t(n) * 9);
+    for (uint32_t i = 0; i < n; ++i)
+        for (int v = 0; v < 3; ++v)
+            for (int k = 0; k < 3; ++k)
+                mTriangles[size_t(i) * 9 + v * 3 + k] = mesh.points[mesh.triangles[order[i]][v]][k];
+}
+
+// Median splits (median_split.h), depth first, so a node's left child
+// follows it. Returns the node's index.
+uint32_t NearestTriangle::build(uint32_t first, uint32_t count, std::vector<uint32_t> &order,
+                                const std::vector<std::array<double, 3>> &centroids, const TriangleMesh &mesh)
+{
+    const uint32_t index = uint32_t(mNodes.size());
+    mNodes.push_back(Node{});
+    Node node{};
+    node.first = first;
+    node.count = count;
+    auto corner = [&](uint32_t i, int v) { return mesh.points[mesh.triangles[order[i]][v]]; };
+    // Box; area-weighted centre and mean normal, each triangle's normal
+    // turned to agree with the sum so far (orientation does not matter here).
+    double area = 0, sum[3] = {0, 0, 0}, centre[3] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k) {
+        node.lo[k] = INFINITY;
+        node.hi[k] = -INFINITY;
+    }
+    for (uint32_t i = first; i < first + count; ++i) {
+        const auto a = corner(i, 0), b = corner(i, 1), c = corner(i, 2);
+        double e1[3], e2[3];
+        for (int k = 0; k < 3; ++k) {
+            e1[k] = double(b[k]) - a[k];
+            e2[k] = double(c[k]) - a[k];
+            node.lo[k] = std::min({node.lo[k], a[k], b[k], c[k]});
+            node.hi[k] = std::max({node.hi[k], a[k], b[k], c[k]});
+        }
+        const double cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                                 e1[0] * e2[1] - e1[1] * e2[0]};
+        const double twice = std::sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
+        const double turn = cross[0] * sum[0] + cross[1] * sum[1] + cross[2] * sum[2] < 0 ? -1.0 : 1.0;
+        for (int k = 0; k < 3; ++k) {
+            sum[k] += turn * cross[k];
+            centre[k] += twice * centroids[order[i]][k];
+        }
+        area += twice;
+    }
+    const double length = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+    for (int k = 0; k < 3; ++k) {
+        node.normal[k] = length > 0 ? sum[k] / length : (k == 2 ? 1.0 : 0.0);
+        node.centre[k] = area > 0 ? centre[k] / area : 0.5 * (double(node.lo[k]) + node.hi[k]);
+    }
+    for (uint32_t i = first; i < first + count; ++i)
+        for (int v = 0; v < 3; ++v) {
+            const auto p = corner(i, v);
+            double d[3], a = 0, d2 = 0;
+            for (int k = 0; k < 3; ++k) {
+                d[k] = double(p[k]) - node.centre[k];
+                a += d[k] * node.normal[k];
+                d2 += d[k] * d[k];
+            }
+            node.thickness = std::max(node.thickness, std::abs(a));
+            node.radius = std::max(node.radius, std::sqrt(std::max(d2 - a * a, 0.0)));
+        }
+    if (count > kLeafSize) {
+        const uint32_t half = splitAtMedian(order, first, count, centroids);
+        build(first, half, order, centroids, mesh);
+        node.right = build(first + half, count - half, order, centroids, mesh);
+        node.count = 0;
+    }
+    mNodes[index] = node;
+    return index;
+}
+
+// The larger of the box's and the disc's squared distance to q (shrunk for
+// rounding); the disc is not computed when the box already reaches `best`.
+double NearestTriangle::lowerBound2(const Node &node, const double *q, double best) const
+{
+    double box = 0;
+    for (int k = 0; k < 3; ++k) {
+        const double d = std::max({double(node.lo[k]) - q[k], 0.0, q[k] - double(node.hi[k])});
+        box += d * d;
+    }
+    box *= kShrink;
+    if (box >= best)
+        return box;
+    double d[3], a = 0, d2 = 0;
+    for (int k = 0; k < 3; ++k) {
+        d[k] = q[k] - node.centre[k];
+        a += d[k] * node.normal[k];
+        d2 += d[k] * d[k];
+    }
+    const double across = std::max(std::abs(a) - node.thickness, 0.0);
+    const double along = std::max(std::sqrt(std::max(d2 - a * a, 0.0)) - node.radius, 0.0);
+    return std::max(box, (across * across + along * along) * kShrink);
+}
+
+double NearestTriangle::distance2(const double *q, uint32_t &nearest) const
+{
+    double best = INFINITY;
+    if (nearest != kNone)
+        best = triangleDistance2(&mTriangles[size_t(nearest) * 9], q);
+    if (mNodes.empty())
+        return best;
+    struct Entry {
+        uint32_t node;
+        double bound;
+    };
+    Entry stack[64];
+    int top = 0;
+    stack[top++] = {0, lowerBound2(mNodes[0], q, best)};
+    while (top > 0) {
+        const Entry e = stack[--top];
+        if (e.bound >= best)
+            continue;
+        const Node &node = mNodes[e.node];
+        if (node.count > 0) {
+            for (uint32_t i = node.first; i < node.first + node.count; ++i) {
+                const double d2 = triangleDistance2(&mTriangles[size_t(i) * 9], q);
+                if (d2 < best) {
+                    best = d2;
+                    nearest = i;
+                }
+            }
+            continue;
+        }
+        // The nearer child is searched first: pushed last.
+        const uint32_t left = e.node + 1, right = node.right;
+        const double bl = lowerBound2(mNodes[left], q, best), br = lowerBound2(mNodes[right], q, best);
+        if (bl < br) {
+            stack[top++] = {right, br};
+            stack[top++] = {left, bl};
+        } else {
+            stack[top++] = {left, bl};
+            stack[top++] = {right, br};
+        }
+    }
+    return best;
+}
+
+} // namespace mesh2sdf

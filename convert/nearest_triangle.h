@@ -1,0 +1,50 @@
+// mesh2sdf — the exact distance from a point to a triangle mesh, for dense
+// grids: a bounding volume hierarchy whose nodes bound their triangles twice,
+// by a box and by a disc around their mean plane, and a search that starts
+// from a triangle the caller already knows is near (a neighbouring voxel's
+// nearest). No OpenVDB here.
+#ifndef MESH2SDF_NEAREST_TRIANGLE_H
+#define MESH2SDF_NEAREST_TRIANGLE_H
+
+#include "mesh.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace mesh2sdf
+{
+
+class NearestTriangle
+{
+  public:
+    /// Copies the mesh's triangles (reordered); the mesh may be freed after.
+    explicit NearestTriangle(const TriangleMesh &mesh);
+
+    static constexpr uint32_t kNone = ~uint32_t(0);
+
+    /// Squared distance in world units from q to the mesh: the minimum over
+    /// every triangle of triangleDistance2 (exact). `nearest`: on entry a
+    /// triangle to start from, whose distance bounds the search (or kNone);
+    /// on return the nearest triangle, in this object's own numbering.
+    /// Thread-safe (read-only).
+    double distance2(const double *q, uint32_t &nearest) const;
+
+  private:
+    struct Node {
+        float lo[3], hi[3];           // box of the triangles
+        double centre[3], normal[3];  // disc: area-weighted centre, unit mean normal
+        double thickness, radius;     // vertices lie within these of centre along / across normal
+        uint32_t first, count, right; // leaf: triangles [first, first + count); inner: count 0,
+                                      // children at this node + 1 and right
+    };
+    uint32_t build(uint32_t first, uint32_t count, std::vector<uint32_t> &order,
+                   const std::vector<std::array<double, 3>> &centroids, const TriangleMesh &mesh);
+    double lowerBound2(const Node &node, const double *q, double best) const;
+
+    std::vector<double> mTriangles; // 9 doubles per triangle, in hierarchy order
+    std::vector<Node> mNodes;
+};
+
+} // namespace mesh2sdf
+
+#endif

@@ -1,0 +1,123 @@
+/* sdftrace util — write beside, flush, rename: POSIX rename() within one
+ * folder replaces the target atomically, so readers see the old file or the
+ * whole new one, and after fsync a crash cannot leave a renamed but empty
+ * file. */
+#define _POSIX_C_SOURCE 200809L
+#include "atomic_file.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "../core/fail.h"
+
+unsigned sdft_new_file_mode(void)
+{
+    /* Linux shows the umask in /proc/self/status: read it there, since
+     * umask() can only be read by setting it, a race with other threads. */
+    unsigned mask = 0777u + 1u;
+    FILE *f = fopen("/proc/self/status", "r");
+    if (f) {
+        char line[256];
+        while (fgets(line, sizeof line, f))
+            if (sscanf(line, "Umask: %o", &mask) == 1)
+                break;
+        fclose(f);
+    }
+    if (mask > 0777u) {
+        const mode_t old = umask(022);
+        umask(old);
+        mask = (unsigned)old;
+    }
+    return 0666u & ~mask;
+}
+
+sdft_error sdft_atomic_begin(sdft_atomic_file *af, const char *path, char *msg, size_t msg_len)
+{
+    af->fd = -1;
+    af->path[0] = af->tmp_path[0] = '\0';
+    if (!path || !*path)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "empty output path");
+    if (strlen(path) >= sizeof af->path)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "output path too long: %.64s...", path);
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+        return sdft_fail(msg, msg_len, SDFT_EIO, "cannot write %s: it is a folder", path);
+    strcpy(af->path, path);
+    /* "<folder>/.<name>.tmp-XXXXXX": same folder, so the rename stays atomic. */
+    const char *slash = strrchr(path, '/');
+    const int dir_len = slash ? (int)(slash - path + 1) : 0;
+    snprintf(af->tmp_path, sizeof af->tmp_path, "%.*s.%s.tmp-XXXXXX", dir_len, path, path + dir_len);
+    af->fd = mkstemp(af->tmp_path);
+    if (af->fd < 0) {
+        const int err = errno;
+        af->tmp_path[0] = '\0';
+        return sdft_fail(msg, msg_len, SDFT_EIO, "cannot write %s: %s", path, strerror(err));
+    }
+    /* mkstemp makes 0600; give the file the mode a plain fopen would. */
+    if (fchmod(af->fd, (mode_t)sdft_new_file_mode()) != 0) {
+        const int err = errno;
+        sdft_atomic_abort(af);
+        return sdft_fail(msg, msg_len, SDFT_EIO, "cannot write %s: %s", path, strerror(err));
+    }
+    return SDFT_OK;
+}
+
+/* Flushes the folder holding `path`, so that the rename itself survives a
+ * crash. Best effort: some file systems refuse fsync on a folder. */
+static void sync_folder(const char *path)
+{
+    char dir[4096];
+    const char *slash = strrchr(path, '/');
+    snprintf(dir, sizeof dir, "%.*s", slash ? (int)(slash - path + 1) : 1, slash ? path : ".");
+    const int fd = open(dir, O_RDONLY | O_DIRECTORY);
+    if (fd >= 0) {
+        (void)fsync(fd);
+        close(fd);
+    }
+}
+
+sdft_error sdft_atomic_commit(sdft_atomic_file *af, char *msg, size_t msg_len)
+{
+    int err = 0;
+    if (af->fd >= 0) {
+        if (fsync(af->fd) != 0 && errno != EINVAL && errno != EROFS)
+            err = errno;
+        if (close(af->fd) != 0 && !err)
+            err = errno;
+        af->fd = -1;
+    }
+    if (!err && rename(af->tmp_path, af->path) != 0)
+        err = errno;
+    if (err) {
+        unlink(af->tmp_path);
+        af->tmp_path[0] = '\0';
+        return sdft_fail(msg, msg_len, SDFT_EIO, "cannot write %s: %s", af->path, strerror(err));
+    }
+    af->tmp_path[0] = '\0';
+    sync_folder(af->path);
+    return SDFT_OK;
+}
+
+void sdft_atomic_abort(sdft_atomic_file *af)
+{
+    if (af->fd >= 0)
+        close(af->fd);
+    af->fd = -1;
+    if (af->tmp_path[0])
+        unlink(af->tmp_path);
+    af->tmp_path[0] = '\0';
+}
+
+sdft_error sdft_check_writable(const char *path, char *msg, size_t msg_len)
+{
+    sdft_atomic_file af;
+    const sdft_error rc = sdft_atomic_begin(&af, path, msg, msg_len);
+    if (rc == SDFT_OK)
+        sdft_atomic_abort(&af);
+    return rc;
+}

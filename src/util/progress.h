@@ -1,0 +1,32 @@
+/* sdftrace util — a progress bar on stderr, for the tools: `sdftrace bake`
+ * draws the bake's progress callback with it, mesh2sdf its stages. One
+ * line, redrawn in place, each whole percent once; drawn only when asked
+ * and stderr is a terminal, so logs and pipes stay clean. Internal header
+ * (C and C++). */
+#ifndef SDFTRACE_UTIL_PROGRESS_H
+#define SDFTRACE_UTIL_PROGRESS_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct sdft_progress_bar {
+    int draw;  /* asked for, and stderr is a terminal */
+    int shown; /* the percent on screen, -1 for none; updated atomically */
+} sdft_progress_bar;
+
+/* A bar that draws when `enabled` and stderr is a terminal. */
+void sdft_progress_bar_init(sdft_progress_bar *bar, int enabled);
+
+/* Shows `percent` (clamped to 0..100) with a label of up to 24 characters,
+ * if it is more than the bar shows. Safe from any thread: each percent is
+ * drawn once, by whichever thread gets there first. */
+void sdft_progress_bar_show(sdft_progress_bar *bar, const char *label, int percent);
+
+/* Clears the bar's line, if anything was drawn. */
+void sdft_progress_bar_clear(sdft_progress_bar *bar);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
