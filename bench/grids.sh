@@ -1,21 +1,29 @@
 #!/bin/sh
-# sdftrace's grid benchmark (issue 3):
-#  1. bake temple and figure at RES^3 (default 1024) with a 3-voxel narrow
-#     band: wall time and peak memory from /usr/bin/time -v;
-#  2. trace each .vdb at WIDTHxHEIGHT from its scene's camera three ways:
-#     OpenVDB's vdb_render (its own timer, -v, -shader position), then in
-#     one process NanoVDB's own HDDA level-set caster and sdftrace's four
-#     variants (bench/hdda_caster: full renders and depth alone, constant
-#     eps and screen-space criterion, with the far bound, the tree bound
-#     alone and no bound), each depth map compared with the caster's and
-#     vdb_render's.
+# sdftrace's grid benchmark (issues 3 and 12), side by side in one run:
+#  1. the grids: temple and figure baked at RES^3 (sdftrace bake, time and
+#     peak memory), spot and fandisk made by OpenVDB's `vdb_tool -mesh2ls
+#     d=RES w=3` (level sets nobody here made), the bunny by mesh2sdf;
+#  2. each traced at WIDTHxHEIGHT, 2 threads, primary rays only, from its
+#     scene's camera (temple, figure) or the front framing (the others):
+#     OpenVDB's vdb_render (its own timer, best of REPEAT), then in one
+#     process NanoVDB's HDDA caster with and without sub-voxel refinement
+#     and sdftrace's rows (bench/hdda_caster); the issue-12 targets are
+#     checked row by row: sdftrace's default render (--no-shadows) at least
+#     5x faster than vdb_render and 1.5x faster than the plain caster, depth
+#     within 1.5 voxels of vdb_render's on 99% of the pixels both hit;
+#  3. the cost of one evaluation (bench/sample_bench) on spot;
+#  4. with BIG set, a big grid end to end: vdb_render and sdftrace render
+#     --grid (float and --fp16), wall time and peak memory, against the
+#     targets (1.5x vdb_render's time; 1.25x the NanoVDB grid's bytes).
 #
 # usage: bench/grids.sh [RES [WIDTH HEIGHT]]        (default 1024 1280 720)
-# env:   BUILD  the build folder holding sdftrace and bench/hdda_caster
-#               (default build); OUT  where the grids go (default a temp dir);
-#        KEEP=1 reuse OUT's SCENE.vdb from an earlier run instead of baking;
-#        REPEAT frames per tracer, the best counts (default 3);
-#        BOUNDS=1 only the far-bound rows (2: and the tree bound's; default 3, all)
+# env:   BUILD   the build folder (default build); OUT  where the grids go
+#                (default /tmp/sdftrace-grids); KEEP=1 reuse OUT's grids;
+#        REPEAT  frames per tracer, the best counts (default 3);
+#        GRIDS   which grids (default "temple figure spot fandisk bunny");
+#        ROWS=variants  every variant row instead of the targets' rows;
+#        BIG     a big .vdb for part 4, or "make" to have mesh2sdf --res 4096
+#                write OUT/spot4096.vdb (minutes); unset: no part 4.
 set -eu
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -25,46 +33,112 @@ width=${2:-1280}
 height=${3:-720}
 bin=$build/sdftrace
 caster=$build/bench/hdda_caster
-for tool in "$bin" "$caster" /usr/bin/time vdb_render; do
+sampler=$build/bench/sample_bench
+meshes=$root/tests/data/meshes
+for tool in "$bin" "$caster" "$sampler" "$build/mesh2sdf" /usr/bin/time vdb_render vdb_tool; do
     command -v "$tool" >/dev/null 2>&1 || { echo "grids.sh: missing $tool" >&2; exit 1; }
 done
-out=${OUT:-$(mktemp -d)}
+out=${OUT:-/tmp/sdftrace-grids}
 mkdir -p "$out"
+repeat=${REPEAT:-3}
+grids=${GRIDS:-temple figure spot fandisk bunny}
+export REPEAT="$repeat" OMP_NUM_THREADS=2
 
-echo "== bake at ${res}^3, narrow band 3 voxels ($(nproc) cores)"
-printf '%-8s %10s %12s  %s\n' scene wall_s peak_MiB summary
-for scene in temple figure; do
-    if [ "${KEEP:-0}" = 1 ] && [ -s "$out/$scene.vdb" ]; then
-        printf '%-8s %10s %12s  %s\n' "$scene" - - "kept $out/$scene.vdb"
+# Wall seconds and peak MiB of the last /usr/bin/time -v log.
+wall() { awk -F': ' '/Elapsed \(wall clock\)/ { n = split($2, a, ":"); s = 0; for (i = 1; i <= n; i++) s = s * 60 + a[i]; print s }' "$1"; }
+peak() { awk -F': ' '/Maximum resident set size/ { printf "%.0f", $2 / 1024 }' "$1"; }
+
+echo "== grids at ${res}^3 ($(nproc) cores, $(date -u +%Y-%m-%d))"
+printf '%-8s %-28s %8s %9s\n' grid made-by wall_s peak_MiB
+for g in $grids; do
+    file=$out/$g.vdb
+    if [ "${KEEP:-0}" = 1 ] && [ -s "$file" ]; then
+        printf '%-8s %-28s %8s %9s\n' "$g" "kept $file" - -
         continue
     fi
-    /usr/bin/time -v "$bin" bake --scene "$scene" --res "$res" -o "$out/$scene.vdb" >"$out/$scene.bake" 2>"$out/$scene.time"
-    wall=$(awk -F': ' '/Elapsed \(wall clock\)/ { n = split($2, a, ":"); s = 0; for (i = 1; i <= n; i++) s = s * 60 + a[i]; print s }' "$out/$scene.time")
-    rss=$(awk -F': ' '/Maximum resident set size/ { printf "%.0f", $2 / 1024 }' "$out/$scene.time")
-    printf '%-8s %10s %12s  %s\n' "$scene" "$wall" "$rss" "$(cat "$out/$scene.bake")"
+    case $g in
+    temple | figure) how="sdftrace bake"; set -- "$bin" bake --scene "$g" --res "$res" -o "$file" ;;
+    spot | fandisk) how="vdb_tool -mesh2ls w=3"; set -- vdb_tool -read "$meshes/$g.obj" -mesh2ls d="$res" w=3 -write "$file" ;;
+    bunny) how="mesh2sdf"; set -- "$build/mesh2sdf" "$meshes/stanford-bunny.obj" -o "$file" --res "$res" --quiet ;;
+    *) echo "grids.sh: unknown grid $g" >&2; exit 1 ;;
+    esac
+    /usr/bin/time -v "$@" >"$out/$g.make.log" 2>"$out/$g.time"
+    printf '%-8s %-28s %8s %9s\n' "$g" "$how" "$(wall "$out/$g.time")" "$(peak "$out/$g.time")"
 done
 
-for scene in temple figure; do
+: >"$out/summary"
+for g in $grids; do
+    case $g in temple | figure) view=$g ;; *) view=front ;; esac
     echo
-    echo "== $scene.vdb traced at ${width}x${height} from the scene's camera"
-    # OpenVDB's vdb_render first (its own timer, -v; the best of REPEAT
-    # runs, as for the others; positions to compare depth with), then the
-    # caster and sdftrace in one process.
-    view=$("$caster" --view "$scene" "$width" "$height")
-    : >"$out/$scene.vdb_render.log"
+    echo "== $g.vdb traced at ${width}x${height}, 2 threads, primary rays, view: $view"
+    opts=$("$caster" --view "$out/$g.vdb" "$view" "$width" "$height")
+    : >"$out/$g.vdb_render.log"
     i=0
-    while [ "$i" -lt "${REPEAT:-3}" ]; do
-        # shellcheck disable=SC2086 # $view is a list of options
-        vdb_render "$out/$scene.vdb" "$out/${scene}_vdb_render.exr" $view -shader position -v >>"$out/$scene.vdb_render.log" 2>&1
+    while [ "$i" -lt "$repeat" ]; do
+        # shellcheck disable=SC2086 # $opts is a list of options
+        vdb_render "$out/$g.vdb" "$out/${g}_vdb_render.exr" $opts -shader position -cpus 2 -v \
+            >>"$out/$g.vdb_render.log" 2>&1
         i=$((i + 1))
     done
     # vdb_render -v prints "ray-tracing NAME..." then "...completed in S sec".
     vr_ms=$(awk '/ray-tracing/ { t = 1; next } t && /completed in/ { ms = $(NF - 1) * 1000; if (best == "" || ms < best) best = ms; t = 0 }
-                 END { if (best != "") printf "%.1f", best }' "$out/$scene.vdb_render.log")
-    "$caster" "$out/$scene.vdb" "$scene" "$width" "$height" "$out/${scene}_hdda.pfm" "$out/${scene}_vdb_render.exr" |
-        tee "$out/$scene.trace.txt"
-    hdda_ms=$(awk '$1 == "nanovdb-hdda" { print $2 }' "$out/$scene.trace.txt")
-    printf 'vdb_render: %s ms/frame, %s x the caster\n' "${vr_ms:-?}" \
-        "$(awk -v a="${vr_ms:-0}" -v b="$hdda_ms" 'BEGIN { if (a > 0) printf "%.2f", a / b; else print "?" }')"
+                 END { if (best != "") printf "%.1f", best }' "$out/$g.vdb_render.log")
+    "$caster" "$out/$g.vdb" "$view" "$width" "$height" "$out/${g}_hdda.pfm" "$out/${g}_vdb_render.exr" |
+        tee "$out/$g.trace.txt"
+    echo "openvdb-vdb_render: ${vr_ms} ms/frame (its own timer, best of $repeat)"
+    awk -v g="$g" -v vr="$vr_ms" '
+        $1 == "nanovdb-hdda" { h = $2 } $1 == "nanovdb-hdda-refined" { hr = $2 }
+        $1 == "sdftrace-render" { s = $2; agree = $(NF - 3); ev = $NF }
+        $1 == "sdftrace-render-no-exact-root" { evn = $NF }
+        $1 == "sdftrace-render-papers" { evp = $NF }
+        END { printf "%s %s %s %s %s %s %s %s %s\n", g, vr, h, hr, s, agree, ev, evn, evp }' \
+        "$out/$g.trace.txt" >>"$out/summary"
 done
-echo "(vdb_render's logs, grids and depth maps in $out)"
+
+echo
+echo "== the targets (issue 12, item 1): sdftrace render --no-shadows against vdb_render and the HDDA caster"
+echo
+echo "| grid | vdb_render ms | HDDA ms | HDDA + refinement ms | sdftrace ms | x vdb_render (>= 5) | x HDDA (>= 1.5) | depth within 1.5 voxels of vdb_render (>= 0.99) | evals/px: default, no exact root, papers | met |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
+awk '{
+    xv = $2 / $5; xh = $3 / $5
+    met = (xv >= 5 ? "" : "x vdb_render ") (xh >= 1.5 ? "" : "x HDDA ") ($6 >= 0.99 ? "" : "depth ")
+    printf "| %s | %.1f | %.1f | %.1f | %.1f | %.2f | %.2f | %.4f | %.2f, %.2f, %.2f | %s |\n", $1, $2, $3, $4, $5, xv, xh, $6,
+           $7, $8, $9, met == "" ? "all" : "missed: " met
+}' "$out/summary"
+
+echo
+echo "== the cost of one trilinear evaluation (issue 12, item 2), spot at ${res}^3, 1 thread"
+if [ -s "$out/spot.vdb" ]; then
+    OMP_NUM_THREADS=1 "$sampler" "$out/spot.vdb" 1000000
+else
+    echo "(no spot.vdb in GRIDS)"
+fi
+
+[ -n "${BIG:-}" ] || exit 0
+echo
+big=$BIG
+if [ "$big" = make ]; then
+    big=$out/spot4096.vdb
+    if [ "${KEEP:-0}" != 1 ] || [ ! -s "$big" ]; then
+        /usr/bin/time -v "$build/mesh2sdf" "$meshes/spot.obj" -o "$big" --res 4096 --quiet 2>"$out/big.make.time"
+        echo "mesh2sdf --res 4096: $(wall "$out/big.make.time") s, $(peak "$out/big.make.time") MiB -> $big"
+    fi
+fi
+echo "== a big grid end to end (issue 12, item 5): $big ($(du -m "$big" | cut -f1) MiB), 2 threads"
+opts=$("$caster" --view "$big" front "$width" "$height")
+echo "| renderer | wall s | peak MiB | NanoVDB MiB | x vdb_render's time (<= 1.5) | peak / NanoVDB (<= 1.25) |"
+echo "|---|---|---|---|---|---|"
+# shellcheck disable=SC2086
+/usr/bin/time -v vdb_render "$big" "$out/big_vdb_render.exr" $opts -cpus 2 >/dev/null 2>"$out/big.vdb_render.time"
+vw=$(wall "$out/big.vdb_render.time")
+printf '| vdb_render | %s | %s | - | - | - |\n' "$vw" "$(peak "$out/big.vdb_render.time")"
+for q in "" --fp16; do
+    /usr/bin/time -v "$bin" render --grid "$big" -o "$out/big.exr" --threads 2 --json --quiet $q \
+        >"$out/big$q.json" 2>"$out/big$q.time"
+    bytes=$(sed -n 's/.*"grid_bytes": \([0-9]*\).*/\1/p' "$out/big$q.json")
+    w=$(wall "$out/big$q.time")
+    p=$(peak "$out/big$q.time")
+    awk -v w="$w" -v vw="$vw" -v p="$p" -v b="$bytes" -v q="$q" 'BEGIN {
+        printf "| sdftrace render %s | %s | %s | %.0f | %.2f | %.2f |\n", q, w, p, b / 1048576, w / vw, p / (b / 1048576) }'
+done

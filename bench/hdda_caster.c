@@ -61,9 +61,61 @@ static pnanovdb_vec3_t apply(const float m[9], sdft_vec3 v, const float *t)
     return r;
 }
 
-/* Depth (world t along the unit ray) of every pixel, INFINITY on a miss.
- * The index-space ray is the world ray mapped by the affine transform. */
-static double cast(const caster *c, const sdft_camera *cam, int w, int h, float *depth)
+/* The trilinear value at index point x (voxel centres at integers), read
+ * through the accessor: the interpolant a refined hit lies on. */
+static float trilinear(const caster *c, pnanovdb_readaccessor_t *acc, pnanovdb_vec3_t x)
+{
+    const pnanovdb_coord_t i0 = {(int32_t)floorf(x.x), (int32_t)floorf(x.y), (int32_t)floorf(x.z)};
+    const float tx = x.x - (float)i0.x, ty = x.y - (float)i0.y, tz = x.z - (float)i0.z;
+    float v[8];
+    for (int k = 0; k < 8; k++) {
+        pnanovdb_coord_t ijk = {i0.x + (k & 1), i0.y + (k >> 1 & 1), i0.z + (k >> 2 & 1)};
+        v[k] = pnanovdb_read_float(
+            c->buf, pnanovdb_readaccessor_get_value_address(PNANOVDB_GRID_TYPE_FLOAT, c->buf, acc, &ijk));
+    }
+    const float x00 = v[0] + (v[1] - v[0]) * tx, x10 = v[2] + (v[3] - v[2]) * tx;
+    const float x01 = v[4] + (v[5] - v[4]) * tx, x11 = v[6] + (v[7] - v[6]) * tx;
+    const float y0 = x00 + (x10 - x00) * ty, y1 = x01 + (x11 - x01) * ty;
+    return y0 + (y1 - y0) * tz;
+}
+
+static pnanovdb_vec3_t at(pnanovdb_vec3_t o, pnanovdb_vec3_t d, float t)
+{
+    return (pnanovdb_vec3_t){o.x + t * d.x, o.y + t * d.y, o.z + t * d.z};
+}
+
+/* Sub-voxel refinement of a voxel-granular hit at index t: the interpolant
+ * is bracketed by samples a voxel and a half either side, then four
+ * Illinois (regula falsi) steps; the voxel hit stays when no bracket. */
+static float refine(const caster *c, pnanovdb_readaccessor_t *acc, pnanovdb_vec3_t o, pnanovdb_vec3_t d, float t)
+{
+    float a = t - 1.5f, b = t + 1.5f;
+    float fa = trilinear(c, acc, at(o, d, a)), fb = trilinear(c, acc, at(o, d, b));
+    if (!(fa * fb < 0.0f))
+        return t;
+    int side = 0;
+    for (int i = 0; i < 4; i++) {
+        const float m = (a * fb - b * fa) / (fb - fa), fm = trilinear(c, acc, at(o, d, m));
+        if (fm * fb > 0.0f) {
+            b = m, fb = fm;
+            if (side == -1)
+                fa *= 0.5f;
+            side = -1;
+        } else {
+            a = m, fa = fm;
+            if (side == 1)
+                fb *= 0.5f;
+            side = 1;
+        }
+    }
+    return (a * fb - b * fa) / (fb - fa);
+}
+
+/* Depth (world t along the unit ray) of every pixel, INFINITY on a miss:
+ * the voxel where NanoVDB's HDDA caster finds the sign change, refined
+ * onto the trilinear interpolant when `refined`. The index-space ray is
+ * the world ray mapped by the affine transform. */
+static double cast(const caster *c, const sdft_camera *cam, int w, int h, int refined, float *depth)
 {
     const sdft_view view = sdft_camera_view(cam, w, h);
     double t0 = omp_get_wtime();
@@ -83,6 +135,8 @@ static double cast(const caster *c, const sdft_camera *cam, int w, int h, float 
                 float thit = 0.0f, v = 0.0f;
                 int hit =
                     pnanovdb_hdda_zero_crossing(PNANOVDB_GRID_TYPE_FLOAT, c->buf, &acc, &o, 0.0f, &d, 1e19f, &thit, &v);
+                if (hit && refined)
+                    thit = refine(c, &acc, o, d, thit);
                 depth[(size_t)y * w + x] = hit ? thit / len : INFINITY;
             }
     }
@@ -197,35 +251,139 @@ static float *vdb_render_depth(const char *path, const sdft_grid *g, sdft_vec3 e
     return depth;
 }
 
+/* The view: a scene's camera, or `front` (sdft_camera_front, what `sdftrace
+ * render --grid` frames without a scene). 0 if the name is unknown. */
+static int view_of(const char *name, const sdft_grid *g, int w, int h, sdft_camera *cam)
+{
+    if (strcmp(name, "front") == 0) {
+        *cam = sdft_camera_front(sdft_grid_world_bounds(g), w, h, 40.0f);
+        return 1;
+    }
+    const sdft_scene *sc = sdft_scene_find(name);
+    if (sc)
+        *cam = sc->camera;
+    return sc != NULL;
+}
+
+/* One sdftrace configuration of the table. */
+typedef struct config {
+    const char *label;
+    sdft_render_params rp;
+    sdft_grid_bound bound;
+    double ms;
+    sdft_render_stats st;
+    float *depth;
+} config;
+
+static int add_config(config *c, int *n, const char *label, sdft_render_params rp, sdft_grid_bound bound)
+{
+    c[*n] = (config){.label = label, .rp = rp, .bound = bound, .ms = INFINITY};
+    c[*n].depth = malloc((size_t)rp.width * rp.height * sizeof(float));
+    if (!c[*n].depth)
+        return -1;
+    (*n)++;
+    return 0;
+}
+
+enum { MAX_CONFIGS = 40 };
+
+/* The rows: ROWS=targets (default) sdftrace as `sdftrace render` runs it
+ * (its defaults, no shadows), depth alone, without the exact last-cell
+ * root, and the papers' counting (every ray from the eye, every step to
+ * eps); ROWS=variants every variant as a full render and
+ * depth alone, at constant eps and with the screen-space criterion, with
+ * each bound. */
+static int make_configs(const sdft_camera *cam, int w, int h, config *c, int *n)
+{
+    static char labels[MAX_CONFIGS][64];
+    sdft_render_params base = sdft_render_defaults();
+    base.width = w, base.height = h, base.camera = *cam, base.shadows = 0;
+    base.light = sdft_add(cam->from, sdft_v3(0, 10, 0));
+    const char *rows = getenv("ROWS");
+    *n = 0;
+    if (!rows || strcmp(rows, "variants") != 0) {
+        sdft_render_params depth = base, no_root = base, papers = base;
+        depth.depth_only = 1;
+        no_root.trace.exact_root = 0;
+        sdft_render_papers(&papers);
+        return add_config(c, n, "sdftrace-render", base, SDFT_GRID_BOUND_FAR) ||
+               add_config(c, n, "sdftrace-depth", depth, SDFT_GRID_BOUND_FAR) ||
+               add_config(c, n, "sdftrace-render-no-exact-root", no_root, SDFT_GRID_BOUND_FAR) ||
+               add_config(c, n, "sdftrace-render-papers", papers, SDFT_GRID_BOUND_FAR);
+    }
+    static const char *const bound_suffix[] = {"", "-treebound", "-nobound"};
+    static const struct {
+        int depth_only, screen_space, cones;
+    } kinds[] = {{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {1, 0, 1}, {1, 1, 1}};
+    const char *nb = getenv("BOUNDS");
+    const int bounds = nb && atoi(nb) >= 1 && atoi(nb) <= 3 ? atoi(nb) : 3;
+    for (int b = 0; b < bounds; b++)
+        for (int row = 0; row < (b == 0 ? 5 : 1) * SDFT_METHOD_COUNT; row++) {
+            const sdft_method m = (sdft_method)(row % SDFT_METHOD_COUNT);
+            const int k = row / SDFT_METHOD_COUNT;
+            sdft_render_params rp = base;
+            sdft_render_papers(&rp);
+            rp.trace.method = m;
+            rp.trace.omega = sdft_default_omega(m);
+            rp.depth_only = kinds[k].depth_only;
+            rp.screen_space = kinds[k].screen_space;
+            rp.cones = kinds[k].cones;
+            char *label = labels[*n];
+            snprintf(label, 64, "sdftrace-%s-%s%s%s%s", rp.depth_only ? "depth" : "render", sdft_method_name(m),
+                     rp.screen_space ? "-ss" : "", rp.cones ? "-cones" : "", bound_suffix[b]);
+            if (add_config(c, n, label, rp, (sdft_grid_bound)b))
+                return -1;
+        }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
-    if (argc == 5 && strcmp(argv[1], "--view") == 0) {
-        const sdft_scene *sc = sdft_scene_find(argv[2]);
-        if (!sc || atoi(argv[3]) < 1 || atoi(argv[4]) < 1) {
-            fprintf(stderr, "hdda_caster: unknown scene or bad size\n");
+    if (argc == 6 && strcmp(argv[1], "--view") == 0) {
+        /* A .vdb's bounds from its metadata: no need to load a big grid. */
+        char msg[512];
+        sdft_aabb b;
+        sdft_camera cam;
+        const int w = atoi(argv[4]), h = atoi(argv[5]);
+        const sdft_scene *sc = sdft_scene_find(argv[3]);
+        if (w < 1 || h < 1 || (!sc && strcmp(argv[3], "front") != 0)) {
+            fprintf(stderr, "hdda_caster: unknown view or size\n");
             return 2;
         }
-        print_view(&sc->camera, atoi(argv[3]), atoi(argv[4]));
+        if (sc) {
+            cam = sc->camera;
+        } else if (sdft_vdb_bounds(argv[2], NULL, &b, msg, sizeof msg) == 0) {
+            cam = sdft_camera_front(b, w, h, 40.0f);
+        } else {
+            fprintf(stderr, "hdda_caster: %s\n", msg);
+            return 1;
+        }
+        print_view(&cam, w, h);
         return 0;
     }
     if (argc < 3) {
-        fprintf(stderr, "usage: hdda_caster GRID.vdb|GRID.nvdb SCENE [WIDTH HEIGHT [DEPTH.pfm [VDB_RENDER.exr]]]\n"
-                        "       hdda_caster --view SCENE WIDTH HEIGHT\n");
+        fprintf(stderr,
+                "usage: hdda_caster GRID.vdb|GRID.nvdb SCENE|front [WIDTH HEIGHT [DEPTH.pfm [VDB_RENDER.exr]]]\n"
+                "       hdda_caster --view GRID SCENE|front WIDTH HEIGHT\n");
         return 2;
     }
-    const sdft_scene *sc = sdft_scene_find(argv[2]);
     const char *rep = getenv("REPEAT");
     const int repeat = rep && atoi(rep) > 0 ? atoi(rep) : 3;
     int w = argc > 4 ? atoi(argv[3]) : 1280, h = argc > 4 ? atoi(argv[4]) : 720;
-    if (!sc || w < 1 || h < 1) {
-        fprintf(stderr, "hdda_caster: unknown scene or bad size\n");
-        return 2;
-    }
     char msg[512];
     sdft_grid *g = NULL;
+    if (w < 1 || h < 1) {
+        fprintf(stderr, "hdda_caster: bad size\n");
+        return 2;
+    }
     if (sdft_grid_open(argv[1], NULL, &g, msg, sizeof msg)) {
         fprintf(stderr, "hdda_caster: %s\n", msg);
         return 1;
+    }
+    sdft_camera cam;
+    if (!view_of(argv[2], g, w, h, &cam)) {
+        fprintf(stderr, "hdda_caster: unknown scene '%s' (a scene's name or front)\n", argv[2]);
+        return 2;
     }
     if (strcmp(sdft_grid_type_name(g), "float") != 0) {
         fprintf(stderr, "hdda_caster: NanoVDB's caster reads float grids, this one is %s\n", sdft_grid_type_name(g));
@@ -233,84 +391,57 @@ int main(int argc, char **argv)
     }
     const float voxel = sdft_grid_voxel_size(g).x;
     const size_t n = (size_t)w * h;
-    float *hdda = malloc(n * sizeof *hdda);
+    float *hdda = malloc(n * sizeof *hdda), *refined = malloc(n * sizeof *refined);
+    config cf[MAX_CONFIGS];
+    int configs = 0;
+    sdft_image img;
+    if (!hdda || !refined || make_configs(&cam, w, h, cf, &configs) || sdft_image_alloc(&img, w, h, msg, sizeof msg)) {
+        fprintf(stderr, "hdda_caster: out of memory\n");
+        return 1;
+    }
     caster c = caster_make(g);
-    double best = INFINITY;
-    for (int i = 0; i < repeat; i++)
-        best = fmin(best, cast(&c, &sc->camera, w, h, hdda));
+    /* Every tracer once per round, REPEAT rounds, the best of each: machine
+     * noise then falls on all of them alike. */
+    double best = INFINITY, best_refined = INFINITY;
+    for (int i = 0; i < repeat; i++) {
+        best = fmin(best, cast(&c, &cam, w, h, 0, hdda));
+        best_refined = fmin(best_refined, cast(&c, &cam, w, h, 1, refined));
+        for (int k = 0; k < configs; k++) {
+            const sdft_field f = sdft_grid_field_with(g, cf[k].bound);
+            if (sdft_render(&f, &cf[k].rp, &img, &cf[k].st, msg, sizeof msg)) {
+                fprintf(stderr, "hdda_caster: %s\n", msg);
+                return 1;
+            }
+            cf[k].ms = fmin(cf[k].ms, cf[k].st.ms);
+            memcpy(cf[k].depth, img.depth, n * sizeof *img.depth);
+        }
+    }
     if (argc > 5)
         write_pfm(argv[5], hdda, w, h);
-    size_t hits = 0;
-    for (size_t i = 0; i < n; i++)
-        hits += isfinite(hdda[i]);
     printf("grid %s (%s, voxel %g), %dx%d, %d threads, best of %d\n", sdft_grid_name(g), sdft_grid_type_name(g), voxel,
            w, h, omp_get_max_threads(), repeat);
     printf("# vdb_render ");
-    print_view(&sc->camera, w, h);
-    float *vr = argc > 6 ? vdb_render_depth(argv[6], g, sc->camera.from, w, h) : NULL;
+    print_view(&cam, w, h);
+    float *vr = argc > 6 ? vdb_render_depth(argv[6], g, cam.from, w, h) : NULL;
     if (argc > 6 && !vr)
         return 1;
     printf("%-30s %10s %8s %8s | %-25s | %-16s | %8s\n", "", "", "", "", "agrees with the caster", "with vdb_render",
            "");
     printf("%-30s %10s %8s %8s | %7s %7s %9s | %7s %8s | %8s\n", "tracer", "ms/frame", "ratio", "hit", "1.5vox", "3vox",
-           "one-only", "1.5vox", "one-only", "steps/px");
+           "one-only", "1.5vox", "one-only", "evals/px");
     const table tab = {n, voxel, best, hdda, vr};
     print_row(&tab, "nanovdb-hdda", best, hdda, NAN);
+    print_row(&tab, "nanovdb-hdda-refined", best_refined, refined, NAN);
     if (vr)
         print_row(&tab, "openvdb-vdb_render", NAN, vr, NAN);
-
-    sdft_field f = sdft_grid_field(g);
-    sdft_render_params rp = sdft_render_defaults();
-    rp.width = w, rp.height = h, rp.camera = sc->camera, rp.light = sc->light, rp.shadows = 0;
-    sdft_image img;
-    if (sdft_image_alloc(&img, w, h, msg, sizeof msg)) {
-        fprintf(stderr, "hdda_caster: %s\n", msg);
-        return 1;
-    }
-    static const char *const bound_suffix[] = {"", "-treebound", "-nobound"};
-    /* $BOUNDS=1 keeps only the far-bound rows (2: and the tree bound's). */
-    const char *nb = getenv("BOUNDS");
-    const int bounds = nb && atoi(nb) >= 1 && atoi(nb) <= 3 ? atoi(nb) : 3;
-    /* Rows, with the far bound: each variant as a full render (normals and
-     * shading, what `sdftrace render` does) with the papers' constant eps,
-     * then with cones (-cones: each tile's and block's rays first march as
-     * one cone), then also with Keinert's screen-space criterion (-ss:
-     * converged within half a pixel's footprint); and depth alone (what
-     * the caster computes) with cones, at either criterion. With the tree
-     * bound alone and with no bound: full renders at the constant eps. */
-    static const struct {
-        int depth_only, screen_space, cones;
-    } configs[] = {{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {1, 0, 1}, {1, 1, 1}};
-    enum { CONFIGS = sizeof configs / sizeof configs[0] };
-    for (int b = 0; b < bounds; b++) {
-        const sdft_grid_bound bound = (sdft_grid_bound)b;
-        f = sdft_grid_field_with(g, bound);
-        for (int row = 0; row < (b == 0 ? CONFIGS : 1) * SDFT_METHOD_COUNT; row++) {
-            const sdft_method m = (sdft_method)(row % SDFT_METHOD_COUNT);
-            const int k = row / SDFT_METHOD_COUNT;
-            rp.trace.method = m;
-            rp.trace.omega = sdft_default_omega(m);
-            rp.depth_only = configs[k].depth_only;
-            rp.screen_space = configs[k].screen_space;
-            rp.cones = configs[k].cones;
-            double ms = INFINITY;
-            sdft_render_stats st;
-            for (int i = 0; i < repeat; i++) {
-                if (sdft_render(&f, &rp, &img, &st, msg, sizeof msg)) {
-                    fprintf(stderr, "hdda_caster: %s\n", msg);
-                    return 1;
-                }
-                ms = fmin(ms, st.ms);
-            }
-            char label[64];
-            snprintf(label, sizeof label, "sdftrace-%s-%s%s%s%s", rp.depth_only ? "depth" : "render",
-                     sdft_method_name(m), rp.screen_space ? "-ss" : "", rp.cones ? "-cones" : "", bound_suffix[bound]);
-            print_row(&tab, label, ms, img.depth, (double)(st.steps + st.cone_steps) / (double)n);
-        }
+    for (int k = 0; k < configs; k++) {
+        print_row(&tab, cf[k].label, cf[k].ms, cf[k].depth, (double)(cf[k].st.steps + cf[k].st.cone_steps) / (double)n);
+        free(cf[k].depth);
     }
     free(vr);
     sdft_image_free(&img);
     free(hdda);
+    free(refined);
     sdft_grid_free(g);
     return 0;
 }

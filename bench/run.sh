@@ -39,8 +39,8 @@ echo "sdftrace bench: ${width}x${height}, shadows on, threads ${threads} ($(npro
 for scene in $scenes; do
     printf '%s\n' "$variants" | while IFS='|' read -r label opts; do
         # shellcheck disable=SC2086 # opts is a list of words
-        json=$("$bin" render --scene "$scene" $opts --width "$width" --height "$height" --threads "$threads" \
-            -o "$tmp/out.exr" --json)
+        json=$("$bin" render --scene "$scene" $opts --papers --width "$width" --height "$height" \
+            --threads "$threads" -o "$tmp/out.exr" --json --quiet)
         echo "$scene $label $(field "$json" ms) $(field "$json" mean_steps) $(field "$json" mean_fallbacks)" \
             "$(field "$json" nonconverged)" >>"$tmp/rows"
         echo "  $scene $label done" >&2

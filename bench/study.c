@@ -472,6 +472,7 @@ sdft_render_params study_params(const study_options *o, const study_config *c)
     p.light = c->scene->light;
     p.shadows = c->shadows;
     p.screen_space = c->screen_space;
+    sdft_render_papers(&p); /* every step to eps, as the papers count; cones only where the row asks */
     p.cones = c->cones;
     p.depth_only = 0;
     p.threads = 0;
@@ -494,7 +495,7 @@ void study_command(const study_options *o, const study_config *c, char *buf, siz
              "%s render --scene %s%s --method %s%s --eps %s --max-steps %d --width %d --height %d%s%s%s --threads 0 "
              "-o %s --json",
              o->cli, c->scene->name, grid, sdft_method_name(c->method), param, EPS_TEXT, c->cap, o->width, o->height,
-             c->shadows ? "" : " --no-shadows", c->screen_space ? " --screen-space" : "", c->cones ? " --cones" : "",
+             c->shadows ? "" : " --no-shadows", c->screen_space ? " --screen-space" : "", c->cones ? " --no-exact-root" : " --papers",
              o->row_exr);
 }
 

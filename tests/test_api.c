@@ -259,6 +259,13 @@ static sdft_grid *small_grid(const char *nvdb_path)
     return g;
 }
 
+static int released;
+static void count_release(void *p)
+{
+    released++;
+    free(p);
+}
+
 static void test_grid_errors(void **state)
 {
     (void)state;
@@ -296,6 +303,27 @@ static void test_grid_errors(void **state)
     sdft_grid_free(out);
     free(shifted);
 
+    /* An adopted buffer is released exactly once: when the grid is freed,
+     * or at once when it is refused. */
+    released = 0;
+    expect_code(sdft_grid_adopt_buffer(NULL, size, NULL, count_release, &out, msg, sizeof msg), SDFT_EINVAL);
+    void *mine = aligned_alloc(32, (size + 31) & ~(size_t)31);
+    assert_non_null(mine);
+    memcpy(mine, bytes, size);
+    expect_code(sdft_grid_adopt_buffer(mine, size, NULL, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_grid_adopt_buffer(mine, size, "nosuch", count_release, &out, msg, sizeof msg), SDFT_ENOTFOUND);
+    assert_int_equal(released, 1);
+    assert_null(out);
+    mine = aligned_alloc(32, (size + 31) & ~(size_t)31);
+    assert_non_null(mine);
+    memcpy(mine, bytes, size);
+    assert_int_equal(sdft_grid_adopt_buffer(mine, size, NULL, count_release, &out, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(released, 1);
+    assert_true(sdft_grid_data(out, NULL) == mine);
+    assert_true(sdft_grid_voxel(out, 0, 0, 0, NULL) == sdft_grid_voxel(g, 0, 0, 0, NULL));
+    sdft_grid_free(out);
+    assert_int_equal(released, 2);
+
     /* Fields of no grid, or of an unknown bound, are empty; tracing refuses them. */
     sdft_field zero = sdft_grid_field(NULL), odd = sdft_grid_field_with(g, (sdft_grid_bound)3);
     assert_null(zero.distance);
@@ -318,6 +346,19 @@ static void test_vdb_errors(void **state)
     expect_code(sdft_vdb_load("x.vdb", NULL, SDFT_QUANT_NONE, NULL, msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_vdb_load("x.vdb", NULL, (sdft_quant)9, &out, msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_vdb_load(SDFT_TEST_TMP "/no-such.vdb", NULL, SDFT_QUANT_NONE, &out, msg, sizeof msg), SDFT_EIO);
+    const sdft_vdb_options vo = sdft_vdb_options_defaults();
+    assert_true(vo.quant == SDFT_QUANT_NONE && !vo.progress && vo.stream == 1);
+    expect_code(sdft_vdb_open("x.vdb", NULL, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_vdb_open(NULL, NULL, &vo, &out, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_vdb_open("x.vdb", NULL, &vo, NULL, msg, sizeof msg), SDFT_EINVAL);
+    sdft_vdb_options odd = vo;
+    odd.quant = (sdft_quant)9;
+    expect_code(sdft_vdb_open("x.vdb", NULL, &odd, &out, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_vdb_open(SDFT_TEST_TMP "/no-such.vdb", NULL, &vo, &out, msg, sizeof msg), SDFT_EIO);
+    sdft_aabb box;
+    expect_code(sdft_vdb_bounds(NULL, NULL, &box, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_vdb_bounds("x.vdb", NULL, NULL, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_vdb_bounds(SDFT_TEST_TMP "/no-such.vdb", NULL, &box, msg, sizeof msg), SDFT_EIO);
     expect_code(sdft_grid_open(NULL, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_grid_open("x.vdb", NULL, NULL, msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_grid_open("x.txt", NULL, &out, msg, sizeof msg), SDFT_EFORMAT);
@@ -403,6 +444,42 @@ static void test_bake_progress_and_cancel(void **state)
     remove(path);
 }
 
+/* Loading a .vdb reports its progress like a bake, and stops when told:
+ * no grid then. Its box from the metadata alone is the loaded grid's. */
+static void test_vdb_open_progress_and_cancel(void **state)
+{
+    (void)state;
+    char path[512];
+    tu_tmp(path, sizeof path, "api_load.vdb");
+    sdft_field f = sphere_field();
+    sdft_bake_params bp = sdft_bake_defaults();
+    bp.res = 96;
+    assert_int_equal(sdft_bake(&f, &bp, path, NULL, NULL, msg, sizeof msg), SDFT_OK);
+    sdft_vdb_options o = sdft_vdb_options_defaults();
+    o.progress = log_progress;
+    progress_log stop = {.stop_after = 2};
+    o.progress_user = &stop;
+    sdft_grid *g = (sdft_grid *)&g;
+    expect_code(sdft_vdb_open(path, NULL, &o, &g, msg, sizeof msg), SDFT_ECANCELED);
+    assert_null(g);
+    assert_int_equal(stop.calls, 2);
+    progress_log go = {.stop_after = 1 << 30};
+    o.progress_user = &go;
+    assert_int_equal(sdft_vdb_open(path, NULL, &o, &g, msg, sizeof msg), SDFT_OK);
+    assert_true(go.calls >= 10 && go.calls <= 101);
+    assert_false(go.decreased);
+    assert_true(go.last == 1.0f);
+    sdft_aabb box;
+    assert_int_equal(sdft_vdb_bounds(path, NULL, &box, msg, sizeof msg), SDFT_OK);
+    const sdft_aabb want = sdft_grid_world_bounds(g);
+    const float tol = 1e-5f * sdft_grid_voxel_size(g).x;
+    assert_true(fabsf(box.lo.x - want.lo.x) <= tol && fabsf(box.lo.y - want.lo.y) <= tol &&
+                fabsf(box.lo.z - want.lo.z) <= tol && fabsf(box.hi.x - want.hi.x) <= tol &&
+                fabsf(box.hi.y - want.hi.y) <= tol && fabsf(box.hi.z - want.hi.z) <= tol);
+    sdft_grid_free(g);
+    remove(path);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -415,6 +492,7 @@ int main(void)
         cmocka_unit_test(test_grid_errors),
         cmocka_unit_test(test_vdb_errors),
         cmocka_unit_test(test_bake_progress_and_cancel),
+        cmocka_unit_test(test_vdb_open_progress_and_cancel),
     };
     return cmocka_run_group_tests_name("api", tests, NULL, NULL);
 }

@@ -18,10 +18,10 @@ static char out[1 << 16];
 static void test_help_lists_every_option(void **state)
 {
     (void)state;
-    static const char *const flags[] = {"--scene",      "--method",       "--omega",      "--beta",   "--eps",
-                                        "--max-steps",  "--width",        "--height",     "--camera", "--fov",
-                                        "--no-shadows", "--threads",      "-o ",          "--png",    "--json",
-                                        "--heatmap",    "--screen-space", "--heatmap-max"};
+    static const char *const flags[] = {
+        "--scene",        "--method",   "--omega",         "--beta",    "--eps",  "--max-steps", "--width", "--height",
+        "--camera",       "--fov",      "--no-shadows",    "--threads", "-o ",    "--png",       "--json",  "--heatmap",
+        "--screen-space", "--no-cones", "--no-exact-root", "--papers",  "--fp16", "--quiet",     "--heatmap-max"};
     for (int which = 0; which < 2; which++) {
         assert_int_equal(tu_run(out, sizeof out, "%s %s", SDFT_CLI, which ? "render --help" : "--help"), 0);
         for (size_t i = 0; i < sizeof flags / sizeof flags[0]; i++)
@@ -185,6 +185,31 @@ static void test_json_report(void **state)
     assert_true(json_number(json, "mean_shadow_steps") == 0.0);
     assert_true(fabs(json_number(json, "omega") - 0.88) < 1e-6 && json_number(json, "max_steps") == 64);
     assert_non_null(strstr(json, "\"screen_space\": true"));
+    assert_non_null(strstr(json, "\"cones\": true")); /* the default */
+    assert_non_null(strstr(json, "\"exact_root\": true"));
+    render_json("--scene dodecahedron --width 20 --height 10 --papers", json, sizeof json);
+    assert_non_null(strstr(json, "\"cones\": false"));
+    assert_non_null(strstr(json, "\"exact_root\": false"));
+    assert_true(json_number(json, "cone_steps") == 0);
+}
+
+/* A render says what it made on stderr, one line, unless --quiet. */
+static void test_summary_line(void **state)
+{
+    (void)state;
+    char exr[512];
+    tu_tmp(exr, sizeof exr, "cli_summary.exr");
+    assert_int_equal(tu_run(out, sizeof out, "%s render --scene figure --width 32 --height 18 -o %s", SDFT_CLI, exr),
+                     0);
+    assert_int_equal(tu_lines(out), 1);
+    assert_non_null(strstr(out, "32x18"));
+    assert_non_null(strstr(out, "% hit"));
+    assert_non_null(strstr(out, exr));
+    assert_int_equal(
+        tu_run(out, sizeof out, "%s render --scene figure --width 32 --height 18 -o %s --quiet", SDFT_CLI, exr), 0);
+    assert_int_equal(tu_lines(out), 0);
+    /* --fp16 converts a .vdb; anything else is a one-line error. */
+    assert_int_not_equal(tu_run(out, sizeof out, "%s render --scene figure --fp16 -o %s", SDFT_CLI, exr), 0);
 }
 
 /* Outputs get the mode a plain fopen would, 0666 less the umask, under two
@@ -217,6 +242,7 @@ int main(void)
         cmocka_unit_test(test_output_modes), cmocka_unit_test(test_help_lists_every_option),
         cmocka_unit_test(test_scenes),       cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_json_report),
+        cmocka_unit_test(test_summary_line),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

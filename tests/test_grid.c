@@ -165,22 +165,12 @@ static void test_specialised_fields_agree(void **state)
     sdft_grid_free(g);
 }
 
-/* The leaf directory (grid_leaves.c) holds every leaf of the tree, and the
- * field read through it is the accessor's, bit for bit: the same grid with
- * its directory taken away gives the same values and normals. */
-static void test_leaf_directory_matches_accessor(void **state)
+/* The field read through the leaf directory is the accessor's, bit for
+ * bit: at random points of box b, the values (unbounded and with the tree
+ * bound) and normals of g equal those of g with its directory taken away.
+ * Returns how many points lay in the band. */
+static int same_without_directory(sdft_grid *g, sdft_aabb b)
 {
-    (void)state;
-    const sdft_scene *sc = sdft_scene_find("figure");
-    assert_non_null(sc);
-    sdft_grid *g = bake(&sc->field, 96, 0, NULL);
-    assert_non_null(g->leaves.word);
-    size_t entries = (size_t)g->leaves.n[0] * g->leaves.n[1] * g->leaves.n[2], found = 0;
-    for (size_t i = 0; i < entries; i++)
-        found += g->leaves.word[i] != 0;
-    pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
-    assert_int_equal(found, pnanovdb_tree_get_node_count_leaf(g->buf, tree));
-
     sdft_scratch s;
     sdft_field gf = sdft_grid_field(g);
     sdft_scratch_init(&gf, &s);
@@ -190,12 +180,11 @@ static void test_leaf_directory_matches_accessor(void **state)
     const grid_leaves directory = g->leaves;
     int in_leaves = 0;
     for (int pass = 0; pass < 2; pass++) {
-        g->leaves.word = pass == 0 ? directory.word : NULL;
+        g->leaves.top = pass == 0 ? directory.top : NULL;
         tu_rng r = tu_rng_seed(11);
         for (int i = 0; i < N; i++) {
-            sdft_vec3 p = sdft_v3(tu_uniform(&r, sc->field.bounds.lo.x, sc->field.bounds.hi.x),
-                                  tu_uniform(&r, sc->field.bounds.lo.y, sc->field.bounds.hi.y),
-                                  tu_uniform(&r, sc->field.bounds.lo.z, sc->field.bounds.hi.z));
+            sdft_vec3 p =
+                sdft_v3(tu_uniform(&r, b.lo.x, b.hi.x), tu_uniform(&r, b.lo.y, b.hi.y), tu_uniform(&r, b.lo.z, b.hi.z));
             int level;
             value[pass][0][i] = sdft_grid_sample_with(g, SDFT_GRID_BOUND_NONE, &s, p, &level);
             value[pass][1][i] = sdft_grid_sample_with(g, SDFT_GRID_BOUND_TREE, &s, p, NULL);
@@ -205,11 +194,63 @@ static void test_leaf_directory_matches_accessor(void **state)
     }
     g->leaves = directory;
     for (int i = 0; i < N; i++) {
-        assert_true(value[0][0][i] == value[1][0][i]);
-        assert_true(value[0][1][i] == value[1][1][i]);
+        if (!(value[0][0][i] == value[1][0][i]) || !(value[0][1][i] == value[1][1][i]))
+            fail_msg("%s grid, point %d: %.9g / %.9g through the directory, %.9g / %.9g through the accessor",
+                     sdft_grid_type_name(g), i, value[0][0][i], value[0][1][i], value[1][0][i], value[1][1][i]);
         assert_memory_equal(&normal[0][i], &normal[1][i], sizeof(sdft_vec3));
     }
     assert_true(in_leaves > 1000);
+    return in_leaves;
+}
+
+/* The leaf directory (grid_leaves.c) holds every leaf of the tree where
+ * it belongs, apron included, and marks the +-background tiles of lower
+ * nodes beside them; and the field read through it is the
+ * accessor's, bit for bit: the same grid with its directory taken away
+ * gives the same values and normals. */
+static void test_leaf_directory_matches_accessor(void **state)
+{
+    (void)state;
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    sdft_grid *g = bake(&sc->field, 96, 0, NULL);
+    assert_non_null(g->leaves.top);
+    /* Every block of every chunk, against the tree: an entry is the value
+     * table of the leaf holding that block, 0 where the tree has none. */
+    const grid_leaves *d = &g->leaves;
+    pnanovdb_readaccessor_t acc;
+    pnanovdb_readaccessor_init(&acc, g->root);
+    size_t entries = 0, own = 0, tiles = 0;
+    for (int rz = 0; rz < d->nr[2]; rz++)
+        for (int ry = 0; ry < d->nr[1]; ry++)
+            for (int rx = 0; rx < d->nr[0]; rx++) {
+                const uint32_t c = d->top[((size_t)rz * d->nr[1] + ry) * d->nr[0] + rx];
+                if (!c)
+                    continue;
+                for (int l = 0; l < GRID_CHUNK_ENTRIES; l++) {
+                    const int lx = l % 9, ly = l / 9 % 9, lz = l / 81;
+                    pnanovdb_coord_t ijk = {((d->r0[0] + rx) * 8 + lx) * 8, ((d->r0[1] + ry) * 8 + ly) * 8,
+                                            ((d->r0[2] + rz) * 8 + lz) * 8};
+                    uint32_t level;
+                    pnanovdb_address_t a =
+                        pnanovdb_readaccessor_get_value_address_and_level(g->type, g->buf, &acc, &ijk, &level);
+                    const float tile = pnanovdb_read_float(g->buf, a), bg = sdft_grid_background(g);
+                    const uint32_t want = level == 0 ? (uint32_t)((acc.leaf.address.byte_offset + 96u) / 4u)
+                                          : level == 1 && tile == bg  ? (uint32_t)GRID_TILE_POSITIVE
+                                          : level == 1 && tile == -bg ? (uint32_t)GRID_TILE_NEGATIVE
+                                                                      : 0u;
+                    assert_int_equal(d->chunk[(size_t)(c - 1) * GRID_CHUNK_ENTRIES + l], want);
+                    entries += level == 0;
+                    own += level == 0 && lx < 8 && ly < 8 && lz < 8;
+                    tiles += want == GRID_TILE_POSITIVE || want == GRID_TILE_NEGATIVE;
+                }
+            }
+    pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
+    assert_int_equal(own, pnanovdb_tree_get_node_count_leaf(g->buf, tree));
+    assert_true(entries > own); /* the aprons hold some too */
+    assert_true(tiles > own);   /* and the tiles beside the leaves are marked */
+
+    same_without_directory(g, sc->field.bounds);
     sdft_grid_free(g);
 }
 
@@ -256,6 +297,9 @@ static void test_quantized_grids(void **state)
             print_error("%s\n", msg);
         assert_int_equal(rc, 0);
         assert_string_equal(sdft_grid_type_name(q), kinds[k].type);
+        /* Fp16, Fp8 and Fp4 leaves are read through the directory. */
+        assert_true((q->leaves.top != NULL) == (kinds[k].quant != SDFT_QUANT_FPN));
+        same_without_directory(q, sc->field.bounds);
         sdft_scratch s, sq;
         sdft_field qf = sdft_grid_field(q);
         sdft_scratch_init(&rf, &s);
@@ -397,6 +441,43 @@ static void test_far_bound_never_exceeds_distance(void **state)
     sdft_grid_free(g);
 }
 
+/* The far bound's cells, classified through the leaf directory (regions
+ * without leaves whole, blocks by their masks and tile markers), are the
+ * cells the tree walk finds: the same corner table, bit for bit, for a
+ * scene's grid and a union of spheres, at 4-voxel cells and at coarser
+ * ones (as a big grid gets). */
+static void test_far_cells_from_directory_match_tree(void **state)
+{
+    (void)state;
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    sdft_field spheres = spheres_field();
+    sdft_grid *grids[2] = {bake(&sc->field, 96, 0, NULL), bake(&spheres, 128, 0, NULL)};
+    for (int i = 0; i < 2; i++)
+        for (size_t most = 1u << 24; most >= 128; most /= 16) { /* 4-voxel cells, then 8, 16 */
+            sdft_grid *g = grids[i];
+            sdft_grid_far_free(g);
+            assert_int_equal(sdft_grid_far_build_cells(g, most), 0);
+            const grid_far a = g->far;
+            const size_t corners = (size_t)(a.n[0] + 1) * (a.n[1] + 1) * (a.n[2] + 1);
+            g->far.corner = NULL;
+            const grid_leaves directory = g->leaves;
+            g->leaves.top = NULL; /* the tree walk */
+            assert_int_equal(sdft_grid_far_build_cells(g, most), 0);
+            g->leaves = directory;
+            assert_int_equal(g->far.cell, a.cell);
+            assert_memory_equal(g->far.corner, a.corner, corners * sizeof *a.corner);
+            size_t occupied = 0;
+            for (size_t k = 0; k < corners; k++)
+                occupied += (a.corner[k] >> FAR_DISTANCE_BITS) == 0;
+            print_message("cells of %d voxels: %zu corners, %zu of occupied cells\n", a.cell, corners, occupied);
+            assert_true(occupied > 10);
+            free(a.corner);
+        }
+    for (int i = 0; i < 2; i++)
+        sdft_grid_free(grids[i]);
+}
+
 /* The far bound is continuous: points a hundredth of a voxel apart differ
  * by far less than a voxel (the tree bound jumps by the band at every tile
  * edge). The corner correction's square root is steep only right at cell
@@ -427,6 +508,18 @@ static void test_far_bound_is_continuous(void **state)
     sdft_grid_free(g);
 }
 
+/* A ray from outside box b towards a random point of its middle (within
+ * `spread` of the box's size of the centre), in a random direction. */
+static sdft_ray ray_into(sdft_aabb b, float spread, tu_rng *r)
+{
+    const sdft_vec3 c = sdft_scale(sdft_add(b.lo, b.hi), 0.5f), e = sdft_sub(b.hi, b.lo);
+    const float reach = 2.0f * sdft_length(e);
+    sdft_vec3 dir = sdft_normalize(sdft_v3(tu_uniform(r, -1, 1), tu_uniform(r, -1, 1), tu_uniform(r, -1, 1)));
+    sdft_vec3 aim = sdft_v3(c.x + tu_uniform(r, -spread, spread) * e.x, c.y + tu_uniform(r, -spread, spread) * e.y,
+                            c.z + tu_uniform(r, -spread, spread) * e.z);
+    return (sdft_ray){.org = sdft_madd(aim, dir, -reach), .tnear = 0.0f, .dir = dir, .tfar = 2.0f * reach};
+}
+
 /* No variant, with any bound, ever hits beyond the first sign change of the
  * grid's trilinear field along the ray, found by brute-force marching in
  * steps of a twentieth of a voxel. */
@@ -441,16 +534,10 @@ static void test_grid_trace_is_safe(void **state)
     sdft_scratch s;
     sdft_scratch_init(&plain, &s);
     sdft_aabb b = sdft_grid_world_bounds(g);
-    sdft_vec3 c = sdft_scale(sdft_add(b.lo, b.hi), 0.5f), e = sdft_sub(b.hi, b.lo);
-    const float reach = 2.0f * sdft_length(e);
     tu_rng r = tu_rng_seed(8);
     int hits = 0;
     for (int i = 0; i < 300; i++) {
-        /* From outside the box towards a random point inside it. */
-        sdft_vec3 dir = sdft_normalize(sdft_v3(tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1)));
-        sdft_vec3 aim = sdft_v3(c.x + tu_uniform(&r, -0.4f, 0.4f) * e.x, c.y + tu_uniform(&r, -0.4f, 0.4f) * e.y,
-                                c.z + tu_uniform(&r, -0.4f, 0.4f) * e.z);
-        sdft_ray ray = {.org = sdft_madd(aim, dir, -reach), .tnear = 0.0f, .dir = dir, .tfar = 2.0f * reach};
+        const sdft_ray ray = ray_into(b, 0.4f, &r);
         float t0, t1, first = INFINITY;
         if (sdft_aabb_clip(b, ray.org, ray.dir, ray.tnear, ray.tfar, &t0, &t1))
             for (float t = t0; t <= t1; t += 0.05f * h)
@@ -476,6 +563,207 @@ static void test_grid_trace_is_safe(void **state)
         }
     }
     assert_true(hits > 300);
+    sdft_grid_free(g);
+}
+
+/* ---- the exact last-cell root ---------------------------------------------------- */
+
+/* The trilinear interpolant of v at cell-local u, in double: the truth the
+ * cubic root finder is held to. */
+static double trilinear_d(const float v[8], const double u[3])
+{
+    double f = 0.0;
+    for (int k = 0; k < 8; k++)
+        f += v[k] * ((k & 1) ? u[0] : 1.0 - u[0]) * ((k >> 1 & 1) ? u[1] : 1.0 - u[1]) *
+             ((k >> 2 & 1) ? u[2] : 1.0 - u[2]);
+    return f;
+}
+
+/* Brute force: the first s in [0, len] where f(u0 + s du) <= 0, by samples
+ * 1/20000 of the way apart and bisection between the last two; -1 if none. */
+static double brute_root(const float v[8], const double u0[3], const double du[3], double len)
+{
+    enum { SAMPLES = 20000 };
+    double prev = 0.0;
+    for (int i = 0; i <= SAMPLES; i++) {
+        const double s = len * i / SAMPLES, u[3] = {u0[0] + s * du[0], u0[1] + s * du[1], u0[2] + s * du[2]};
+        if (trilinear_d(v, u) <= 0.0) {
+            if (i == 0)
+                return 0.0;
+            double lo = prev, hi = s;
+            for (int k = 0; k < 60; k++) {
+                const double mid = 0.5 * (lo + hi),
+                             um[3] = {u0[0] + mid * du[0], u0[1] + mid * du[1], u0[2] + mid * du[2]};
+                if (trilinear_d(v, um) <= 0.0)
+                    hi = mid;
+                else
+                    lo = mid;
+            }
+            return hi;
+        }
+        prev = s;
+    }
+    return -1.0;
+}
+
+/* The distance along unit du from u inside the unit cube to its boundary
+ * (backwards when sign < 0). */
+static double to_boundary(const double u[3], const double du[3], double sign)
+{
+    double best = INFINITY;
+    for (int k = 0; k < 3; k++) {
+        const double d = sign * du[k];
+        if (d > 0.0)
+            best = fmin(best, (1.0 - u[k]) / d);
+        else if (d < 0.0)
+            best = fmin(best, -u[k] / d);
+    }
+    return best;
+}
+
+/* sdft_grid_cell_root against brute force on random cells and rays across
+ * them: half aimed through a point of the surface along its tangent
+ * plane (grazing, tilted by at most 3 degrees), the rest in random
+ * directions. Roots agree to 1e-3 of a voxel; where brute force sees none,
+ * the solver's root is a touch (the interpolant there is ~0). */
+static void test_cell_root_against_brute_force(void **state)
+{
+    (void)state;
+    tu_rng r = tu_rng_seed(21);
+    int roots = 0, grazing = 0;
+    for (int i = 0; i < 6000; i++) {
+        float v[8];
+        for (int k = 0; k < 8; k++)
+            v[k] = tu_uniform(&r, -1.0f, 1.0f);
+        double q[3] = {tu_uniform(&r, 0.05f, 0.95f), tu_uniform(&r, 0.05f, 0.95f), tu_uniform(&r, 0.05f, 0.95f)};
+        double du[3] = {tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1)};
+        if (i % 2 == 0) {
+            /* Move q onto the surface along a random line, then aim along
+             * its tangent plane: n x (random), tilted a little along n. */
+            double lo = -2.0, hi = 2.0, base[3] = {q[0], q[1], q[2]};
+            double fl, fh;
+            {
+                const double a[3] = {base[0] + lo * du[0], base[1] + lo * du[1], base[2] + lo * du[2]},
+                             b[3] = {base[0] + hi * du[0], base[1] + hi * du[1], base[2] + hi * du[2]};
+                fl = trilinear_d(v, a), fh = trilinear_d(v, b);
+            }
+            if (fl * fh >= 0.0)
+                continue;
+            for (int k = 0; k < 80; k++) {
+                const double mid = 0.5 * (lo + hi),
+                             m[3] = {base[0] + mid * du[0], base[1] + mid * du[1], base[2] + mid * du[2]};
+                if ((trilinear_d(v, m) > 0.0) == (fl > 0.0))
+                    lo = mid;
+                else
+                    hi = mid;
+            }
+            for (int k = 0; k < 3; k++)
+                q[k] = base[k] + lo * du[k];
+            if (q[0] < 0.02 || q[0] > 0.98 || q[1] < 0.02 || q[1] > 0.98 || q[2] < 0.02 || q[2] > 0.98)
+                continue;
+            double n[3];
+            for (int k = 0; k < 3; k++) {
+                double a[3] = {q[0], q[1], q[2]}, b[3] = {q[0], q[1], q[2]};
+                a[k] -= 1e-6, b[k] += 1e-6;
+                n[k] = (trilinear_d(v, b) - trilinear_d(v, a)) / 2e-6;
+            }
+            const double w[3] = {tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1)};
+            const double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), tilt = tu_uniform(&r, -0.05f, 0.05f);
+            double tg[3] = {n[1] * w[2] - n[2] * w[1], n[2] * w[0] - n[0] * w[2], n[0] * w[1] - n[1] * w[0]};
+            const double tl = sqrt(tg[0] * tg[0] + tg[1] * tg[1] + tg[2] * tg[2]);
+            if (!(tl > 1e-6) || !(nn > 1e-6))
+                continue;
+            for (int k = 0; k < 3; k++)
+                du[k] = tg[k] / tl + tilt * n[k] / nn;
+            grazing++;
+        }
+        const double len = sqrt(du[0] * du[0] + du[1] * du[1] + du[2] * du[2]);
+        if (!(len > 1e-9))
+            continue;
+        for (int k = 0; k < 3; k++)
+            du[k] /= len;
+        /* The ray across the whole cell through q: from where it enters. */
+        const double back = to_boundary(q, du, -1.0), across = back + to_boundary(q, du, 1.0);
+        const double u0[3] = {q[0] - back * du[0], q[1] - back * du[1], q[2] - back * du[2]};
+        double s;
+        const int found = sdft_grid_cell_root(v, u0, du, across, &s);
+        const double want = brute_root(v, u0, du, across);
+        if (want >= 0.0) {
+            if (!found || fabs(s - want) > 1e-3)
+                fail_msg("cell %d: root %s%g, brute force %g", i, found ? "" : "none, ", found ? s : 0.0, want);
+            roots++;
+        } else if (found) {
+            const double u[3] = {u0[0] + s * du[0], u0[1] + s * du[1], u0[2] + s * du[2]};
+            if (fabs(trilinear_d(v, u)) > 1e-6)
+                fail_msg("cell %d: root at %g where brute force sees none, f = %g", i, s, trilinear_d(v, u));
+        }
+    }
+    print_message("%d cells with a root, %d rays grazing\n", roots, grazing);
+    assert_true(roots > 2000);
+    assert_true(grazing > 500);
+}
+
+/* A grid's ray hits the first root of its interpolant exactly: the
+ * interpolant, in double from the stored voxels, changes sign within 1e-3
+ * of a voxel around the hit (or touches 0 there), and is positive on a
+ * fine sampling of the two voxels before it. */
+static double grid_interpolant(const sdft_grid *g, sdft_vec3 p)
+{
+    double x[3];
+    for (int k = 0; k < 3; k++)
+        x[k] = (double)g->w2i[3 * k] * p.x + (double)g->w2i[3 * k + 1] * p.y + (double)g->w2i[3 * k + 2] * p.z +
+               (double)g->w2i_t[k];
+    const int32_t i0[3] = {(int32_t)floor(x[0]), (int32_t)floor(x[1]), (int32_t)floor(x[2])};
+    float v[8];
+    for (int k = 0; k < 8; k++)
+        v[k] = sdft_grid_voxel(g, i0[0] + (k & 1), i0[1] + (k >> 1 & 1), i0[2] + (k >> 2 & 1), NULL);
+    const double u[3] = {x[0] - i0[0], x[1] - i0[1], x[2] - i0[2]};
+    return trilinear_d(v, u);
+}
+
+static void test_exact_root_on_a_grid(void **state)
+{
+    (void)state;
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    sdft_grid *g = bake(&sc->field, 96, 0, NULL);
+    const float h = sdft_grid_voxel_size(g).x;
+    sdft_field gf = sdft_grid_field(g);
+    assert_non_null(gf.root);
+    sdft_scratch s;
+    sdft_scratch_init(&gf, &s);
+    tu_rng r = tu_rng_seed(22);
+    int hits = 0, exact = 0;
+    for (int i = 0; i < 400; i++) {
+        const sdft_ray ray = ray_into(sdft_grid_world_bounds(g), 0.3f, &r);
+        for (int m = 0; m < SDFT_METHOD_COUNT; m++) {
+            sdft_trace_params tp = sdft_trace_defaults();
+            tp.method = (sdft_method)m;
+            tp.omega = sdft_default_omega((sdft_method)m);
+            sdft_hit hit = sdft_trace(&gf, &s, &ray, &tp);
+            if (hit.status != SDFT_HIT)
+                continue;
+            hits++;
+            if (hit.distance != 0.0f)
+                continue; /* the root walk gave up (none within its cells): refined as before */
+            exact++;
+            const double before = grid_interpolant(g, sdft_madd(ray.org, ray.dir, hit.t - 1e-3f * h));
+            const double after = grid_interpolant(g, sdft_madd(ray.org, ray.dir, hit.t + 1e-3f * h));
+            const double at = grid_interpolant(g, sdft_madd(ray.org, ray.dir, hit.t));
+            if (!(before > 0.0 && after <= 0.0) && !(fabs(at) < 1e-4 * h))
+                fail_msg("%s: ray %d hits at %g, interpolant %g / %g / %g around it", sdft_method_name(tp.method), i,
+                         hit.t, before, at, after);
+            for (int k = 1; k <= 200; k++) {
+                const float t = hit.t - 1e-3f * h - 2.0f * h * (float)k / 200.0f;
+                if (grid_interpolant(g, sdft_madd(ray.org, ray.dir, t)) <= 0.0)
+                    fail_msg("%s: ray %d hits at %g, beyond an earlier root near %g", sdft_method_name(tp.method), i,
+                             hit.t, t);
+            }
+        }
+    }
+    print_message("%d hits, %d of them exact roots\n", hits, exact);
+    assert_true(exact > 300);
+    assert_true(exact > hits * 9 / 10);
     sdft_grid_free(g);
 }
 
@@ -560,6 +848,57 @@ static void round_trip(const char *file)
     same_voxels(mem, disk);
     sdft_grid_free(mem);
     sdft_grid_free(disk);
+}
+
+/* A .vdb streamed into NanoVDB leaf by leaf (vdb_stream.cpp, the default)
+ * is the grid NanoVDB's own converter makes of it: the same voxels and
+ * active states everywhere (tiles and background included), as float and
+ * as Fp16 (the same codes), and the same samples. A grid of several
+ * thousand leaves, so that the stream runs in several batches. */
+static void test_streamed_load_matches_nanovdb_converter(void **state)
+{
+    (void)state;
+    char path[512], msg[256];
+    tu_tmp(path, sizeof path, "streamed.vdb");
+    remove(path);
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    sdft_grid_free(bake(&sc->field, 256, 0, path));
+    static const sdft_quant quants[2] = {SDFT_QUANT_NONE, SDFT_QUANT_FP16};
+    for (int q = 0; q < 2; q++) {
+        sdft_grid *g[2] = {NULL, NULL};
+        for (int streamed = 0; streamed < 2; streamed++) {
+            sdft_vdb_options o = sdft_vdb_options_defaults();
+            o.quant = quants[q];
+            o.stream = streamed;
+            const int rc = sdft_vdb_open(path, NULL, &o, &g[streamed], msg, sizeof msg);
+            if (rc)
+                print_error("%s\n", msg);
+            assert_int_equal(rc, 0);
+        }
+        pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g[1]->buf, g[1]->grid);
+        print_message("%s: %llu leaves, %zu bytes streamed, %zu converted\n", sdft_grid_type_name(g[1]),
+                      (unsigned long long)pnanovdb_tree_get_node_count_leaf(g[1]->buf, tree), g[1]->size, g[0]->size);
+        assert_true(pnanovdb_tree_get_node_count_leaf(g[1]->buf, tree) > 2048);
+        assert_string_equal(sdft_grid_type_name(g[1]), sdft_grid_type_name(g[0]));
+        assert_int_equal(g[1]->size, g[0]->size);
+        assert_string_equal(sdft_grid_name(g[1]), sdft_grid_name(g[0]));
+        assert_memory_equal(g[1]->w2i, g[0]->w2i, sizeof g[0]->w2i);
+        same_voxels(g[0], g[1]);
+        sdft_scratch s0, s1;
+        sdft_field f0 = sdft_grid_field(g[0]), f1 = sdft_grid_field(g[1]);
+        sdft_scratch_init(&f0, &s0);
+        sdft_scratch_init(&f1, &s1);
+        tu_rng r = tu_rng_seed(31);
+        for (int i = 0; i < 20000; i++) {
+            sdft_vec3 p = sdft_v3(tu_uniform(&r, sc->field.bounds.lo.x, sc->field.bounds.hi.x),
+                                  tu_uniform(&r, sc->field.bounds.lo.y, sc->field.bounds.hi.y),
+                                  tu_uniform(&r, sc->field.bounds.lo.z, sc->field.bounds.hi.z));
+            assert_true(f0.distance(f0.ctx, &s0, p) == f1.distance(f1.ctx, &s1, p));
+        }
+        sdft_grid_free(g[0]);
+        sdft_grid_free(g[1]);
+    }
 }
 
 static void test_round_trip_vdb(void **state)
@@ -876,8 +1215,12 @@ int main(void)
         cmocka_unit_test(test_tree_bound_on_a_scene),
         cmocka_unit_test(test_far_bound_never_exceeds_distance),
         cmocka_unit_test(test_far_bound_is_continuous),
+        cmocka_unit_test(test_far_cells_from_directory_match_tree),
         cmocka_unit_test(test_grid_trace_is_safe),
+        cmocka_unit_test(test_cell_root_against_brute_force),
+        cmocka_unit_test(test_exact_root_on_a_grid),
         cmocka_unit_test(test_grid_render_matches_procedural),
+        cmocka_unit_test(test_streamed_load_matches_nanovdb_converter),
         cmocka_unit_test(test_round_trip_vdb),
         cmocka_unit_test(test_round_trip_nvdb),
         cmocka_unit_test(test_scratch_remembers_its_grid),

@@ -166,7 +166,8 @@ static void test_thread_count_invariant(void **state)
 }
 
 /* The floor under the sphere is in shadow; shadow rays are counted, and the
- * reported steps are exactly the field's calls minus the normals'. */
+ * reported steps, each ray's plus the cones' shared ones, are exactly the
+ * field's calls minus the normals'. */
 static void test_shadows_and_counts(void **state)
 {
     (void)state;
@@ -206,8 +207,9 @@ static void test_shadows_and_counts(void **state)
     assert_true(shadowed > 10 && lit_floor > 100);
     assert_int_equal(steps, st.steps);
     assert_true(st.rays > st.primary_rays && st.rays <= st.primary_rays + surfaces);
-    /* Every evaluation is a trace step, except four per normal. */
-    assert_int_equal(calls, st.steps + 4 * surfaces);
+    /* Every evaluation is a trace or cone step, except four per normal. */
+    assert_true(st.cone_steps > 0);
+    assert_int_equal(calls, st.steps + st.cone_steps + 4 * surfaces);
     sdft_image_free(&img);
 }
 
@@ -372,6 +374,7 @@ static void test_cones_and_depth_only(void **state)
     sdft_field f = test_field(&sc);
     for (int m = 0; m < SDFT_METHOD_COUNT; m++) {
         sdft_render_params p = small_params();
+        sdft_render_papers(&p); /* every ray from the eye first */
         p.width = 77, p.height = 53;
         p.shadows = 0;
         p.trace.method = (sdft_method)m;
@@ -410,6 +413,61 @@ static void test_cones_and_depth_only(void **state)
         sdft_image_free(&coned1);
         sdft_image_free(&depth);
     }
+}
+
+/* Cones are the default, and sdft_render_papers turns them off. */
+static void test_defaults_and_the_papers_counting(void **state)
+{
+    (void)state;
+    sdft_render_params p = sdft_render_defaults();
+    assert_true(p.cones == 1 && p.trace.exact_root == 1);
+    sdft_render_papers(&p);
+    assert_true(p.cones == 0 && p.trace.exact_root == 0);
+    assert_true(p.trace.method == sdft_trace_defaults().method && p.width == 1280);
+}
+
+/* Tiles whose rays all pass the field's box by are filled without a trace
+ * (render.c): the picture is the one tracing every ray gives. A small
+ * sphere off to one side of a wide view, with its own box, against the
+ * same sphere in a box around the whole view (nothing culled): every
+ * pixel's colour, depth, normal and status agree; the culled frame does
+ * less work; and a camera turned away from the sphere gives sky alone,
+ * without a single evaluation. */
+static void test_culled_tiles_match_traced_ones(void **state)
+{
+    (void)state;
+    test_scene sc = {.centre = {1.1f, 0.4f, 0.0f}, .radius = 0.3f};
+    sdft_field small = test_field(&sc), wide = small;
+    wide.bounds = (sdft_aabb){{-30, -30, -30}, {30, 30, 30}};
+    sdft_render_params p = small_params();
+    p.width = 160, p.height = 90;
+    sdft_image a, b;
+    sdft_render_stats sa, sb;
+    assert_int_equal(sdft_image_alloc(&a, p.width, p.height, NULL, 0), 0);
+    assert_int_equal(sdft_image_alloc(&b, p.width, p.height, NULL, 0), 0);
+    assert_int_equal(sdft_render(&small, &p, &a, &sa, NULL, 0), 0);
+    assert_int_equal(sdft_render(&wide, &p, &b, &sb, NULL, 0), 0);
+    const size_t n = (size_t)p.width * p.height;
+    size_t hits = 0;
+    for (size_t i = 0; i < n; i++) {
+        assert_int_equal(a.status[i], b.status[i]);
+        hits += a.status[i] == SDFT_HIT;
+        if (a.status[i] == SDFT_HIT) {
+            assert_true(fabsf(a.depth[i] - b.depth[i]) < 1e-3f);
+            continue;
+        }
+        assert_memory_equal(&a.rgb[3 * i], &b.rgb[3 * i], 3 * sizeof(float));
+        assert_true(isinf(a.depth[i]) && a.normal[3 * i] == 0.0f && a.normal[3 * i + 2] == 0.0f);
+    }
+    assert_true(hits > 100 && hits < n / 4);
+    assert_true(sa.steps + sa.cone_steps < sb.steps + sb.cone_steps);
+    p.camera.at = sdft_add(p.camera.from, sdft_sub(p.camera.from, p.camera.at)); /* turned around */
+    assert_int_equal(sdft_render(&small, &p, &a, &sa, NULL, 0), 0);
+    assert_true(sa.hits == 0 && sa.steps == 0 && sa.cone_steps == 0 && sa.rays == n);
+    for (size_t i = 0; i < n; i++)
+        assert_true(a.status[i] == SDFT_MISS && isinf(a.depth[i]) && a.rgb[3 * i + 2] > 0.5f);
+    sdft_image_free(&a);
+    sdft_image_free(&b);
 }
 
 static void test_bad_params(void **state)
@@ -452,6 +510,8 @@ int main(void)
         cmocka_unit_test(test_bad_params),
         cmocka_unit_test(test_cones_never_pass_a_surface),
         cmocka_unit_test(test_cones_and_depth_only),
+        cmocka_unit_test(test_defaults_and_the_papers_counting),
+        cmocka_unit_test(test_culled_tiles_match_traced_ones),
     };
     return cmocka_run_group_tests_name("render", tests, NULL, NULL);
 }

@@ -14,6 +14,8 @@
 #ifndef SDFTRACE_FIELD_H
 #define SDFTRACE_FIELD_H
 
+#include <stdint.h>
+
 #include "sdftrace/config.h"
 #include "vec3.h"
 
@@ -60,13 +62,26 @@ typedef struct sdft_field {
     /* Prepares a thread's scratch (its `bytes`). Optional: NULL when the
      * field keeps no per-thread state; then any scratch will do. */
     sdft_scratch_init_fn scratch_init;
-    /* Shared data; owned by whoever made the field, must outlive it. */
+    /* Shared data; owned by whoever made the field, must outlive it. Every
+     * callback gets it: a field that wraps another and replaces ctx must
+     * wrap (or clear) each of the inner field's callbacks too. */
     const void *ctx;
     /* Every point with distance <= 0 lies in this box; rays are clipped to it. */
     sdft_aabb bounds;
     /* Length scale for numerical differences (normals), world units; 0 picks
      * 1e-4 of the box diagonal. Grids set one voxel. */
     float feature_size;
+    /* Optional: the exact first root along a ray, where the field knows its
+     * own form (a grid: the trilinear interpolant, a cubic along the ray in
+     * each voxel cell). The tracer asks once f(org + t0 dir) lies in (0,
+     * root_reach): it looks along [t0, t1] and returns 1 with *t the first t
+     * where f reaches 0, or 0 with *t the t up to which it proved there is
+     * none (t0 <= *t <= t1; the tracer marches on from there). It adds to
+     * *reads the evaluations' worth of data it read (a grid: one per cell).
+     * NULL: not provided; the tracer steps to eps, as the papers do. */
+    int (*root)(const void *ctx, sdft_scratch *scratch, sdft_vec3 org, sdft_vec3 dir, float t0, float t1, float *t,
+                uint32_t *reads);
+    float root_reach; /* world units; with root */
 } sdft_field;
 
 /* Prepares s for field f on the calling thread: f's scratch_init, and s

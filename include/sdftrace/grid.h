@@ -65,6 +65,14 @@ SDFT_API sdft_error sdft_grid_from_buffer(const void *data, size_t size, const c
 SDFT_API sdft_error sdft_grid_borrow_buffer(const void *data, size_t size, const char *name, sdft_grid **out, char *msg,
                                             size_t msg_len);
 
+/* As sdft_grid_borrow_buffer, but the grid takes the buffer over: it calls
+ * release(data) once, when the grid is freed, or before returning when it
+ * refuses the buffer (any error but a NULL release, SDFT_EINVAL). For a
+ * loader that fills a buffer for the grid alone (the OpenVDB component's
+ * streamed `.vdb` loading does), without a copy. */
+SDFT_API sdft_error sdft_grid_adopt_buffer(void *data, size_t size, const char *name, void (*release)(void *data),
+                                           sdft_grid **out, char *msg, size_t msg_len);
+
 /* Frees the grid and what it owns (not a borrowed buffer); NULL is fine.
  * Every field of the grid must be out of use. */
 SDFT_API void sdft_grid_free(sdft_grid *g);

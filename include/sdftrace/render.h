@@ -60,9 +60,16 @@ typedef struct sdft_render_stats {
 
 /* Defaults: sdft_trace_defaults(), 1280x720, a camera at (0, 1, 5) looking
  * at the origin with a 45 degree field of view, a light at (5, 10, 5),
- * shadows on, no screen-space, no cones (every ray's trace from the eye, as
- * the papers count steps), depth and shading, all threads. */
+ * shadows on, no screen-space, depth and shading, all threads, and cones
+ * on: the fastest settings that give the same picture. sdft_render_papers
+ * turns cones and the exact root off. */
 SDFT_API sdft_render_params sdft_render_defaults(void);
+
+/* Switches p to the papers' way of counting (Bán–Valasek, Keinert et al.):
+ * every primary ray traced on its own from the eye (no cones), stepping to
+ * eps to the end (no exact root). The grid bench's `-papers` rows and the
+ * method-by-method study use it. */
+SDFT_API void sdft_render_papers(sdft_render_params *p);
 
 /* Allocates every plane of a width x height image into *img (its old
  * contents are not freed). SDFT_OK; SDFT_EINVAL for a NULL img or a size

@@ -62,6 +62,9 @@ typedef struct sdft_trace_params {
     float eps;          /* absolute convergence radius, world units (>= 0) */
     float pixel_radius; /* screen-space criterion: half a pixel's footprint at t = 1; 0 = off */
     uint32_t max_steps; /* i_max: most SDF evaluations while marching (>= 1) */
+    int exact_root;     /* 1: near the surface, the field's exact root (sdft_field.root, a grid's trilinear
+                         * cell) instead of steps to eps, its reads counted; 0: every step to eps, as the
+                         * papers count (fields without a root march so anyway) */
 } sdft_trace_params;
 
 /* What a trace found. */
@@ -76,9 +79,11 @@ typedef struct sdft_hit {
 } sdft_hit;
 
 /* The defaults of the papers' measurements: auto, beta 0.3, eps 1e-4, 1000
- * steps, no screen-space, and omega 1. Omega is the relaxed and enhanced
- * variants' only parameter and has no value right for both: after choosing
- * one of them, set omega = sdft_default_omega(method) (1.5 or 0.88). */
+ * steps, no screen-space, and omega 1; and the field's exact root where it
+ * has one (exact_root 1, which the papers' way of counting turns off).
+ * Omega is the relaxed and enhanced variants' only parameter and has no
+ * value right for both: after choosing one of them, set omega =
+ * sdft_default_omega(method) (1.5 or 0.88). */
 SDFT_API sdft_trace_params sdft_trace_defaults(void);
 
 /* Default omega of a method (relaxed 1.5, enhanced 0.88, else 1). */

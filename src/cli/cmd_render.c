@@ -2,6 +2,7 @@
  * to OpenEXR, with an optional PNG preview, count heatmaps and a JSON line
  * of statistics. The steps: parse the options, check them, open the field,
  * check the outputs can be written, render, write, report. */
+#include <omp.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,6 +12,7 @@
 #include "commands.h"
 #include "image_io.h"
 #include "json.h"
+#include "progress.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
 #include "sdftrace/vdb.h"
@@ -28,7 +30,7 @@ typedef struct render_opts {
     long heatmap_max;        /* --heatmap-max: the scale's top; 0: the largest count, rounded up */
     int camera_set, fov_set; /* override the scene's view */
     float camera[6], fov;
-    int shadows, screen_space, cones, depth_only, json;
+    int shadows, screen_space, cones, exact_root, depth_only, json, quiet, fp16;
     const char *out, *png, *heatmap;
     sdft_heatmap_kind heatmap_kind;
 } render_opts;
@@ -64,10 +66,17 @@ void cmd_render_help(FILE *out)
         "  --fov DEG             vertical field of view, (0, 180) (default: the scene's)\n"
         "  --no-shadows          no shadow rays (default: a shadow ray per lit hit)\n"
         "  --screen-space        Keinert's screen-space criterion: eps grows by half a pixel per unit t (default off)\n"
-        "  --cones               primary rays march together first, as one cone per 16x16 tile and per 4x4 block,\n"
-        "                        then each on its own from there: faster, same picture; their shared steps are\n"
-        "                        counted apart as cone_steps (default off: every ray from the eye, as the papers)\n"
+        "  --no-cones            every primary ray from the eye. Default: the rays of each 16x16 tile, then of\n"
+        "                        each 4x4 block, first march together as one cone, then each on its own from\n"
+        "                        there: faster, the same picture; the cones' steps are counted apart (cone_steps)\n"
+        "  --no-exact-root       sphere steps to eps to the end. Default: near the surface of a grid, the exact\n"
+        "                        first root of its trilinear interpolant, cell by cell (each cell read counts\n"
+        "                        as one evaluation); procedural scenes always step to eps\n"
+        "  --papers              the papers' way of counting: --no-cones --no-exact-root (every ray from the\n"
+        "                        eye, every step to eps); what the method comparisons use\n"
         "  --depth-only          primary rays only: depth (Z), status and counts; no normals, shading or shadows\n"
+        "  --fp16                load a .vdb grid as NanoVDB Fp16 (half the memory; values within 1/2048 of the band)\n"
+        "  --quiet               no progress line while loading, no summary line when done (both on stderr)\n"
         "  --threads N           OpenMP threads, 0 = all cores (default 0)\n"
         "  --png OUT.png         sRGB preview (default none)\n"
         "  --heatmap steps|fallbacks OUT.png  false-colour map of the per-pixel counts (default none)\n"
@@ -90,6 +99,8 @@ static render_opts default_opts(void)
         .height = d.height,
         .threads = 0,
         .shadows = 1,
+        .cones = d.cones,
+        .exact_root = d.trace.exact_root,
     };
 }
 
@@ -108,8 +119,28 @@ static int parse_opts(int argc, char **argv, render_opts *o, char *msg, size_t l
             o->screen_space = 1;
             continue;
         }
-        if (strcmp(a, "--cones") == 0) {
+        if (strcmp(a, "--cones") == 0) { /* the default; kept so that older scripts run */
             o->cones = 1;
+            continue;
+        }
+        if (strcmp(a, "--no-cones") == 0) {
+            o->cones = 0;
+            continue;
+        }
+        if (strcmp(a, "--no-exact-root") == 0) {
+            o->exact_root = 0;
+            continue;
+        }
+        if (strcmp(a, "--papers") == 0) {
+            o->cones = 0, o->exact_root = 0;
+            continue;
+        }
+        if (strcmp(a, "--fp16") == 0) {
+            o->fp16 = 1;
+            continue;
+        }
+        if (strcmp(a, "--quiet") == 0) {
+            o->quiet = 1;
             continue;
         }
         if (strcmp(a, "--depth-only") == 0) {
@@ -204,6 +235,8 @@ static int check_opts(const render_opts *o, char *msg, size_t len)
         snprintf(msg, len, "%ldx%ld is more than %ld pixels", o->width, o->height, MAX_PIXELS);
     else if (o->heatmap_max && !o->heatmap)
         snprintf(msg, len, "--heatmap-max needs --heatmap");
+    else if (o->fp16 && !o->grid)
+        snprintf(msg, len, "--fp16 applies to a --grid .vdb file");
     else if (o->camera_set && o->camera[0] == o->camera[3] && o->camera[1] == o->camera[4] &&
              o->camera[2] == o->camera[5])
         snprintf(msg, len, "--camera: the eye and the look-at point must differ");
@@ -233,6 +266,13 @@ static int open_field(const render_opts *o, render_source *src, char *msg, size_
     return 0;
 }
 
+/* A .vdb file's loading, drawn as the shared progress bar. */
+static int show_loading(void *user, float done)
+{
+    sdft_progress_bar_show(user, "loading", (int)(100.0f * done));
+    return 0;
+}
+
 /* A grid file as the field. Its view: the scene's, given --scene, else a
  * camera in front of (+z) the active bounding box framing it, a light above. */
 static int open_grid(const render_opts *o, render_source *src, char *msg, size_t len)
@@ -243,19 +283,31 @@ static int open_grid(const render_opts *o, render_source *src, char *msg, size_t
         return -1;
     }
     sdft_grid *g = NULL;
-    if (sdft_grid_open(o->grid, o->grid_name, &g, msg, len))
+    const char *dot = strrchr(o->grid, '.');
+    const int vdb = dot && strcmp(dot, ".vdb") == 0;
+    if (o->fp16 && !vdb) {
+        snprintf(msg, len, "--fp16 converts a .vdb file; %s is loaded as it is stored", o->grid);
+        return -1;
+    }
+    sdft_progress_bar bar;
+    sdft_progress_bar_init(&bar, !o->quiet);
+    sdft_vdb_options vo = sdft_vdb_options_defaults();
+    vo.quant = o->fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE;
+    vo.progress = show_loading;
+    vo.progress_user = &bar;
+    const sdft_error rc = vdb ? sdft_vdb_open(o->grid, o->grid_name, &vo, &g, msg, len)
+                              : sdft_grid_open(o->grid, o->grid_name, &g, msg, len);
+    sdft_progress_bar_clear(&bar);
+    if (rc)
         return -1;
     *src = (render_source){.field = sdft_grid_field(g), .name = sdft_grid_name(g), .grid = g};
     if (scene) {
         src->camera = scene->camera, src->light = scene->light;
         return 0;
     }
-    sdft_aabb b = sdft_grid_world_bounds(g);
-    sdft_vec3 c = sdft_scale(sdft_add(b.lo, b.hi), 0.5f), e = sdft_scale(sdft_sub(b.hi, b.lo), 0.5f);
-    const float fov = 40.0f, aspect = (float)o->width / (float)o->height;
-    float half = fmaxf(e.y, e.x / aspect) * 1.15f;
-    float dist = e.z + half / tanf(0.5f * fov * 3.14159265f / 180.0f);
-    src->camera = (sdft_camera){.from = sdft_v3(c.x, c.y, c.z + dist), .at = c, .up = sdft_v3(0, 1, 0), .fov_deg = fov};
+    src->camera = sdft_camera_front(sdft_grid_world_bounds(g), (int)o->width, (int)o->height, 40.0f);
+    const sdft_vec3 c = src->camera.at;
+    const float dist = src->camera.from.z - c.z;
     src->light = sdft_v3(c.x, c.y + 2.0f * dist, c.z + dist);
     return 0;
 }
@@ -282,6 +334,7 @@ static sdft_render_params make_params(const render_opts *o, const render_source 
     p.shadows = o->shadows;
     p.screen_space = o->screen_space;
     p.cones = o->cones;
+    p.trace.exact_root = o->exact_root;
     p.depth_only = o->depth_only;
     p.threads = (int)o->threads;
     return p;
@@ -306,30 +359,54 @@ static int write_outputs(const render_opts *o, const sdft_image *img, char *msg,
     return 0;
 }
 
+/* The traced grid's NanoVDB bytes; 0 for a procedural scene. */
+static size_t grid_bytes(const render_source *src)
+{
+    size_t size = 0;
+    if (src->grid)
+        sdft_grid_data(src->grid, &size);
+    return size;
+}
+
 static void print_json(const render_source *src, const sdft_render_params *p, const sdft_render_stats *st)
 {
     double primary = (double)st->primary_rays;
     printf("{\"scene\": ");
     sdft_json_put_string(stdout, src->name);
     printf(", \"method\": \"%s\", \"omega\": %.6g, \"beta\": %.6g, \"eps\": %.6g, \"max_steps\": %u, "
-           "\"width\": %d, \"height\": %d, \"shadows\": %s, \"screen_space\": %s, \"cones\": %s, \"threads\": %d, "
+           "\"width\": %d, \"height\": %d, \"shadows\": %s, \"screen_space\": %s, \"cones\": %s, \"exact_root\": %s, "
+           "\"threads\": %d, "
            "\"ms\": %.3f, \"rays\": %llu, \"primary_rays\": %llu, \"steps\": %llu, \"primary_steps\": %llu, "
            "\"cone_steps\": %llu, \"fallbacks\": %llu, \"primary_fallbacks\": %llu, \"mean_steps\": %.4f, "
            "\"mean_primary_steps\": %.4f, \"mean_shadow_steps\": %.4f, \"mean_cone_steps\": %.4f, "
            "\"mean_fallbacks\": %.4f, \"mean_primary_fallbacks\": %.4f, \"nonconverged\": %.6f, "
-           "\"hit_fraction\": %.6f}\n",
+           "\"hit_fraction\": %.6f, \"grid_bytes\": %zu}\n",
            sdft_method_name(p->trace.method), p->trace.omega, p->trace.beta, p->trace.eps, p->trace.max_steps, p->width,
            p->height, p->shadows ? "true" : "false", p->screen_space ? "true" : "false", p->cones ? "true" : "false",
-           p->threads, st->ms, (unsigned long long)st->rays, (unsigned long long)st->primary_rays,
-           (unsigned long long)st->steps, (unsigned long long)st->primary_steps, (unsigned long long)st->cone_steps,
-           (unsigned long long)st->fallbacks, (unsigned long long)st->primary_fallbacks, (double)st->steps / primary,
-           (double)st->primary_steps / primary, (double)(st->steps - st->primary_steps) / primary,
-           (double)st->cone_steps / primary, (double)st->fallbacks / primary, (double)st->primary_fallbacks / primary,
-           (double)st->nonconverged / primary, (double)st->hits / primary);
+           p->trace.exact_root ? "true" : "false", p->threads, st->ms, (unsigned long long)st->rays,
+           (unsigned long long)st->primary_rays, (unsigned long long)st->steps, (unsigned long long)st->primary_steps,
+           (unsigned long long)st->cone_steps, (unsigned long long)st->fallbacks,
+           (unsigned long long)st->primary_fallbacks, (double)st->steps / primary, (double)st->primary_steps / primary,
+           (double)(st->steps - st->primary_steps) / primary, (double)st->cone_steps / primary,
+           (double)st->fallbacks / primary, (double)st->primary_fallbacks / primary, (double)st->nonconverged / primary,
+           (double)st->hits / primary, grid_bytes(src));
+}
+
+/* The one line on stderr when a render is done: what was made, how much
+ * of it hit, how long the trace and the whole command took, where it went. */
+static void print_summary(const render_opts *o, const sdft_render_params *p, const sdft_render_stats *st,
+                          double total_s)
+{
+    fprintf(stderr,
+            "render: %dx%d, %.1f%% hit, %.1f evaluations per pixel, trace %.0f ms, %.2f s in all -> %s%s%s%s%s\n",
+            p->width, p->height, 100.0 * (double)st->hits / (double)st->primary_rays,
+            (double)(st->steps + st->cone_steps) / (double)st->primary_rays, st->ms, total_s, o->out,
+            o->png ? ", " : "", o->png ? o->png : "", o->heatmap ? ", " : "", o->heatmap ? o->heatmap : "");
 }
 
 int cmd_render(int argc, char **argv)
 {
+    const double start = omp_get_wtime();
     char msg[512] = "";
     render_opts o = default_opts();
     int parsed = parse_opts(argc, argv, &o, msg, sizeof msg);
@@ -371,5 +448,7 @@ int cmd_render(int argc, char **argv)
         print_json(&src, &p, &st);
     sdft_image_free(&img);
     close_field(&src);
+    if (!rc && !o.quiet)
+        print_summary(&o, &p, &st, omp_get_wtime() - start);
     return rc;
 }

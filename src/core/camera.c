@@ -38,6 +38,15 @@ sdft_ray sdft_camera_ray(const sdft_camera *c, int width, int height, float px, 
     return sdft_view_ray(&view, px, py);
 }
 
+sdft_camera sdft_camera_front(sdft_aabb b, int width, int height, float fov_deg)
+{
+    const sdft_vec3 c = sdft_scale(sdft_add(b.lo, b.hi), 0.5f), e = sdft_scale(sdft_sub(b.hi, b.lo), 0.5f);
+    const float aspect = (float)width / (float)height;
+    const float half = sdft_maxf(e.y, e.x / aspect) * 1.15f;
+    const float dist = e.z + half / camera_half_height(&(sdft_camera){.fov_deg = fov_deg});
+    return (sdft_camera){.from = sdft_v3(c.x, c.y, c.z + dist), .at = c, .up = sdft_v3(0, 1, 0), .fov_deg = fov_deg};
+}
+
 float sdft_camera_pixel_radius(const sdft_camera *c, int height)
 {
     /* A pixel is 2 tan(fov/2) / height tall at unit distance; half of it. */

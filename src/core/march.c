@@ -45,6 +45,15 @@ sdft_hit sdft_march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray 
     sdft_hit hit = {.t = t, .distance = r, .steps = steps, .fallbacks = fallbacks};
     if (r <= march_eps(p, t)) {
         hit.status = SDFT_HIT;
+        /* A field with an exact root gives the hit itself, from the last
+         * point known outside (a step may have landed inside). */
+        const float from = r > 0.0f ? t : t0;
+        float at;
+        if (p->exact_root && f->root && (r > 0.0f || (r0 > 0.0f && t0 < t)) &&
+            f->root(f->ctx, s, ray->org, ray->dir, from, ray->tfar, &at, &hit.steps)) {
+            hit.t = at, hit.distance = 0.0f;
+            return hit;
+        }
         refine(f, s, ray, p, t0, r0, &hit.t, &hit.distance, &hit.steps);
     } else if (t + r >= ray->tfar || !isfinite(r)) {
         hit.status = SDFT_MISS;

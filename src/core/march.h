@@ -46,12 +46,14 @@ sdft_hit sdft_march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray 
 /* What Algorithms 1-4 keep between iterations: the accepted point (t, r),
  * the step z to the next trial point T = t + z, auto's slope m, the point
  * accepted before (t0, r0) for refinement, the count i of evaluations, the
- * fallbacks and the screen-space candidate. */
+ * fallbacks and the screen-space candidate; and root_t, up to where the
+ * field's exact root was last asked for (march_root). */
 typedef struct march_state {
     float t, r, z, m;
     float t0, r0;
     uint32_t i, fallbacks;
     march_candidate best;
+    float root_t;
 } march_state;
 
 /* A variant is two functions of the state: `start` completes line 4 once
@@ -65,7 +67,18 @@ typedef void (*march_step_fn)(march_state *m, float T, float R, const sdft_trace
  * start sets z (and m). */
 static inline void march_begin(march_state *m, const sdft_trace_params *p, float t, float r)
 {
-    *m = (march_state){.t = t, .r = r, .t0 = t, .r0 = r, .i = 1, .best = {t, r, INFINITY}};
+    *m = (march_state){.t = t, .r = r, .t0 = t, .r0 = r, .i = 1, .best = {t, r, INFINITY}, .root_t = -INFINITY};
+    march_offer(&m->best, p, t, r);
+}
+
+/* Marching resumes at t, r = f(t), after the field's root proved the ray
+ * free up to t: like line 4 (the variant's start follows), but the counts
+ * and the candidate go on. */
+static inline void march_restart(march_state *m, const sdft_trace_params *p, float t, float r)
+{
+    m->t0 = m->t, m->r0 = m->r;
+    m->t = t, m->r = r;
+    m->i++;
     march_offer(&m->best, p, t, r);
 }
 
@@ -83,11 +96,45 @@ static inline sdft_hit march_end(const sdft_field *f, sdft_scratch *s, const sdf
     return sdft_march_finish(f, s, ray, p, m->t0, m->r0, m->t, m->r, m->i, m->fallbacks, m->best);
 }
 
+/* THE EXACT LAST CELL. A field that knows its own form near the surface
+ * (sdft_field.root: a grid's trilinear cells, where f along the ray is a
+ * cubic) is asked for the exact first root once the accepted point is
+ * within its reach (eps(t) < r < root_reach) instead of stepping on to eps:
+ * its answer is the hit, on the surface itself, or a stretch [t, t') it
+ * proved free, after which marching restarts at t' (the variant's state
+ * begins anew there; its history does not span the jump). It is asked at
+ * most once per stretch (root_t), and the data it reads counts as
+ * evaluations. Only with p->exact_root and a field that has one. */
+static inline int march_root_due(const sdft_field *f, const sdft_trace_params *p, const march_state *m)
+{
+    return p->exact_root && f->root && m->r < f->root_reach && m->t > m->root_t;
+}
+
+/* Asks the field; 1 when it found the root (*t_out: where), else 0 with
+ * *t_out where marching resumes (m->t when the field could not go on). */
+static inline int march_root(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, march_state *m, float *t_out)
+{
+    float t = m->t;
+    const int found = f->root(f->ctx, s, ray->org, ray->dir, m->t, ray->tfar, &t, &m->i);
+    m->root_t = found ? m->root_t : sdft_maxf(t, m->t);
+    *t_out = found ? t : sdft_maxf(t, m->t);
+    return found;
+}
+
+/* The hit at the field's exact root t. */
+static inline sdft_hit march_exact_hit(const march_state *m, float t)
+{
+    return (sdft_hit){.t = t, .distance = 0.0f, .status = SDFT_HIT, .steps = m->i, .fallbacks = m->fallbacks};
+}
+
 #if defined(__GNUC__)
 #define MARCH_INLINE static inline __attribute__((always_inline))
 #else
 #define MARCH_INLINE static inline
 #endif
+/* A variant's start and step: inlined into the drivers below, which take
+ * them as constants. */
+#define MARCH_VARIANT MARCH_INLINE
 
 /* One ray, on [ray->tnear, ray->tfar] (already clipped): the listings'
  * loop. Inlined into each variant with its start and step folded in. */
@@ -98,6 +145,16 @@ MARCH_INLINE sdft_hit march_one(const sdft_field *f, sdft_scratch *s, const sdft
     march_begin(&m, p, ray->tnear, march_eval(f, s, ray, ray->tnear)); /* line 4 */
     start(&m, p);
     while (march_on(p, ray, m.t, m.r, m.i)) {
+        float at;
+        if (march_root_due(f, p, &m)) {
+            if (march_root(f, s, ray, &m, &at))
+                return march_exact_hit(&m, at);
+            if (at > m.t) {
+                march_restart(&m, p, at, march_eval(f, s, ray, at));
+                start(&m, p);
+                continue;
+            }
+        }
         const float T = m.t + m.z;
         step(&m, T, march_eval(f, s, ray, T), p);
         m.i++;
@@ -124,12 +181,15 @@ static inline int march_clip(const sdft_field *f, const sdft_ray *ray, sdft_ray 
  * ends takes the next. */
 enum { MARCH_LANES = 4 };
 
+enum { LANE_STEP, LANE_FRESH, LANE_RESTART };
+
 typedef struct march_lane {
     march_state m;
     sdft_ray ray; /* clipped */
     size_t index; /* in rays[] and hits[] */
     float T;      /* where the lane's next value is taken */
-    int fresh;    /* that value is line 4's f(tnear) */
+    int next;     /* what that value is: LANE_FRESH line 4's f(tnear), LANE_RESTART where the root left off,
+                   * LANE_STEP the variant's trial point */
 } march_lane;
 
 /* Gives the lane the next ray that survives clipping (the others' hits are
@@ -140,7 +200,7 @@ static inline int march_take(const sdft_field *f, const sdft_ray *rays, sdft_hit
     while (*next < n) {
         const size_t i = (*next)++;
         if (march_clip(f, &rays[i], &lane->ray, &hits[i])) {
-            lane->index = i, lane->T = lane->ray.tnear, lane->fresh = 1;
+            lane->index = i, lane->T = lane->ray.tnear, lane->next = LANE_FRESH;
             return 1;
         }
     }
@@ -161,19 +221,32 @@ MARCH_INLINE void march_many(const sdft_field *f, sdft_scratch *s, const sdft_ra
             R[k] = march_eval(f, s, &lane[k].ray, lane[k].T);
         for (int k = 0; k < live; k++) {
             march_lane *l = &lane[k];
-            if (l->fresh) {
-                march_begin(&l->m, p, l->T, R[k]);
-                start(&l->m, p);
-                l->fresh = 0;
-            } else {
+            if (l->next == LANE_STEP) {
                 step(&l->m, l->T, R[k], p);
                 l->m.i++;
+            } else {
+                if (l->next == LANE_FRESH)
+                    march_begin(&l->m, p, l->T, R[k]);
+                else
+                    march_restart(&l->m, p, l->T, R[k]);
+                start(&l->m, p);
+                l->next = LANE_STEP;
             }
             if (march_on(p, &l->ray, l->m.t, l->m.r, l->m.i)) {
-                l->T = l->m.t + l->m.z;
-                continue;
+                float at;
+                if (!march_root_due(f, p, &l->m)) {
+                    l->T = l->m.t + l->m.z;
+                    continue;
+                }
+                if (!march_root(f, s, &l->ray, &l->m, &at)) {
+                    l->next = at > l->m.t ? LANE_RESTART : LANE_STEP;
+                    l->T = at > l->m.t ? at : l->m.t + l->m.z;
+                    continue;
+                }
+                hits[l->index] = march_exact_hit(&l->m, at);
+            } else {
+                hits[l->index] = march_end(f, s, &l->ray, p, &l->m);
             }
-            hits[l->index] = march_end(f, s, &l->ray, p, &l->m);
             if (march_take(f, rays, hits, n, &next, l))
                 continue;
             /* None left: the last lane moves here and is stepped in its turn. */

@@ -44,8 +44,17 @@ sdft_render_params sdft_render_defaults(void)
         .light = {5.0f, 10.0f, 5.0f},
         .shadows = 1,
         .screen_space = 0,
+        .cones = 1,
         .threads = 0,
     };
+}
+
+void sdft_render_papers(sdft_render_params *p)
+{
+    if (!p)
+        return;
+    p->cones = 0;
+    p->trace.exact_root = 0;
 }
 
 sdft_error sdft_image_alloc(sdft_image *img, int width, int height, char *msg, size_t msg_len)
@@ -90,7 +99,7 @@ void sdft_image_free(sdft_image *img)
 
 static sdft_vec3 sky(sdft_vec3 dir)
 {
-    float k = fminf(fmaxf(dir.y, 0.0f), 1.0f);
+    float k = sdft_minf(sdft_maxf(dir.y, 0.0f), 1.0f);
     return sdft_add(sdft_scale(SKY_HORIZON, 1.0f - k), sdft_scale(SKY_ZENITH, k));
 }
 
@@ -127,6 +136,7 @@ typedef struct frame {
     float feature;        /* the field's feature size: the normal's step */
     sdft_view view;
     float cone_tfar; /* with cones: beyond it every primary ray has left the field's box */
+    float cone_tnear; /* the eye's distance to the field's box: no primary ray meets the surface before it */
 } frame;
 
 /* A pixel's colour and normal given its primary ray's hit, lit as if the
@@ -180,6 +190,13 @@ static void shadow_pixel(sdft_hit h, pixel_result *out)
         out->rgb = lit(0.0f);
 }
 
+/* The distance from p to box b (0 inside it). */
+static float box_distance(sdft_aabb b, sdft_vec3 p)
+{
+    const sdft_vec3 out = sdft_max_v(sdft_max_v(sdft_sub(b.lo, p), sdft_sub(p, b.hi)), sdft_v3(0, 0, 0));
+    return sdft_length(out);
+}
+
 /* The distance from p to the farthest corner of box b. */
 static float farthest_corner(sdft_aabb b, sdft_vec3 p)
 {
@@ -216,6 +233,17 @@ static void store_pixel(const frame *fr, int x, int y, const pixel_result *px, s
     ts->nonconverged += px->status == SDFT_NOT_CONVERGED;
 }
 
+/* Where the primary rays through pixels [x0, x1) x [y0, y1) may start:
+ * with cones, as far as sdft_cone_march takes their bundle from `t`. */
+static float block_start(const frame *fr, sdft_scratch *s, int x0, int y0, int x1, int y1, float t, tile_stats *ts)
+{
+    if (!fr->rp->cones)
+        return t;
+    sdft_vec3 axis;
+    const float spread = sdft_view_cone(&fr->view, (float)x0, (float)y0, (float)x1, (float)y1, &axis);
+    return sdft_cone_march(fr->f, s, fr->rp->camera.from, axis, spread, t, fr->cone_tfar, &ts->cone_steps);
+}
+
 /* Pixels [x0, x1) x [y0, y1), at most BLOCK x BLOCK, primary rays from
  * tnear: their primary rays are traced as one stream (interleaved), then
  * each pixel shaded, then their shadow rays traced as one stream. */
@@ -248,15 +276,52 @@ static void render_block(const frame *fr, sdft_scratch *s, int x0, int y0, int x
             store_pixel(fr, x, y, &px[n], img, ts);
 }
 
-/* Where the primary rays through pixels [x0, x1) x [y0, y1) may start:
- * with cones, as far as sdft_cone_march takes their bundle from `t`. */
-static float block_start(const frame *fr, sdft_scratch *s, int x0, int y0, int x1, int y1, float t, tile_stats *ts)
+/* 0 when no ray from the eye through the image rectangle [x0, x1] x [y0,
+ * y1] (pixel units) can meet box b: the box lies wholly on the outer side
+ * of one of the four planes through the eye and the rectangle's edges, or
+ * wholly behind the eye. Conservative: 1 does not promise a hit. */
+static int rect_sees_box(const sdft_view *v, float x0, float y0, float x1, float y1, sdft_aabb b)
 {
-    if (!fr->rp->cones)
-        return t;
-    sdft_vec3 axis;
-    const float spread = sdft_view_cone(&fr->view, (float)x0, (float)y0, (float)x1, (float)y1, &axis);
-    return sdft_cone_march(fr->f, s, fr->rp->camera.from, axis, spread, t, fr->cone_tfar, &ts->cone_steps);
+    const sdft_vec3 c = sdft_view_ray(v, 0.5f * (x0 + x1), 0.5f * (y0 + y1)).dir;
+    const sdft_vec3 d[4] = {sdft_view_ray(v, x0, y0).dir, sdft_view_ray(v, x1, y0).dir, sdft_view_ray(v, x1, y1).dir,
+                            sdft_view_ray(v, x0, y1).dir};
+    sdft_vec3 n[5];
+    for (int i = 0; i < 4; i++) {
+        n[i] = sdft_cross(d[i], d[(i + 1) & 3]);
+        if (sdft_dot(n[i], c) < 0.0f)
+            n[i] = sdft_scale(n[i], -1.0f);
+    }
+    n[4] = c;
+    for (int i = 0; i < 5; i++) {
+        int outside = 1;
+        for (int k = 0; k < 8 && outside; k++) {
+            const sdft_vec3 corner =
+                sdft_v3((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z);
+            outside = sdft_dot(sdft_sub(corner, v->from), n[i]) < 0.0f;
+        }
+        if (outside)
+            return 0;
+    }
+    return 1;
+}
+
+/* Pixels [x0, x1) x [y0, y1) whose rays all miss the field's box: what a
+ * trace gives them, without one (sky, or black for depth alone). */
+static void miss_rect(const frame *fr, int x0, int y0, int x1, int y1, sdft_image *img)
+{
+    const int w = fr->rp->width;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            const size_t i = (size_t)y * (size_t)w + (size_t)x;
+            const sdft_vec3 rgb = fr->rp->depth_only
+                                      ? sdft_v3(0, 0, 0)
+                                      : sky(sdft_view_ray(&fr->view, (float)x + 0.5f, (float)y + 0.5f).dir);
+            img->rgb[3 * i] = rgb.x, img->rgb[3 * i + 1] = rgb.y, img->rgb[3 * i + 2] = rgb.z;
+            img->normal[3 * i] = img->normal[3 * i + 1] = img->normal[3 * i + 2] = 0.0f;
+            img->depth[i] = INFINITY;
+            img->steps[i] = img->fallbacks[i] = 0;
+            img->status[i] = (uint8_t)SDFT_MISS;
+        }
 }
 
 static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *img, tile_stats *ts)
@@ -267,9 +332,15 @@ static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *
     int x1 = x0 + TILE < rp->width ? x0 + TILE : rp->width;
     int y1 = y0 + TILE < rp->height ? y0 + TILE : rp->height;
     *ts = (tile_stats){0};
+    /* A tile whose rays all pass the field's box by: nothing to trace. */
+    if (!rect_sees_box(&fr->view, (float)x0, (float)y0, (float)x1, (float)y1, fr->f->bounds)) {
+        ts->rays = (uint64_t)(x1 - x0) * (uint64_t)(y1 - y0);
+        miss_rect(fr, x0, y0, x1, y1, img);
+        return;
+    }
     /* The tile's bundle, then each BLOCK x BLOCK bundle from there, then
      * each ray from there (all start at 0 without cones). */
-    const float t_tile = block_start(fr, s, x0, y0, x1, y1, 0.0f, ts);
+    const float t_tile = block_start(fr, s, x0, y0, x1, y1, fr->cone_tnear, ts);
     for (int by = y0; by < y1; by += BLOCK)
         for (int bx = x0; bx < x1; bx += BLOCK) {
             const int bx1 = bx + BLOCK < x1 ? bx + BLOCK : x1, by1 = by + BLOCK < y1 ? by + BLOCK : y1;
@@ -325,7 +396,8 @@ sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sd
                       .tp = tp,
                       .feature = sdft_field_feature_size(f),
                       .view = sdft_camera_view(&params->camera, params->width, params->height),
-                      .cone_tfar = farthest_corner(f->bounds, params->camera.from)};
+                      .cone_tfar = farthest_corner(f->bounds, params->camera.from),
+                      .cone_tnear = box_distance(f->bounds, params->camera.from)};
     int threads = params->threads > 0 ? params->threads : omp_get_max_threads();
 
     double t0 = omp_get_wtime();

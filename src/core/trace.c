@@ -40,6 +40,7 @@ sdft_trace_params sdft_trace_defaults(void)
         .eps = 1e-4f,
         .pixel_radius = 0.0f,
         .max_steps = 1000,
+        .exact_root = 1,
     };
 }
 

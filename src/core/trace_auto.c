@@ -5,14 +5,14 @@
 #include "march.h"
 
 /* line 4: r := f(t), z := r, m := -1 */
-static void auto_start(march_state *m, const sdft_trace_params *p)
+MARCH_VARIANT void auto_start(march_state *m, const sdft_trace_params *p)
 {
     (void)p;
     m->z = m->r, m->m = -1.0f;
 }
 
 /* lines 6-14, given R = f(T) at the trial point T = t + z */
-static void auto_step(march_state *m, float T, float R, const sdft_trace_params *p)
+MARCH_VARIANT void auto_step(march_state *m, float T, float R, const sdft_trace_params *p)
 {
     const float beta = p->beta;
     if (m->z <= m->r + fabsf(R)) {                          /* line 7 */

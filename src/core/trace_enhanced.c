@@ -5,14 +5,14 @@
 #include "march.h"
 
 /* line 4: r := f(t), z := r */
-static void enhanced_start(march_state *m, const sdft_trace_params *p)
+MARCH_VARIANT void enhanced_start(march_state *m, const sdft_trace_params *p)
 {
     (void)p;
     m->z = m->r;
 }
 
 /* lines 6-11, given R = f(T) at the trial point T = t + z */
-static void enhanced_step(march_state *m, float T, float R, const sdft_trace_params *p)
+MARCH_VARIANT void enhanced_step(march_state *m, float T, float R, const sdft_trace_params *p)
 {
     const float t = m->t, r = m->r;
     if (m->z <= r + fabsf(R)) { /* line 7 */

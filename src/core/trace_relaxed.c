@@ -7,10 +7,10 @@
 #include "march.h"
 
 /* line 4 and the first pass: r := f(t), z := omega r */
-static void relaxed_start(march_state *m, const sdft_trace_params *p) { m->z = p->omega * m->r; }
+MARCH_VARIANT void relaxed_start(march_state *m, const sdft_trace_params *p) { m->z = p->omega * m->r; }
 
 /* lines 6-12, given R = f(T) at the trial point T = t + z */
-static void relaxed_step(march_state *m, float T, float R, const sdft_trace_params *p)
+MARCH_VARIANT void relaxed_step(march_state *m, float T, float R, const sdft_trace_params *p)
 {
     if (m->z <= m->r + fabsf(R)) { /* line 7: spheres overlap */
         m->z = p->omega * R;       /* line 8 */

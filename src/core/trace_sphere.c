@@ -6,14 +6,14 @@
 #include "march.h"
 
 /* line 4: t := tnear, r := f(t); the step is r */
-static void sphere_start(march_state *m, const sdft_trace_params *p)
+MARCH_VARIANT void sphere_start(march_state *m, const sdft_trace_params *p)
 {
     (void)p;
     m->z = m->r;
 }
 
 /* lines 6-8, given R = f(T) at T = t + r */
-static void sphere_step(march_state *m, float T, float R, const sdft_trace_params *p)
+MARCH_VARIANT void sphere_step(march_state *m, float T, float R, const sdft_trace_params *p)
 {
     march_accept(m, p, T, R); /* line 7: t := t + r; line 6: r := f(t) */
     m->z = R;

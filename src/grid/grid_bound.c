@@ -96,11 +96,22 @@ static void edt_line(const double *f, double *out, int n, int *v, double *z)
 
 enum { LANES = 8 }; /* adjacent x lines transformed together: one cache line per gather */
 
+/* The squared distances are stored as floats between passes (half the
+ * memory of doubles): sums of squared integers, exact below 2^24 cells^2;
+ * above, clamped there, which only lowers a distance of 4096 cells or more
+ * (still a bound; the corners saturate at 4096 voxels anyway). No site
+ * stays infinite. */
+#define SQUARED_MOST 16777216.0
+static inline float squared_store(double v)
+{
+    return v < SQUARED_MOST ? (float)v : v >= HUGE_VAL ? INFINITY : (float)SQUARED_MOST;
+}
+
 /* Squared distance transform of d (n[0] x n[1] x n[2], x fastest), in
  * place: the 1-D transform along x, then y, then z. Along y and z a line's
  * values are a row apart, so LANES lines with adjacent x go together and
  * each gather reads LANES contiguous values; lines run in parallel. */
-static int edt3(double *d, const int n[3])
+static int edt3(float *d, const int n[3])
 {
     const int m = n[0] > n[1] ? (n[0] > n[2] ? n[0] : n[2]) : (n[1] > n[2] ? n[1] : n[2]);
     const size_t stride[3] = {1, (size_t)n[0], (size_t)n[0] * (size_t)n[1]};
@@ -120,8 +131,8 @@ static int edt3(double *d, const int n[3])
                 if (failed)
                     continue;
                 const int i = (int)(item % across), j = (int)(item / across);
-                double *line = axis == 0 ? d + (size_t)i * stride[1] + (size_t)j * stride[2]
-                                         : d + (size_t)i * LANES + (size_t)j * stride[other];
+                float *line = axis == 0 ? d + (size_t)i * stride[1] + (size_t)j * stride[2]
+                                        : d + (size_t)i * LANES + (size_t)j * stride[other];
                 const int count = axis == 0 ? 1 : (n[0] - i * LANES < LANES ? n[0] - i * LANES : LANES);
                 for (int q = 0; q < n[axis]; q++)
                     for (int l = 0; l < count; l++)
@@ -130,7 +141,7 @@ static int edt3(double *d, const int n[3])
                     edt_line(f + (size_t)l * m, o + (size_t)l * m, n[axis], v, z);
                 for (int q = 0; q < n[axis]; q++)
                     for (int l = 0; l < count; l++)
-                        line[(size_t)q * stride[axis] + l] = o[(size_t)l * m + q];
+                        line[(size_t)q * stride[axis] + l] = squared_store(o[(size_t)l * m + q]);
             }
         }
         free(f), free(o), free(z), free(v);
@@ -159,38 +170,38 @@ static float probe(const sdft_grid *g, pnanovdb_readaccessor_t *acc, pnanovdb_co
                                                 : pnanovdb_read_float(g->buf, a);
 }
 
-/* The sign of every voxel of the inactive 4^3 block at o, which lies in the
- * leaf `acc` holds: +1 or -1, 0 when they differ. */
+/* The sign of the voxels of the inactive 4^3 block at o, which lies in the
+ * leaf `acc` holds: +1 or -1, the sign of its first voxel. All its voxels
+ * share it under the level-set convention this bound rests on: two
+ * adjacent voxels of opposite signs have the surface between them, so one
+ * of them lies within half a voxel of it, nearer than the background, and
+ * would be active. (Reading one value instead of 64 makes the far bound of
+ * a 4096^3 grid an order of magnitude quicker to build.) */
 static int8_t block_sign(const sdft_grid *g, pnanovdb_readaccessor_t *acc, pnanovdb_coord_t o)
 {
-    int neg = 0;
-    for (int k = 0; k < 64; k++) {
-        pnanovdb_coord_t ijk = {o.x + (k & 3), o.y + (k >> 2 & 3), o.z + (k >> 4)};
-        uint32_t level;
-        pnanovdb_address_t a = pnanovdb_readaccessor_get_value_address_and_level(g->type, g->buf, acc, &ijk, &level);
-        float v;
-        switch (g->type) {
-        case PNANOVDB_GRID_TYPE_FLOAT:
-            v = pnanovdb_read_float(g->buf, a);
-            break;
-        case PNANOVDB_GRID_TYPE_DOUBLE:
-            v = (float)pnanovdb_read_double(g->buf, a);
-            break;
-        case PNANOVDB_GRID_TYPE_FP16:
-            v = pnanovdb_root_fp16_read_float(g->buf, a, &ijk, level);
-            break;
-        case PNANOVDB_GRID_TYPE_FP8:
-            v = pnanovdb_root_fp8_read_float(g->buf, a, &ijk, level);
-            break;
-        case PNANOVDB_GRID_TYPE_FP4:
-            v = pnanovdb_root_fp4_read_float(g->buf, a, &ijk, level);
-            break;
-        default:
-            v = pnanovdb_root_fpn_read_float(g->buf, a, &ijk, level);
-        }
-        neg += v < 0.0f;
+    uint32_t level;
+    pnanovdb_address_t a = pnanovdb_readaccessor_get_value_address_and_level(g->type, g->buf, acc, &o, &level);
+    float v;
+    switch (g->type) {
+    case PNANOVDB_GRID_TYPE_FLOAT:
+        v = pnanovdb_read_float(g->buf, a);
+        break;
+    case PNANOVDB_GRID_TYPE_DOUBLE:
+        v = (float)pnanovdb_read_double(g->buf, a);
+        break;
+    case PNANOVDB_GRID_TYPE_FP16:
+        v = pnanovdb_root_fp16_read_float(g->buf, a, &o, level);
+        break;
+    case PNANOVDB_GRID_TYPE_FP8:
+        v = pnanovdb_root_fp8_read_float(g->buf, a, &o, level);
+        break;
+    case PNANOVDB_GRID_TYPE_FP4:
+        v = pnanovdb_root_fp4_read_float(g->buf, a, &o, level);
+        break;
+    default:
+        v = pnanovdb_root_fpn_read_float(g->buf, a, &o, level);
     }
-    return neg == 0 ? 1 : neg == 64 ? -1 : 0;
+    return v < 0.0f ? -1 : 1;
 }
 
 static inline int8_t pick(int8_t a, int8_t b, int max) { return max ? (a > b ? a : b) : (a < b ? a : b); }
@@ -228,7 +239,7 @@ static void extreme3(int8_t *dst, const int8_t *src, const int n[3], int axis, i
 /* The cells' signs: 0 occupied (an active voxel, or tiles or inactive voxels
  * of both signs), else +1 / -1 the sign of all its voxels. Returns non-zero
  * when out of memory. */
-static int classify(const sdft_grid *g, grid_far *far, int8_t *sign)
+static void classify_by_tree(const sdft_grid *g, grid_far *far, int8_t *sign)
 {
     static const int log2_dim[5] = {2, 3, 7, 12, 12}; /* a leaf is probed per 4^3 block */
     const int S = far->cell, per = S / 4;
@@ -269,11 +280,17 @@ static int classify(const sdft_grid *g, grid_far *far, int8_t *sign)
                         }
                     }
     }
-    /* Unoccupied cells touching an unoccupied cell of the other sign (a
-     * level set would put leaves between them) are occupied too, so U still
-     * holds every sign change: a cell of sign +1 whose 3^3 neighbourhood's
-     * minimum is -1, or of sign -1 whose maximum is +1. Min and max filters
-     * are separable: three passes of three cells each. */
+}
+
+/* Unoccupied cells touching an unoccupied cell of the other sign (a level
+ * set would put leaves between them) become occupied, so U still holds
+ * every sign change: a cell of sign +1 whose 3^3 neighbourhood's minimum
+ * is -1, or of sign -1 whose maximum is +1. Min and max filters are
+ * separable: three passes of three cells each. Returns non-zero when out
+ * of memory. */
+static int dilate_sign_changes(const int n[3], int8_t *sign)
+{
+    const size_t cells = (size_t)n[0] * n[1] * n[2];
     int8_t *lo = malloc(cells), *hi = malloc(cells), *tmp = malloc(cells);
     if (!lo || !hi || !tmp) {
         free(lo), free(hi), free(tmp);
@@ -289,7 +306,139 @@ static int classify(const sdft_grid *g, grid_far *far, int8_t *sign)
     return 0;
 }
 
-sdft_error sdft_grid_far_build(sdft_grid *g)
+/* ---- the cells' signs from the leaf directory ------------------------------
+ * The same classification as classify(), read from the leaf directory
+ * (grid_leaves.c) instead of walking the tree row by row: a 64^3 region
+ * without leaves is decided whole (one tile of the upper level, or the
+ * 512 tiles of its lower node), and only cells in regions with leaves
+ * look at their blocks: a leaf's value mask (any active voxel: occupied),
+ * else the sign of one of its values (an inactive block has one sign
+ * under the level-set convention, as block_sign argues), or a tile
+ * marker's sign. A 4096^3 grid's cells are classified in a fraction of a
+ * second this way. */
+
+enum { REGION_MIXED = 2 }; /* a region's code when its cells must look at their blocks */
+
+/* The sign of a stored value: +1 or -1. */
+static int8_t sign_of(float v) { return v < 0.0f ? -1 : 1; }
+
+/* A region without leaves (every block a tile): +1 / -1 when all its
+ * tiles share a sign, else REGION_MIXED. r: region coordinates. */
+static int8_t tile_region(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const int32_t r[3])
+{
+    pnanovdb_coord_t o = {r[0] * 64, r[1] * 64, r[2] * 64};
+    uint32_t level;
+    pnanovdb_address_t a = pnanovdb_readaccessor_get_value_address_and_level(g->type, g->buf, acc, &o, &level);
+    if (level >= 2) /* an upper-node or root tile covers the region */
+        return sign_of(g->type == PNANOVDB_GRID_TYPE_DOUBLE ? (float)pnanovdb_read_double(g->buf, a)
+                                                            : pnanovdb_read_float(g->buf, a));
+    if (level == 0)
+        return REGION_MIXED;
+    int8_t code = 0;
+    for (uint32_t n = 0; n < 512u; n++) { /* the region's 8^3 tiles of its lower node */
+        pnanovdb_coord_t b = {o.x + (int32_t)(8u * (n & 7u)), o.y + (int32_t)(8u * (n >> 3 & 7u)),
+                              o.z + (int32_t)(8u * (n >> 6))};
+        const uint32_t i = pnanovdb_lower_coord_to_offset(&b);
+        if (pnanovdb_lower_get_child_mask(g->buf, acc->lower, i))
+            return REGION_MIXED;
+        const int8_t sg =
+            sign_of(pnanovdb_read_float(g->buf, pnanovdb_lower_get_table_address(g->type, g->buf, acc->lower, i)));
+        if (code && sg != code)
+            return REGION_MIXED;
+        code = sg;
+    }
+    return code;
+}
+
+/* The code of 8^3 block b (block coordinates), or of its 4^3 sub-block
+ * `sub` (bits 0-2: x, y, z halves) when sub >= 0: 0 occupied, else the
+ * sign of all its voxels. */
+static int8_t block_code(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const int32_t b[3], int sub)
+{
+    const grid_leaves *d = &g->leaves;
+    uint32_t w = 0;
+    int32_t r[3], l[3];
+    int in_chunk = 1;
+    for (int k = 0; k < 3; k++) {
+        r[k] = (b[k] >> 3) - d->r0[k], l[k] = b[k] & 7;
+        in_chunk &= (uint32_t)r[k] < (uint32_t)d->nr[k];
+    }
+    const uint32_t chunk = in_chunk ? d->top[((size_t)r[2] * d->nr[1] + (size_t)r[1]) * d->nr[0] + (size_t)r[0]] : 0u;
+    if (chunk)
+        w = d->chunk[(size_t)(chunk - 1u) * GRID_CHUNK_ENTRIES +
+                     (size_t)((l[2] * GRID_CHUNK_SIDE + l[1]) * GRID_CHUNK_SIDE + l[0])];
+    const pnanovdb_coord_t o = {b[0] * 8 + (sub >= 0 ? 4 * (sub & 1) : 0),
+                                b[1] * 8 + (sub >= 0 ? 4 * (sub >> 1 & 1) : 0),
+                                b[2] * 8 + (sub >= 0 ? 4 * (sub >> 2) : 0)};
+    if (w == GRID_TILE_POSITIVE || w == GRID_TILE_NEGATIVE)
+        return w == GRID_TILE_POSITIVE ? 1 : -1;
+    uint32_t level;
+    int active;
+    const float v = probe(g, acc, o, &level, &active); /* no marker: the tree, as classify() asks it */
+    if (level > 0)
+        return sign_of(v);
+    if (sub < 0) { /* the whole leaf: any active voxel */
+        pnanovdb_address_t mask = pnanovdb_address_offset(acc->leaf.address, PNANOVDB_LEAF_OFF_VALUE_MASK);
+        for (uint32_t i = 0; i < 16u && !active; i++)
+            active = pnanovdb_read_uint32(g->buf, pnanovdb_address_offset(mask, 4u * i)) != 0;
+    }
+    return active ? 0 : block_sign(g, acc, o);
+}
+
+/* classify(), through the directory; needs S <= 64 and the directory. */
+static int classify_from_directory(const sdft_grid *g, grid_far *far, int8_t *sign)
+{
+    const int S = far->cell, *n = far->n;
+    const grid_leaves *d = &g->leaves;
+    const size_t regions = (size_t)d->nr[0] * d->nr[1] * d->nr[2];
+    int8_t *region = malloc(regions);
+    if (!region)
+        return -1;
+#pragma omp parallel
+    {
+        pnanovdb_readaccessor_t acc;
+        pnanovdb_readaccessor_init(&acc, g->root);
+#pragma omp for schedule(dynamic, 64)
+        for (long i = 0; i < (long)regions; i++) {
+            const int32_t r[3] = {d->r0[0] + (int32_t)(i % d->nr[0]), d->r0[1] + (int32_t)(i / d->nr[0] % d->nr[1]),
+                                  d->r0[2] + (int32_t)(i / d->nr[0] / d->nr[1])};
+            region[i] = d->top[i] ? REGION_MIXED : tile_region(g, &acc, r);
+        }
+#pragma omp for schedule(dynamic, 1)
+        for (int cz = 0; cz < n[2]; cz++)
+            for (int cy = 0; cy < n[1]; cy++)
+                for (int cx = 0; cx < n[0]; cx++) {
+                    const int32_t c[3] = {far->c0[0] + cx, far->c0[1] + cy, far->c0[2] + cz};
+                    int32_t ri[3];
+                    int inside = 1;
+                    for (int k = 0; k < 3; k++) {
+                        ri[k] = floor_div(c[k] * S, 64) - d->r0[k];
+                        inside &= (uint32_t)ri[k] < (uint32_t)d->nr[k];
+                    }
+                    int8_t code = inside ? region[((size_t)ri[2] * d->nr[1] + (size_t)ri[1]) * d->nr[0] + (size_t)ri[0]]
+                                         : REGION_MIXED;
+                    if (code == REGION_MIXED) { /* the cell's blocks, or its one 4^3 sub-block */
+                        const int per = S >= 8 ? S / 8 : 1;
+                        code = 2; /* not seen yet */
+                        for (int k = 0; k < per * per * per && code != 0; k++) {
+                            const int32_t b[3] = {S >= 8 ? c[0] * per + k % per : c[0] >> 1,
+                                                  S >= 8 ? c[1] * per + k / per % per : c[1] >> 1,
+                                                  S >= 8 ? c[2] * per + k / per / per : c[2] >> 1};
+                            const int sub = S >= 8 ? -1 : (c[0] & 1) | (c[1] & 1) << 1 | (c[2] & 1) << 2;
+                            const int8_t sg = block_code(g, &acc, b, sub);
+                            code = code == 2 ? sg : (code == sg ? sg : 0);
+                        }
+                    }
+                    sign[((size_t)cz * n[1] + (size_t)cy) * n[0] + (size_t)cx] = code;
+                }
+    }
+    free(region);
+    return 0;
+}
+
+sdft_error sdft_grid_far_build(sdft_grid *g) { return sdft_grid_far_build_cells(g, MAX_CELLS); }
+
+sdft_error sdft_grid_far_build_cells(sdft_grid *g, size_t most_cells)
 {
     grid_far *far = &g->far;
     memset(far, 0, sizeof *far);
@@ -301,7 +450,7 @@ sdft_error sdft_grid_far_build(sdft_grid *g)
             n[k] = floor_div(g->ihi[k], S) - far->c0[k] + 1;
             cells *= (size_t)n[k];
         }
-        if (cells <= MAX_CELLS)
+        if (cells <= most_cells)
             break;
         S *= 2;
     }
@@ -310,26 +459,33 @@ sdft_error sdft_grid_far_build(sdft_grid *g)
     const int nv[3] = {n[0] + 1, n[1] + 1, n[2] + 1};
     const size_t ncell = (size_t)n[0] * n[1] * n[2], nvert = (size_t)nv[0] * nv[1] * nv[2];
     int8_t *sign = malloc(ncell);
-    double *d2 = malloc(sizeof(double) * nvert);
-    uint16_t *corner = malloc(sizeof(uint16_t) * nvert);
+    float *d2 = malloc(sizeof(float) * nvert);
+    uint16_t *corner = sdft_grid_table_alloc(sizeof(uint16_t) * nvert);
     if (!sign || !d2 || !corner) {
         free(sign), free(d2), free(corner);
         return SDFT_ENOMEM;
     }
-    if (classify(g, far, sign)) {
+    int failed;
+    if (g->leaves.top && S <= 64) {
+        failed = classify_from_directory(g, far, sign);
+    } else {
+        classify_by_tree(g, far, sign);
+        failed = 0;
+    }
+    if (failed || dilate_sign_changes(n, sign)) {
         free(sign), free(d2), free(corner);
         return SDFT_ENOMEM;
     }
     /* Sites: the corners of occupied cells. */
     for (size_t i = 0; i < nvert; i++)
-        d2[i] = HUGE_VAL;
+        d2[i] = INFINITY;
     for (int z = 0; z < n[2]; z++)
         for (int y = 0; y < n[1]; y++)
             for (int x = 0; x < n[0]; x++)
                 if (sign[((size_t)z * n[1] + y) * n[0] + x] == 0)
                     for (int k = 0; k < 8; k++)
                         d2[((size_t)(z + (k >> 2)) * nv[1] + (size_t)(y + (k >> 1 & 1))) * nv[0] +
-                           (size_t)(x + (k & 1))] = 0.0;
+                           (size_t)(x + (k & 1))] = 0.0f;
     if (edt3(d2, nv)) {
         free(sign), free(d2), free(corner);
         return SDFT_ENOMEM;
@@ -337,7 +493,7 @@ sdft_error sdft_grid_far_build(sdft_grid *g)
     const double most = (double)((1u << FAR_DISTANCE_BITS) - 1u);
 #pragma omp parallel for schedule(static)
     for (long i = 0; i < (long)nvert; i++) { /* quarters of a voxel, rounded down (truncated: >= 0); saturated */
-        const double q = FAR_DISTANCE_SCALE * S * sqrt(d2[i]);
+        const double q = FAR_DISTANCE_SCALE * S * sqrt((double)d2[i]);
         corner[i] = (uint16_t)(q < most ? q : most);
     }
     for (int z = 0; z < n[2]; z++)

@@ -32,20 +32,30 @@ typedef struct grid_far {
 enum { FAR_DISTANCE_BITS = 14, FAR_EMPTY_POSITIVE = 1, FAR_EMPTY_NEGATIVE = 2 };
 #define FAR_DISTANCE_SCALE 4.0f /* corner words per index unit */
 
-/* The leaf directory (grid_leaves.c): per 8^3 block of the active box, the
- * word offset in the grid's buffer of its leaf's values, 0 where the block
- * has no leaf. Float grids only; word NULL: none (the accessor serves). */
+/* The leaf directory (grid_leaves.c): for each region of 8^3 blocks of
+ * the active box, a chunk of 9^3 entries (the region's blocks and its
+ * one-block apron on the + sides), each the word offset in the grid's
+ * buffer of that block's leaf value table; where it has no leaf,
+ * GRID_TILE_POSITIVE / GRID_TILE_NEGATIVE for a tile of value +background
+ * / -background, else 0. Float, Fp16, Fp8 and Fp4 grids; top NULL: none
+ * (the accessor serves). */
+enum { GRID_CHUNK_SIDE = 9, GRID_CHUNK_ENTRIES = 9 * 9 * 9 };
+enum { GRID_TILE_POSITIVE = 1, GRID_TILE_NEGATIVE = 2, GRID_TILE_MARKERS = 3 }; /* below any value table's word */
 typedef struct grid_leaves {
-    uint32_t *word; /* n[0] x n[1] x n[2] blocks, x fastest */
-    int32_t b0[3];  /* first block, in blocks (index >> 3) */
-    int n[3];       /* blocks per axis */
+    uint32_t *top;   /* nr[0] x nr[1] x nr[2] regions, x fastest: chunk index + 1, 0 none */
+    uint32_t *chunk; /* chunks x GRID_CHUNK_ENTRIES, x fastest */
+    int32_t r0[3];   /* first region, in regions (index >> 6) */
+    int nr[3];       /* regions per axis */
+    size_t chunks;
 } grid_leaves;
 
 /* One NanoVDB grid plus the numbers the sampler reads on every call,
  * decoded once from the grid's header. Immutable after loading. */
 struct sdft_grid {
-    uint32_t *words;              /* the grid's bytes, 32-byte aligned */
+    uint32_t *words;              /* the grid's bytes, 64-byte aligned when owned */
     int owned;                    /* 1: words is ours to free; 0: borrowed (sdft_grid_borrow_buffer) */
+    void (*release)(void *);      /* adopted (sdft_grid_adopt_buffer): release(release_data) when freed */
+    void *release_data;
     size_t size;                  /* bytes */
     pnanovdb_buf_t buf;
     pnanovdb_grid_handle_t grid;  /* at address 0 */
@@ -68,14 +78,30 @@ struct sdft_grid {
 /* Decodes and checks a grid already copied into g->words / g->size. */
 sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len);
 
-/* Builds / frees g->far (grid_bound.c). Needs g fully decoded. SDFT_OK or
- * SDFT_ENOMEM. */
+/* Builds / frees g->far (grid_bound.c). Needs g fully decoded, its
+ * directory included. SDFT_OK or SDFT_ENOMEM. */
 sdft_error sdft_grid_far_build(sdft_grid *g);
+sdft_error sdft_grid_far_build_cells(sdft_grid *g, size_t most_cells); /* cells of 4 * 2^k voxels, at most most_cells */
 void sdft_grid_far_free(sdft_grid *g);
 
 /* Builds / frees g->leaves (grid_leaves.c). Needs g fully decoded. SDFT_OK
  * (also when the grid gets no directory) or SDFT_ENOMEM. */
 sdft_error sdft_grid_leaves_build(sdft_grid *g);
 void sdft_grid_leaves_free(sdft_grid *g);
+size_t sdft_grid_leaves_bytes(const sdft_grid *g); /* its tables' size */
+
+/* The exact last-cell root (grid_root.c): the grid field's sdft_field.root,
+ * specialised for g's type; and its core, the first root in [0, len] of the
+ * trilinear interpolant of cell values v (v[k] at corner (k & 1, k >> 1 & 1,
+ * k >> 2 & 1)) along u0 + s du in cell-local coordinates: 1 and *s, or 0. */
+typedef int (*sdft_root_fn)(const void *ctx, sdft_scratch *s, sdft_vec3 org, sdft_vec3 dir, float t0, float t1,
+                            float *t, uint32_t *reads);
+sdft_root_fn sdft_grid_root_for(const sdft_grid *g);
+int sdft_grid_cell_root(const float v[8], const double u0[3], const double du[3], double len, double *s);
+
+/* Memory for a big table (grid_memory.c): 64-byte aligned; free() releases
+ * it. */
+void *sdft_grid_table_alloc(size_t bytes);
+
 
 #endif

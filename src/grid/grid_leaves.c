@@ -1,74 +1,243 @@
-/* sdftrace — the leaf directory of a float grid: a dense table, one entry
- * per 8^3 block of the active index box, giving where that block's leaf
- * keeps its 512 values in the NanoVDB buffer (0: no leaf there).
+/* sdftrace — the leaf directory of a grid: where the leaf of each 8^3
+ * block keeps its values in the NanoVDB buffer, found in two loads whose
+ * addresses follow from the sample point alone.
  *
  * WHY. Near the surface nearly every sample lands in a leaf, and a ray's
  * consecutive samples are voxels apart, so the read accessor's cached leaf
  * is usually the wrong one: a lookup walks root -> upper -> lower -> leaf,
  * three dependent loads before the values, each a likely cache miss in a
- * 1024^3 grid. The directory makes it one load, whose address follows from
- * the sample point alone (8 MiB for a 1024^3 box: it stays in cache). It
- * only locates leaves; the values are the grid's own, so the field is
- * unchanged. Blocks without a leaf, and grids of other types, go through
- * the accessor as before.
+ * 1024^3 grid. The directory only locates leaves; the values are the
+ * grid's own, so the field is unchanged.
+ *
+ * LAYOUT. Index space is cut into regions of 8^3 blocks (64^3 voxels). A
+ * dense top table over the regions of the active box holds, per region,
+ * which chunk describes it (0: none). A chunk has one entry per block of
+ * the region and of its one-block apron on the + sides, 9^3 entries: the
+ * word offset of that block's leaf value table, 0 where it has no leaf.
+ * A block without a leaf that lies in a tile of value +background or
+ * -background (a level set's outside and inside) holds GRID_TILE_POSITIVE
+ * or GRID_TILE_NEGATIVE instead, so cells where the band's leaves meet the
+ * tiles are read without the accessor too (0: ask the accessor).
+ * Chunks exist only for regions whose 9^3 blocks hold a leaf, so the
+ * directory grows with the surface, not with the box (a 4096^3 box costs a
+ * 1 MiB top table). A trilinear cell spans voxels i0 and i0 + 1 per axis,
+ * in block i0 >> 3 or the next one, which is in the same chunk thanks to
+ * the apron: one top load, one chunk load per block the cell touches.
+ *
+ * TYPES. Float leaves hold 32-bit values; Fp16, Fp8 and Fp4 leaves hold
+ * codes of 16, 8 or 4 bits, value = code * quantum + minimum with the two
+ * floats just before the table (PNanoVDB's pnanovdb_leaf_fp_read_float).
+ * Those four types get a directory; FpN (a bit depth per leaf) and double
+ * grids go through the accessor.
  *
  * TRUST. A leaf's origin is read from the leaf and then looked up through
  * a read accessor over the checked tree (grid_load.c): only a leaf the tree
  * itself reaches from that origin is entered, so a corrupt leaf array can
  * at worst leave blocks to the accessor, never misplace one. */
 #include <stdlib.h>
+#include <string.h>
 
 #include "grid_internal.h"
 
-enum { MAX_BLOCKS = 1 << 24 }; /* 64 MiB of entries: a 2048^3 box */
+enum { MAX_REGIONS = 1 << 24 }; /* a 64 MiB top table: a box of 16384^3 voxels */
+
+static int has_directory(pnanovdb_grid_type_t t)
+{
+    return t == PNANOVDB_GRID_TYPE_FLOAT || t == PNANOVDB_GRID_TYPE_FP16 || t == PNANOVDB_GRID_TYPE_FP8 ||
+           t == PNANOVDB_GRID_TYPE_FP4;
+}
+
+/* The leaves the tree itself reaches, in the order of its leaf array: calls
+ * visit(block coordinates, value table word offset) for each. */
+typedef void (*leaf_visit)(void *ctx, const int32_t b[3], uint32_t word);
+
+/* The address of node i of the tree's array of `level` (0 leaves, 1 lower
+ * nodes) when the tree itself reaches that node from its origin, else 0
+ * (past the grid's bytes, or not where the tree has it). acc: a read
+ * accessor over g, reused between calls. */
+static uint64_t reached_node(const sdft_grid *g, pnanovdb_readaccessor_t *acc, int level, uint64_t i)
+{
+    pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
+    const uint64_t first = PNANOVDB_GRID_SIZE + (level ? pnanovdb_tree_get_node_offset_lower(g->buf, tree)
+                                                       : pnanovdb_tree_get_node_offset_leaf(g->buf, tree));
+    const uint64_t stride =
+        level ? PNANOVDB_GRID_TYPE_GET(g->type, lower_size) : PNANOVDB_GRID_TYPE_GET(g->type, leaf_size);
+    const uint64_t at = first + i * stride;
+    if (at > g->size || g->size - at < stride)
+        return 0;
+    /* Both nodes start with their bounding box's minimum. */
+    pnanovdb_coord_t o = pnanovdb_read_coord(g->buf, pnanovdb_address_offset64((pnanovdb_address_t){0}, at));
+    uint32_t found;
+    pnanovdb_readaccessor_get_value_address_and_level(g->type, g->buf, acc, &o, &found);
+    const uint64_t reached = level ? acc->lower.address.byte_offset : acc->leaf.address.byte_offset;
+    return found <= (uint32_t)level && reached == at ? at : 0;
+}
+
+static void each_leaf(const sdft_grid *g, leaf_visit visit, void *ctx)
+{
+    pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
+    const uint64_t count = pnanovdb_tree_get_node_count_leaf(g->buf, tree);
+    const uint32_t table = PNANOVDB_GRID_TYPE_GET(g->type, leaf_off_table);
+    pnanovdb_readaccessor_t acc;
+    pnanovdb_readaccessor_init(&acc, g->root);
+    for (uint64_t i = 0; i < count; i++) {
+        const uint64_t at = reached_node(g, &acc, 0, i);
+        if (!at)
+            continue;
+        pnanovdb_coord_t o = pnanovdb_leaf_get_bbox_min(g->buf, (pnanovdb_leaf_handle_t){{at}});
+        const int32_t b[3] = {o.x >> 3, o.y >> 3, o.z >> 3}; /* arithmetic shift: floor division */
+        visit(ctx, b, (uint32_t)((at + table) / 4u));
+    }
+}
+
+/* The chunks a block appears in: its own region's, and the region before
+ * along each axis where the block is that region's apron (offset 0). */
+typedef struct builder {
+    grid_leaves *d;
+    uint32_t chunks; /* chunks handed out so far */
+} builder;
+
+static size_t region_index(const grid_leaves *d, const int32_t r[3])
+{
+    for (int k = 0; k < 3; k++)
+        if ((uint32_t)(r[k] - d->r0[k]) >= (uint32_t)d->nr[k])
+            return SIZE_MAX;
+    return ((size_t)(r[2] - d->r0[2]) * (size_t)d->nr[1] + (size_t)(r[1] - d->r0[1])) * (size_t)d->nr[0] +
+           (size_t)(r[0] - d->r0[0]);
+}
+
+/* Calls fn for each (region, local entry) that describes block b. */
+static void each_place(grid_leaves *d, const int32_t b[3], void (*fn)(grid_leaves *, size_t, uint32_t, void *),
+                       void *arg)
+{
+    for (int c = 0; c < 8; c++) {
+        int32_t r[3], l[3];
+        int ok = 1;
+        for (int k = 0; k < 3; k++) {
+            r[k] = b[k] >> 3, l[k] = b[k] & 7;
+            if (c >> k & 1) { /* the apron of the region before */
+                ok &= l[k] == 0;
+                r[k]--, l[k] = 8;
+            }
+        }
+        const size_t ri = ok ? region_index(d, r) : SIZE_MAX;
+        if (ri != SIZE_MAX)
+            fn(d, ri, (uint32_t)((l[2] * GRID_CHUNK_SIDE + l[1]) * GRID_CHUNK_SIDE + l[0]), arg);
+    }
+}
+
+static void mark_region(grid_leaves *d, size_t ri, uint32_t local, void *arg)
+{
+    (void)local, (void)arg;
+    d->top[ri] = 1;
+}
+
+static void mark_leaf(void *ctx, const int32_t b[3], uint32_t word)
+{
+    (void)word;
+    builder *bl = ctx;
+    each_place(bl->d, b, mark_region, NULL);
+}
+
+static void set_entry(grid_leaves *d, size_t ri, uint32_t local, void *arg)
+{
+    d->chunk[(size_t)(d->top[ri] - 1u) * GRID_CHUNK_ENTRIES + local] = *(const uint32_t *)arg;
+}
+
+static void fill_leaf(void *ctx, const int32_t b[3], uint32_t word)
+{
+    builder *bl = ctx;
+    each_place(bl->d, b, set_entry, &word);
+}
+
+static void set_tile(grid_leaves *d, size_t ri, uint32_t local, void *arg)
+{
+    if (!d->top[ri])
+        return; /* no chunk here: nothing to complete */
+    uint32_t *e = &d->chunk[(size_t)(d->top[ri] - 1u) * GRID_CHUNK_ENTRIES + local];
+    if (*e == 0)
+        *e = *(const uint32_t *)arg;
+}
+
+/* The tiles of the lower nodes (8^3 blocks without a leaf) whose value is
+ * +-background, marked in the chunks that exist. Like the leaves, a lower
+ * node is entered only when the tree itself reaches it from its origin. */
+static void mark_tiles(const sdft_grid *g, grid_leaves *d)
+{
+    pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
+    const uint64_t count = pnanovdb_tree_get_node_count_lower(g->buf, tree);
+    pnanovdb_readaccessor_t acc;
+    pnanovdb_readaccessor_init(&acc, g->root);
+    for (uint64_t i = 0; i < count; i++) {
+        const uint64_t at = reached_node(g, &acc, 1, i);
+        if (!at)
+            continue;
+        pnanovdb_lower_handle_t lower = {{at}};
+        const pnanovdb_coord_t o = pnanovdb_lower_get_bbox_min(g->buf, lower);
+        for (uint32_t n = 0; n < 4096u; n++) {
+            if (pnanovdb_lower_get_child_mask(g->buf, lower, n))
+                continue;
+            const float v = pnanovdb_read_float(g->buf, pnanovdb_lower_get_table_address(g->type, g->buf, lower, n));
+            uint32_t marker = v == g->background ? GRID_TILE_POSITIVE : v == -g->background ? GRID_TILE_NEGATIVE : 0u;
+            if (!marker)
+                continue;
+            const int32_t b[3] = {((o.x & ~127) >> 3) + (int32_t)(n >> 8),
+                                  ((o.y & ~127) >> 3) + (int32_t)(n >> 4 & 15u),
+                                  ((o.z & ~127) >> 3) + (int32_t)(n & 15u)};
+            each_place(d, b, set_tile, &marker);
+        }
+    }
+}
 
 sdft_error sdft_grid_leaves_build(sdft_grid *g)
 {
     grid_leaves *d = &g->leaves;
     *d = (grid_leaves){0};
-    if (g->type != PNANOVDB_GRID_TYPE_FLOAT || g->size / 4u > UINT32_MAX)
+    if (!has_directory(g->type) || g->size / 4u > UINT32_MAX)
         return SDFT_OK; /* the accessor serves these */
-    size_t blocks = 1;
+    size_t regions = 1;
     for (int k = 0; k < 3; k++) {
-        d->b0[k] = g->ilo[k] >> 3; /* arithmetic shift: floor division by 8 */
-        d->n[k] = (g->ihi[k] >> 3) - d->b0[k] + 1;
-        blocks *= (size_t)d->n[k];
+        d->r0[k] = g->ilo[k] >> 6;
+        d->nr[k] = (g->ihi[k] >> 6) - d->r0[k] + 1;
+        regions *= (size_t)d->nr[k];
     }
-    if (blocks > MAX_BLOCKS)
+    if (regions > MAX_REGIONS)
         return SDFT_OK;
-    uint32_t *word = calloc(blocks, sizeof *word);
-    if (!word)
+    d->top = sdft_grid_table_alloc(regions * sizeof *d->top);
+    if (!d->top)
         return SDFT_ENOMEM;
-
-    pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
-    const uint64_t count = pnanovdb_tree_get_node_count_leaf(g->buf, tree);
-    const uint64_t first = PNANOVDB_GRID_SIZE + pnanovdb_tree_get_node_offset_leaf(g->buf, tree);
-    const uint64_t stride = PNANOVDB_GRID_TYPE_GET(PNANOVDB_GRID_TYPE_FLOAT, leaf_size);
-    pnanovdb_readaccessor_t acc;
-    pnanovdb_readaccessor_init(&acc, g->root);
-    for (uint64_t i = 0; i < count; i++) {
-        const uint64_t at = first + i * stride;
-        if (at > g->size || g->size - at < stride)
-            break; /* the array runs past the grid: leave the rest to the accessor */
-        pnanovdb_leaf_handle_t hint = {pnanovdb_address_offset64((pnanovdb_address_t){0}, at)};
-        pnanovdb_coord_t o = pnanovdb_leaf_get_bbox_min(g->buf, hint);
-        uint32_t level;
-        pnanovdb_readaccessor_get_value_address_and_level(PNANOVDB_GRID_TYPE_FLOAT, g->buf, &acc, &o, &level);
-        if (level != 0 || acc.leaf.address.byte_offset != at)
-            continue;
-        const uint32_t bx = (uint32_t)((o.x >> 3) - d->b0[0]), by = (uint32_t)((o.y >> 3) - d->b0[1]),
-                       bz = (uint32_t)((o.z >> 3) - d->b0[2]);
-        if (bx >= (uint32_t)d->n[0] || by >= (uint32_t)d->n[1] || bz >= (uint32_t)d->n[2])
-            continue;
-        pnanovdb_address_t values = pnanovdb_leaf_get_table_address(PNANOVDB_GRID_TYPE_FLOAT, g->buf, hint, 0);
-        word[((size_t)bz * (size_t)d->n[1] + by) * (size_t)d->n[0] + bx] = (uint32_t)(values.byte_offset / 4u);
+    memset(d->top, 0, regions * sizeof *d->top);
+    builder bl = {d, 0};
+    each_leaf(g, mark_leaf, &bl);
+    for (size_t i = 0; i < regions; i++)
+        if (d->top[i])
+            d->top[i] = ++bl.chunks;
+    d->chunks = bl.chunks;
+    const size_t entries = (size_t)bl.chunks * GRID_CHUNK_ENTRIES;
+    d->chunk = sdft_grid_table_alloc((entries ? entries : 1) * sizeof *d->chunk);
+    if (!d->chunk) {
+        sdft_grid_leaves_free(g);
+        return SDFT_ENOMEM;
     }
-    d->word = word;
+    memset(d->chunk, 0, entries * sizeof *d->chunk);
+    each_leaf(g, fill_leaf, &bl);
+    if (g->background > 0.0f && g->type != PNANOVDB_GRID_TYPE_DOUBLE)
+        mark_tiles(g, d);
     return SDFT_OK;
 }
 
 void sdft_grid_leaves_free(sdft_grid *g)
 {
-    free(g->leaves.word);
-    g->leaves.word = NULL;
+    free(g->leaves.top);
+    free(g->leaves.chunk);
+    g->leaves.top = NULL;
+    g->leaves.chunk = NULL;
+}
+
+size_t sdft_grid_leaves_bytes(const sdft_grid *g)
+{
+    const grid_leaves *d = &g->leaves;
+    if (!d->top)
+        return 0;
+    return (size_t)d->nr[0] * d->nr[1] * d->nr[2] * sizeof *d->top + d->chunks * GRID_CHUNK_ENTRIES * sizeof *d->chunk;
 }

@@ -200,10 +200,11 @@ sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len)
         wlo = sdft_min_v(wlo, w), whi = sdft_max_v(whi, w);
     }
     g->bounds = (sdft_aabb){wlo, whi};
-    if (g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET && g->background > 0.0f && sdft_grid_far_build(g))
-        return sdft_fail(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its far bound", g->name);
+    /* The directory first: the far bound reads the cells' signs through it. */
     if (sdft_grid_leaves_build(g))
         return sdft_fail(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its leaf directory", g->name);
+    if (g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET && g->background > 0.0f && sdft_grid_far_build(g))
+        return sdft_fail(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its far bound", g->name);
     return SDFT_OK;
 }
 
@@ -233,8 +234,8 @@ static sdft_grid *grid_alloc(uint64_t size)
     sdft_grid *g = calloc(1, sizeof *g);
     if (!g)
         return NULL;
-    size_t padded = (size_t)((size + 31u) & ~(uint64_t)31u);
-    g->words = padded ? aligned_alloc(32, padded) : NULL;
+    size_t padded = (size_t)((size + 63u) & ~(uint64_t)63u);
+    g->words = padded ? sdft_grid_table_alloc(padded) : NULL;
     if (!g->words) {
         free(g);
         return NULL;
@@ -252,6 +253,8 @@ void sdft_grid_free(sdft_grid *g)
         sdft_grid_leaves_free(g);
         if (g->owned)
             free(g->words);
+        if (g->release)
+            g->release(g->release_data);
         free(g);
     }
 }
@@ -347,6 +350,22 @@ sdft_error sdft_grid_borrow_buffer(const void *data, size_t size, const char *na
                                    size_t msg_len)
 {
     return grid_of_buffer(data, size, name, 1, out, msg, msg_len);
+}
+
+sdft_error sdft_grid_adopt_buffer(void *data, size_t size, const char *name, void (*release)(void *data),
+                                  sdft_grid **out, char *msg, size_t msg_len)
+{
+    if (!release)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no release function (NULL): borrow the buffer instead");
+    const sdft_error rc = grid_of_buffer(data, size, name, 1, out, msg, msg_len);
+    if (rc) {
+        if (data)
+            release(data);
+        return rc;
+    }
+    (*out)->release = release;
+    (*out)->release_data = data;
+    return SDFT_OK;
 }
 
 /* ---- .nvdb files --------------------------------------------------------

@@ -38,74 +38,12 @@
  * (inactive voxels hold +-background): the discrete SDF the papers trace. */
 #include <math.h>
 
-#include "grid_internal.h"
-
-_Static_assert(sizeof(pnanovdb_readaccessor_t) <= SDFT_SCRATCH_BYTES, "a read accessor must fit a thread's scratch");
-
-static inline pnanovdb_readaccessor_t *accessor(sdft_scratch *s) { return (pnanovdb_readaccessor_t *)(void *)s->bytes; }
-
-/* The hot path is written once and instantiated per grid type, transform
- * shape and bound (the GRID_DISTANCE table below), so the loop a ray runs
- * never branches on configuration; these helpers must inline to fold. */
-#if defined(__GNUC__)
-#define GRID_INLINE static inline __attribute__((always_inline))
-#define GRID_COLD static __attribute__((noinline))
-#else
-#define GRID_INLINE static inline
-#define GRID_COLD static
-#endif
+#include "grid_cell.h"
 
 static void grid_scratch_init(const void *ctx, sdft_scratch *s)
 {
     const sdft_grid *g = ctx;
     pnanovdb_readaccessor_init(accessor(s), g->root);
-}
-
-/* The stored value at voxel ijk and the tree level it came from
- * (0 leaf, 1 lower-node tile, 2 upper-node tile, 3 root tile, 4 background).
- * `type` is g->type, or a constant where the caller is specialised. */
-GRID_INLINE float read_value(const sdft_grid *g, pnanovdb_grid_type_t type, pnanovdb_readaccessor_t *acc,
-                             pnanovdb_coord_t ijk, uint32_t *level)
-{
-    pnanovdb_address_t a = pnanovdb_readaccessor_get_value_address_and_level(type, g->buf, acc, &ijk, level);
-    switch (type) {
-    case PNANOVDB_GRID_TYPE_FLOAT:
-        return pnanovdb_read_float(g->buf, a);
-    case PNANOVDB_GRID_TYPE_DOUBLE:
-        return (float)pnanovdb_read_double(g->buf, a);
-    case PNANOVDB_GRID_TYPE_FP16:
-        return pnanovdb_root_fp16_read_float(g->buf, a, &ijk, *level);
-    case PNANOVDB_GRID_TYPE_FP8:
-        return pnanovdb_root_fp8_read_float(g->buf, a, &ijk, *level);
-    case PNANOVDB_GRID_TYPE_FP4:
-        return pnanovdb_root_fp4_read_float(g->buf, a, &ijk, *level);
-    default:
-        return pnanovdb_root_fpn_read_float(g->buf, a, &ijk, *level);
-    }
-}
-
-/* World to index. `diagonal` (g->diagonal, or a constant): the matrix is a
- * diagonal scale, whose products with 0 the full form would add. */
-GRID_INLINE void to_index(const sdft_grid *g, int diagonal, sdft_vec3 p, float x[3])
-{
-    const float *m = g->w2i;
-    if (diagonal) {
-        x[0] = m[0] * p.x + g->w2i_t[0];
-        x[1] = m[4] * p.y + g->w2i_t[1];
-        x[2] = m[8] * p.z + g->w2i_t[2];
-        return;
-    }
-    x[0] = m[0] * p.x + m[1] * p.y + m[2] * p.z + g->w2i_t[0];
-    x[1] = m[3] * p.x + m[4] * p.y + m[5] * p.z + g->w2i_t[1];
-    x[2] = m[6] * p.x + m[7] * p.y + m[8] * p.z + g->w2i_t[2];
-}
-
-/* floor(x) for |x| < 2^31 (callers check): floorf is a libm call on
- * baseline x86-64. Truncation is exact, and steps down below 0. */
-static inline int32_t ifloor(float x)
-{
-    const int32_t i = (int32_t)x;
-    return i - (x < (float)i);
 }
 
 /* The bound of the comment above for the node of `level` holding voxel c,
@@ -127,63 +65,29 @@ static inline float tree_bound(const sdft_grid *g, const float x[3], pnanovdb_co
     return fabsf(v) - g->sigma_max * 0.8660254f + h;
 }
 
-static inline float lerp(float a, float b, float t) { return a + (b - a) * t; }
-
-static inline float word_float(const sdft_grid *g, uint32_t w)
+/* The trilinear value at index point x when the leaf directory knows all
+ * eight corners of x's cell (`tiles` 0: in leaves only; 1: tiles of
+ * +-background too), else 0. *near: the value of the voxel nearest x and
+ * whether it lies in a tile (2 | sign bit), or 0 in a leaf; NULL: not
+ * wanted. */
+GRID_INLINE int sample_leaves(const sdft_grid *g, pnanovdb_grid_type_t type, const float x[3], int tiles, float *value,
+                              pnanovdb_coord_t *near_voxel, float *near_value, int *near_tile)
 {
-    return pnanovdb_read_float(g->buf, (pnanovdb_address_t){4u * w});
-}
-
-/* The eight values of the cell whose lowest corner is i0 (v[k]: corner
- * i0 + (k & 1, k >> 1 & 1, k >> 2 & 1)), read through the leaf directory
- * (grid_leaves.c); 0 when a corner lies in no leaf (the accessor's path
- * then). Per axis the cell's two voxel layers are the same block at
- * offsets o and o + 1, or, when o = 7, two blocks at offsets 7 and 0; a
- * value sits at 64, 8 and 1 words per x, y and z offset in its leaf. */
-GRID_INLINE int cell_from_leaves(const sdft_grid *g, pnanovdb_coord_t i0, float v[8])
-{
-    const grid_leaves *d = &g->leaves;
-    const int32_t c[3] = {i0.x, i0.y, i0.z};
-    const size_t stride[3] = {1, (size_t)d->n[0], (size_t)d->n[0] * (size_t)d->n[1]};
-    static const uint32_t per_offset[3] = {64u, 8u, 1u};
-    size_t block[3][2];
-    uint32_t offset[3][2];
-    for (int k = 0; k < 3; k++) {
-        const uint32_t b = (uint32_t)((c[k] >> 3) - d->b0[k]), o = (uint32_t)(c[k] & 7);
-        const uint32_t b1 = b + (o == 7u);
-        if (b >= (uint32_t)d->n[k] || b1 >= (uint32_t)d->n[k]) /* below b0 wraps above n */
-            return 0;
-        block[k][0] = b * stride[k], block[k][1] = b1 * stride[k];
-        offset[k][0] = o * per_offset[k], offset[k][1] = ((o + 1u) & 7u) * per_offset[k];
-    }
-    for (int k = 0; k < 8; k++) {
-        const int x = k & 1, y = k >> 1 & 1, z = k >> 2 & 1;
-        const uint32_t w = d->word[block[0][x] + block[1][y] + block[2][z]];
-        if (!w)
-            return 0;
-        v[k] = word_float(g, w + offset[0][x] + offset[1][y] + offset[2][z]);
-    }
-    return 1;
-}
-
-static inline float trilerp(const float v[8], float tx, float ty, float tz)
-{
-    float x00 = lerp(v[0], v[1], tx), x10 = lerp(v[2], v[3], tx);
-    float x01 = lerp(v[4], v[5], tx), x11 = lerp(v[6], v[7], tx);
-    return lerp(lerp(x00, x10, ty), lerp(x01, x11, ty), tz);
-}
-
-/* The trilinear value at index point x when the leaf directory holds all
- * eight corners of x's cell (float grids); 0 if not. */
-GRID_INLINE int sample_leaves(const sdft_grid *g, const float x[3], float *value)
-{
-    if (!g->leaves.word || !(fabsf(x[0]) < 1e9f && fabsf(x[1]) < 1e9f && fabsf(x[2]) < 1e9f))
+    if (!has_directory(type) || !g->leaves.top || !(fabsf(x[0]) < 1e9f && fabsf(x[1]) < 1e9f && fabsf(x[2]) < 1e9f))
         return 0;
     const pnanovdb_coord_t i0 = {ifloor(x[0]), ifloor(x[1]), ifloor(x[2])};
+    const float tx = x[0] - (float)i0.x, ty = x[1] - (float)i0.y, tz = x[2] - (float)i0.z;
     float v[8];
-    if (!cell_from_leaves(g, i0, v))
+    uint32_t from_tiles = 0u;
+    if (!cell_from_leaves(g, type, i0, v, tiles ? &from_tiles : NULL))
         return 0;
-    *value = trilerp(v, x[0] - (float)i0.x, x[1] - (float)i0.y, x[2] - (float)i0.z);
+    *value = trilerp(v, tx, ty, tz);
+    if (near_tile) { /* the voxel nearest x: the corner on x's side of each midpoint */
+        const int near = (tx >= 0.5f) | (ty >= 0.5f) << 1 | (tz >= 0.5f) << 2;
+        *near_voxel = (pnanovdb_coord_t){i0.x + (near & 1), i0.y + (near >> 1 & 1), i0.z + (near >> 2 & 1)};
+        *near_value = v[near];
+        *near_tile = (int)(from_tiles >> near & 1u);
+    }
     return 1;
 }
 
@@ -244,7 +148,7 @@ GRID_INLINE float sample_index(const sdft_grid *g, pnanovdb_grid_type_t type, pn
                                const float x[3], int *level, int bound)
 {
     float v;
-    if (type == PNANOVDB_GRID_TYPE_FLOAT && sample_leaves(g, x, &v)) {
+    if (sample_leaves(g, type, x, !bound, &v, NULL, NULL, NULL)) {
         if (level)
             *level = 0;
         return v;
@@ -298,25 +202,48 @@ static inline float far_bound(const sdft_grid *g, const float x[3])
 /* The field of `bound` at index point x. TREE: the tree bound in tiles
  * (the first version of the grid field); NONE: trilinear everywhere,
  * +-background beyond the band, only to measure what the bounds save.
- * FAR, the default: where the far bound b applies (x in an empty cell),
- * the larger of b and TREE's field, else TREE's field (the trilinear value
- * in leaves). Each is a step the tracer may take (b a proven distance
- * bound, the other the field it traces without the far bound), so the
- * larger is too. Beside leaves b can be as small as its band bonus (0.72
- * voxels) where the field steps a whole band; once b reaches the band it
- * is taken without looking further. The far bound is read first: away
- * from the surface it is all that is read. */
+ * FAR, the default: in the band (the voxel nearest x in a leaf, x's cell
+ * known to the directory, |trilinear| below the background) the
+ * trilinear value, read first and alone: near the surface that is all
+ * that is read. Elsewhere TREE's field (the tree bound where the nearest
+ * voxel lies in a tile: from the directory's tile marker when it has one,
+ * without walking the tree), and where the far bound b applies (x in an
+ * empty cell), the larger of b and that. Each is a step the tracer may
+ * take (b a proven distance bound, the other the field it traces without
+ * the far bound), so the larger is too. Beside leaves b can be as small
+ * as its band bonus (0.72 voxels) where the field steps a whole band; once
+ * b reaches the band it is taken without looking further. */
 GRID_INLINE float sample(const sdft_grid *g, pnanovdb_grid_type_t type, pnanovdb_readaccessor_t *acc, const float x[3],
                          int *level, sdft_grid_bound bound)
 {
-    const float b = bound == SDFT_GRID_BOUND_FAR ? far_bound(g, x) : 0.0f; /* 0: does not apply */
+    if (bound != SDFT_GRID_BOUND_FAR) {
+        int vlevel;
+        const float v = sample_index(g, type, acc, x, &vlevel, bound == SDFT_GRID_BOUND_TREE);
+        if (level)
+            *level = vlevel;
+        return v;
+    }
+    float v = 0.0f, near_value = 0.0f;
+    pnanovdb_coord_t near_voxel;
+    int near_tile = 0, vlevel = 0;
+    const int known = sample_leaves(g, type, x, 1, &v, &near_voxel, &near_value, &near_tile);
+    if (known && near_tile) { /* TREE's field: the tree bound of an 8^3 tile, where it is of use */
+        const float tb = tree_bound(g, x, near_voxel, 1, near_value);
+        if (tb > 0.5f * g->sigma_min)
+            v = copysignf(tb, near_value), vlevel = 1;
+    } else if (known && fabsf(v) < g->background) {
+        if (level)
+            *level = 0;
+        return v;
+    }
+    const float b = far_bound(g, x); /* 0: does not apply */
     if (b != 0.0f && fabsf(b) >= g->background) {
         if (level)
             *level = 5;
         return b;
     }
-    int vlevel;
-    const float v = sample_index(g, type, acc, x, &vlevel, bound != SDFT_GRID_BOUND_NONE);
+    if (!known)
+        v = sample_tree(g, type, acc, x, &vlevel, 1);
     if (b == 0.0f || (fabsf(v) > fabsf(b) && (v < 0.0f) == (b < 0.0f))) {
         if (level)
             *level = vlevel;
@@ -327,8 +254,8 @@ GRID_INLINE float sample(const sdft_grid *g, pnanovdb_grid_type_t type, pnanovdb
     return b;
 }
 
-/* One distance function per (float grid or any, diagonal transform or not,
- * bound), each with its configuration folded in. */
+/* One distance function per (float grid, Fp16 grid or any, diagonal
+ * transform or not, bound), each with its configuration folded in. */
 #define GRID_DISTANCE(name, type, diagonal, bound)                                                                     \
     static float name(const void *ctx, sdft_scratch *s, sdft_vec3 p)                                                   \
     {                                                                                                                  \
@@ -338,24 +265,30 @@ GRID_INLINE float sample(const sdft_grid *g, pnanovdb_grid_type_t type, pnanovdb
         return sample(g, type, accessor(s), x, NULL, bound);                                                           \
     }
 #define F PNANOVDB_GRID_TYPE_FLOAT
+#define H PNANOVDB_GRID_TYPE_FP16
 GRID_DISTANCE(distance_float_diag_far, F, 1, SDFT_GRID_BOUND_FAR)
 GRID_DISTANCE(distance_float_diag_tree, F, 1, SDFT_GRID_BOUND_TREE)
 GRID_DISTANCE(distance_float_diag_none, F, 1, SDFT_GRID_BOUND_NONE)
 GRID_DISTANCE(distance_float_full_far, F, 0, SDFT_GRID_BOUND_FAR)
 GRID_DISTANCE(distance_float_full_tree, F, 0, SDFT_GRID_BOUND_TREE)
 GRID_DISTANCE(distance_float_full_none, F, 0, SDFT_GRID_BOUND_NONE)
+GRID_DISTANCE(distance_fp16_any_far, H, g->diagonal, SDFT_GRID_BOUND_FAR)
+GRID_DISTANCE(distance_fp16_any_tree, H, g->diagonal, SDFT_GRID_BOUND_TREE)
+GRID_DISTANCE(distance_fp16_any_none, H, g->diagonal, SDFT_GRID_BOUND_NONE)
 GRID_DISTANCE(distance_any_far, g->type, g->diagonal, SDFT_GRID_BOUND_FAR)
 GRID_DISTANCE(distance_any_tree, g->type, g->diagonal, SDFT_GRID_BOUND_TREE)
 GRID_DISTANCE(distance_any_none, g->type, g->diagonal, SDFT_GRID_BOUND_NONE)
 #undef F
+#undef H
 #undef GRID_DISTANCE
 
 typedef float (*grid_distance_fn)(const void *ctx, sdft_scratch *s, sdft_vec3 p);
 
-/* [float, diagonal][bound]: index 0 float+diagonal, 1 float, 2 any other. */
-static const grid_distance_fn grid_distances[3][3] = {
+/* [kind][bound]: kind 0 float+diagonal, 1 float, 2 Fp16, 3 any other. */
+static const grid_distance_fn grid_distances[4][3] = {
     {distance_float_diag_far, distance_float_diag_tree, distance_float_diag_none},
     {distance_float_full_far, distance_float_full_tree, distance_float_full_none},
+    {distance_fp16_any_far, distance_fp16_any_tree, distance_fp16_any_none},
     {distance_any_far, distance_any_tree, distance_any_none},
 };
 
@@ -373,7 +306,7 @@ GRID_INLINE sdft_vec3 normal_of(const sdft_grid *g, pnanovdb_grid_type_t type, s
     to_index(g, g->diagonal, p, x);
     for (int i = 0; i < 4; i++) {
         const float at[3] = {x[0] + k[i][0], x[1] + k[i][1], x[2] + k[i][2]};
-        const float f = sample_index(g, type, acc, at, NULL, 1);
+        const float f = sample_index(g, type, acc, at, NULL, 0);
         d[0] += k[i][0] * f, d[1] += k[i][1] * f, d[2] += k[i][2] * f;
     }
     const float *m = g->w2i;
@@ -387,28 +320,43 @@ static sdft_vec3 normal_float(const void *ctx, sdft_scratch *s, sdft_vec3 p)
     return normal_of(ctx, PNANOVDB_GRID_TYPE_FLOAT, s, p);
 }
 
+static sdft_vec3 normal_fp16(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    return normal_of(ctx, PNANOVDB_GRID_TYPE_FP16, s, p);
+}
+
 static sdft_vec3 normal_any(const void *ctx, sdft_scratch *s, sdft_vec3 p)
 {
     const sdft_grid *g = ctx;
     return normal_of(g, g->type, s, p);
 }
 
+typedef sdft_vec3 (*sdft_normal_fn)(const void *ctx, sdft_scratch *s, sdft_vec3 p);
+
 static inline int is_float(const sdft_grid *g) { return g->type == PNANOVDB_GRID_TYPE_FLOAT; }
+
+/* The exact root (grid_root.c) takes over once a ray is this many voxels
+ * from the surface: the cells it walks are then about as many as the steps
+ * it saves at a head-on hit, and far fewer at a grazing one. */
+#define GRID_ROOT_REACH 1.0f
 
 sdft_field sdft_grid_field_with(const sdft_grid *g, sdft_grid_bound bound)
 {
     if (!g || (unsigned)bound > SDFT_GRID_BOUND_NONE)
         return (sdft_field){0};
     sdft_vec3 vs = g->voxel_size;
-    const int kind = !is_float(g) ? 2 : g->diagonal ? 0 : 1;
+    const int kind = is_float(g) ? (g->diagonal ? 0 : 1) : g->type == PNANOVDB_GRID_TYPE_FP16 ? 2 : 3;
+    static const sdft_normal_fn normals[4] = {normal_float, normal_float, normal_fp16, normal_any};
     const int b = bound == SDFT_GRID_BOUND_TREE ? 1 : bound == SDFT_GRID_BOUND_NONE ? 2 : 0;
     return (sdft_field){
         .distance = grid_distances[kind][b],
-        .normal = is_float(g) ? normal_float : normal_any,
+        .normal = normals[kind],
         .scratch_init = grid_scratch_init,
         .ctx = g,
         .bounds = g->bounds,
         .feature_size = sdft_minf(vs.x, sdft_minf(vs.y, vs.z)),
+        .root = sdft_grid_root_for(g),
+        .root_reach = GRID_ROOT_REACH * g->sigma_min,
     };
 }
 

@@ -97,32 +97,6 @@ struct Baker {
     }
 };
 
-// The caller's progress callback, called about once per percent, one call
-// at a time, with a fraction that never decreases; and its answer, to stop.
-struct Progress {
-    sdft_progress_fn fn = nullptr;
-    void *user = nullptr;
-    uint64_t total = 1;
-    std::atomic<uint64_t> done{0};
-    std::atomic<int> shown{-1};
-    std::atomic<bool> stop{false};
-    std::mutex call;
-
-    void step()
-    {
-        const uint64_t now = done.fetch_add(1) + 1;
-        if (!fn || stop)
-            return;
-        const int pct = int(100 * now / total);
-        int old = shown.load();
-        if (pct <= old || !shown.compare_exchange_strong(old, pct))
-            return;
-        std::lock_guard<std::mutex> lock(call);
-        if (!stop && shown.load() == pct && fn(user, float(pct) / 100.0f) != 0)
-            stop = true; // no call after the one that said stop
-    }
-};
-
 // The output file: its temporary file is made before any work, so that an
 // unwritable destination fails at once; removed unless committed.
 struct Output {
@@ -249,7 +223,7 @@ sdft_error bake(const sdft_field *f, const sdft_bake_params *p, const char *path
 
     // 2. The leaves, voxel by voxel; once the callback says stop, the rest
     // are skipped.
-    Progress progress;
+    sdft_vdb::Progress progress;
     progress.fn = p->progress;
     progress.user = p->progress_user;
     progress.total = std::max<uint64_t>(1, leaf_origins.size());

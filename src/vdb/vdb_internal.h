@@ -4,6 +4,9 @@
 #ifndef SDFTRACE_VDB_INTERNAL_H
 #define SDFTRACE_VDB_INTERNAL_H
 
+#include <atomic>
+#include <cstdint>
+#include <mutex>
 #include <new>
 #include <string>
 
@@ -13,9 +16,13 @@
 #include "../core/fail.h"
 #include "sdftrace/vdb.h"
 
-// sdft_vdb_load once its arguments are checked (vdb_open.c).
-extern "C" SDFT_INTERNAL sdft_error sdft_vdb_load_checked(const char *path, const char *name, sdft_quant quant,
-                                                          sdft_grid **out, char *msg, size_t msg_len);
+// sdft_vdb_open and sdft_vdb_bounds once their arguments are checked
+// (vdb_open.c).
+extern "C" SDFT_INTERNAL sdft_error sdft_vdb_open_checked(const char *path, const char *name,
+                                                          const sdft_vdb_options *o, sdft_grid **out, char *msg,
+                                                          size_t msg_len);
+extern "C" SDFT_INTERNAL sdft_error sdft_vdb_bounds_checked(const char *path, const char *name, sdft_aabb *box,
+                                                            char *msg, size_t msg_len);
 
 namespace sdft_vdb {
 
@@ -54,6 +61,39 @@ sdft_error to_nano(const openvdb::FloatGrid &grid, sdft_quant quant, sdft_grid *
 // throw std::bad_alloc.
 sdft_error write_grid(const openvdb::FloatGrid &grid, bool nvdb, sdft_quant quant, const std::string &path,
                       const std::string &label, char *msg, size_t msg_len);
+
+// A delay-loaded float grid (read from `path`) streamed into a NanoVDB grid
+// of float or Fp16 leaves (vdb_stream.cpp); the grid's leaves are deleted
+// as they are copied. progress may be NULL.
+sdft_error stream_to_nano(openvdb::FloatGrid &grid, const char *path, sdft_quant quant, sdft_progress_fn progress,
+                          void *progress_user, sdft_grid **out, char *msg, size_t msg_len);
+
+// The caller's progress callback (sdftrace/vdb.h), called about once per
+// percent, one call at a time, with a fraction that never decreases; and
+// its answer, to stop. step() from any thread, once per unit of work.
+struct Progress {
+    sdft_progress_fn fn = nullptr;
+    void *user = nullptr;
+    uint64_t total = 1;
+    std::atomic<uint64_t> done{0};
+    std::atomic<int> shown{-1};
+    std::atomic<bool> stop{false};
+    std::mutex call;
+
+    void step()
+    {
+        const uint64_t now = done.fetch_add(1) + 1;
+        if (!fn || stop)
+            return;
+        const int pct = int(100 * now / total);
+        int old = shown.load();
+        if (pct <= old || !shown.compare_exchange_strong(old, pct))
+            return;
+        std::lock_guard<std::mutex> lock(call);
+        if (!stop && shown.load() == pct && fn(user, float(pct) / 100.0f) != 0)
+            stop = true; // no call after the one that said stop
+    }
+};
 
 } // namespace sdft_vdb
 

@@ -68,18 +68,22 @@ static openvdb::FloatGrid::Ptr read_float_grid(openvdb::io::File &file, const st
     return grid;
 }
 
-static sdft_error load(const char *path, const char *name, sdft_quant quant, sdft_grid **out, char *msg, size_t msg_len)
+// Opens `path` with delayed loading (leaf values stay in the mapped file
+// until read) and picks its grid by the shared rule: SDFT_OK with *chosen.
+static sdft_error choose(openvdb::io::File &file, const char *path, const char *name, std::string *chosen, char *msg,
+                         size_t msg_len)
 {
     if (FILE *f = std::fopen(path, "rb"))
         std::fclose(f);
     else
         return fail(msg, msg_len, SDFT_EIO, std::string("cannot open ") + path + ": " + std::strerror(errno));
     openvdb::initialize();
-    openvdb::io::File file(path);
     openvdb::GridPtrVecPtr metas;
     try {
-        file.open(false);
+        file.open(true);
         metas = file.readAllGridMetadata();
+    } catch (const std::bad_alloc &) {
+        throw;
     } catch (const std::exception &e) {
         return fail(msg, msg_len, SDFT_EFORMAT, std::string("cannot read ") + path + ": " + e.what());
     }
@@ -95,9 +99,20 @@ static sdft_error load(const char *path, const char *name, sdft_quant quant, sdf
     size_t pick = 0;
     if (sdft_error rc = sdft_grid_choose(entries.data(), entries.size(), name, path, &pick, msg, msg_len))
         return rc;
+    *chosen = names[pick];
+    return SDFT_OK;
+}
+
+static sdft_error load(const char *path, const char *name, const sdft_vdb_options *o, sdft_grid **out, char *msg,
+                       size_t msg_len)
+{
+    openvdb::io::File file(path);
+    std::string chosen;
+    if (sdft_error rc = choose(file, path, name, &chosen, msg, msg_len))
+        return rc;
     openvdb::FloatGrid::Ptr grid;
     try {
-        grid = read_float_grid(file, names[pick]);
+        grid = read_float_grid(file, chosen);
         file.close();
     } catch (const std::bad_alloc &) {
         throw;
@@ -105,14 +120,45 @@ static sdft_error load(const char *path, const char *name, sdft_quant quant, sdf
         return fail(msg, msg_len, SDFT_EFORMAT, std::string("cannot read ") + path + ": " + e.what());
     }
     if (grid->activeVoxelCount() == 0)
-        return fail(msg, msg_len, SDFT_EEMPTY, "grid '" + names[pick] + "' in " + path + " is empty: no active voxels");
-    return sdft_vdb::to_nano(*grid, quant, out, msg, msg_len);
+        return fail(msg, msg_len, SDFT_EEMPTY, "grid '" + chosen + "' in " + path + " is empty: no active voxels");
+    if (o->stream && (o->quant == SDFT_QUANT_NONE || o->quant == SDFT_QUANT_FP16))
+        return sdft_vdb::stream_to_nano(*grid, path, o->quant, o->progress, o->progress_user, out, msg, msg_len);
+    return sdft_vdb::to_nano(*grid, o->quant, out, msg, msg_len);
 }
 
-// The checked entry point is sdft_vdb_load (vdb_open.c): in C, where an
-// out-of-range sdft_quant is a plain int, not undefined behaviour.
-extern "C" sdft_error sdft_vdb_load_checked(const char *path, const char *name, sdft_quant quant, sdft_grid **out,
-                                            char *msg, size_t msg_len)
+static sdft_error bounds(const char *path, const char *name, sdft_aabb *box, char *msg, size_t msg_len)
 {
-    return sdft_vdb::guarded(path, msg, msg_len, [&] { return load(path, name, quant, out, msg, msg_len); });
+    openvdb::io::File file(path);
+    std::string chosen;
+    if (sdft_error rc = choose(file, path, name, &chosen, msg, msg_len))
+        return rc;
+    try {
+        // OpenVDB writes the active index box as file_bbox_min / file_bbox_max.
+        const openvdb::GridBase::Ptr grid = file.readGridMetadata(chosen);
+        const openvdb::Vec3i lo = grid->metaValue<openvdb::Vec3i>("file_bbox_min"),
+                             hi = grid->metaValue<openvdb::Vec3i>("file_bbox_max");
+        const openvdb::BBoxd world = grid->transform().indexToWorld(
+            openvdb::BBoxd(openvdb::Vec3d(lo[0], lo[1], lo[2]) - 0.5, openvdb::Vec3d(hi[0], hi[1], hi[2]) + 0.5));
+        *box = sdft_aabb{{float(world.min()[0]), float(world.min()[1]), float(world.min()[2])},
+                         {float(world.max()[0]), float(world.max()[1]), float(world.max()[2])}};
+    } catch (const std::bad_alloc &) {
+        throw;
+    } catch (const std::exception &e) {
+        return fail(msg, msg_len, SDFT_EFORMAT, std::string("cannot read ") + path + ": " + e.what());
+    }
+    return SDFT_OK;
+}
+
+// The checked entry points are in vdb_open.c: in C, where an out-of-range
+// sdft_quant is a plain int, not undefined behaviour.
+extern "C" sdft_error sdft_vdb_open_checked(const char *path, const char *name, const sdft_vdb_options *o,
+                                            sdft_grid **out, char *msg, size_t msg_len)
+{
+    return sdft_vdb::guarded(path, msg, msg_len, [&] { return load(path, name, o, out, msg, msg_len); });
+}
+
+extern "C" sdft_error sdft_vdb_bounds_checked(const char *path, const char *name, sdft_aabb *box, char *msg,
+                                              size_t msg_len)
+{
+    return sdft_vdb::guarded(path, msg, msg_len, [&] { return bounds(path, name, box, msg, msg_len); });
 }

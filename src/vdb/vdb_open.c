@@ -7,10 +7,21 @@
 #include "sdftrace/vdb.h"
 
 /* vdb_load.cpp */
-SDFT_INTERNAL sdft_error sdft_vdb_load_checked(const char *path, const char *name, sdft_quant quant, sdft_grid **out,
-                                               char *msg, size_t msg_len);
+SDFT_INTERNAL sdft_error sdft_vdb_open_checked(const char *path, const char *name, const sdft_vdb_options *o,
+                                               sdft_grid **out, char *msg, size_t msg_len);
+SDFT_INTERNAL sdft_error sdft_vdb_bounds_checked(const char *path, const char *name, sdft_aabb *box, char *msg,
+                                                 size_t msg_len);
 
-sdft_error sdft_vdb_load(const char *path, const char *name, sdft_quant quant, sdft_grid **out, char *msg,
+sdft_vdb_options sdft_vdb_options_defaults(void)
+{
+    sdft_vdb_options o;
+    memset(&o, 0, sizeof o);
+    o.quant = SDFT_QUANT_NONE;
+    o.stream = 1;
+    return o;
+}
+
+sdft_error sdft_vdb_open(const char *path, const char *name, const sdft_vdb_options *o, sdft_grid **out, char *msg,
                          size_t msg_len)
 {
     if (!out)
@@ -18,9 +29,26 @@ sdft_error sdft_vdb_load(const char *path, const char *name, sdft_quant quant, s
     *out = NULL;
     if (!path)
         return sdft_fail(msg, msg_len, SDFT_EINVAL, "no path (NULL)");
-    if ((unsigned)quant > SDFT_QUANT_FPN)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "unknown quantization %d", (int)quant);
-    return sdft_vdb_load_checked(path, name, quant, out, msg, msg_len);
+    if (!o)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no options (NULL; sdft_vdb_options_defaults makes them)");
+    if ((unsigned)o->quant > SDFT_QUANT_FPN)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "unknown quantization %d", (int)o->quant);
+    return sdft_vdb_open_checked(path, name, o, out, msg, msg_len);
+}
+
+sdft_error sdft_vdb_load(const char *path, const char *name, sdft_quant quant, sdft_grid **out, char *msg,
+                         size_t msg_len)
+{
+    sdft_vdb_options o = sdft_vdb_options_defaults();
+    o.quant = quant;
+    return sdft_vdb_open(path, name, &o, out, msg, msg_len);
+}
+
+sdft_error sdft_vdb_bounds(const char *path, const char *name, sdft_aabb *box, char *msg, size_t msg_len)
+{
+    if (!path || !box)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no path or no place for the box (NULL)");
+    return sdft_vdb_bounds_checked(path, name, box, msg, msg_len);
 }
 
 sdft_error sdft_grid_open(const char *path, const char *name, sdft_grid **out, char *msg, size_t msg_len)
