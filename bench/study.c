@@ -495,8 +495,8 @@ void study_command(const study_options *o, const study_config *c, char *buf, siz
              "%s render --scene %s%s --method %s%s --eps %s --max-steps %d --width %d --height %d%s%s%s --threads 0 "
              "-o %s --json",
              o->cli, c->scene->name, grid, sdft_method_name(c->method), param, EPS_TEXT, c->cap, o->width, o->height,
-             c->shadows ? "" : " --no-shadows", c->screen_space ? " --screen-space" : "", c->cones ? " --no-exact-root" : " --papers",
-             o->row_exr);
+             c->shadows ? "" : " --no-shadows", c->screen_space ? " --screen-space" : "",
+             c->cones ? " --no-exact-root" : " --papers", o->row_exr);
 }
 
 /* ---- measuring ---------------------------------------------------------- */
