@@ -11,6 +11,8 @@
  * timed REPEAT times (default 7), the median reported.
  *
  * usage: sample_bench GRID.vdb|GRID.nvdb [POINTS]   (default 2000000) */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime */
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
