@@ -248,6 +248,7 @@ static void test_primary_steps_plane(void **state)
 {
     (void)state;
     sdft_render_params p = small_params();
+    sdft_render_papers(&p); /* every evaluation on one pixel's own ray: no cones shared by a tile */
     p.threads = 1;
     p.trace.method = SDFT_RELAXED, p.trace.omega = 1.5f; /* fallbacks too */
     /* A sphere alone: its box leaves the eye outside, so that no evaluation is at the eye, where every ray meets. */
@@ -462,10 +463,17 @@ static void test_culled_tiles_match_traced_ones(void **state)
     assert_true(hits > 100 && hits < n / 4);
     assert_true(sa.steps + sa.cone_steps < sb.steps + sb.cone_steps);
     p.camera.at = sdft_add(p.camera.from, sdft_sub(p.camera.from, p.camera.at)); /* turned around */
+    /* Every plane of a culled tile is written, the counts too: an image
+     * reused from an earlier frame keeps nothing of it. */
+    memset(a.steps, 0xff, n * sizeof *a.steps);
+    memset(a.primary_steps, 0xff, n * sizeof *a.primary_steps);
+    memset(a.fallbacks, 0xff, n * sizeof *a.fallbacks);
     assert_int_equal(sdft_render(&small, &p, &a, &sa, NULL, 0), 0);
     assert_true(sa.hits == 0 && sa.steps == 0 && sa.cone_steps == 0 && sa.rays == n);
-    for (size_t i = 0; i < n; i++)
+    for (size_t i = 0; i < n; i++) {
         assert_true(a.status[i] == SDFT_MISS && isinf(a.depth[i]) && a.rgb[3 * i + 2] > 0.5f);
+        assert_true(a.steps[i] == 0 && a.primary_steps[i] == 0 && a.fallbacks[i] == 0);
+    }
     sdft_image_free(&a);
     sdft_image_free(&b);
 }

@@ -319,7 +319,7 @@ static void miss_rect(const frame *fr, int x0, int y0, int x1, int y1, sdft_imag
             img->rgb[3 * i] = rgb.x, img->rgb[3 * i + 1] = rgb.y, img->rgb[3 * i + 2] = rgb.z;
             img->normal[3 * i] = img->normal[3 * i + 1] = img->normal[3 * i + 2] = 0.0f;
             img->depth[i] = INFINITY;
-            img->steps[i] = img->fallbacks[i] = 0;
+            img->steps[i] = img->fallbacks[i] = img->primary_steps[i] = 0;
             img->status[i] = (uint8_t)SDFT_MISS;
         }
 }
