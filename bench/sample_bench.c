@@ -98,7 +98,8 @@ static points traced_points(const sdft_grid *g, size_t want, int band_only)
         sdft_render_papers(&rp); /* every ray from the eye: more points near the surface */
     sdft_image img;
     char msg[256];
-    if (sdft_image_alloc(&img, rp.width, rp.height, msg, sizeof msg) || sdft_render(&f, &rp, &img, NULL, msg, sizeof msg)) {
+    if (sdft_image_alloc(&img, rp.width, rp.height, msg, sizeof msg) ||
+        sdft_render(&f, &rp, &img, NULL, msg, sizeof msg)) {
         fprintf(stderr, "sample_bench: cannot render the front view\n");
         exit(1);
     }

@@ -18,10 +18,11 @@ static char out[1 << 16];
 static void test_help_lists_every_option(void **state)
 {
     (void)state;
-    static const char *const flags[] = {
-        "--scene",        "--method",   "--omega",         "--beta",    "--eps",  "--max-steps", "--width", "--height",
-        "--camera",       "--fov",      "--no-shadows",    "--threads", "-o ",    "--png",       "--json",  "--heatmap",
-        "--screen-space", "--no-cones", "--no-exact-root", "--papers",  "--fp16", "--quiet",     "--heatmap-max"};
+    static const char *const flags[] = {"--scene",      "--method",       "--omega",      "--beta",          "--eps",
+                                        "--max-steps",  "--width",        "--height",     "--camera",        "--fov",
+                                        "--no-shadows", "--threads",      "-o ",          "--png",           "--json",
+                                        "--heatmap",    "--screen-space", "--no-cones",   "--no-exact-root", "--papers",
+                                        "--fp16",       "--quiet",        "--heatmap-max"};
     for (int which = 0; which < 2; which++) {
         assert_int_equal(tu_run(out, sizeof out, "%s %s", SDFT_CLI, which ? "render --help" : "--help"), 0);
         for (size_t i = 0; i < sizeof flags / sizeof flags[0]; i++)
@@ -241,8 +242,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_output_modes), cmocka_unit_test(test_help_lists_every_option),
         cmocka_unit_test(test_scenes),       cmocka_unit_test(test_bad_input),
-        cmocka_unit_test(test_json_report),
-        cmocka_unit_test(test_summary_line),
+        cmocka_unit_test(test_json_report),  cmocka_unit_test(test_summary_line),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

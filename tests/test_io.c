@@ -200,7 +200,8 @@ static void test_exr_read_floats(void **state)
                {path, "no channel 'Q'", 2, absent}};
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         msg[0] = 0;
-        assert_int_not_equal(sdft_read_exr_floats(bad[k].path, bad[k].n, bad[k].names, planes, &w, &h, msg, sizeof msg), 0);
+        assert_int_not_equal(sdft_read_exr_floats(bad[k].path, bad[k].n, bad[k].names, planes, &w, &h, msg, sizeof msg),
+                             0);
         print_message("%s\n", msg);
         assert_non_null(strstr(msg, bad[k].needle));
         assert_null(strchr(msg, '\n'));
@@ -334,12 +335,9 @@ static void test_failed_writes_leave_nothing(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_exr_round_trip),
-        cmocka_unit_test(test_exr_read_floats),
-        cmocka_unit_test(test_png_is_srgb),
-        cmocka_unit_test(test_heatmap),
-        cmocka_unit_test(test_colour_scale),
-        cmocka_unit_test(test_failed_writes_leave_nothing),
+        cmocka_unit_test(test_exr_round_trip), cmocka_unit_test(test_exr_read_floats),
+        cmocka_unit_test(test_png_is_srgb),    cmocka_unit_test(test_heatmap),
+        cmocka_unit_test(test_colour_scale),   cmocka_unit_test(test_failed_writes_leave_nothing),
     };
     return cmocka_run_group_tests_name("io", tests, NULL, NULL);
 }

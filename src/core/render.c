@@ -135,7 +135,7 @@ typedef struct frame {
     sdft_trace_params tp; /* with the screen-space pixel radius, if asked */
     float feature;        /* the field's feature size: the normal's step */
     sdft_view view;
-    float cone_tfar; /* with cones: beyond it every primary ray has left the field's box */
+    float cone_tfar;  /* with cones: beyond it every primary ray has left the field's box */
     float cone_tnear; /* the eye's distance to the field's box: no primary ray meets the surface before it */
 } frame;
 

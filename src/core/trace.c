@@ -9,10 +9,7 @@
 
 static const char *const method_names[SDFT_METHOD_COUNT] = {"sphere", "relaxed", "enhanced", "auto"};
 
-const char *sdft_method_name(sdft_method m)
-{
-    return (unsigned)m < SDFT_METHOD_COUNT ? method_names[m] : "unknown";
-}
+const char *sdft_method_name(sdft_method m) { return (unsigned)m < SDFT_METHOD_COUNT ? method_names[m] : "unknown"; }
 
 sdft_error sdft_method_parse(const char *name, sdft_method *out, char *msg, size_t msg_len)
 {
@@ -26,10 +23,7 @@ sdft_error sdft_method_parse(const char *name, sdft_method *out, char *msg, size
     return sdft_fail(msg, msg_len, SDFT_EINVAL, "unknown method '%s' (sphere, relaxed, enhanced or auto)", name);
 }
 
-float sdft_default_omega(sdft_method m)
-{
-    return m == SDFT_RELAXED ? 1.5f : m == SDFT_ENHANCED ? 0.88f : 1.0f;
-}
+float sdft_default_omega(sdft_method m) { return m == SDFT_RELAXED ? 1.5f : m == SDFT_ENHANCED ? 0.88f : 1.0f; }
 
 sdft_trace_params sdft_trace_defaults(void)
 {
@@ -103,9 +97,12 @@ sdft_hit sdft_trace(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, c
     if (!march_clip(f, ray, &clipped, &miss))
         return miss;
     switch (p->method) {
-    case SDFT_SPHERE: return sdft_trace_sphere(f, s, &clipped, p);
-    case SDFT_RELAXED: return sdft_trace_relaxed(f, s, &clipped, p);
-    case SDFT_ENHANCED: return sdft_trace_enhanced(f, s, &clipped, p);
+    case SDFT_SPHERE:
+        return sdft_trace_sphere(f, s, &clipped, p);
+    case SDFT_RELAXED:
+        return sdft_trace_relaxed(f, s, &clipped, p);
+    case SDFT_ENHANCED:
+        return sdft_trace_enhanced(f, s, &clipped, p);
     case SDFT_AUTO:
         return sdft_trace_auto(f, s, &clipped, p);
     default:

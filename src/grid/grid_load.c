@@ -25,16 +25,16 @@ static int type_is_scalar(uint32_t type)
 static const char *type_name(uint32_t type)
 {
     static const char *const names[PNANOVDB_GRID_TYPE_END] = {
-        "unknown", "float", "double", "int16", "int32", "int64", "vec3f", "vec3d", "mask", "half",
+        "unknown", "float", "double", "int16", "int32", "int64", "vec3f", "vec3d", "mask",  "half",
         "uint32",  "bool",  "rgba8",  "fp4",   "fp8",   "fp16",  "fpN",   "vec4f", "vec4d", "index"};
     return type < PNANOVDB_GRID_TYPE_END ? names[type] : "unknown";
 }
 
 static const char *class_name(uint32_t cls)
 {
-    static const char *const names[PNANOVDB_GRID_CLASS_END] = {
-        "unknown", "level set", "fog volume", "staggered", "point index", "point data", "topology", "voxel volume",
-        "index grid"};
+    static const char *const names[PNANOVDB_GRID_CLASS_END] = {"unknown",   "level set",    "fog volume",
+                                                               "staggered", "point index",  "point data",
+                                                               "topology",  "voxel volume", "index grid"};
     return cls < PNANOVDB_GRID_CLASS_END ? names[cls] : "unknown";
 }
 
@@ -52,7 +52,10 @@ static uint64_t leaf_bytes(const sdft_grid *g, uint64_t at, span s)
     uint64_t fixed = PNANOVDB_GRID_TYPE_GET(g->type, leaf_size);
     if (g->type != PNANOVDB_GRID_TYPE_FPN || !fits(s, at, fixed))
         return fixed;
-    uint32_t flags = pnanovdb_read_uint32(g->buf, pnanovdb_address_offset64((pnanovdb_address_t){0}, at + PNANOVDB_LEAF_OFF_BBOX_DIF_AND_FLAGS)) >> 24u;
+    uint32_t flags =
+        pnanovdb_read_uint32(
+            g->buf, pnanovdb_address_offset64((pnanovdb_address_t){0}, at + PNANOVDB_LEAF_OFF_BBOX_DIF_AND_FLAGS)) >>
+        24u;
     uint32_t log_bits = flags >> 5u;
     if (log_bits > 4u)
         return UINT64_MAX;
@@ -170,7 +173,8 @@ sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len)
                                inv[3 * k + 1] * pnanovdb_map_get_vecd(g->buf, map, 1) +
                                inv[3 * k + 2] * pnanovdb_map_get_vecd(g->buf, map, 2));
     }
-    g->diagonal = g->w2i[1] == 0 && g->w2i[2] == 0 && g->w2i[3] == 0 && g->w2i[5] == 0 && g->w2i[6] == 0 && g->w2i[7] == 0;
+    g->diagonal =
+        g->w2i[1] == 0 && g->w2i[2] == 0 && g->w2i[3] == 0 && g->w2i[5] == 0 && g->w2i[6] == 0 && g->w2i[7] == 0;
     g->sigma_max = spectral_bound(mat);
     float inv_norm = spectral_bound(inv);
     g->sigma_min = inv_norm > 0 ? 1.0f / inv_norm : 0.0f;
@@ -180,8 +184,10 @@ sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len)
                             (float)pnanovdb_grid_get_voxel_size(g->buf, g->grid, 1),
                             (float)pnanovdb_grid_get_voxel_size(g->buf, g->grid, 2));
 
-    pnanovdb_address_t bg = pnanovdb_address_offset(g->root.address, PNANOVDB_GRID_TYPE_GET(g->type, root_off_background));
-    g->background = g->type == PNANOVDB_GRID_TYPE_DOUBLE ? (float)pnanovdb_read_double(g->buf, bg) : pnanovdb_read_float(g->buf, bg);
+    pnanovdb_address_t bg =
+        pnanovdb_address_offset(g->root.address, PNANOVDB_GRID_TYPE_GET(g->type, root_off_background));
+    g->background = g->type == PNANOVDB_GRID_TYPE_DOUBLE ? (float)pnanovdb_read_double(g->buf, bg)
+                                                         : pnanovdb_read_float(g->buf, bg);
 
     pnanovdb_coord_t lo = pnanovdb_root_get_bbox_min(g->buf, g->root), hi = pnanovdb_root_get_bbox_max(g->buf, g->root);
     g->ilo[0] = lo.x, g->ilo[1] = lo.y, g->ilo[2] = lo.z;
@@ -408,7 +414,8 @@ sdft_error sdft_grid_load_nvdb(const char *path, const char *name, sdft_grid **o
             rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is truncated: incomplete segment header", path);
             break;
         }
-        memcpy(&magic, head, 8), memcpy(&version, head + 8, 4), memcpy(&count, head + 12, 2), memcpy(&codec, head + 14, 2);
+        memcpy(&magic, head, 8), memcpy(&version, head + 8, 4), memcpy(&count, head + 12, 2),
+            memcpy(&codec, head + 14, 2);
         if (magic != PNANOVDB_MAGIC_NUMBER) {
             rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is not a NanoVDB file (bad magic number)", path);
             break;

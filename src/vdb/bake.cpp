@@ -34,7 +34,8 @@
 
 using LeafT = openvdb::FloatTree::LeafNodeType;
 
-namespace {
+namespace
+{
 
 struct Tile {
     openvdb::Coord origin;
@@ -186,7 +187,8 @@ sdft_error bake(const sdft_field *f, const sdft_bake_params *p, const char *path
             sdft_scratch_init(f, &s);
             uint64_t count = 0;
             for (size_t bi = r.begin(); bi != r.end(); ++bi) {
-                const openvdb::Coord o(int(bi % nb[0]) * 128, int(bi / nb[0] % nb[1]) * 128, int(bi / nb[0] / nb[1]) * 128);
+                const openvdb::Coord o(int(bi % nb[0]) * 128, int(bi / nb[0] % nb[1]) * 128,
+                                       int(bi / nb[0] / nb[1]) * 128);
                 if (!bk.full) {
                     count++;
                     if (float v = bk.skip_value(&s, o, 128)) {

@@ -13,7 +13,8 @@
 #include "../grid/grid_choose.h"
 #include "vdb_internal.h"
 
-namespace sdft_vdb {
+namespace sdft_vdb
+{
 
 template <typename BuildT> static nanovdb::GridHandle<> convert(const openvdb::FloatGrid &grid)
 {

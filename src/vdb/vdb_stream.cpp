@@ -324,7 +324,8 @@ sdft_error stream(openvdb::FloatGrid &grid, const char *path, sdft_progress_fn p
 #endif
         l0 = l1;
         if (shown.stop)
-            return fail(msg, msg_len, SDFT_ECANCELED, std::string("loading ") + path + " stopped by its progress callback");
+            return fail(msg, msg_len, SDFT_ECANCELED,
+                        std::string("loading ") + path + " stopped by its progress callback");
     }
     for (uint64_t u = 0; u < s.uppers.size(); u++)
         s.write_upper(u);
