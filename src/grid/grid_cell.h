@@ -27,11 +27,16 @@ static inline pnanovdb_readaccessor_t *accessor(sdft_scratch *s) { return (pnano
 #endif
 
 /* A deferred grid's leaf at byte `at`, holding voxel ijk, filled if it is
- * not yet (grid_deferred.c); nothing for a grid loaded whole. */
+ * not yet (grid_deferred.c); nothing for a grid loaded whole, or for an
+ * address that is not one of its leaves (a corrupt child offset is then
+ * read as it stands, as in any grid, never filled out of place). */
 GRID_INLINE void grid_leaf_ready(const sdft_grid *g, uint64_t at, pnanovdb_coord_t ijk)
 {
     const grid_deferred *d = &g->deferred;
-    if (d->state && __atomic_load_n(&d->state[(at - d->first) / d->stride], __ATOMIC_ACQUIRE) != LEAF_READY)
+    if (!d->state)
+        return;
+    const uint64_t i = (at - d->first) / d->stride; /* below first wraps above count */
+    if (i < d->count && at == d->first + i * d->stride && __atomic_load_n(&d->state[i], __ATOMIC_ACQUIRE) != LEAF_READY)
         sdft_grid_leaf_fill(g, at, ijk);
 }
 
