@@ -850,6 +850,30 @@ static void round_trip(const char *file)
     sdft_grid_free(disk);
 }
 
+/* The figure baked at res^3 into the .vdb at `name` (a temporary path in
+ * path), then opened twice with quant: g[0] with options `first`, g[1]
+ * with `second`. */
+static void open_figure_twice(const char *name, int res, sdft_quant quant, sdft_vdb_options first,
+                              sdft_vdb_options second, char *path, size_t path_len, sdft_grid *g[2])
+{
+    char msg[256];
+    tu_tmp(path, path_len, name);
+    if (!tu_file_exists(path)) {
+        const sdft_scene *sc = sdft_scene_find("figure");
+        assert_non_null(sc);
+        sdft_grid_free(bake(&sc->field, res, 0, path));
+    }
+    const sdft_vdb_options o[2] = {first, second};
+    for (int k = 0; k < 2; k++) {
+        sdft_vdb_options ok = o[k];
+        ok.quant = quant;
+        const int rc = sdft_vdb_open(path, NULL, &ok, &g[k], msg, sizeof msg);
+        if (rc)
+            print_error("%s\n", msg);
+        assert_int_equal(rc, 0);
+    }
+}
+
 /* A .vdb streamed into NanoVDB leaf by leaf (vdb_stream.cpp, the default)
  * is the grid NanoVDB's own converter makes of it: the same voxels and
  * active states everywhere (tiles and background included), as float and
@@ -858,24 +882,17 @@ static void round_trip(const char *file)
 static void test_streamed_load_matches_nanovdb_converter(void **state)
 {
     (void)state;
-    char path[512], msg[256];
-    tu_tmp(path, sizeof path, "streamed.vdb");
-    remove(path);
+    char path[512];
     const sdft_scene *sc = sdft_scene_find("figure");
     assert_non_null(sc);
-    sdft_grid_free(bake(&sc->field, 256, 0, path));
+    tu_tmp(path, sizeof path, "streamed.vdb");
+    remove(path);
     static const sdft_quant quants[2] = {SDFT_QUANT_NONE, SDFT_QUANT_FP16};
     for (int q = 0; q < 2; q++) {
-        sdft_grid *g[2] = {NULL, NULL};
-        for (int streamed = 0; streamed < 2; streamed++) {
-            sdft_vdb_options o = sdft_vdb_options_defaults();
-            o.quant = quants[q];
-            o.stream = streamed;
-            const int rc = sdft_vdb_open(path, NULL, &o, &g[streamed], msg, sizeof msg);
-            if (rc)
-                print_error("%s\n", msg);
-            assert_int_equal(rc, 0);
-        }
+        sdft_grid *g[2] = {NULL, NULL}; /* converted, streamed */
+        sdft_vdb_options converted = sdft_vdb_options_defaults(), streamed = converted;
+        converted.stream = 0;
+        open_figure_twice("streamed.vdb", 256, quants[q], converted, streamed, path, sizeof path, g);
         pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g[1]->buf, g[1]->grid);
         print_message("%s: %llu leaves, %zu bytes streamed, %zu converted\n", sdft_grid_type_name(g[1]),
                       (unsigned long long)pnanovdb_tree_get_node_count_leaf(g[1]->buf, tree), g[1]->size, g[0]->size);
@@ -914,23 +931,16 @@ static void test_deferred_leaves_match_whole_load(void **state)
 {
     (void)state;
     char path[512], msg[256];
-    tu_tmp(path, sizeof path, "deferred.vdb");
-    remove(path);
     const sdft_scene *sc = sdft_scene_find("figure");
     assert_non_null(sc);
-    sdft_grid_free(bake(&sc->field, 160, 0, path));
+    tu_tmp(path, sizeof path, "deferred.vdb");
+    remove(path);
     static const sdft_quant quants[2] = {SDFT_QUANT_NONE, SDFT_QUANT_FP16};
     for (int q = 0; q < 2; q++) {
         sdft_grid *g[2] = {NULL, NULL}; /* whole, deferred */
-        for (int d = 0; d < 2; d++) {
-            sdft_vdb_options o = sdft_vdb_options_defaults();
-            o.quant = quants[q];
-            o.defer = d;
-            const int rc = sdft_vdb_open(path, NULL, &o, &g[d], msg, sizeof msg);
-            if (rc)
-                print_error("%s\n", msg);
-            assert_int_equal(rc, 0);
-        }
+        sdft_vdb_options loaded = sdft_vdb_options_defaults(), deferred = loaded;
+        deferred.defer = 1;
+        open_figure_twice("deferred.vdb", 160, quants[q], loaded, deferred, path, sizeof path, g);
         uint64_t leaves, filled, failed, whole_leaves, whole_filled;
         sdft_grid_leaf_counts(g[0], &whole_leaves, &whole_filled, &failed);
         assert_int_equal(whole_filled, whole_leaves);

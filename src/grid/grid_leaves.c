@@ -76,12 +76,15 @@ static uint64_t reached_node(const sdft_grid *g, pnanovdb_readaccessor_t *acc, i
     return found <= (uint32_t)level && reached == at ? at : 0;
 }
 
-void sdft_grid_each_leaf(const sdft_grid *g, leaf_visit visit, void *ctx)
+/* Calls visit(ctx, lower, n, block) for each entry n of each lower node
+ * the tree reaches whose child bit is `children` (1: leaves, 0: tiles),
+ * block the entry's 8^3 block (index >> 3); lower nodes in parallel. */
+typedef void (*lower_visit)(void *ctx, pnanovdb_lower_handle_t lower, uint32_t n, const int32_t b[3]);
+
+static void each_lower_entry(const sdft_grid *g, int children, lower_visit visit, void *ctx)
 {
     pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
     const uint64_t count = pnanovdb_tree_get_node_count_lower(g->buf, tree);
-    const uint32_t table = PNANOVDB_GRID_TYPE_GET(g->type, leaf_off_table);
-    const grid_deferred *def = &g->deferred;
 #pragma omp parallel
     {
         pnanovdb_readaccessor_t acc;
@@ -94,25 +97,45 @@ void sdft_grid_each_leaf(const sdft_grid *g, leaf_visit visit, void *ctx)
             pnanovdb_lower_handle_t lower = {{at}};
             const pnanovdb_coord_t o = pnanovdb_lower_get_bbox_min(g->buf, lower);
             for (uint32_t n = 0; n < 4096u; n++) {
-                if ((n & 31u) == 0 &&
+                if (children && (n & 31u) == 0 &&
                     !pnanovdb_read_uint32(g->buf, pnanovdb_address_offset(lower.address, PNANOVDB_LOWER_OFF_CHILD_MASK +
                                                                                              4u * (n >> 5)))) {
                     n += 31u; /* 32 entries without a child */
                     continue;
                 }
-                if (!pnanovdb_lower_get_child_mask(g->buf, lower, n))
+                if ((int)pnanovdb_lower_get_child_mask(g->buf, lower, n) != children)
                     continue;
-                const uint64_t leaf = pnanovdb_lower_get_child(g->type, g->buf, lower, n).address.byte_offset;
-                if (def->state && (leaf < def->first || (leaf - def->first) % def->stride ||
-                                   (leaf - def->first) / def->stride >= def->count))
-                    continue; /* not one of the deferred grid's leaves: left to the accessor */
                 const int32_t b[3] = {((o.x & ~127) >> 3) + (int32_t)(n >> 8),
                                       ((o.y & ~127) >> 3) + (int32_t)(n >> 4 & 15u),
                                       ((o.z & ~127) >> 3) + (int32_t)(n & 15u)};
-                visit(ctx, b, leaf, (uint32_t)((leaf + table) / 4u));
+                visit(ctx, lower, n, b);
             }
         }
     }
+}
+
+typedef struct leaf_walk {
+    const sdft_grid *g;
+    leaf_visit visit;
+    void *ctx;
+} leaf_walk;
+
+static void visit_leaf(void *ctx, pnanovdb_lower_handle_t lower, uint32_t n, const int32_t b[3])
+{
+    const leaf_walk *w = ctx;
+    const sdft_grid *g = w->g;
+    const grid_deferred *def = &g->deferred;
+    const uint64_t leaf = pnanovdb_lower_get_child(g->type, g->buf, lower, n).address.byte_offset;
+    if (def->state &&
+        (leaf < def->first || (leaf - def->first) % def->stride || (leaf - def->first) / def->stride >= def->count))
+        return; /* not one of the deferred grid's leaves: left to the accessor */
+    w->visit(w->ctx, b, leaf, (uint32_t)((leaf + PNANOVDB_GRID_TYPE_GET(g->type, leaf_off_table)) / 4u));
+}
+
+void sdft_grid_each_leaf(const sdft_grid *g, leaf_visit visit, void *ctx)
+{
+    leaf_walk w = {g, visit, ctx};
+    each_lower_entry(g, 1, visit_leaf, &w);
 }
 
 /* The chunks a block appears in: its own region's, and the region before
@@ -188,38 +211,25 @@ static void set_tile(grid_leaves *d, size_t ri, uint32_t local, void *arg)
 /* The tiles of the lower nodes (8^3 blocks without a leaf) whose value is
  * +-background, marked in the chunks that exist. Like the leaves, a lower
  * node is entered only when the tree itself reaches it from its origin. */
+typedef struct tile_walk {
+    const sdft_grid *g;
+    grid_leaves *d;
+} tile_walk;
+
+static void visit_tile(void *ctx, pnanovdb_lower_handle_t lower, uint32_t n, const int32_t b[3])
+{
+    const tile_walk *w = ctx;
+    const sdft_grid *g = w->g;
+    const float v = pnanovdb_read_float(g->buf, pnanovdb_lower_get_table_address(g->type, g->buf, lower, n));
+    uint32_t marker = v == g->background ? GRID_TILE_POSITIVE : v == -g->background ? GRID_TILE_NEGATIVE : 0u;
+    if (marker)
+        each_place(w->d, b, set_tile, &marker);
+}
+
 static void mark_tiles(const sdft_grid *g, grid_leaves *d)
 {
-    pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
-    const uint64_t count = pnanovdb_tree_get_node_count_lower(g->buf, tree);
-#pragma omp parallel
-    {
-        pnanovdb_readaccessor_t acc;
-        pnanovdb_readaccessor_init(&acc, g->root);
-#pragma omp for schedule(dynamic, 16)
-        for (long li = 0; li < (long)count; li++) {
-            const uint64_t at = reached_node(g, &acc, 1, (uint64_t)li);
-            if (!at)
-                continue;
-            pnanovdb_lower_handle_t lower = {{at}};
-            const pnanovdb_coord_t o = pnanovdb_lower_get_bbox_min(g->buf, lower);
-            for (uint32_t n = 0; n < 4096u; n++) {
-                if (pnanovdb_lower_get_child_mask(g->buf, lower, n))
-                    continue;
-                const float v =
-                    pnanovdb_read_float(g->buf, pnanovdb_lower_get_table_address(g->type, g->buf, lower, n));
-                uint32_t marker = v == g->background    ? GRID_TILE_POSITIVE
-                                  : v == -g->background ? GRID_TILE_NEGATIVE
-                                                        : 0u;
-                if (!marker)
-                    continue;
-                const int32_t b[3] = {((o.x & ~127) >> 3) + (int32_t)(n >> 8),
-                                      ((o.y & ~127) >> 3) + (int32_t)(n >> 4 & 15u),
-                                      ((o.z & ~127) >> 3) + (int32_t)(n & 15u)};
-                each_place(d, b, set_tile, &marker);
-            }
-        }
-    }
+    tile_walk w = {g, d};
+    each_lower_entry(g, 0, visit_tile, &w);
 }
 
 sdft_error sdft_grid_leaves_build(sdft_grid *g)
