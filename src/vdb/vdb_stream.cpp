@@ -19,6 +19,13 @@
 // (malloc_trim), so that resident memory stays near the NanoVDB grid's
 // size plus the OpenVDB tree's internal nodes.
 //
+// DEFERRED (sdft_vdb_options.defer, what `render` uses): the same layout
+// and every node above the leaves, but no leaf is read here. The NanoVDB
+// grid keeps the OpenVDB grid and a list of its leaves in NanoVDB's order,
+// and fills a leaf from the file the first time it is read
+// (fill_deferred; the core's side is src/grid/grid_deferred.c), the way
+// vdb_render reads only the leaves its rays reach.
+//
 // WHAT IT WRITES. The same structure as openToNanoVDB with StatsMode::
 // Disable and ChecksumMode::Disable: node origins as bounding boxes,
 // statistics zero, checksum "none", the root's bounding box the active
@@ -388,7 +395,8 @@ sdft_error stream(openvdb::FloatGrid::Ptr grid_ptr, const char *path, bool defer
         if (mapping.at)
             madvise(mapping.at, mapping.size, MADV_DONTNEED); // a read-only file mapping: re-read on demand
 #if defined(__GLIBC__)
-        malloc_trim(0); // the deleted leaves' memory back to the system, not kept in malloc's free lists
+        if (!defer)
+            malloc_trim(0); // the deleted leaves' memory back to the system, not kept in malloc's free lists
 #endif
         l0 = l1;
         if (shown.stop)
