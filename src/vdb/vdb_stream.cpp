@@ -330,6 +330,11 @@ template <typename BuildT> int fill_deferred(void *user, uint64_t index, void *l
         return 1;
     try {
         Stream<BuildT>::write_leaf(*d->leaves[index], to);
+        // The OpenVDB leaf's copy of its values goes: swapped with an empty
+        // buffer, which frees it. Nothing reads that leaf again (the grid
+        // fills each leaf once), and no other thread touches it.
+        openvdb::FloatTree::LeafNodeType::Buffer empty(openvdb::PartialCreate(), 0.0f);
+        const_cast<OpenLeaf *>(d->leaves[index])->buffer().swap(empty);
         return 0;
     } catch (...) { // the file changed or went away under the grid
         Stream<BuildT>::write_unreadable_leaf(*d->leaves[index], to);
