@@ -281,12 +281,13 @@ static void must_run(const char *what, const char *needle, const char *fmt, cons
  * at `prefix`, into `build`, with this build's sanitizers. */
 static void build_consumer(const char *src, const char *build, const char *prefix)
 {
-    char cmd[4096];
-    snprintf(cmd, sizeof cmd,
-             "%s -S %s -B %s -DCMAKE_BUILD_TYPE=Debug -DCMAKE_PREFIX_PATH=%s '-DCMAKE_C_FLAGS=%s' "
-             "'-DCMAKE_CXX_FLAGS=%s' '-DCMAKE_EXE_LINKER_FLAGS=%s' && %s --build %s",
-             SDFT_CMAKE, src, build, prefix, SDFT_SANITIZE_FLAGS, SDFT_SANITIZE_FLAGS, SDFT_SANITIZE_FLAGS, SDFT_CMAKE,
-             build);
+    char cmd[4 * 4096]; /* three paths of up to 4096 bytes and the flags */
+    const int n = snprintf(cmd, sizeof cmd,
+                           "%s -S %s -B %s -DCMAKE_BUILD_TYPE=Debug -DCMAKE_PREFIX_PATH=%s '-DCMAKE_C_FLAGS=%s' "
+                           "'-DCMAKE_CXX_FLAGS=%s' '-DCMAKE_EXE_LINKER_FLAGS=%s' && %s --build %s",
+                           SDFT_CMAKE, src, build, prefix, SDFT_SANITIZE_FLAGS, SDFT_SANITIZE_FLAGS,
+                           SDFT_SANITIZE_FLAGS, SDFT_CMAKE, build);
+    assert_true(n > 0 && (size_t)n < sizeof cmd);
     must_run("build the consumer", NULL, "%s%s%s", cmd, "", "");
 }
 

@@ -82,6 +82,12 @@ typedef struct sdft_field {
     int (*root)(const void *ctx, sdft_scratch *scratch, sdft_vec3 org, sdft_vec3 dir, float t0, float t1, float *t,
                 uint32_t *reads);
     float root_reach; /* world units; with root */
+    /* Optional: a hint that distance(p) will be asked soon. The field may
+     * start loading the memory that call will read (a grid: its leaf
+     * directory's entry and the cell's voxel rows) and must not change any
+     * result. The tracer hints a stream's next points before evaluating
+     * them, so that their waits for memory overlap. NULL: no hint. */
+    void (*prefetch)(const void *ctx, sdft_vec3 p);
 } sdft_field;
 
 /* Prepares s for field f on the calling thread: f's scratch_init, and s

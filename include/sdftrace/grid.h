@@ -73,6 +73,32 @@ SDFT_API sdft_error sdft_grid_borrow_buffer(const void *data, size_t size, const
 SDFT_API sdft_error sdft_grid_adopt_buffer(void *data, size_t size, const char *name, void (*release)(void *data),
                                            sdft_grid **out, char *msg, size_t msg_len);
 
+/* Writes leaf `index` of a deferred grid (the index-th node of the tree's
+ * leaf array) whole into `leaf`, its place in the grid's buffer: header,
+ * masks and values. 0 on success; non-zero when the values could not be
+ * read, after writing the header and masks and NaN values. */
+typedef int (*sdft_leaf_fill_fn)(void *user, uint64_t index, void *leaf);
+
+/* As sdft_grid_adopt_buffer, for a loader that has laid a grid out but not
+ * yet filled its leaves (the OpenVDB component's deferred `.vdb` loading):
+ * every node above the leaves must be in place; the leaves' bytes need not
+ * be. The grid calls fill(user, i, leaf) the first time anything reads
+ * leaf i, from the thread that reads it, at most once per leaf and possibly
+ * for several leaves at once, and release_user(user) (if not NULL) when it
+ * is freed or refuses the buffer. Float and Fp16 grids (SDFT_EINVAL for
+ * others, or a NULL fill). Until filled, a leaf counts as occupied for the
+ * far bound: still a bound, a looser one. A leaf whose fill failed reads as
+ * NaN, where rays see no surface; sdft_grid_fill_failures counts them.
+ * sdft_grid_data fills every leaf first. */
+SDFT_API sdft_error sdft_grid_adopt_deferred(void *data, size_t size, const char *name, void (*release)(void *data),
+                                             sdft_leaf_fill_fn fill, void *user, void (*release_user)(void *user),
+                                             sdft_grid **out, char *msg, size_t msg_len);
+
+/* A deferred grid's leaves: how many there are, how many are filled so far,
+ * and how many of those failed; for a grid loaded whole, all filled and 0
+ * failed. */
+SDFT_API void sdft_grid_leaf_counts(const sdft_grid *g, uint64_t *leaves, uint64_t *filled, uint64_t *failed);
+
 /* Frees the grid and what it owns (not a borrowed buffer); NULL is fine.
  * Every field of the grid must be out of use. */
 SDFT_API void sdft_grid_free(sdft_grid *g);
@@ -113,8 +139,12 @@ SDFT_API uint64_t sdft_grid_active_voxels(const sdft_grid *g);
 SDFT_API void sdft_grid_index_bounds(const sdft_grid *g, int32_t lo[3], int32_t hi[3]);
 SDFT_API sdft_aabb sdft_grid_world_bounds(const sdft_grid *g);
 /* The grid's bytes (one NanoVDB grid, 32-byte aligned), e.g. for a GPU:
- * owned by the grid (or, borrowed, by whoever lent them); *size in bytes. */
+ * owned by the grid (or, borrowed, by whoever lent them); *size in bytes.
+ * A deferred grid fills all its leaves first. */
 SDFT_API const void *sdft_grid_data(const sdft_grid *g, size_t *size);
+/* The grid's size in bytes, as sdft_grid_data gives it, without filling a
+ * deferred grid's leaves (their pages are not resident until filled). */
+SDFT_API size_t sdft_grid_size(const sdft_grid *g);
 
 /* The stored value of voxel (i, j, k) (background outside the tree) and its
  * active state (active may be NULL); for tests and tools. */

@@ -44,6 +44,11 @@ typedef struct sdft_vdb_options {
     int stream;                /* 1: float and Fp16 copies streamed leaf by leaf [1]; 0: NanoVDB's own
                                 * converter with the whole OpenVDB grid in memory (the reference the
                                 * tests hold the stream to) */
+    int defer;                 /* 1: lay the grid out and read each leaf's values from the file only when
+                                * something first reads that leaf (OpenVDB's delayed loading, as
+                                * vdb_render does): a renderer's first image sooner, and memory for the
+                                * leaves it reaches. The file must stay unchanged while the grid lives.
+                                * Float and Fp16 (SDFT_EINVAL for other quant or stream 0) [0] */
 } sdft_vdb_options;
 
 /* Float leaves, no progress, streamed. */

@@ -294,6 +294,7 @@ static int open_grid(const render_opts *o, render_source *src, char *msg, size_t
     sdft_vdb_options vo = sdft_vdb_options_defaults();
     vo.quant = o->fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE;
     vo.progress = show_loading;
+    vo.defer = 1; /* leaves read as rays reach them: the first image sooner, memory for what it shows */
     vo.progress_user = &bar;
     const sdft_error rc = vdb ? sdft_vdb_open(o->grid, o->grid_name, &vo, &g, msg, len)
                               : sdft_grid_open(o->grid, o->grid_name, &g, msg, len);
@@ -360,17 +361,22 @@ static int write_outputs(const render_opts *o, const sdft_image *img, char *msg,
 }
 
 /* The traced grid's NanoVDB bytes; 0 for a procedural scene. */
-static size_t grid_bytes(const render_source *src)
+static size_t grid_bytes(const render_source *src) { return src->grid ? sdft_grid_size(src->grid) : 0; }
+
+/* The grid's leaves and how many the render read from the file (all of
+ * them when it was loaded whole); 0 and 0 for a procedural scene. */
+static void grid_leaves(const render_source *src, uint64_t *leaves, uint64_t *filled, uint64_t *failed)
 {
-    size_t size = 0;
+    *leaves = *filled = *failed = 0;
     if (src->grid)
-        sdft_grid_data(src->grid, &size);
-    return size;
+        sdft_grid_leaf_counts(src->grid, leaves, filled, failed);
 }
 
 static void print_json(const render_source *src, const sdft_render_params *p, const sdft_render_stats *st)
 {
     double primary = (double)st->primary_rays;
+    uint64_t leaves, filled, failed;
+    grid_leaves(src, &leaves, &filled, &failed);
     printf("{\"scene\": ");
     sdft_json_put_string(stdout, src->name);
     printf(", \"method\": \"%s\", \"omega\": %.6g, \"beta\": %.6g, \"eps\": %.6g, \"max_steps\": %u, "
@@ -380,7 +386,7 @@ static void print_json(const render_source *src, const sdft_render_params *p, co
            "\"cone_steps\": %llu, \"fallbacks\": %llu, \"primary_fallbacks\": %llu, \"mean_steps\": %.4f, "
            "\"mean_primary_steps\": %.4f, \"mean_shadow_steps\": %.4f, \"mean_cone_steps\": %.4f, "
            "\"mean_fallbacks\": %.4f, \"mean_primary_fallbacks\": %.4f, \"nonconverged\": %.6f, "
-           "\"hit_fraction\": %.6f, \"grid_bytes\": %zu}\n",
+           "\"hit_fraction\": %.6f, \"grid_bytes\": %zu, \"grid_leaves\": %llu, \"grid_leaves_read\": %llu}\n",
            sdft_method_name(p->trace.method), p->trace.omega, p->trace.beta, p->trace.eps, p->trace.max_steps, p->width,
            p->height, p->shadows ? "true" : "false", p->screen_space ? "true" : "false", p->cones ? "true" : "false",
            p->trace.exact_root ? "true" : "false", p->threads, st->ms, (unsigned long long)st->rays,
@@ -389,7 +395,7 @@ static void print_json(const render_source *src, const sdft_render_params *p, co
            (unsigned long long)st->primary_fallbacks, (double)st->steps / primary, (double)st->primary_steps / primary,
            (double)(st->steps - st->primary_steps) / primary, (double)st->cone_steps / primary,
            (double)st->fallbacks / primary, (double)st->primary_fallbacks / primary, (double)st->nonconverged / primary,
-           (double)st->hits / primary, grid_bytes(src));
+           (double)st->hits / primary, grid_bytes(src), (unsigned long long)leaves, (unsigned long long)filled);
 }
 
 /* The one line on stderr when a render is done: what was made, how much
@@ -402,6 +408,19 @@ static void print_summary(const render_opts *o, const sdft_render_params *p, con
             p->width, p->height, 100.0 * (double)st->hits / (double)st->primary_rays,
             (double)(st->steps + st->cone_steps) / (double)st->primary_rays, st->ms, total_s, o->out,
             o->png ? ", " : "", o->png ? o->png : "", o->heatmap ? ", " : "", o->heatmap ? o->heatmap : "");
+}
+
+/* A deferred grid's leaves that could not be read from its file during the
+ * render (it changed or went away): an error, and no output. */
+static int leaves_unreadable(const render_opts *o, const render_source *src, char *msg, size_t len)
+{
+    uint64_t leaves, filled, failed;
+    grid_leaves(src, &leaves, &filled, &failed);
+    if (!failed)
+        return 0;
+    snprintf(msg, len, "%s: %llu leaves could not be read while rendering (did the file change?)", o->grid,
+             (unsigned long long)failed);
+    return 1;
 }
 
 int cmd_render(int argc, char **argv)
@@ -439,7 +458,7 @@ int cmd_render(int argc, char **argv)
         rc = 1;
     } else if (sdft_render(&src.field, &p, &img, &st, msg, sizeof msg)) {
         rc = 2; /* parameters the renderer rejects, e.g. a degenerate camera */
-    } else if (write_outputs(&o, &img, msg, sizeof msg)) {
+    } else if (leaves_unreadable(&o, &src, msg, sizeof msg) || write_outputs(&o, &img, msg, sizeof msg)) {
         rc = 1;
     }
     if (rc)

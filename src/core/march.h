@@ -179,7 +179,7 @@ static inline int march_clip(const sdft_field *f, const sdft_ray *ray, sdft_ray 
  * a grid most of an evaluation is waiting for memory; interleaving
  * MARCH_LANES independent chains lets those waits overlap. A lane whose ray
  * ends takes the next. */
-enum { MARCH_LANES = 4 };
+enum { MARCH_LANES = 16 };
 
 enum { LANE_STEP, LANE_FRESH, LANE_RESTART };
 
@@ -217,6 +217,9 @@ MARCH_INLINE void march_many(const sdft_field *f, sdft_scratch *s, const sdft_ra
     while (live < MARCH_LANES && march_take(f, rays, hits, n, &next, &lane[live]))
         live++;
     while (live > 0) {
+        if (f->prefetch) /* every lane's memory on its way before the first waits for it */
+            for (int k = 0; k < live; k++)
+                f->prefetch(f->ctx, sdft_madd(lane[k].ray.org, lane[k].ray.dir, lane[k].T));
         for (int k = 0; k < live; k++) /* independent: their loads overlap */
             R[k] = march_eval(f, s, &lane[k].ray, lane[k].T);
         for (int k = 0; k < live; k++) {

@@ -406,8 +406,13 @@ sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sd
         sdft_scratch scratch;
         sdft_scratch_init(f, &scratch);
 #pragma omp for schedule(dynamic, 1)
-        for (int tile = 0; tile < tiles; tile++)
-            render_tile(&fr, &scratch, tile, img, &per_tile[tile]);
+        for (int tile = 0; tile < tiles; tile++) {
+            /* Summed on the stack, stored once: neighbouring tiles' sums
+             * share cache lines, and other threads render those tiles. */
+            tile_stats ts;
+            render_tile(&fr, &scratch, tile, img, &ts);
+            per_tile[tile] = ts;
+        }
     }
     double t1 = omp_get_wtime();
 

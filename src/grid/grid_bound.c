@@ -155,6 +155,10 @@ static float probe(const sdft_grid *g, pnanovdb_readaccessor_t *acc, pnanovdb_co
 {
     pnanovdb_address_t a = pnanovdb_readaccessor_get_value_address_and_level(g->type, g->buf, acc, &ijk, level);
     *active = 0;
+    if (*level == 0 && g->deferred.state) { /* a deferred leaf, maybe not filled: occupied (grid_deferred.c) */
+        *active = 1;
+        return 0.0f;
+    }
     if (*level == 0) {
         /* Mask word w holds leaf offsets 32w..32w+31: x = w / 2, y = 4 (w & 1)
          * + bit / 8, z = bit % 8 (offset = 64 x + 8 y + z). */

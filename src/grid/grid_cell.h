@@ -26,6 +26,20 @@ static inline pnanovdb_readaccessor_t *accessor(sdft_scratch *s) { return (pnano
 #define GRID_COLD static
 #endif
 
+/* A deferred grid's leaf at byte `at`, holding voxel ijk, filled if it is
+ * not yet (grid_deferred.c); nothing for a grid loaded whole, or for an
+ * address that is not one of its leaves (a corrupt child offset is then
+ * read as it stands, as in any grid, never filled out of place). */
+GRID_INLINE void grid_leaf_ready(const sdft_grid *g, uint64_t at, pnanovdb_coord_t ijk)
+{
+    const grid_deferred *d = &g->deferred;
+    if (!d->state)
+        return;
+    const uint64_t i = (at - d->first) / d->stride; /* below first wraps above count */
+    if (i < d->count && at == d->first + i * d->stride && __atomic_load_n(&d->state[i], __ATOMIC_ACQUIRE) != LEAF_READY)
+        sdft_grid_leaf_fill(g, at, ijk);
+}
+
 /* The stored value at voxel ijk and the tree level it came from
  * (0 leaf, 1 lower-node tile, 2 upper-node tile, 3 root tile, 4 background).
  * `type` is g->type, or a constant where the caller is specialised. */
@@ -33,6 +47,8 @@ GRID_INLINE float read_value(const sdft_grid *g, pnanovdb_grid_type_t type, pnan
                              pnanovdb_coord_t ijk, uint32_t *level)
 {
     pnanovdb_address_t a = pnanovdb_readaccessor_get_value_address_and_level(type, g->buf, acc, &ijk, level);
+    if (*level == 0)
+        grid_leaf_ready(g, acc->leaf.address.byte_offset, ijk);
     switch (type) {
     case PNANOVDB_GRID_TYPE_FLOAT:
         return pnanovdb_read_float(g->buf, a);

@@ -17,16 +17,16 @@
  * so a lookup reads four cache lines, not five, and a 1024^3 grid's table
  * (32 MiB) mostly stays in cache. */
 typedef struct grid_far {
-    uint16_t *corner;   /* (n[0] + 1) x (n[1] + 1) x (n[2] + 1) corners, x fastest; NULL: no far bound.
-                         * Bits 0-13: the index distance x 4, rounded down, saturated (still a bound);
-                         * bits 14-15: the cell whose lowest corner this is: FAR_EMPTY_POSITIVE or
-                         * FAR_EMPTY_NEGATIVE when empty, 0 when occupied or there is none */
-    int32_t c0[3];      /* first cell, in cells */
-    int n[3];           /* cells per axis */
-    int cell;           /* S: voxels per cell edge, 4 * 2^k */
-    float inv_cell;     /* 1 / S */
-    float origin[3];    /* index coordinates of corner 0: c0 S - 1/2 */
-    float bonus;        /* world units added to smin e(x): the band's guarantee */
+    uint16_t *corner; /* (n[0] + 1) x (n[1] + 1) x (n[2] + 1) corners, x fastest; NULL: no far bound.
+                       * Bits 0-13: the index distance x 4, rounded down, saturated (still a bound);
+                       * bits 14-15: the cell whose lowest corner this is: FAR_EMPTY_POSITIVE or
+                       * FAR_EMPTY_NEGATIVE when empty, 0 when occupied or there is none */
+    int32_t c0[3];    /* first cell, in cells */
+    int n[3];         /* cells per axis */
+    int cell;         /* S: voxels per cell edge, 4 * 2^k */
+    float inv_cell;   /* 1 / S */
+    float origin[3];  /* index coordinates of corner 0: c0 S - 1/2 */
+    float bonus;      /* world units added to smin e(x): the band's guarantee */
 } grid_far;
 
 enum { FAR_DISTANCE_BITS = 14, FAR_EMPTY_POSITIVE = 1, FAR_EMPTY_NEGATIVE = 2 };
@@ -49,29 +49,43 @@ typedef struct grid_leaves {
     size_t chunks;
 } grid_leaves;
 
+/* A deferred grid's leaves (grid_deferred.c): filled by `fill` on first
+ * read. state: per leaf, LEAF_EMPTY, LEAF_FILLING or LEAF_READY (atomic);
+ * NULL for a grid loaded whole. Leaf i lies at byte first + i * stride. */
+enum { LEAF_EMPTY = 0, LEAF_FILLING = 1, LEAF_READY = 2 };
+typedef struct grid_deferred {
+    uint8_t *state;
+    sdft_leaf_fill_fn fill;
+    void *user;
+    void (*release_user)(void *user);
+    uint64_t first, stride, count;
+    uint64_t filled, failed; /* atomic counts */
+} grid_deferred;
+
 /* One NanoVDB grid plus the numbers the sampler reads on every call,
  * decoded once from the grid's header. Immutable after loading. */
 struct sdft_grid {
-    uint32_t *words;              /* the grid's bytes, 64-byte aligned when owned */
-    int owned;                    /* 1: words is ours to free; 0: borrowed (sdft_grid_borrow_buffer) */
-    void (*release)(void *);      /* adopted (sdft_grid_adopt_buffer): release(release_data) when freed */
+    uint32_t *words;         /* the grid's bytes, 64-byte aligned when owned */
+    int owned;               /* 1: words is ours to free; 0: borrowed (sdft_grid_borrow_buffer) */
+    void (*release)(void *); /* adopted (sdft_grid_adopt_buffer): release(release_data) when freed */
     void *release_data;
-    size_t size;                  /* bytes */
+    size_t size; /* bytes */
     pnanovdb_buf_t buf;
-    pnanovdb_grid_handle_t grid;  /* at address 0 */
+    pnanovdb_grid_handle_t grid; /* at address 0 */
     pnanovdb_root_handle_t root;
-    pnanovdb_grid_type_t type;    /* FLOAT, DOUBLE, FP4, FP8, FP16, FPN */
+    pnanovdb_grid_type_t type; /* FLOAT, DOUBLE, FP4, FP8, FP16, FPN */
     uint32_t grid_class;
-    float w2i[9], w2i_t[3];       /* index = w2i * world + w2i_t */
-    float i2w[9], i2w_t[3];       /* world = i2w * index + i2w_t */
-    int diagonal;                 /* w2i's off-diagonal entries are all 0: index = w2i[4k] world + w2i_t */
-    float sigma_min, sigma_max;   /* world length of a unit index step: bounds on i2w's singular values */
-    float background;             /* world units */
+    float w2i[9], w2i_t[3];     /* index = w2i * world + w2i_t */
+    float i2w[9], i2w_t[3];     /* world = i2w * index + i2w_t */
+    int diagonal;               /* w2i's off-diagonal entries are all 0: index = w2i[4k] world + w2i_t */
+    float sigma_min, sigma_max; /* world length of a unit index step: bounds on i2w's singular values */
+    float background;           /* world units */
     sdft_vec3 voxel_size;
-    int32_t ilo[3], ihi[3];       /* active voxels' index box, inclusive */
-    sdft_aabb bounds;             /* world box of those voxels' cells */
-    grid_far far;                 /* the far bound; built at load for level sets */
-    grid_leaves leaves;           /* the leaf directory; built at load for float grids */
+    int32_t ilo[3], ihi[3]; /* active voxels' index box, inclusive */
+    sdft_aabb bounds;       /* world box of those voxels' cells */
+    grid_far far;           /* the far bound; built at load for level sets */
+    grid_leaves leaves;     /* the leaf directory; built at load for float grids */
+    grid_deferred deferred; /* leaves filled on first read; state NULL: all there */
     char name[256];
 };
 
@@ -87,6 +101,20 @@ void sdft_grid_far_free(sdft_grid *g);
 /* Builds / frees g->leaves (grid_leaves.c). Needs g fully decoded. SDFT_OK
  * (also when the grid gets no directory) or SDFT_ENOMEM. */
 sdft_error sdft_grid_leaves_build(sdft_grid *g);
+/* Enters a deferred leaf, just filled, into the directory: block b (index >> 3), value table at `word`. */
+void sdft_grid_leaves_publish(const sdft_grid *g, const int32_t b[3], uint32_t word);
+/* Calls visit(ctx, block (index >> 3), byte offset, value table word) for each leaf the tree reaches,
+ * without reading the leaves (grid_leaves.c). */
+typedef void (*leaf_visit)(void *ctx, const int32_t b[3], uint64_t at, uint32_t word);
+void sdft_grid_each_leaf(const sdft_grid *g, leaf_visit visit, void *ctx);
+
+/* Deferred leaves (grid_deferred.c). init: after decoding, before the directory; free: with the grid. */
+sdft_error sdft_grid_deferred_init(sdft_grid *g);
+void sdft_grid_deferred_free(sdft_grid *g);
+/* Fills the leaf at byte `at` that holds voxel ijk, unless filled (cold; grid_leaf_ready asks). */
+void sdft_grid_leaf_fill(const sdft_grid *g, uint64_t at, pnanovdb_coord_t ijk);
+/* Fills every leaf not yet filled (sdft_grid_data). */
+void sdft_grid_fill_all(const sdft_grid *g);
 void sdft_grid_leaves_free(sdft_grid *g);
 size_t sdft_grid_leaves_bytes(const sdft_grid *g); /* its tables' size */
 
@@ -102,6 +130,5 @@ int sdft_grid_cell_root(const float v[8], const double u0[3], const double du[3]
 /* Memory for a big table (grid_memory.c): 64-byte aligned; free() releases
  * it. */
 void *sdft_grid_table_alloc(size_t bytes);
-
 
 #endif

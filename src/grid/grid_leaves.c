@@ -30,10 +30,10 @@
  * Those four types get a directory; FpN (a bit depth per leaf) and double
  * grids go through the accessor.
  *
- * TRUST. A leaf's origin is read from the leaf and then looked up through
- * a read accessor over the checked tree (grid_load.c): only a leaf the tree
- * itself reaches from that origin is entered, so a corrupt leaf array can
- * at worst leave blocks to the accessor, never misplace one. */
+ * TRUST. Leaves are found through the lower nodes that a read accessor
+ * over the checked tree (grid_load.c) reaches from their own origins, and
+ * placed where their lower node says: a corrupt node array can at worst
+ * leave blocks to the accessor, never misplace one. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -47,9 +47,12 @@ static int has_directory(pnanovdb_grid_type_t t)
            t == PNANOVDB_GRID_TYPE_FP4;
 }
 
-/* The leaves the tree itself reaches, in the order of its leaf array: calls
- * visit(block coordinates, value table word offset) for each. */
-typedef void (*leaf_visit)(void *ctx, const int32_t b[3], uint32_t word);
+/* The leaves the tree itself reaches (each lower node the tree reaches from
+ * its origin, then its children), in the order of the lower nodes' array:
+ * visit(block coordinates, the leaf's byte offset, its value table's word
+ * offset) for each. Nothing is read from the leaves themselves: a deferred
+ * grid's may not be filled yet (grid_deferred.c), and a leaf's place is
+ * where its lower node puts it, which is where the accessor finds it. */
 
 /* The address of node i of the tree's array of `level` (0 leaves, 1 lower
  * nodes) when the tree itself reaches that node from its origin, else 0
@@ -73,21 +76,66 @@ static uint64_t reached_node(const sdft_grid *g, pnanovdb_readaccessor_t *acc, i
     return found <= (uint32_t)level && reached == at ? at : 0;
 }
 
-static void each_leaf(const sdft_grid *g, leaf_visit visit, void *ctx)
+/* Calls visit(ctx, lower, n, block) for each entry n of each lower node
+ * the tree reaches whose child bit is `children` (1: leaves, 0: tiles),
+ * block the entry's 8^3 block (index >> 3); lower nodes in parallel. */
+typedef void (*lower_visit)(void *ctx, pnanovdb_lower_handle_t lower, uint32_t n, const int32_t b[3]);
+
+static void each_lower_entry(const sdft_grid *g, int children, lower_visit visit, void *ctx)
 {
     pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
-    const uint64_t count = pnanovdb_tree_get_node_count_leaf(g->buf, tree);
-    const uint32_t table = PNANOVDB_GRID_TYPE_GET(g->type, leaf_off_table);
-    pnanovdb_readaccessor_t acc;
-    pnanovdb_readaccessor_init(&acc, g->root);
-    for (uint64_t i = 0; i < count; i++) {
-        const uint64_t at = reached_node(g, &acc, 0, i);
-        if (!at)
-            continue;
-        pnanovdb_coord_t o = pnanovdb_leaf_get_bbox_min(g->buf, (pnanovdb_leaf_handle_t){{at}});
-        const int32_t b[3] = {o.x >> 3, o.y >> 3, o.z >> 3}; /* arithmetic shift: floor division */
-        visit(ctx, b, (uint32_t)((at + table) / 4u));
+    const uint64_t count = pnanovdb_tree_get_node_count_lower(g->buf, tree);
+#pragma omp parallel
+    {
+        pnanovdb_readaccessor_t acc;
+        pnanovdb_readaccessor_init(&acc, g->root);
+#pragma omp for schedule(dynamic, 16)
+        for (long li = 0; li < (long)count; li++) {
+            const uint64_t at = reached_node(g, &acc, 1, (uint64_t)li);
+            if (!at)
+                continue;
+            pnanovdb_lower_handle_t lower = {{at}};
+            const pnanovdb_coord_t o = pnanovdb_lower_get_bbox_min(g->buf, lower);
+            for (uint32_t n = 0; n < 4096u; n++) {
+                if (children && (n & 31u) == 0 &&
+                    !pnanovdb_read_uint32(g->buf, pnanovdb_address_offset(lower.address, PNANOVDB_LOWER_OFF_CHILD_MASK +
+                                                                                             4u * (n >> 5)))) {
+                    n += 31u; /* 32 entries without a child */
+                    continue;
+                }
+                if ((int)pnanovdb_lower_get_child_mask(g->buf, lower, n) != children)
+                    continue;
+                const int32_t b[3] = {((o.x & ~127) >> 3) + (int32_t)(n >> 8),
+                                      ((o.y & ~127) >> 3) + (int32_t)(n >> 4 & 15u),
+                                      ((o.z & ~127) >> 3) + (int32_t)(n & 15u)};
+                visit(ctx, lower, n, b);
+            }
+        }
     }
+}
+
+typedef struct leaf_walk {
+    const sdft_grid *g;
+    leaf_visit visit;
+    void *ctx;
+} leaf_walk;
+
+static void visit_leaf(void *ctx, pnanovdb_lower_handle_t lower, uint32_t n, const int32_t b[3])
+{
+    const leaf_walk *w = ctx;
+    const sdft_grid *g = w->g;
+    const grid_deferred *def = &g->deferred;
+    const uint64_t leaf = pnanovdb_lower_get_child(g->type, g->buf, lower, n).address.byte_offset;
+    if (def->state &&
+        (leaf < def->first || (leaf - def->first) % def->stride || (leaf - def->first) / def->stride >= def->count))
+        return; /* not one of the deferred grid's leaves: left to the accessor */
+    w->visit(w->ctx, b, leaf, (uint32_t)((leaf + PNANOVDB_GRID_TYPE_GET(g->type, leaf_off_table)) / 4u));
+}
+
+void sdft_grid_each_leaf(const sdft_grid *g, leaf_visit visit, void *ctx)
+{
+    leaf_walk w = {g, visit, ctx};
+    each_lower_entry(g, 1, visit_leaf, &w);
 }
 
 /* The chunks a block appears in: its own region's, and the region before
@@ -110,17 +158,17 @@ static size_t region_index(const grid_leaves *d, const int32_t r[3])
 static void each_place(grid_leaves *d, const int32_t b[3], void (*fn)(grid_leaves *, size_t, uint32_t, void *),
                        void *arg)
 {
+    const int at_zero = ((b[0] & 7) == 0) | ((b[1] & 7) == 0) << 1 | ((b[2] & 7) == 0) << 2;
     for (int c = 0; c < 8; c++) {
+        if (c & ~at_zero) /* an apron place needs offset 0 along each of c's axes */
+            continue;
         int32_t r[3], l[3];
-        int ok = 1;
         for (int k = 0; k < 3; k++) {
             r[k] = b[k] >> 3, l[k] = b[k] & 7;
-            if (c >> k & 1) { /* the apron of the region before */
-                ok &= l[k] == 0;
+            if (c >> k & 1) /* the apron of the region before */
                 r[k]--, l[k] = 8;
-            }
         }
-        const size_t ri = ok ? region_index(d, r) : SIZE_MAX;
+        const size_t ri = region_index(d, r);
         if (ri != SIZE_MAX)
             fn(d, ri, (uint32_t)((l[2] * GRID_CHUNK_SIDE + l[1]) * GRID_CHUNK_SIDE + l[0]), arg);
     }
@@ -129,12 +177,12 @@ static void each_place(grid_leaves *d, const int32_t b[3], void (*fn)(grid_leave
 static void mark_region(grid_leaves *d, size_t ri, uint32_t local, void *arg)
 {
     (void)local, (void)arg;
-    d->top[ri] = 1;
+    __atomic_store_n(&d->top[ri], 1u, __ATOMIC_RELAXED); /* threads may mark a region together */
 }
 
-static void mark_leaf(void *ctx, const int32_t b[3], uint32_t word)
+static void mark_leaf(void *ctx, const int32_t b[3], uint64_t at, uint32_t word)
 {
-    (void)word;
+    (void)at, (void)word;
     builder *bl = ctx;
     each_place(bl->d, b, mark_region, NULL);
 }
@@ -144,9 +192,10 @@ static void set_entry(grid_leaves *d, size_t ri, uint32_t local, void *arg)
     d->chunk[(size_t)(d->top[ri] - 1u) * GRID_CHUNK_ENTRIES + local] = *(const uint32_t *)arg;
 }
 
-static void fill_leaf(void *ctx, const int32_t b[3], uint32_t word)
+static void fill_leaf(void *ctx, const int32_t b[3], uint64_t at, uint32_t word)
 {
     builder *bl = ctx;
+    (void)at;
     each_place(bl->d, b, set_entry, &word);
 }
 
@@ -162,31 +211,25 @@ static void set_tile(grid_leaves *d, size_t ri, uint32_t local, void *arg)
 /* The tiles of the lower nodes (8^3 blocks without a leaf) whose value is
  * +-background, marked in the chunks that exist. Like the leaves, a lower
  * node is entered only when the tree itself reaches it from its origin. */
+typedef struct tile_walk {
+    const sdft_grid *g;
+    grid_leaves *d;
+} tile_walk;
+
+static void visit_tile(void *ctx, pnanovdb_lower_handle_t lower, uint32_t n, const int32_t b[3])
+{
+    const tile_walk *w = ctx;
+    const sdft_grid *g = w->g;
+    const float v = pnanovdb_read_float(g->buf, pnanovdb_lower_get_table_address(g->type, g->buf, lower, n));
+    uint32_t marker = v == g->background ? GRID_TILE_POSITIVE : v == -g->background ? GRID_TILE_NEGATIVE : 0u;
+    if (marker)
+        each_place(w->d, b, set_tile, &marker);
+}
+
 static void mark_tiles(const sdft_grid *g, grid_leaves *d)
 {
-    pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
-    const uint64_t count = pnanovdb_tree_get_node_count_lower(g->buf, tree);
-    pnanovdb_readaccessor_t acc;
-    pnanovdb_readaccessor_init(&acc, g->root);
-    for (uint64_t i = 0; i < count; i++) {
-        const uint64_t at = reached_node(g, &acc, 1, i);
-        if (!at)
-            continue;
-        pnanovdb_lower_handle_t lower = {{at}};
-        const pnanovdb_coord_t o = pnanovdb_lower_get_bbox_min(g->buf, lower);
-        for (uint32_t n = 0; n < 4096u; n++) {
-            if (pnanovdb_lower_get_child_mask(g->buf, lower, n))
-                continue;
-            const float v = pnanovdb_read_float(g->buf, pnanovdb_lower_get_table_address(g->type, g->buf, lower, n));
-            uint32_t marker = v == g->background ? GRID_TILE_POSITIVE : v == -g->background ? GRID_TILE_NEGATIVE : 0u;
-            if (!marker)
-                continue;
-            const int32_t b[3] = {((o.x & ~127) >> 3) + (int32_t)(n >> 8),
-                                  ((o.y & ~127) >> 3) + (int32_t)(n >> 4 & 15u),
-                                  ((o.z & ~127) >> 3) + (int32_t)(n & 15u)};
-            each_place(d, b, set_tile, &marker);
-        }
-    }
+    tile_walk w = {g, d};
+    each_lower_entry(g, 0, visit_tile, &w);
 }
 
 sdft_error sdft_grid_leaves_build(sdft_grid *g)
@@ -208,7 +251,7 @@ sdft_error sdft_grid_leaves_build(sdft_grid *g)
         return SDFT_ENOMEM;
     memset(d->top, 0, regions * sizeof *d->top);
     builder bl = {d, 0};
-    each_leaf(g, mark_leaf, &bl);
+    sdft_grid_each_leaf(g, mark_leaf, &bl);
     for (size_t i = 0; i < regions; i++)
         if (d->top[i])
             d->top[i] = ++bl.chunks;
@@ -220,10 +263,22 @@ sdft_error sdft_grid_leaves_build(sdft_grid *g)
         return SDFT_ENOMEM;
     }
     memset(d->chunk, 0, entries * sizeof *d->chunk);
-    each_leaf(g, fill_leaf, &bl);
+    if (!g->deferred.state) /* a deferred grid's leaves are entered as they are filled */
+        sdft_grid_each_leaf(g, fill_leaf, &bl);
     if (g->background > 0.0f && g->type != PNANOVDB_GRID_TYPE_DOUBLE)
         mark_tiles(g, d);
     return SDFT_OK;
+}
+
+static void publish_entry(grid_leaves *d, size_t ri, uint32_t local, void *arg)
+{
+    __atomic_store_n(&d->chunk[(size_t)(d->top[ri] - 1u) * GRID_CHUNK_ENTRIES + local], *(const uint32_t *)arg,
+                     __ATOMIC_RELEASE);
+}
+
+void sdft_grid_leaves_publish(const sdft_grid *g, const int32_t b[3], uint32_t word)
+{
+    each_place((grid_leaves *)&g->leaves, b, publish_entry, &word); /* its entries are written atomically */
 }
 
 void sdft_grid_leaves_free(sdft_grid *g)

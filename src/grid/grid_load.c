@@ -206,6 +206,15 @@ sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len)
         wlo = sdft_min_v(wlo, w), whi = sdft_max_v(whi, w);
     }
     g->bounds = (sdft_aabb){wlo, whi};
+    if (g->deferred.fill) {
+        if (g->type != PNANOVDB_GRID_TYPE_FLOAT && g->type != PNANOVDB_GRID_TYPE_FP16)
+            return sdft_fail(msg, msg_len, SDFT_EINVAL, "grid '%s' holds %s values: deferred leaves need float or fp16",
+                             g->name, type_name(g->type));
+        const sdft_error drc = sdft_grid_deferred_init(g);
+        if (drc)
+            return sdft_fail(msg, msg_len, drc, "grid '%s': %s", g->name,
+                             drc == SDFT_ENOMEM ? "out of memory for its leaves' states" : "its leaf array is corrupt");
+    }
     /* The directory first: the far bound reads the cells' signs through it. */
     if (sdft_grid_leaves_build(g))
         return sdft_fail(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its leaf directory", g->name);
@@ -257,6 +266,7 @@ void sdft_grid_free(sdft_grid *g)
     if (g) {
         sdft_grid_far_free(g);
         sdft_grid_leaves_free(g);
+        sdft_grid_deferred_free(g);
         if (g->owned)
             free(g->words);
         if (g->release)
@@ -325,8 +335,8 @@ static sdft_error buffer_grid(const void *data, size_t size, const char *name, s
 
 /* A grid from a buffer's chosen grid: its bytes copied into the grid, or
  * (borrow) read in place, which needs NanoVDB's 32-byte alignment. */
-static sdft_error grid_of_buffer(const void *data, size_t size, const char *name, int borrow, sdft_grid **out,
-                                 char *msg, size_t msg_len)
+static sdft_error grid_of_buffer(const void *data, size_t size, const char *name, int borrow,
+                                 const grid_deferred *deferred, sdft_grid **out, char *msg, size_t msg_len)
 {
     grid_entry e;
     const sdft_error rc = buffer_grid(data, size, name, out, &e, msg, msg_len);
@@ -343,19 +353,21 @@ static sdft_error grid_of_buffer(const void *data, size_t size, const char *name
         g->words = (uint32_t *)(uintptr_t)at, g->size = (size_t)e.size; /* read only: PNanoVDB's type is not const */
     else
         memcpy(g->words, at, e.size);
+    if (deferred)
+        g->deferred = *deferred; /* sdft_grid_init completes it */
     return finish(g, out, msg, msg_len);
 }
 
 sdft_error sdft_grid_from_buffer(const void *data, size_t size, const char *name, sdft_grid **out, char *msg,
                                  size_t msg_len)
 {
-    return grid_of_buffer(data, size, name, 0, out, msg, msg_len);
+    return grid_of_buffer(data, size, name, 0, NULL, out, msg, msg_len);
 }
 
 sdft_error sdft_grid_borrow_buffer(const void *data, size_t size, const char *name, sdft_grid **out, char *msg,
                                    size_t msg_len)
 {
-    return grid_of_buffer(data, size, name, 1, out, msg, msg_len);
+    return grid_of_buffer(data, size, name, 1, NULL, out, msg, msg_len);
 }
 
 sdft_error sdft_grid_adopt_buffer(void *data, size_t size, const char *name, void (*release)(void *data),
@@ -363,7 +375,7 @@ sdft_error sdft_grid_adopt_buffer(void *data, size_t size, const char *name, voi
 {
     if (!release)
         return sdft_fail(msg, msg_len, SDFT_EINVAL, "no release function (NULL): borrow the buffer instead");
-    const sdft_error rc = grid_of_buffer(data, size, name, 1, out, msg, msg_len);
+    const sdft_error rc = grid_of_buffer(data, size, name, 1, NULL, out, msg, msg_len);
     if (rc) {
         if (data)
             release(data);
@@ -371,6 +383,34 @@ sdft_error sdft_grid_adopt_buffer(void *data, size_t size, const char *name, voi
     }
     (*out)->release = release;
     (*out)->release_data = data;
+    return SDFT_OK;
+}
+
+sdft_error sdft_grid_adopt_deferred(void *data, size_t size, const char *name, void (*release)(void *data),
+                                    sdft_leaf_fill_fn fill, void *user, void (*release_user)(void *user),
+                                    sdft_grid **out, char *msg, size_t msg_len)
+{
+    if (!release || !fill) {
+        if (out)
+            *out = NULL;
+        if (release_user)
+            release_user(user);
+        if (release && data)
+            release(data);
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no %s function (NULL)", release ? "fill" : "release");
+    }
+    const grid_deferred d = {.fill = fill, .user = user}; /* release_user once the grid is made */
+    const sdft_error rc = grid_of_buffer(data, size, name, 1, &d, out, msg, msg_len);
+    if (rc) {
+        if (release_user)
+            release_user(user);
+        if (data)
+            release(data);
+        return rc;
+    }
+    (*out)->release = release;
+    (*out)->release_data = data;
+    (*out)->deferred.release_user = release_user;
     return SDFT_OK;
 }
 
@@ -513,8 +553,11 @@ void sdft_grid_index_bounds(const sdft_grid *g, int32_t lo[3], int32_t hi[3])
     memcpy(hi, g->ihi, sizeof g->ihi);
 }
 
+size_t sdft_grid_size(const sdft_grid *g) { return g->size; }
+
 const void *sdft_grid_data(const sdft_grid *g, size_t *size)
 {
+    sdft_grid_fill_all(g);
     if (size)
         *size = g->size;
     return g->words;

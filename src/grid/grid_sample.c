@@ -199,6 +199,56 @@ static inline float far_bound(const sdft_grid *g, const float x[3])
     return code == FAR_EMPTY_POSITIVE ? b : -b;
 }
 
+/* Starts loading what sample() at index point x will read: the leaf
+ * directory's entry for x's cell and, in a leaf, the cell's four rows of
+ * two voxels (z is the fastest axis, so each row is one or two adjacent
+ * values); beside no leaf, the far bound's corners. Plain loads of the
+ * directory (small, mostly cached) and prefetches of the rest, so a
+ * stream's lanes wait for their memory together (march_many). Reads
+ * nothing it cannot bound: x's block is checked as in cell_from_leaves. */
+GRID_INLINE void prefetch_index(const sdft_grid *g, pnanovdb_grid_type_t type, const float x[3])
+{
+    const grid_leaves *d = &g->leaves;
+    if (!has_directory(type) || !d->top || !(fabsf(x[0]) < 1e9f && fabsf(x[1]) < 1e9f && fabsf(x[2]) < 1e9f))
+        return;
+    const int32_t c[3] = {ifloor(x[0]), ifloor(x[1]), ifloor(x[2])};
+    uint32_t r[3];
+    for (int k = 0; k < 3; k++) {
+        r[k] = (uint32_t)((c[k] >> 6) - d->r0[k]);
+        if (r[k] >= (uint32_t)d->nr[k])
+            return;
+    }
+    const uint32_t chunk = d->top[((size_t)r[2] * (size_t)d->nr[1] + r[1]) * (size_t)d->nr[0] + r[0]];
+    const uint32_t local = ((uint32_t)c[0] >> 3 & 7u) + GRID_CHUNK_SIDE * ((uint32_t)c[1] >> 3 & 7u) +
+                           GRID_CHUNK_SIDE * GRID_CHUNK_SIDE * ((uint32_t)c[2] >> 3 & 7u);
+    const uint32_t w = chunk ? d->chunk[(size_t)(chunk - 1u) * GRID_CHUNK_ENTRIES + local] : 0u;
+    if (w < GRID_TILE_MARKERS) { /* no leaf: the far bound will be read */
+        const grid_far *f = &g->far;
+        if (!f->corner)
+            return;
+        int cc[3];
+        for (int k = 0; k < 3; k++) {
+            const float u = sdft_minf(sdft_maxf((x[k] - f->origin[k]) * f->inv_cell, 0.0f), (float)f->n[k]);
+            cc[k] = (int)u - ((int)u == f->n[k]);
+        }
+        const size_t sx = (size_t)f->n[0] + 1, sy = sx * ((size_t)f->n[1] + 1);
+        const uint16_t *corner = f->corner + (size_t)cc[2] * sy + (size_t)cc[1] * sx + (size_t)cc[0];
+        __builtin_prefetch(corner), __builtin_prefetch(corner + sx);
+        __builtin_prefetch(corner + sy), __builtin_prefetch(corner + sy + sx);
+        return;
+    }
+    /* values per word: 1 (float), 2 (Fp16), 4 (Fp8), 8 (Fp4) */
+    const unsigned shift = type == PNANOVDB_GRID_TYPE_FLOAT  ? 0u
+                           : type == PNANOVDB_GRID_TYPE_FP16 ? 1u
+                           : type == PNANOVDB_GRID_TYPE_FP8  ? 2u
+                                                             : 3u;
+    const uint32_t n = 64u * ((uint32_t)c[0] & 7u) + 8u * ((uint32_t)c[1] & 7u) + ((uint32_t)c[2] & 7u);
+    const uint32_t *v = g->words + w;
+    __builtin_prefetch(v + (n >> shift)), __builtin_prefetch(v + ((n + 8u) >> shift));
+    if ((c[0] & 7) != 7)
+        __builtin_prefetch(v + ((n + 64u) >> shift)), __builtin_prefetch(v + ((n + 72u) >> shift));
+}
+
 /* The field of `bound` at index point x. TREE: the tree bound in tiles
  * (the first version of the grid field); NONE: trilinear everywhere,
  * +-background beyond the band, only to measure what the bounds save.
@@ -284,6 +334,20 @@ GRID_DISTANCE(distance_any_none, g->type, g->diagonal, SDFT_GRID_BOUND_NONE)
 
 typedef float (*grid_distance_fn)(const void *ctx, sdft_scratch *s, sdft_vec3 p);
 
+#define GRID_PREFETCH(name, type, diagonal)                                                                            \
+    static void name(const void *ctx, sdft_vec3 p)                                                                     \
+    {                                                                                                                  \
+        const sdft_grid *g = ctx;                                                                                      \
+        float x[3];                                                                                                    \
+        to_index(g, diagonal, p, x);                                                                                   \
+        prefetch_index(g, type, x);                                                                                    \
+    }
+GRID_PREFETCH(prefetch_float_diag, PNANOVDB_GRID_TYPE_FLOAT, 1)
+GRID_PREFETCH(prefetch_float_full, PNANOVDB_GRID_TYPE_FLOAT, 0)
+GRID_PREFETCH(prefetch_fp16_any, PNANOVDB_GRID_TYPE_FP16, g->diagonal)
+GRID_PREFETCH(prefetch_any, g->type, g->diagonal)
+#undef GRID_PREFETCH
+
 /* [kind][bound]: kind 0 float+diagonal, 1 float, 2 Fp16, 3 any other. */
 static const grid_distance_fn grid_distances[4][3] = {
     {distance_float_diag_far, distance_float_diag_tree, distance_float_diag_none},
@@ -347,6 +411,8 @@ sdft_field sdft_grid_field_with(const sdft_grid *g, sdft_grid_bound bound)
     sdft_vec3 vs = g->voxel_size;
     const int kind = is_float(g) ? (g->diagonal ? 0 : 1) : g->type == PNANOVDB_GRID_TYPE_FP16 ? 2 : 3;
     static const sdft_normal_fn normals[4] = {normal_float, normal_float, normal_fp16, normal_any};
+    static void (*const prefetches[4])(const void *, sdft_vec3) = {prefetch_float_diag, prefetch_float_full,
+                                                                   prefetch_fp16_any, prefetch_any};
     const int b = bound == SDFT_GRID_BOUND_TREE ? 1 : bound == SDFT_GRID_BOUND_NONE ? 2 : 0;
     return (sdft_field){
         .distance = grid_distances[kind][b],
@@ -357,6 +423,7 @@ sdft_field sdft_grid_field_with(const sdft_grid *g, sdft_grid_bound bound)
         .feature_size = sdft_minf(vs.x, sdft_minf(vs.y, vs.z)),
         .root = sdft_grid_root_for(g),
         .root_reach = GRID_ROOT_REACH * g->sigma_min,
+        .prefetch = prefetches[kind],
     };
 }
 

@@ -1,7 +1,9 @@
 /* sdftrace io — OpenEXR output through OpenEXRCore, OpenEXR's C API:
  * one scanline part, ZIP compressed, every plane of the image as a channel.
- * The encode pipeline is OpenEXR's own; we hand it planar rows. */
+ * The encode pipeline is OpenEXR's own; we hand it planar rows, and run one
+ * per thread (below). */
 #include <openexr.h>
+#include <sched.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,6 +35,84 @@ typedef struct exr_plane {
     const void *data;
 } exr_plane;
 
+/* CHUNKS IN PARALLEL. OpenEXRCore's encode pipeline is meant to run on
+ * several threads at once, one pipeline each, as long as the chunks reach
+ * the file in order: each thread packs and compresses its chunk (zlib, the
+ * bulk of the time), then its yield_until_ready_fn waits for the chunks
+ * before it to be written. Chunks are handed out in increasing order, so
+ * the lowest unwritten chunk always belongs to a thread that gets to it;
+ * a failure anywhere releases every waiter with an error. */
+typedef struct exr_turn {
+    int next;   /* the chunk whose turn it is to be written (atomic) */
+    int failed; /* 1 once any chunk failed (atomic) */
+} exr_turn;
+
+typedef struct exr_ordered {
+    exr_encode_pipeline_t pipe; /* first: the pipeline's callbacks get its address */
+    int chunk;
+    exr_turn *turn;
+    exr_result_t (*write)(exr_encode_pipeline_t *); /* OpenEXR's own */
+} exr_ordered;
+
+static exr_result_t wait_for_turn(exr_encode_pipeline_t *pipe)
+{
+    const exr_ordered *o = (const exr_ordered *)pipe;
+    while (__atomic_load_n(&o->turn->next, __ATOMIC_ACQUIRE) != o->chunk) {
+        if (__atomic_load_n(&o->turn->failed, __ATOMIC_RELAXED))
+            return EXR_ERR_UNKNOWN;
+        sched_yield();
+    }
+    return EXR_ERR_SUCCESS;
+}
+
+static exr_result_t write_in_turn(exr_encode_pipeline_t *pipe)
+{
+    exr_ordered *o = (exr_ordered *)pipe;
+    const exr_result_t rc = o->write(pipe);
+    if (rc != EXR_ERR_SUCCESS)
+        __atomic_store_n(&o->turn->failed, 1, __ATOMIC_RELAXED);
+    __atomic_store_n(&o->turn->next, o->chunk + 1, __ATOMIC_RELEASE);
+    return rc;
+}
+
+/* Encodes and writes chunk `chunk` (rows from y) with the thread's
+ * pipeline `o`, set up on its first chunk. */
+static exr_result_t exr_encode_chunk(exr_context_t ctx, int part, exr_ordered *o, int *started, int chunk, int y,
+                                     const exr_plane *planes, int width)
+{
+    exr_chunk_info_t info;
+    exr_result_t rc = exr_write_scanline_chunk_info(ctx, part, y, &info);
+    if (rc == EXR_ERR_SUCCESS)
+        rc = *started ? exr_encoding_update(ctx, part, &info, &o->pipe)
+                      : exr_encoding_initialize(ctx, part, &info, &o->pipe);
+    if (rc != EXR_ERR_SUCCESS)
+        return rc;
+    /* The pipeline lists channels in the file's (sorted) order. */
+    for (int k = 0; k < o->pipe.channel_count; k++) {
+        exr_coding_channel_info_t *ch = &o->pipe.channels[k];
+        for (int c = 0; c < EXR_CHANNELS; c++) {
+            if (strcmp(ch->channel_name, planes[c].name) != 0)
+                continue;
+            ch->user_bytes_per_element = 4;
+            ch->user_data_type = (uint16_t)planes[c].type;
+            ch->user_pixel_stride = 4;
+            ch->user_line_stride = 4 * width;
+            ch->encode_from_ptr = (const uint8_t *)planes[c].data + (size_t)4 * (size_t)width * (size_t)y;
+        }
+    }
+    if (!*started) {
+        rc = exr_encoding_choose_default_routines(ctx, part, &o->pipe);
+        if (rc != EXR_ERR_SUCCESS)
+            return rc;
+        *started = 1;
+        o->write = o->pipe.write_fn;
+        o->pipe.yield_until_ready_fn = wait_for_turn;
+        o->pipe.write_fn = write_in_turn;
+    }
+    o->chunk = chunk;
+    return exr_encoding_run(ctx, part, &o->pipe);
+}
+
 /* Writes the planes; returns an OpenEXR result code. */
 static exr_result_t exr_write_planes(exr_context_t ctx, int part, const exr_plane *planes, int width, int height)
 {
@@ -44,41 +124,33 @@ static exr_result_t exr_write_planes(exr_context_t ctx, int part, const exr_plan
     int lines = 1;
     if (rc == EXR_ERR_SUCCESS)
         rc = exr_get_scanlines_per_chunk(ctx, part, &lines);
-
-    exr_encode_pipeline_t encoder = EXR_ENCODE_PIPELINE_INITIALIZER;
-    int started = 0;
-    for (int y = 0; y < height && rc == EXR_ERR_SUCCESS; y += lines) {
-        exr_chunk_info_t chunk;
-        rc = exr_write_scanline_chunk_info(ctx, part, y, &chunk);
-        if (rc != EXR_ERR_SUCCESS)
-            break;
-        rc = started ? exr_encoding_update(ctx, part, &chunk, &encoder)
-                     : exr_encoding_initialize(ctx, part, &chunk, &encoder);
-        if (rc != EXR_ERR_SUCCESS)
-            break;
-        /* The pipeline lists channels in the file's (sorted) order. */
-        for (int k = 0; k < encoder.channel_count; k++) {
-            exr_coding_channel_info_t *ch = &encoder.channels[k];
-            for (int c = 0; c < EXR_CHANNELS; c++) {
-                if (strcmp(ch->channel_name, planes[c].name) != 0)
-                    continue;
-                ch->user_bytes_per_element = 4;
-                ch->user_data_type = (uint16_t)planes[c].type;
-                ch->user_pixel_stride = 4;
-                ch->user_line_stride = 4 * width;
-                ch->encode_from_ptr = (const uint8_t *)planes[c].data + (size_t)4 * (size_t)width * (size_t)y;
+    if (rc != EXR_ERR_SUCCESS)
+        return rc;
+    const int chunks = (height + lines - 1) / lines;
+    exr_turn turn = {0, 0};
+    exr_result_t first_error = EXR_ERR_SUCCESS;
+#pragma omp parallel
+    {
+        exr_ordered o = {.pipe = EXR_ENCODE_PIPELINE_INITIALIZER, .turn = &turn};
+        int started = 0;
+#pragma omp for schedule(static, 1)
+        for (int chunk = 0; chunk < chunks; chunk++) {
+            exr_result_t crc = EXR_ERR_SUCCESS;
+            if (!__atomic_load_n(&turn.failed, __ATOMIC_RELAXED))
+                crc = exr_encode_chunk(ctx, part, &o, &started, chunk, chunk * lines, planes, width);
+            if (crc != EXR_ERR_SUCCESS) {
+                __atomic_store_n(&turn.failed, 1, __ATOMIC_RELAXED);
+#pragma omp critical(exr_error)
+                if (first_error == EXR_ERR_SUCCESS)
+                    first_error = crc;
             }
         }
-        if (!started) {
-            rc = exr_encoding_choose_default_routines(ctx, part, &encoder);
-            started = 1;
-        }
-        if (rc == EXR_ERR_SUCCESS)
-            rc = exr_encoding_run(ctx, part, &encoder);
+        if (started)
+            exr_encoding_destroy(ctx, &o.pipe);
     }
-    if (started)
-        exr_encoding_destroy(ctx, &encoder);
-    return rc;
+    if (first_error == EXR_ERR_SUCCESS && turn.failed)
+        first_error = EXR_ERR_UNKNOWN;
+    return first_error;
 }
 
 int sdft_write_exr(const char *path, const sdft_image *img, char *msg, size_t msg_len)

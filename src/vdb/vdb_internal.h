@@ -18,13 +18,13 @@
 
 // sdft_vdb_open and sdft_vdb_bounds once their arguments are checked
 // (vdb_open.c).
-extern "C" SDFT_INTERNAL sdft_error sdft_vdb_open_checked(const char *path, const char *name,
-                                                          const sdft_vdb_options *o, sdft_grid **out, char *msg,
-                                                          size_t msg_len);
+extern "C" SDFT_INTERNAL sdft_error sdft_vdb_open_checked(const char *path, const char *name, const sdft_vdb_options *o,
+                                                          sdft_grid **out, char *msg, size_t msg_len);
 extern "C" SDFT_INTERNAL sdft_error sdft_vdb_bounds_checked(const char *path, const char *name, sdft_aabb *box,
                                                             char *msg, size_t msg_len);
 
-namespace sdft_vdb {
+namespace sdft_vdb
+{
 
 // Writes one line to msg; returns code.
 inline sdft_error fail(char *msg, size_t msg_len, sdft_error code, const std::string &line)
@@ -64,9 +64,11 @@ sdft_error write_grid(const openvdb::FloatGrid &grid, bool nvdb, sdft_quant quan
 
 // A delay-loaded float grid (read from `path`) streamed into a NanoVDB grid
 // of float or Fp16 leaves (vdb_stream.cpp); the grid's leaves are deleted
-// as they are copied. progress may be NULL.
-sdft_error stream_to_nano(openvdb::FloatGrid &grid, const char *path, sdft_quant quant, sdft_progress_fn progress,
-                          void *progress_user, sdft_grid **out, char *msg, size_t msg_len);
+// as they are copied. With `defer`, only laid out: the NanoVDB grid keeps
+// the OpenVDB grid and copies each leaf when first read. progress may be
+// NULL.
+sdft_error stream_to_nano(openvdb::FloatGrid::Ptr grid, const char *path, sdft_quant quant, bool defer,
+                          sdft_progress_fn progress, void *progress_user, sdft_grid **out, char *msg, size_t msg_len);
 
 // The caller's progress callback (sdftrace/vdb.h), called about once per
 // percent, one call at a time, with a fraction that never decreases; and

@@ -19,6 +19,13 @@
 // (malloc_trim), so that resident memory stays near the NanoVDB grid's
 // size plus the OpenVDB tree's internal nodes.
 //
+// DEFERRED (sdft_vdb_options.defer, what `render` uses): the same layout
+// and every node above the leaves, but no leaf is read here. The NanoVDB
+// grid keeps the OpenVDB grid and a list of its leaves in NanoVDB's order,
+// and fills a leaf from the file the first time it is read
+// (fill_deferred; the core's side is src/grid/grid_deferred.c), the way
+// vdb_render reads only the leaves its rays reach.
+//
 // WHAT IT WRITES. The same structure as openToNanoVDB with StatsMode::
 // Disable and ChecksumMode::Disable: node origins as bounding boxes,
 // statistics zero, checksum "none", the root's bounding box the active
@@ -146,6 +153,21 @@ template <typename BuildT> struct Stream {
         return reinterpret_cast<NanoLeaf *>(buf + at_leaf + i * NanoLeaf::DataType::memUsage());
     }
 
+    // A leaf whose values could not be read: its header and masks, NaN
+    // values (rays see no surface there).
+    static void write_unreadable_leaf(const OpenLeaf &from, NanoLeaf *to)
+    {
+        auto *data = to->data();
+        std::memset(static_cast<void *>(data), 0, NanoLeaf::DataType::memUsage());
+        data->setOrigin(from.origin());
+        data->mValueMask = from.valueMask();
+        const float nan = std::numeric_limits<float>::quiet_NaN();
+        if constexpr (std::is_same<BuildT, float>::value)
+            std::fill(data->mValues, data->mValues + 512, nan);
+        else
+            data->init(nan, nan, 16);
+    }
+
     // One leaf's values, from the file, into its NanoVDB leaf.
     static void write_leaf(const OpenLeaf &from, NanoLeaf *to)
     {
@@ -173,8 +195,9 @@ template <typename BuildT> struct Stream {
     }
 
     // A lower node, its leaves written and then deleted from the OpenVDB
-    // tree (their values no longer needed).
-    void write_lower(uint64_t l, Progress &progress)
+    // tree (their values no longer needed); with `deferred`, its leaves
+    // only listed there, in NanoVDB's order, for fill_deferred.
+    void write_lower(uint64_t l, Progress &progress, const OpenLeaf **deferred)
     {
         OpenLower &from = *lowers[l];
         auto *data = lower(l)->data();
@@ -187,7 +210,10 @@ template <typename BuildT> struct Stream {
         float value = 0.0f;
         for (auto it = from.cbeginChildAll(); it; ++it) {
             if (const OpenLeaf *child = it.probeChild(value)) {
-                write_leaf(*child, leaf(next));
+                if (deferred)
+                    deferred[next] = child;
+                else
+                    write_leaf(*child, leaf(next));
                 data->setChild(it.pos(), leaf(next++));
                 progress.step();
             } else {
@@ -195,7 +221,8 @@ template <typename BuildT> struct Stream {
             }
         }
         // Children become tiles: the leaves and their buffers are freed.
-        from.fill(from.getNodeBoundingBox(), grid.background(), false);
+        if (!deferred)
+            from.fill(from.getNodeBoundingBox(), grid.background(), false);
     }
 
     void write_upper(uint64_t u)
@@ -284,10 +311,59 @@ template <typename BuildT> struct Stream {
 // The grid's release function for the buffer it adopts.
 void release_buffer(void *buf) { std::free(buf); }
 
-template <typename BuildT>
-sdft_error stream(openvdb::FloatGrid &grid, const char *path, sdft_progress_fn progress, void *progress_user,
-                  sdft_grid **out, char *msg, size_t msg_len)
+// What a deferred grid keeps to fill its leaves: the OpenVDB grid (its tree
+// and, through its leaves, the mapped file) and its leaves in NanoVDB's
+// order.
+struct Deferred {
+    openvdb::FloatGrid::Ptr grid;
+    std::vector<const OpenLeaf *> leaves;
+};
+
+// sdft_leaf_fill_fn: leaf `index` read from the file into `leaf`. Called
+// by the grid at most once per leaf, from any thread; OpenVDB's delayed
+// loading reads a leaf under that leaf's own lock. No exception leaves.
+template <typename BuildT> int fill_deferred(void *user, uint64_t index, void *leaf) noexcept
 {
+    const auto *d = static_cast<const Deferred *>(user);
+    auto *to = static_cast<typename Stream<BuildT>::NanoLeaf *>(leaf);
+    if (index >= d->leaves.size())
+        return 1;
+    try {
+        Stream<BuildT>::write_leaf(*d->leaves[index], to);
+        // The OpenVDB leaf's copy of its values goes: swapped with an empty
+        // buffer, which frees it. Nothing reads that leaf again (the grid
+        // fills each leaf once), and no other thread touches it.
+        openvdb::FloatTree::LeafNodeType::Buffer empty(openvdb::PartialCreate(), 0.0f);
+        const_cast<OpenLeaf *>(d->leaves[index])->buffer().swap(empty);
+        return 0;
+    } catch (...) { // the file changed or went away under the grid
+        Stream<BuildT>::write_unreadable_leaf(*d->leaves[index], to);
+        return 1;
+    }
+}
+
+// The deferred grid's OpenVDB tree goes in parallel: a million leaves,
+// each with its file reference, take a while to free one by one.
+void release_deferred(void *user) noexcept
+{
+    std::unique_ptr<Deferred> d(static_cast<Deferred *>(user));
+    try {
+        std::vector<OpenLower *> lowers;
+        d->grid->tree().getNodes(lowers);
+        const float background = d->grid->background();
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, lowers.size(), 16), [&](const tbb::blocked_range<size_t> &r) {
+            for (size_t i = r.begin(); i != r.end(); ++i)
+                lowers[i]->fill(lowers[i]->getNodeBoundingBox(), background, false);
+        });
+    } catch (...) { // out of memory for the list: the grid goes whole, below
+    }
+}
+
+template <typename BuildT>
+sdft_error stream(openvdb::FloatGrid::Ptr grid_ptr, const char *path, bool defer, sdft_progress_fn progress,
+                  void *progress_user, sdft_grid **out, char *msg, size_t msg_len)
+{
+    openvdb::FloatGrid &grid = *grid_ptr;
     if (!grid.transform().baseMap()->isLinear())
         return fail(msg, msg_len, SDFT_EFORMAT, "grid '" + grid.getName() + "' has a non-affine transform");
     Stream<BuildT> s(grid);
@@ -298,7 +374,10 @@ sdft_error stream(openvdb::FloatGrid &grid, const char *path, sdft_progress_fn p
     if (!s.buf)
         return fail(msg, msg_len, SDFT_ENOMEM,
                     "out of memory for a " + std::to_string(s.size >> 20) + " MiB grid '" + grid.getName() + "'");
-    const Mapping mapping = find_mapping(path);
+    const Mapping mapping = defer ? Mapping() : find_mapping(path);
+    std::unique_ptr<Deferred> deferred(defer ? new Deferred{grid_ptr, {}} : nullptr);
+    if (deferred)
+        deferred->leaves.resize(s.leaves);
     // The buffer is the grid's once adopted; until then, freed on every way out.
     std::unique_ptr<uint8_t, void (*)(void *)> owned(s.buf, std::free);
     Progress shown;
@@ -308,19 +387,21 @@ sdft_error stream(openvdb::FloatGrid &grid, const char *path, sdft_progress_fn p
     // Lower nodes in batches of an eighth of the leaves, at most 32768
     // (64 MiB of values); after each, the file pages read so far and the
     // deleted leaves leave this process's resident memory.
-    const uint64_t per_batch = std::min<uint64_t>(32768, std::max<uint64_t>(1024, s.leaves / 8));
+    const uint64_t per_batch = defer ? s.leaves + 1 : std::min<uint64_t>(32768, std::max<uint64_t>(1024, s.leaves / 8));
+    const OpenLeaf **listed = deferred ? deferred->leaves.data() : nullptr;
     for (uint64_t l0 = 0; l0 < s.lowers.size();) {
         uint64_t l1 = l0;
         while (l1 < s.lowers.size() && s.first_leaf[l1] - s.first_leaf[l0] < per_batch)
             l1++;
         tbb::parallel_for(tbb::blocked_range<uint64_t>(l0, l1, 1), [&](const tbb::blocked_range<uint64_t> &r) {
             for (uint64_t l = r.begin(); l != r.end(); ++l)
-                s.write_lower(l, shown);
+                s.write_lower(l, shown, listed);
         });
         if (mapping.at)
             madvise(mapping.at, mapping.size, MADV_DONTNEED); // a read-only file mapping: re-read on demand
 #if defined(__GLIBC__)
-        malloc_trim(0); // the deleted leaves' memory back to the system, not kept in malloc's free lists
+        if (!defer)
+            malloc_trim(0); // the deleted leaves' memory back to the system, not kept in malloc's free lists
 #endif
         l0 = l1;
         if (shown.stop)
@@ -332,17 +413,21 @@ sdft_error stream(openvdb::FloatGrid &grid, const char *path, sdft_progress_fn p
     s.write_root(active);
     s.write_tree(voxels);
     s.write_grid(active);
+    if (deferred)
+        return sdft_grid_adopt_deferred(owned.release(), s.size, nullptr, release_buffer, fill_deferred<BuildT>,
+                                        deferred.release(), release_deferred, out, msg, msg_len);
     grid.clear(); // the OpenVDB tree's nodes (~100 MB at 4096^3) go before the bounds are built
     return sdft_grid_adopt_buffer(owned.release(), s.size, nullptr, release_buffer, out, msg, msg_len);
 }
 
 } // namespace
 
-sdft_error stream_to_nano(openvdb::FloatGrid &grid, const char *path, sdft_quant quant, sdft_progress_fn progress,
-                          void *progress_user, sdft_grid **out, char *msg, size_t msg_len)
+sdft_error stream_to_nano(openvdb::FloatGrid::Ptr grid, const char *path, sdft_quant quant, bool defer,
+                          sdft_progress_fn progress, void *progress_user, sdft_grid **out, char *msg, size_t msg_len)
 {
-    return quant == SDFT_QUANT_FP16 ? stream<nanovdb::Fp16>(grid, path, progress, progress_user, out, msg, msg_len)
-                                    : stream<float>(grid, path, progress, progress_user, out, msg, msg_len);
+    return quant == SDFT_QUANT_FP16
+               ? stream<nanovdb::Fp16>(grid, path, defer, progress, progress_user, out, msg, msg_len)
+               : stream<float>(grid, path, defer, progress, progress_user, out, msg, msg_len);
 }
 
 } // namespace sdft_vdb
