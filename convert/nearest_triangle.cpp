@@ -24,6 +24,21 @@
 // A search that starts from a triangle whose distance U is near the answer
 // (a neighbouring voxel's nearest, at most a voxel step worse) prunes from
 // the first node on; one that starts with none descends nearer child first.
+//
+// A packet (packetDistance2) is searched once for all of its voxel centres,
+// exactly too. A node is skipped only when its lower bound over the
+// packet's box is at least `worst`, the largest of the centres' best
+// squared distances so far; then for every centre v the node's triangles
+// are at least that far (v lies in the box), so none of them is nearer than
+// v's best. The packet's bounds are the distance between the node's box and
+// the packet's box, and the distance from the packet's centre to the node's
+// disc less the packet's half-diagonal (a distance to a convex set changes
+// by at most the distance moved). In a leaf, each centre skips the leaf's
+// triangles when its own distance to the leaf's box is at least its own
+// best, and otherwise lowers its best by each triangle's exact distance. So
+// every centre's answer is again a minimum over triangles that no skipped
+// triangle undercuts. Neighbouring centres open nearly the same nodes, so
+// one search pays the descent that kPacketSize searches would each pay.
 #include "nearest_triangle.h"
 
 #include "median_split.h"
@@ -150,6 +165,91 @@ double NearestTriangle::lowerBound2(const Node &node, const double *q, double be
     const double across = std::max(std::abs(a) - node.thickness, 0.0);
     const double along = std::max(std::sqrt(std::max(d2 - a * a, 0.0)) - node.radius, 0.0);
     return std::max(box, (across * across + along * along) * kShrink);
+}
+
+// A lower bound on the squared distance from every point of the packet's box
+// [lo, hi] (centre `centre`, half-diagonal `radius`) to the node's triangles:
+// the larger of the boxes' distance and the disc's distance from the centre
+// less the radius (shrunk for rounding); the disc is not computed when the
+// boxes already reach `worst`.
+double NearestTriangle::packetLowerBound2(const Node &node, const double *lo, const double *hi, const double *centre,
+                                          double radius, double worst) const
+{
+    double box = 0;
+    for (int k = 0; k < 3; ++k) {
+        const double d = std::max({double(node.lo[k]) - hi[k], 0.0, lo[k] - double(node.hi[k])});
+        box += d * d;
+    }
+    box *= kShrink;
+    if (box >= worst)
+        return box;
+    double d[3], a = 0, d2 = 0;
+    for (int k = 0; k < 3; ++k) {
+        d[k] = centre[k] - node.centre[k];
+        a += d[k] * node.normal[k];
+        d2 += d[k] * d[k];
+    }
+    const double across = std::max(std::abs(a) - node.thickness, 0.0);
+    const double along = std::max(std::sqrt(std::max(d2 - a * a, 0.0)) - node.radius, 0.0);
+    const double disc = std::max(std::sqrt(across * across + along * along) - radius, 0.0);
+    return std::max(box, disc * disc * kShrink);
+}
+
+void NearestTriangle::packetDistance2(const double *corner, double spacing, double *best) const
+{
+    if (mNodes.empty())
+        return;
+    double axis[3][kPacketDim], lo[3], hi[3], centre[3];
+    for (int k = 0; k < 3; ++k) {
+        for (int i = 0; i < kPacketDim; ++i)
+            axis[k][i] = corner[k] + i * spacing;
+        lo[k] = axis[k][0];
+        hi[k] = axis[k][kPacketDim - 1];
+        centre[k] = 0.5 * (lo[k] + hi[k]);
+    }
+    const double radius = 0.5 * std::sqrt(3.0) * (kPacketDim - 1) * spacing * (1 + 1e-12);
+    double worst = *std::max_element(best, best + kPacketSize);
+    struct Entry {
+        uint32_t node;
+        double bound;
+    };
+    Entry stack[64];
+    int top = 0;
+    stack[top++] = {0, packetLowerBound2(mNodes[0], lo, hi, centre, radius, worst)};
+    while (top > 0) {
+        const Entry e = stack[--top];
+        if (e.bound >= worst)
+            continue;
+        const Node &node = mNodes[e.node];
+        if (node.count > 0) {
+            for (int v = 0; v < kPacketSize; ++v) {
+                const double q[3] = {axis[0][v / (kPacketDim * kPacketDim)], axis[1][v / kPacketDim % kPacketDim],
+                                     axis[2][v % kPacketDim]};
+                double box = 0;
+                for (int k = 0; k < 3; ++k) {
+                    const double d = std::max({double(node.lo[k]) - q[k], 0.0, q[k] - double(node.hi[k])});
+                    box += d * d;
+                }
+                if (box * kShrink >= best[v])
+                    continue;
+                for (uint32_t i = node.first; i < node.first + node.count; ++i)
+                    best[v] = std::min(best[v], triangleDistance2(&mTriangles[size_t(i) * 9], q));
+            }
+            worst = *std::max_element(best, best + kPacketSize);
+            continue;
+        }
+        // The nearer child is searched first: pushed last.
+        const uint32_t left = e.node + 1, right = node.right;
+        const double bl = packetLowerBound2(mNodes[left], lo, hi, centre, radius, worst);
+        const double br = packetLowerBound2(mNodes[right], lo, hi, centre, radius, worst);
+        if (bl < br) {
+            stack[top++] = {right, br};
+            stack[top++] = {left, bl};
+        } else {
+            stack[top++] = {left, bl};
+            stack[top++] = {right, br};
+        }
+    }
 }
 
 double NearestTriangle::distance2(const double *q, uint32_t &nearest) const

@@ -29,6 +29,18 @@ class NearestTriangle
     /// Thread-safe (read-only).
     double distance2(const double *q, uint32_t &nearest) const;
 
+    /// A packet: the kPacketDim^3 voxel centres corner + (i, j, k) * spacing,
+    /// numbered (i * kPacketDim + j) * kPacketDim + k.
+    static constexpr int kPacketDim = 4;
+    static constexpr int kPacketSize = kPacketDim * kPacketDim * kPacketDim;
+
+    /// Squared distances in world units from each centre of the packet at
+    /// `corner` (3 doubles) to the mesh, in one search for the whole packet.
+    /// `best` (kPacketSize): on entry an upper bound per centre (INFINITY if
+    /// none; 0 for a centre the caller does not want); on return the smaller
+    /// of that and the exact squared distance. Thread-safe (read-only).
+    void packetDistance2(const double *corner, double spacing, double *best) const;
+
   private:
     struct Node {
         float lo[3], hi[3];           // box of the triangles
@@ -40,6 +52,8 @@ class NearestTriangle
     uint32_t build(uint32_t first, uint32_t count, std::vector<uint32_t> &order,
                    const std::vector<std::array<double, 3>> &centroids, const TriangleMesh &mesh);
     double lowerBound2(const Node &node, const double *q, double best) const;
+    double packetLowerBound2(const Node &node, const double *lo, const double *hi, const double *centre, double radius,
+                             double worst) const;
 
     std::vector<double> mTriangles; // 9 doubles per triangle, in hierarchy order
     std::vector<Node> mNodes;
