@@ -247,6 +247,25 @@ void signTiles(openvdb::FloatTree &tree, const WindingSign &sign, Progress &prog
     progress.report(100);
 }
 
+// The seed of a voxel at `offset` in its block, in the packet at
+// `packetOffset`: the nearest triangle of the voxel on the face of the
+// packet before it along z, y or x (the first of these that a search
+// found), or none.
+uint32_t packetSeed(const uint32_t *blockNearest, const openvdb::Coord &offset, const openvdb::Coord &packetOffset)
+{
+    using Leaf = openvdb::FloatTree::LeafNodeType;
+    for (int k = 2; k >= 0; --k) {
+        if (packetOffset[k] == 0)
+            continue;
+        openvdb::Coord before = offset;
+        before[k] = packetOffset[k] - 1;
+        const uint32_t t = blockNearest[Leaf::coordToOffset(before)];
+        if (t != NearestTriangle::kNone)
+            return t;
+    }
+    return NearestTriangle::kNone;
+}
+
 // --full: every voxel of the box not in the band gets its exact distance
 // (NearestTriangle), with the sign its value in the tree already has (the
 // winding sign of signTiles, OpenVDB's flood fill, or none). Block by block
@@ -276,11 +295,14 @@ void fillBox(openvdb::FloatGrid &grid, const BoxGeometry &box, const NearestTria
     std::atomic<size_t> done{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks.size()), [&](const tbb::blocked_range<size_t> &r) {
         double best[NearestTriangle::kPacketSize];
+        uint32_t seed[NearestTriangle::kPacketSize];
+        uint32_t blockNearest[kBlockSize]; // leaf order
         for (size_t b = r.begin(); b != r.end(); ++b) {
             Block &block = blocks[b];
             if (!block.leaf)
                 block.leaf = new Leaf(block.origin, block.tile, false);
             Leaf &leaf = *block.leaf;
+            std::fill(blockNearest, blockNearest + kBlockSize, NearestTriangle::kNone);
             constexpr int kPackets = kBlockDim / kPacketDim; // per axis
             for (int p = 0; p < kPackets * kPackets * kPackets; ++p) {
                 const openvdb::Coord packet =
@@ -298,15 +320,17 @@ void fillBox(openvdb::FloatGrid &grid, const BoxGeometry &box, const NearestTria
                     else
                         best[v] = INFINITY;
                     any = any || best[v] == INFINITY;
+                    seed[v] = packetSeed(blockNearest, ijk - block.origin, packet - block.origin);
                 }
                 if (!any)
                     continue;
                 const Vec3 corner = worldOf(box, packet);
-                nearest.packetDistance2(corner.data(), box.voxelSize, best);
+                nearest.packetDistance2(corner.data(), box.voxelSize, best, seed);
                 for (int v = 0; v < NearestTriangle::kPacketSize; ++v) {
                     const openvdb::Coord ijk = packet + openvdb::Coord(v / (kPacketDim * kPacketDim),
                                                                        v / kPacketDim % kPacketDim, v % kPacketDim);
                     const openvdb::Index at = Leaf::coordToOffset(ijk);
+                    blockNearest[at] = seed[v];
                     if (ijk[0] >= box.dims[0] || ijk[1] >= box.dims[1] || ijk[2] >= box.dims[2] || leaf.isValueOn(at))
                         continue;
                     const float d = float(std::sqrt(best[v]));

@@ -53,8 +53,39 @@ namespace mesh2sdf
 namespace
 {
 
-constexpr uint32_t kLeafSize = 4;
+constexpr uint32_t kLeafSize = 2;
 constexpr double kShrink = 1 - 1e-12;
+
+// A triangle's plane for a cheap lower bound on its distance: unit normal
+// n, offset n . a and slack, the farthest any corner lies from the plane as
+// computed plus a margin far above the rounding of n . q - offset; so
+// |n . q - offset| - slack never exceeds the distance from q to the
+// triangle, a convex hull of its corners.
+void trianglePlane(const double *t, double *plane)
+{
+    const double e1[3] = {t[3] - t[0], t[4] - t[1], t[5] - t[2]}, e2[3] = {t[6] - t[0], t[7] - t[1], t[8] - t[2]};
+    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(length > 0)) { // no plane: a bound of 0
+        std::fill(plane, plane + 5, 0.0);
+        plane[4] = INFINITY;
+        return;
+    }
+    double scale = 0;
+    for (int k = 0; k < 3; ++k) {
+        n[k] /= length;
+        scale = std::max({scale, std::abs(t[k]), std::abs(t[3 + k]), std::abs(t[6 + k])});
+    }
+    const double offset = n[0] * t[0] + n[1] * t[1] + n[2] * t[2];
+    double slack = 0;
+    for (int v = 0; v < 3; ++v)
+        slack = std::max(slack, std::abs(n[0] * t[3 * v] + n[1] * t[3 * v + 1] + n[2] * t[3 * v + 2] - offset));
+    plane[0] = n[0];
+    plane[1] = n[1];
+    plane[2] = n[2];
+    plane[3] = offset;
+    plane[4] = slack + 1e-9 * scale;
+}
 
 } // namespace
 
@@ -78,6 +109,9 @@ NearestTriangle::NearestTriangle(const TriangleMesh &mesh)
         for (int v = 0; v < 3; ++v)
             for (int k = 0; k < 3; ++k)
                 mTriangles[size_t(i) * 9 + v * 3 + k] = mesh.points[mesh.triangles[order[i]][v]][k];
+    mPlanes.resize(size_t(n) * 5);
+    for (uint32_t i = 0; i < n; ++i)
+        trianglePlane(&mTriangles[size_t(i) * 9], &mPlanes[size_t(i) * 5]);
 }
 
 // Median splits (median_split.h), depth first, so a node's left child
@@ -195,7 +229,59 @@ double NearestTriangle::packetLowerBound2(const Node &node, const double *lo, co
     return std::max(box, disc * disc * kShrink);
 }
 
-void NearestTriangle::packetDistance2(const double *corner, double spacing, double *best) const
+// The bounds of lowerBound2 (box and disc) from each centre of a packet to
+// one node, from terms that each depend on one axis: the squared gap to the
+// box, the height above the disc's centre along its normal, and the squared
+// offset from the disc's centre.
+class CentreBounds
+{
+  public:
+    static constexpr int n = NearestTriangle::kPacketDim;
+
+    CentreBounds(const double (*axis)[n], const float *lo, const float *hi, const double *centre, const double *normal,
+                 double thickness, double radius)
+        : mThickness(thickness), mRadius(radius)
+    {
+        for (int k = 0; k < 3; ++k)
+            for (int i = 0; i < n; ++i) {
+                const double gap = std::max({double(lo[k]) - axis[k][i], 0.0, axis[k][i] - double(hi[k])});
+                const double offset = axis[k][i] - centre[k];
+                mGap[k][i] = gap * gap;
+                mHeight[k][i] = offset * normal[k];
+                mSquare[k][i] = offset * offset;
+            }
+    }
+
+    /// Whether centre (i, j, l) may lie nearer than `best` (squared) to the
+    /// node's triangles.
+    bool reaches(int i, int j, int l, double best) const
+    {
+        if ((mGap[0][i] + mGap[1][j] + mGap[2][l]) * kShrink >= best)
+            return false;
+        const double a = mHeight[0][i] + mHeight[1][j] + mHeight[2][l];
+        const double lateral2 = mSquare[0][i] + mSquare[1][j] + mSquare[2][l] - a * a;
+        const double across = std::max(std::abs(a) - mThickness, 0.0);
+        const double along = lateral2 > mRadius * mRadius ? std::sqrt(lateral2) - mRadius : 0.0;
+        return (across * across + along * along) * kShrink < best;
+    }
+
+    /// Whether any centre may lie nearer than its best to the node.
+    bool anyReaches(const double *best) const
+    {
+        for (int i = 0, v = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j)
+                for (int l = 0; l < n; ++l, ++v)
+                    if (reaches(i, j, l, best[v]))
+                        return true;
+        return false;
+    }
+
+  private:
+    double mGap[3][n], mHeight[3][n], mSquare[3][n];
+    double mThickness, mRadius;
+};
+
+void NearestTriangle::packetDistance2(const double *corner, double spacing, double *best, uint32_t *nearest) const
 {
     if (mNodes.empty())
         return;
@@ -207,6 +293,17 @@ void NearestTriangle::packetDistance2(const double *corner, double spacing, doub
         hi[k] = axis[k][kPacketDim - 1];
         centre[k] = 0.5 * (lo[k] + hi[k]);
     }
+    for (int i = 0, v = 0; i < kPacketDim; ++i)
+        for (int j = 0; j < kPacketDim; ++j)
+            for (int l = 0; l < kPacketDim; ++l, ++v)
+                if (nearest[v] != kNone) {
+                    const double q[3] = {axis[0][i], axis[1][j], axis[2][l]};
+                    const double d2 = triangleDistance2(&mTriangles[size_t(nearest[v]) * 9], q);
+                    if (d2 < best[v])
+                        best[v] = d2;
+                    else
+                        nearest[v] = kNone;
+                }
     const double radius = 0.5 * std::sqrt(3.0) * (kPacketDim - 1) * spacing * (1 + 1e-12);
     double worst = *std::max_element(best, best + kPacketSize);
     struct Entry {
@@ -221,23 +318,32 @@ void NearestTriangle::packetDistance2(const double *corner, double spacing, doub
         if (e.bound >= worst)
             continue;
         const Node &node = mNodes[e.node];
+        const CentreBounds bounds(axis, node.lo, node.hi, node.centre, node.normal, node.thickness, node.radius);
         if (node.count > 0) {
-            for (int v = 0; v < kPacketSize; ++v) {
-                const double q[3] = {axis[0][v / (kPacketDim * kPacketDim)], axis[1][v / kPacketDim % kPacketDim],
-                                     axis[2][v % kPacketDim]};
-                double box = 0;
-                for (int k = 0; k < 3; ++k) {
-                    const double d = std::max({double(node.lo[k]) - q[k], 0.0, q[k] - double(node.hi[k])});
-                    box += d * d;
-                }
-                if (box * kShrink >= best[v])
-                    continue;
-                for (uint32_t i = node.first; i < node.first + node.count; ++i)
-                    best[v] = std::min(best[v], triangleDistance2(&mTriangles[size_t(i) * 9], q));
-            }
+            for (int i = 0, v = 0; i < kPacketDim; ++i)
+                for (int j = 0; j < kPacketDim; ++j)
+                    for (int l = 0; l < kPacketDim; ++l, ++v) {
+                        if (!bounds.reaches(i, j, l, best[v]))
+                            continue;
+                        const double q[3] = {axis[0][i], axis[1][j], axis[2][l]};
+                        for (uint32_t t = node.first; t < node.first + node.count; ++t) {
+                            const double *plane = &mPlanes[size_t(t) * 5];
+                            const double height =
+                                std::abs(plane[0] * q[0] + plane[1] * q[1] + plane[2] * q[2] - plane[3]) - plane[4];
+                            if (height > 0 && height * height >= best[v])
+                                continue;
+                            const double d2 = triangleDistance2(&mTriangles[size_t(t) * 9], q);
+                            if (d2 < best[v]) {
+                                best[v] = d2;
+                                nearest[v] = t;
+                            }
+                        }
+                    }
             worst = *std::max_element(best, best + kPacketSize);
             continue;
         }
+        if (!bounds.anyReaches(best))
+            continue;
         // The nearer child is searched first: pushed last.
         const uint32_t left = e.node + 1, right = node.right;
         const double bl = packetLowerBound2(mNodes[left], lo, hi, centre, radius, worst);

@@ -38,8 +38,11 @@ class NearestTriangle
     /// `corner` (3 doubles) to the mesh, in one search for the whole packet.
     /// `best` (kPacketSize): on entry an upper bound per centre (INFINITY if
     /// none; 0 for a centre the caller does not want); on return the smaller
-    /// of that and the exact squared distance. Thread-safe (read-only).
-    void packetDistance2(const double *corner, double spacing, double *best) const;
+    /// of that and the exact squared distance. `nearest` (kPacketSize): on
+    /// entry a triangle to start each centre from (a neighbour's nearest) or
+    /// kNone; on return the nearest triangle where one lowered `best`, else
+    /// kNone. Thread-safe (read-only).
+    void packetDistance2(const double *corner, double spacing, double *best, uint32_t *nearest) const;
 
   private:
     struct Node {
@@ -56,6 +59,7 @@ class NearestTriangle
                              double worst) const;
 
     std::vector<double> mTriangles; // 9 doubles per triangle, in hierarchy order
+    std::vector<double> mPlanes;    // 5 per triangle: unit normal, offset, slack (trianglePlane)
     std::vector<Node> mNodes;
 };
 
