@@ -252,27 +252,33 @@ class CentreBounds
             }
     }
 
-    /// Whether centre (i, j, l) may lie nearer than `best` (squared) to the
-    /// node's triangles.
-    bool reaches(int i, int j, int l, double best) const
+    /// Bit l set for each centre (i, j, l) of the row that may lie nearer
+    /// than its best (`best`: the row's kPacketDim squared distances) to the
+    /// node's triangles. Without branches, so that the row is computed
+    /// side by side.
+    unsigned rowReaches(int i, int j, const double *best) const
     {
-        if ((mGap[0][i] + mGap[1][j] + mGap[2][l]) * kShrink >= best)
-            return false;
-        const double a = mHeight[0][i] + mHeight[1][j] + mHeight[2][l];
-        const double lateral2 = mSquare[0][i] + mSquare[1][j] + mSquare[2][l] - a * a;
-        const double across = std::max(std::abs(a) - mThickness, 0.0);
-        const double along = lateral2 > mRadius * mRadius ? std::sqrt(lateral2) - mRadius : 0.0;
-        return (across * across + along * along) * kShrink < best;
+        const double gap = mGap[0][i] + mGap[1][j], height = mHeight[0][i] + mHeight[1][j];
+        const double square = mSquare[0][i] + mSquare[1][j];
+        unsigned mask = 0;
+        for (int l = 0; l < n; ++l) {
+            const double a = height + mHeight[2][l];
+            const double lateral2 = square + mSquare[2][l] - a * a;
+            const double across = std::max(std::abs(a) - mThickness, 0.0);
+            const double along = std::sqrt(std::max(lateral2, mRadius * mRadius)) - mRadius;
+            const double bound = std::max(gap + mGap[2][l], across * across + along * along) * kShrink;
+            mask |= unsigned(bound < best[l]) << l;
+        }
+        return mask;
     }
 
     /// Whether any centre may lie nearer than its best to the node.
     bool anyReaches(const double *best) const
     {
-        for (int i = 0, v = 0; i < n; ++i)
+        for (int i = 0; i < n; ++i)
             for (int j = 0; j < n; ++j)
-                for (int l = 0; l < n; ++l, ++v)
-                    if (reaches(i, j, l, best[v]))
-                        return true;
+                if (rowReaches(i, j, best + (i * n + j) * n))
+                    return true;
         return false;
     }
 
@@ -320,11 +326,11 @@ void NearestTriangle::packetDistance2(const double *corner, double spacing, doub
         const Node &node = mNodes[e.node];
         const CentreBounds bounds(axis, node.lo, node.hi, node.centre, node.normal, node.thickness, node.radius);
         if (node.count > 0) {
-            for (int i = 0, v = 0; i < kPacketDim; ++i)
+            for (int i = 0; i < kPacketDim; ++i)
                 for (int j = 0; j < kPacketDim; ++j)
-                    for (int l = 0; l < kPacketDim; ++l, ++v) {
-                        if (!bounds.reaches(i, j, l, best[v]))
-                            continue;
+                    for (unsigned mask = bounds.rowReaches(i, j, best + (i * kPacketDim + j) * kPacketDim); mask;
+                         mask &= mask - 1) {
+                        const int l = __builtin_ctz(mask), v = (i * kPacketDim + j) * kPacketDim + l;
                         const double q[3] = {axis[0][i], axis[1][j], axis[2][l]};
                         for (uint32_t t = node.first; t < node.first + node.count; ++t) {
                             const double *plane = &mPlanes[size_t(t) * 5];
