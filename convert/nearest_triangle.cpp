@@ -1,44 +1,46 @@
-// mesh2sdf — exact nearest-triangle queries (see nearest_triangle.h).
+// mesh2sdf — exact nearest-triangle queries for packets of voxel centres
+// (see nearest_triangle.h).
 //
-// Why the answer is exact: the search visits every node unless a lower
-// bound on the distance from q to all of the node's triangles is at least
-// the best squared distance found so far, which is the distance to an
-// actual triangle; so no triangle nearer than the answer is ever skipped,
-// and the answer, a minimum of triangleDistance2 over triangles, is the
-// minimum over all of them.
+// Why every centre's answer is exact. The search keeps, per centre v, best(v):
+// the smallest squared distance from v to a triangle evaluated so far (or
+// the caller's bound). It skips a set of triangles only on a lower bound on
+// their distance from v that is at least best(v), so no skipped triangle is
+// nearer than v's final best, and the answer, a minimum of triangleDistance2
+// over evaluated triangles, is the minimum over all of them. The skips:
+//  - a node, for the whole packet, when its lower bound over the packet's
+//    box is at least `worst`, the largest best(v): every v lies in that box,
+//    so each of the node's triangles is at least worst >= best(v) from v;
+//  - a node, for the whole packet, when for every centre v its own lower
+//    bound is at least best(v) (CentreBounds::anyReaches);
+//  - a leaf's triangles, for one centre v, when v's own lower bound on the
+//    leaf is at least best(v);
+//  - one triangle, for one centre v, when v's distance to the triangle's
+//    plane (less the plane's slack, trianglePlane) is at least sqrt(best(v)).
+// Bests only fall, so a skip stays justified to the end.
 //
-// The two bounds of a node, both true lower bounds because each triangle is
-// the convex hull of its corners and both shapes are convex and hold every
-// corner: the distance to the node's box, and the distance to its disc, the
-// cylinder of points within `thickness` of the mean plane through `centre`
-// and within `radius` of `centre` across it. For q at height a above that
-// plane and lateral distance l from the centre, that distance is
-// sqrt(max(|a| - thickness, 0)^2 + max(l - radius, 0)^2). Far from a nearly
-// flat patch the box is a poor bound: a sphere around q that just reaches
-// the surface passes within a box's thickness of the surface over a wide
-// cap, and every box it touches must be opened; the disc of a flat patch is
-// thin, and only the patches under the sphere's contact are opened. Both
-// are computed in double precision and shrunk by a relative 1e-12, far
-// above their rounding error.
+// The lower bounds of a node, both true because each triangle is the convex
+// hull of its corners and both shapes are convex and hold every corner: the
+// distance to the node's box, and the distance to its disc, the cylinder of
+// points within `thickness` of the mean plane through `centre` and within
+// `radius` of `centre` across it. For q at height a above that plane and
+// lateral distance l from the centre, that distance is
+// sqrt(max(|a| - thickness, 0)^2 + max(l - radius, 0)^2). Over a packet:
+// the distance between the node's box and the packet's box, and the disc's
+// distance from the packet's centre less the packet's half-diagonal (a
+// distance to a convex set changes by at most the distance moved). Far from
+// a nearly flat patch the box is a poor bound: a sphere around q that just
+// reaches the surface passes within a box's thickness of the surface over a
+// wide cap, and every box it touches must be opened; the disc of a flat
+// patch is thin, and only the patches under the sphere's contact are
+// opened. All are computed in double precision and shrunk by a relative
+// 1e-12, far above their rounding error.
 //
-// A search that starts from a triangle whose distance U is near the answer
-// (a neighbouring voxel's nearest, at most a voxel step worse) prunes from
-// the first node on; one that starts with none descends nearer child first.
-//
-// A packet (packetDistance2) is searched once for all of its voxel centres,
-// exactly too. A node is skipped only when its lower bound over the
-// packet's box is at least `worst`, the largest of the centres' best
-// squared distances so far; then for every centre v the node's triangles
-// are at least that far (v lies in the box), so none of them is nearer than
-// v's best. The packet's bounds are the distance between the node's box and
-// the packet's box, and the distance from the packet's centre to the node's
-// disc less the packet's half-diagonal (a distance to a convex set changes
-// by at most the distance moved). In a leaf, each centre skips the leaf's
-// triangles when its own distance to the leaf's box is at least its own
-// best, and otherwise lowers its best by each triangle's exact distance. So
-// every centre's answer is again a minimum over triangles that no skipped
-// triangle undercuts. Neighbouring centres open nearly the same nodes, so
-// one search pays the descent that kPacketSize searches would each pay.
+// Why packets: neighbouring centres open nearly the same nodes, so one
+// descent serves kPacketSize centres; each centre then pays only its own
+// bounds at the nodes the packet opens (from per-axis terms, CentreBounds)
+// and the triangles no bound excludes. Each centre starts from a
+// neighbour's nearest triangle, so the bests are near their answers from
+// the first node on, and nearer children are searched first.
 #include "nearest_triangle.h"
 
 #include "median_split.h"
@@ -178,29 +180,6 @@ uint32_t NearestTriangle::build(uint32_t first, uint32_t count, std::vector<uint
     return index;
 }
 
-// The larger of the box's and the disc's squared distance to q (shrunk for
-// rounding); the disc is not computed when the box already reaches `best`.
-double NearestTriangle::lowerBound2(const Node &node, const double *q, double best) const
-{
-    double box = 0;
-    for (int k = 0; k < 3; ++k) {
-        const double d = std::max({double(node.lo[k]) - q[k], 0.0, q[k] - double(node.hi[k])});
-        box += d * d;
-    }
-    box *= kShrink;
-    if (box >= best)
-        return box;
-    double d[3], a = 0, d2 = 0;
-    for (int k = 0; k < 3; ++k) {
-        d[k] = q[k] - node.centre[k];
-        a += d[k] * node.normal[k];
-        d2 += d[k] * d[k];
-    }
-    const double across = std::max(std::abs(a) - node.thickness, 0.0);
-    const double along = std::max(std::sqrt(std::max(d2 - a * a, 0.0)) - node.radius, 0.0);
-    return std::max(box, (across * across + along * along) * kShrink);
-}
-
 // A lower bound on the squared distance from every point of the packet's box
 // [lo, hi] (centre `centre`, half-diagonal `radius`) to the node's triangles:
 // the larger of the boxes' distance and the disc's distance from the centre
@@ -229,8 +208,8 @@ double NearestTriangle::packetLowerBound2(const Node &node, const double *lo, co
     return std::max(box, disc * disc * kShrink);
 }
 
-// The bounds of lowerBound2 (box and disc) from each centre of a packet to
-// one node, from terms that each depend on one axis: the squared gap to the
+// A node's two lower bounds (box and disc) for each centre of a packet, from
+// terms that each depend on one axis: the squared gap to the
 // box, the height above the disc's centre along its normal, and the squared
 // offset from the disc's centre.
 class CentreBounds
@@ -362,49 +341,6 @@ void NearestTriangle::packetDistance2(const double *corner, double spacing, doub
             stack[top++] = {right, br};
         }
     }
-}
-
-double NearestTriangle::distance2(const double *q, uint32_t &nearest) const
-{
-    double best = INFINITY;
-    if (nearest != kNone)
-        best = triangleDistance2(&mTriangles[size_t(nearest) * 9], q);
-    if (mNodes.empty())
-        return best;
-    struct Entry {
-        uint32_t node;
-        double bound;
-    };
-    Entry stack[64];
-    int top = 0;
-    stack[top++] = {0, lowerBound2(mNodes[0], q, best)};
-    while (top > 0) {
-        const Entry e = stack[--top];
-        if (e.bound >= best)
-            continue;
-        const Node &node = mNodes[e.node];
-        if (node.count > 0) {
-            for (uint32_t i = node.first; i < node.first + node.count; ++i) {
-                const double d2 = triangleDistance2(&mTriangles[size_t(i) * 9], q);
-                if (d2 < best) {
-                    best = d2;
-                    nearest = i;
-                }
-            }
-            continue;
-        }
-        // The nearer child is searched first: pushed last.
-        const uint32_t left = e.node + 1, right = node.right;
-        const double bl = lowerBound2(mNodes[left], q, best), br = lowerBound2(mNodes[right], q, best);
-        if (bl < br) {
-            stack[top++] = {right, br};
-            stack[top++] = {left, bl};
-        } else {
-            stack[top++] = {left, bl};
-            stack[top++] = {right, br};
-        }
-    }
-    return best;
 }
 
 } // namespace mesh2sdf
