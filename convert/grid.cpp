@@ -247,6 +247,13 @@ void signTiles(openvdb::FloatTree &tree, const WindingSign &sign, Progress &prog
     progress.report(100);
 }
 
+// Voxel v of the packet at `packet` (NearestTriangle's numbering).
+openvdb::Coord packetVoxel(const openvdb::Coord &packet, int v)
+{
+    constexpr int n = NearestTriangle::kPacketDim;
+    return packet + openvdb::Coord(v / (n * n), v / n % n, v % n);
+}
+
 // The seed of a voxel at `offset` in its block, in the packet at
 // `packetOffset`: the nearest triangle of the voxel on the face of the
 // packet before it along z, y or x (the first of these that a search
@@ -310,8 +317,7 @@ void fillBox(openvdb::FloatGrid &grid, const BoxGeometry &box, const NearestTria
                                                   p / kPackets % kPackets * kPacketDim, p % kPackets * kPacketDim);
                 bool any = false;
                 for (int v = 0; v < NearestTriangle::kPacketSize; ++v) {
-                    const openvdb::Coord ijk = packet + openvdb::Coord(v / (kPacketDim * kPacketDim),
-                                                                       v / kPacketDim % kPacketDim, v % kPacketDim);
+                    const openvdb::Coord ijk = packetVoxel(packet, v);
                     const openvdb::Index at = Leaf::coordToOffset(ijk);
                     if (ijk[0] >= box.dims[0] || ijk[1] >= box.dims[1] || ijk[2] >= box.dims[2])
                         best[v] = 0; // beyond the box: wanted by no one
@@ -327,8 +333,7 @@ void fillBox(openvdb::FloatGrid &grid, const BoxGeometry &box, const NearestTria
                 const Vec3 corner = worldOf(box, packet);
                 nearest.packetDistance2(corner.data(), box.voxelSize, best, seed);
                 for (int v = 0; v < NearestTriangle::kPacketSize; ++v) {
-                    const openvdb::Coord ijk = packet + openvdb::Coord(v / (kPacketDim * kPacketDim),
-                                                                       v / kPacketDim % kPacketDim, v % kPacketDim);
+                    const openvdb::Coord ijk = packetVoxel(packet, v);
                     const openvdb::Index at = Leaf::coordToOffset(ijk);
                     blockNearest[at] = seed[v];
                     if (ijk[0] >= box.dims[0] || ijk[1] >= box.dims[1] || ijk[2] >= box.dims[2] || leaf.isValueOn(at))
