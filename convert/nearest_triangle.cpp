@@ -33,7 +33,8 @@
 // wide cap, and every box it touches must be opened; the disc of a flat
 // patch is thin, and only the patches under the sphere's contact are
 // opened. All are computed in double precision and shrunk by a relative
-// 1e-12, far above their rounding error.
+// 1e-12, far above their rounding error, except where the disc's terms
+// cancel, which kCancel covers.
 //
 // Why packets: neighbouring centres open nearly the same nodes, so one
 // descent serves kPacketSize centres; each centre then pays only its own
@@ -57,6 +58,14 @@ namespace
 
 constexpr uint32_t kLeafSize = 2;
 constexpr double kShrink = 1 - 1e-12;
+
+// The disc's terms cancel: the lateral offset comes from |q - centre|^2 -
+// a^2, and a and |q - centre|^2 carry rounding errors of a few ulps of
+// |q - centre| and its square. Every disc bound gives away kCancel *
+// |q - centre|^2 for them (an error of 1e-16 there moves a lateral offset
+// near zero by 1e-8 |q - centre|, far beyond a relative shrink), and the
+// disc itself is grown by as much when it is built.
+constexpr double kCancel = 1e-14;
 
 // A triangle's plane for a cheap lower bound on its distance: unit normal
 // n, offset n . a and slack, the farthest any corner lies from the plane as
@@ -167,8 +176,9 @@ uint32_t NearestTriangle::build(uint32_t first, uint32_t count, std::vector<uint
                 a += d[k] * node.normal[k];
                 d2 += d[k] * d[k];
             }
-            node.thickness = std::max(node.thickness, std::abs(a));
-            node.radius = std::max(node.radius, std::sqrt(std::max(d2 - a * a, 0.0)));
+            // Grown by the rounding of a and of d2 - a^2 (see kCancel).
+            node.thickness = std::max(node.thickness, std::abs(a) + kCancel * std::sqrt(d2));
+            node.radius = std::max(node.radius, std::sqrt(std::max(d2 - a * a + kCancel * d2, 0.0)));
         }
     if (count > kLeafSize) {
         const uint32_t half = splitAtMedian(order, first, count, centroids);
@@ -203,8 +213,9 @@ double NearestTriangle::packetLowerBound2(const Node &node, const double *lo, co
         d2 += d[k] * d[k];
     }
     const double across = std::max(std::abs(a) - node.thickness, 0.0);
-    const double along = std::max(std::sqrt(std::max(d2 - a * a, 0.0)) - node.radius, 0.0);
-    const double disc = std::max(std::sqrt(across * across + along * along) - radius, 0.0);
+    const double along = std::max(std::sqrt(std::max(d2 - a * a - kCancel * d2, 0.0)) - node.radius, 0.0);
+    const double disc =
+        std::max(std::sqrt(std::max(across * across + along * along - kCancel * d2, 0.0)) - radius, 0.0);
     return std::max(box, disc * disc * kShrink);
 }
 
@@ -242,10 +253,11 @@ class CentreBounds
         unsigned mask = 0;
         for (int l = 0; l < n; ++l) {
             const double a = height + mHeight[2][l];
-            const double lateral2 = square + mSquare[2][l] - a * a;
+            const double offset2 = square + mSquare[2][l], lateral2 = offset2 - a * a - kCancel * offset2;
             const double across = std::max(std::abs(a) - mThickness, 0.0);
             const double along = std::sqrt(std::max(lateral2, mRadius * mRadius)) - mRadius;
-            const double bound = std::max(gap + mGap[2][l], across * across + along * along) * kShrink;
+            const double disc = across * across + along * along - kCancel * offset2;
+            const double bound = std::max(gap + mGap[2][l], disc) * kShrink;
             mask |= unsigned(bound < best[l]) << l;
         }
         return mask;
