@@ -247,16 +247,45 @@ void signTiles(openvdb::FloatTree &tree, const WindingSign &sign, Progress &prog
     progress.report(100);
 }
 
+// Voxel v of the packet at `packet` (NearestTriangle's numbering).
+openvdb::Coord packetVoxel(const openvdb::Coord &packet, int v)
+{
+    constexpr int n = NearestTriangle::kPacketDim;
+    return packet + openvdb::Coord(v / (n * n), v / n % n, v % n);
+}
+
+// The seed of a voxel at `offset` in its block, in the packet at
+// `packetOffset`: the nearest triangle of the voxel on the face of the
+// packet before it along z, y or x (the first of these that a search
+// found), or none.
+uint32_t packetSeed(const uint32_t *blockNearest, const openvdb::Coord &offset, const openvdb::Coord &packetOffset)
+{
+    using Leaf = openvdb::FloatTree::LeafNodeType;
+    for (int k = 2; k >= 0; --k) {
+        if (packetOffset[k] == 0)
+            continue;
+        openvdb::Coord before = offset;
+        before[k] = packetOffset[k] - 1;
+        const uint32_t t = blockNearest[Leaf::coordToOffset(before)];
+        if (t != NearestTriangle::kNone)
+            return t;
+    }
+    return NearestTriangle::kNone;
+}
+
 // --full: every voxel of the box not in the band gets its exact distance
 // (NearestTriangle), with the sign its value in the tree already has (the
 // winding sign of signTiles, OpenVDB's flood fill, or none). Block by block
 // in parallel, each 8^3 block a leaf: the band's leaf where there is one,
 // else a new leaf filled from the tile's value, added to the tree at the
-// end. Within a block, each voxel's search starts from the nearest triangle
-// of the voxel before it along z (of the row before, for a row's first).
+// end. Each block is searched as packets of 4^3 voxels, one search per
+// packet; band voxels (exact already) and voxels beyond the box only lend
+// their known distance or nothing to the search.
 void fillBox(openvdb::FloatGrid &grid, const BoxGeometry &box, const NearestTriangle &nearest, Progress &progress)
 {
     using Leaf = openvdb::FloatTree::LeafNodeType;
+    constexpr int kPacketDim = NearestTriangle::kPacketDim;
+    static_assert(kBlockDim % kPacketDim == 0, "packets tile a block");
     openvdb::FloatTree &tree = grid.tree();
     struct Block {
         openvdb::Coord origin;
@@ -272,31 +301,47 @@ void fillBox(openvdb::FloatGrid &grid, const BoxGeometry &box, const NearestTria
             }
     std::atomic<size_t> done{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks.size()), [&](const tbb::blocked_range<size_t> &r) {
+        double best[NearestTriangle::kPacketSize];
+        uint32_t seed[NearestTriangle::kPacketSize];
+        uint32_t blockNearest[kBlockSize]; // leaf order
         for (size_t b = r.begin(); b != r.end(); ++b) {
             Block &block = blocks[b];
             if (!block.leaf)
                 block.leaf = new Leaf(block.origin, block.tile, false);
             Leaf &leaf = *block.leaf;
-            const int end[3] = {std::min(kBlockDim, box.dims[0] - block.origin[0]),
-                                std::min(kBlockDim, box.dims[1] - block.origin[1]),
-                                std::min(kBlockDim, box.dims[2] - block.origin[2])};
-            uint32_t rowSeed = NearestTriangle::kNone;
-            for (int x = 0; x < end[0]; ++x)
-                for (int y = 0; y < end[1]; ++y) {
-                    uint32_t seed = rowSeed;
-                    bool first = true;
-                    for (int z = 0; z < end[2]; ++z) {
-                        const openvdb::Index v = openvdb::Index((((x << kBlockLog2) | y) << kBlockLog2) | z);
-                        if (leaf.isValueOn(v))
-                            continue; // in the band: exact already
-                        const Vec3 q = worldOf(box, block.origin + openvdb::Coord(x, y, z));
-                        const float d = float(std::sqrt(nearest.distance2(q.data(), seed)));
-                        leaf.setValueOn(v, leaf.getValue(v) < 0 ? -d : d);
-                        if (first)
-                            rowSeed = seed;
-                        first = false;
-                    }
+            std::fill(blockNearest, blockNearest + kBlockSize, NearestTriangle::kNone);
+            constexpr int kPackets = kBlockDim / kPacketDim; // per axis
+            for (int p = 0; p < kPackets * kPackets * kPackets; ++p) {
+                const openvdb::Coord packet =
+                    block.origin + openvdb::Coord(p / (kPackets * kPackets) * kPacketDim,
+                                                  p / kPackets % kPackets * kPacketDim, p % kPackets * kPacketDim);
+                bool any = false;
+                for (int v = 0; v < NearestTriangle::kPacketSize; ++v) {
+                    const openvdb::Coord ijk = packetVoxel(packet, v);
+                    const openvdb::Index at = Leaf::coordToOffset(ijk);
+                    if (ijk[0] >= box.dims[0] || ijk[1] >= box.dims[1] || ijk[2] >= box.dims[2])
+                        best[v] = 0; // beyond the box: wanted by no one
+                    else if (leaf.isValueOn(at))
+                        best[v] = double(leaf.getValue(at)) * leaf.getValue(at); // the band's, exact
+                    else
+                        best[v] = INFINITY;
+                    any = any || best[v] == INFINITY;
+                    seed[v] = packetSeed(blockNearest, ijk - block.origin, packet - block.origin);
                 }
+                if (!any)
+                    continue;
+                const Vec3 corner = worldOf(box, packet);
+                nearest.packetDistance2(corner.data(), box.voxelSize, best, seed);
+                for (int v = 0; v < NearestTriangle::kPacketSize; ++v) {
+                    const openvdb::Coord ijk = packetVoxel(packet, v);
+                    const openvdb::Index at = Leaf::coordToOffset(ijk);
+                    blockNearest[at] = seed[v];
+                    if (ijk[0] >= box.dims[0] || ijk[1] >= box.dims[1] || ijk[2] >= box.dims[2] || leaf.isValueOn(at))
+                        continue;
+                    const float d = float(std::sqrt(best[v]));
+                    leaf.setValueOn(at, leaf.getValue(at) < 0 ? -d : d);
+                }
+            }
         }
         progress.report(int(100.0 * double(done.fetch_add(r.size()) + r.size()) / double(blocks.size())));
     });

@@ -1,8 +1,9 @@
-// mesh2sdf — the exact distance from a point to a triangle mesh, for dense
-// grids: a bounding volume hierarchy whose nodes bound their triangles twice,
-// by a box and by a disc around their mean plane, and a search that starts
-// from a triangle the caller already knows is near (a neighbouring voxel's
-// nearest). No OpenVDB here.
+// mesh2sdf — the exact distance from voxel centres to a triangle mesh, for
+// dense grids: a bounding volume hierarchy whose nodes bound their triangles
+// twice, by a box and by a disc around their mean plane, searched once for a
+// packet of 4^3 neighbouring centres, each starting from a triangle the
+// caller already knows is near (a neighbouring voxel's nearest). No OpenVDB
+// here.
 #ifndef MESH2SDF_NEAREST_TRIANGLE_H
 #define MESH2SDF_NEAREST_TRIANGLE_H
 
@@ -22,12 +23,20 @@ class NearestTriangle
 
     static constexpr uint32_t kNone = ~uint32_t(0);
 
-    /// Squared distance in world units from q to the mesh: the minimum over
-    /// every triangle of triangleDistance2 (exact). `nearest`: on entry a
-    /// triangle to start from, whose distance bounds the search (or kNone);
-    /// on return the nearest triangle, in this object's own numbering.
-    /// Thread-safe (read-only).
-    double distance2(const double *q, uint32_t &nearest) const;
+    /// A packet: the kPacketDim^3 voxel centres corner + (i, j, k) * spacing,
+    /// numbered (i * kPacketDim + j) * kPacketDim + k.
+    static constexpr int kPacketDim = 4;
+    static constexpr int kPacketSize = kPacketDim * kPacketDim * kPacketDim;
+
+    /// Squared distances in world units from each centre of the packet at
+    /// `corner` (3 doubles) to the mesh, in one search for the whole packet.
+    /// `best` (kPacketSize): on entry an upper bound per centre (INFINITY if
+    /// none; 0 for a centre the caller does not want); on return the smaller
+    /// of that and the exact squared distance. `nearest` (kPacketSize): on
+    /// entry a triangle to start each centre from (a neighbour's nearest) or
+    /// kNone; on return the nearest triangle where one lowered `best`, else
+    /// kNone. Thread-safe (read-only).
+    void packetDistance2(const double *corner, double spacing, double *best, uint32_t *nearest) const;
 
   private:
     struct Node {
@@ -39,9 +48,11 @@ class NearestTriangle
     };
     uint32_t build(uint32_t first, uint32_t count, std::vector<uint32_t> &order,
                    const std::vector<std::array<double, 3>> &centroids, const TriangleMesh &mesh);
-    double lowerBound2(const Node &node, const double *q, double best) const;
+    double packetLowerBound2(const Node &node, const double *lo, const double *hi, const double *centre, double radius,
+                             double worst) const;
 
     std::vector<double> mTriangles; // 9 doubles per triangle, in hierarchy order
+    std::vector<double> mPlanes;    // 5 per triangle: unit normal, offset, slack (trianglePlane)
     std::vector<Node> mNodes;
 };
 

@@ -388,12 +388,18 @@ static double winding(const mesh *m, const double *q)
     return w / (4.0 * 3.14159265358979323846);
 }
 
-static double mesh_sdf(const mesh *m, const double *p)
+/* Brute force: the distance from p to the nearest triangle of m. */
+static double mesh_distance(const mesh *m, const double *p)
 {
     double best = INFINITY;
     for (int t = 0; t < m->nt; t++)
         best = fmin(best, tri_dist2(p, &m->v[3 * m->t[3 * t]], &m->v[3 * m->t[3 * t + 1]], &m->v[3 * m->t[3 * t + 2]]));
-    double d = sqrt(best);
+    return sqrt(best);
+}
+
+static double mesh_sdf(const mesh *m, const double *p)
+{
+    const double d = mesh_distance(m, p);
     return winding(m, p) > 0.5 ? -d : d;
 }
 
@@ -702,14 +708,26 @@ static void test_sign_fandisk(void **state)
     check_sign("fandisk", 3000);
 }
 
-/* At `samples` random voxels of a --full grid, |value| must equal the
- * brute-force distance to the nearest triangle within 1e-4 voxel, in the
- * band and off it. */
+/* The brute-force distance from voxel (i, j, k) of `g` to the nearest
+ * triangle of `m`, and how far (in voxels) the grid's |value| is from it. */
+static double dense_distance_error(const mesh *m, const dense *g, const int *ijk, double *exact)
+{
+    double p[3];
+    dense_point(g, ijk[0], ijk[1], ijk[2], p);
+    *exact = mesh_distance(m, p);
+    return fabs(fabs(dense_at(g, ijk[0], ijk[1], ijk[2])) - *exact) / g->h;
+}
+
+/* |value| of a --full grid must equal the brute-force distance to the
+ * nearest triangle within 1e-4 voxel at `samples` random voxels of the box
+ * (most off the band), and at `samples` random voxels within BAND + 4
+ * voxels of the surface (in the band, and just beyond it, where a search
+ * shares its packet with band voxels). */
 static void check_dense_distances(const char *name, const mesh *m, const dense *g, int samples)
 {
     tu_rng rng = tu_rng_seed(11);
-    double worst = 0;
-    int off_band = 0;
+    double worst = 0, exact;
+    int off_band = 0, near = 0, in_band = 0;
     for (int s = 0; s < samples; s++) {
         int ijk[3];
         for (int k = 0; k < 3; k++) {
@@ -717,18 +735,28 @@ static void check_dense_distances(const char *name, const mesh *m, const dense *
             if (ijk[k] >= g->n[k])
                 ijk[k] = g->n[k] - 1;
         }
-        double p[3], best = INFINITY;
-        dense_point(g, ijk[0], ijk[1], ijk[2], p);
-        for (int t = 0; t < m->nt; t++)
-            best = fmin(best,
-                        tri_dist2(p, &m->v[3 * m->t[3 * t]], &m->v[3 * m->t[3 * t + 1]], &m->v[3 * m->t[3 * t + 2]]));
-        const double exact = sqrt(best), err = fabs(fabs(dense_at(g, ijk[0], ijk[1], ijk[2])) - exact) / g->h;
+        worst = fmax(worst, dense_distance_error(m, g, ijk, &exact));
         off_band += exact > BAND * g->h;
-        worst = fmax(worst, err);
     }
-    printf("%s --full %dx%dx%d: %d random voxels (%d off the band), largest distance error %.2e voxel\n", name, g->n[0],
-           g->n[1], g->n[2], samples, off_band, worst);
+    for (int tries = 0; near < samples && tries < 10000 * samples; tries++) {
+        int ijk[3];
+        for (int k = 0; k < 3; k++) {
+            ijk[k] = (int)tu_uniform(&rng, 0, (float)g->n[k]);
+            if (ijk[k] >= g->n[k])
+                ijk[k] = g->n[k] - 1;
+        }
+        if (fabs(dense_at(g, ijk[0], ijk[1], ijk[2])) > (BAND + 4) * g->h)
+            continue;
+        near++;
+        worst = fmax(worst, dense_distance_error(m, g, ijk, &exact));
+        in_band += exact < BAND * g->h;
+    }
+    printf("%s --full %dx%dx%d: %d random voxels (%d off the band) and %d near the surface (%d in the band), largest "
+           "distance error %.2e voxel\n",
+           name, g->n[0], g->n[1], g->n[2], samples, off_band, near, in_band, worst);
     assert_true(off_band > samples / 4);
+    assert_int_equal(near, samples);
+    assert_true(in_band > samples / 4 && in_band < near);
     assert_true(worst <= 1e-4);
 }
 
@@ -898,7 +926,7 @@ static void test_full_distances(void **state)
         assert_int_equal(read_obj(in, &m), 0);
         dense g = {0};
         convert(in, name, "--res 64 --full", &g);
-        check_dense_distances(names[i], &m, &g, 200);
+        check_dense_distances(names[i], &m, &g, 300);
         free(g.data);
         mesh_free(&m);
     }
