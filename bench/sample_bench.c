@@ -7,7 +7,9 @@
  *   band  random points in random leaves, kept where they lie in the band.
  * Each is timed twice: `indep` (the points are independent, so loads
  * overlap: throughput) and `chained` (each point waits for the value before
- * it, as one ray's steps do: latency). Samplers are interleaved, each
+ * it, as one ray's steps do: latency). `sdftrace-stream` is the field as
+ * the tracer's stream evaluates independent rays: each point's memory
+ * hinted (sdft_field.prefetch) a few points ahead. Samplers are interleaved, each
  * timed REPEAT times (default 7), the median reported.
  *
  * usage: sample_bench GRID.vdb|GRID.nvdb [POINTS]   (default 2000000) */
@@ -165,6 +167,29 @@ static double run_field(const void *ctx, const float *xyz, size_t n, int chained
         const float k = chained ? prev * 0.0f : 0.0f;
         prev = f->distance(f->ctx, &s, sdft_v3(xyz[3 * i] + k, xyz[3 * i + 1], xyz[3 * i + 2]));
         sum += prev;
+    }
+    return sum;
+}
+
+/* sdftrace's field as the tracer's stream calls it (march_many): the
+ * field's prefetch hint for a point STREAM_AHEAD points before its
+ * evaluation, as the stream hints every lane's next point before it
+ * evaluates any. A chain has nothing to hint ahead: it runs as run_field. */
+enum { STREAM_AHEAD = 16 };
+static double run_stream(const void *ctx, const float *xyz, size_t n, int chained)
+{
+    const sdft_field *f = ctx;
+    if (chained || !f->prefetch)
+        return run_field(ctx, xyz, n, chained);
+    sdft_scratch s;
+    sdft_scratch_init(f, &s);
+    double sum = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        if (i + STREAM_AHEAD < n) {
+            const float *a = xyz + 3 * (i + STREAM_AHEAD);
+            f->prefetch(f->ctx, sdft_v3(a[0], a[1], a[2]));
+        }
+        sum += f->distance(f->ctx, &s, sdft_v3(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]));
     }
     return sum;
 }
@@ -379,7 +404,7 @@ int main(int argc, char **argv)
     const sampler s[] = {
         {"dense-array", run_dense, &dense, 0},      {"nanovdb-accessor", run_nano, g->words, 1},
         {"sdftrace-sampler", run_field, &plain, 1}, {"sdftrace-field", run_field, &far, 1},
-        {"bricks-9^3", run_bricks, &brick, 0},
+        {"sdftrace-stream", run_stream, &far, 1},   {"bricks-9^3", run_bricks, &brick, 0},
     };
     const int count = (int)(sizeof s / sizeof s[0]);
     printf("grid %s: %llu leaves, index box %d x %d x %d; dense array %.0f MiB; median of %d, 1 thread\n",
