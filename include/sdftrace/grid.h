@@ -88,7 +88,7 @@ typedef int (*sdft_leaf_fill_fn)(void *user, uint64_t index, void *leaf);
  * is freed or refuses the buffer. Float and Fp16 grids (SDFT_EINVAL for
  * others, or a NULL fill). Until filled, a leaf counts as occupied for the
  * far bound: still a bound, a looser one. A leaf whose fill failed reads as
- * NaN, where rays see no surface; sdft_grid_fill_failures counts them.
+ * NaN, where rays see no surface; sdft_grid_leaf_counts counts them.
  * sdft_grid_data fills every leaf first. */
 SDFT_API sdft_error sdft_grid_adopt_deferred(void *data, size_t size, const char *name, void (*release)(void *data),
                                              sdft_leaf_fill_fn fill, void *user, void (*release_user)(void *user),
