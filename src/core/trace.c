@@ -88,6 +88,19 @@ sdft_error sdft_trace_check(const sdft_field *f, const sdft_scratch *s, const sd
 
 static sdft_hit refused(void) { return (sdft_hit){.t = NAN, .distance = NAN, .status = SDFT_INVALID}; }
 
+/* Each variant's two entries, one ray and a stream, by method; refusal()
+ * rules out any other method before the table is read. */
+static const struct {
+    sdft_hit (*one)(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p);
+    void (*stream)(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                   const sdft_trace_params *p);
+} variants[SDFT_METHOD_COUNT] = {
+    [SDFT_SPHERE] = {sdft_trace_sphere, sdft_march_stream_sphere},
+    [SDFT_RELAXED] = {sdft_trace_relaxed, sdft_march_stream_relaxed},
+    [SDFT_ENHANCED] = {sdft_trace_enhanced, sdft_march_stream_enhanced},
+    [SDFT_AUTO] = {sdft_trace_auto, sdft_march_stream_auto},
+};
+
 sdft_hit sdft_trace(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p)
 {
     if (!ray || refusal(f, s, p))
@@ -96,18 +109,7 @@ sdft_hit sdft_trace(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, c
     sdft_hit miss;
     if (!march_clip(f, ray, &clipped, &miss))
         return miss;
-    switch (p->method) {
-    case SDFT_SPHERE:
-        return sdft_trace_sphere(f, s, &clipped, p);
-    case SDFT_RELAXED:
-        return sdft_trace_relaxed(f, s, &clipped, p);
-    case SDFT_ENHANCED:
-        return sdft_trace_enhanced(f, s, &clipped, p);
-    case SDFT_AUTO:
-        return sdft_trace_auto(f, s, &clipped, p);
-    default:
-        return refused(); /* refusal() has ruled it out */
-    }
+    return variants[p->method].one(f, s, &clipped, p);
 }
 
 void sdft_trace_stream(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
@@ -120,20 +122,5 @@ void sdft_trace_stream(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray
             hits[i] = refused();
         return;
     }
-    switch (p->method) {
-    case SDFT_SPHERE:
-        sdft_march_stream_sphere(f, s, rays, hits, n, p);
-        break;
-    case SDFT_RELAXED:
-        sdft_march_stream_relaxed(f, s, rays, hits, n, p);
-        break;
-    case SDFT_ENHANCED:
-        sdft_march_stream_enhanced(f, s, rays, hits, n, p);
-        break;
-    case SDFT_AUTO:
-        sdft_march_stream_auto(f, s, rays, hits, n, p);
-        break;
-    default:
-        break; /* refusal() has ruled it out */
-    }
+    variants[p->method].stream(f, s, rays, hits, n, p);
 }
