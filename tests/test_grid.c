@@ -939,7 +939,7 @@ static void test_deferred_leaves_match_whole_load(void **state)
     for (int q = 0; q < 2; q++) {
         sdft_grid *g[2] = {NULL, NULL}; /* whole, deferred */
         sdft_vdb_options loaded = sdft_vdb_options_defaults(), deferred = loaded;
-        deferred.defer = 1;
+        deferred.defer = 2; /* always: a grid this small would otherwise load whole (below) */
         open_figure_twice("deferred.vdb", 160, quants[q], loaded, deferred, path, sizeof path, g);
         uint64_t leaves, filled, failed, whole_leaves, whole_filled;
         sdft_grid_leaf_counts(g[0], &whole_leaves, &whole_filled, &failed);
@@ -1027,6 +1027,47 @@ static void test_deferred_leaves_match_whole_load(void **state)
     remove(path);
 }
 
+/* Deferring where it is exact (sdft_vdb_options.defer 1, render's way): a
+ * level set this small has far-bound cells narrower than a leaf, so it is
+ * filled whole at load, and a render counts exactly what the whole load's
+ * counts. An unknown way to defer is refused. */
+static void test_deferred_where_exact_loads_small_grids_whole(void **state)
+{
+    (void)state;
+    char path[512], msg[256];
+    sdft_grid *g[2] = {NULL, NULL}; /* whole, deferred where exact */
+    sdft_vdb_options loaded = sdft_vdb_options_defaults(), deferred = loaded;
+    deferred.defer = 1;
+    open_figure_twice("deferred-exact.vdb", 96, SDFT_QUANT_NONE, loaded, deferred, path, sizeof path, g);
+    uint64_t leaves, filled, failed;
+    sdft_grid_leaf_counts(g[1], &leaves, &filled, &failed);
+    assert_true(leaves > 100);
+    assert_int_equal(filled, leaves);
+    assert_int_equal(failed, 0);
+    const sdft_scene *sc = sdft_scene_find("figure");
+    sdft_render_params rp = sdft_render_defaults();
+    rp.width = 96, rp.height = 54, rp.threads = 2, rp.camera = sc->camera, rp.light = sc->light;
+    sdft_render_stats st[2];
+    for (int d = 0; d < 2; d++) {
+        sdft_image img;
+        const sdft_field f = sdft_grid_field(g[d]);
+        assert_int_equal(sdft_image_alloc(&img, rp.width, rp.height, msg, sizeof msg), 0);
+        assert_int_equal(sdft_render(&f, &rp, &img, &st[d], msg, sizeof msg), 0);
+        sdft_image_free(&img);
+    }
+    assert_true(st[0].hits > 100);
+    assert_int_equal(st[1].steps, st[0].steps);
+    assert_int_equal(st[1].cone_steps, st[0].cone_steps);
+    assert_int_equal(st[1].hits, st[0].hits);
+    sdft_grid_free(g[0]);
+    sdft_grid_free(g[1]);
+    sdft_grid *none = NULL;
+    deferred.defer = 3;
+    assert_int_equal(sdft_vdb_open(path, NULL, &deferred, &none, msg, sizeof msg), SDFT_EINVAL);
+    assert_null(none);
+    remove(path);
+}
+
 /* What a deferred grid's loader is handed: a reference grid's bytes to
  * copy leaves from, the leaf whose read fails, and a count of fills per
  * leaf. */
@@ -1082,9 +1123,9 @@ static void test_deferred_fill_and_failure(void **state)
     char msg[256];
     sdft_grid *g = NULL;
     released_buffers = 0;
-    assert_int_equal(
-        sdft_grid_adopt_deferred(buf, n, NULL, release_buffer, fill_from, &src, release_source, &g, msg, sizeof msg),
-        SDFT_OK);
+    assert_int_equal(sdft_grid_adopt_deferred(buf, n, NULL, release_buffer, fill_from, &src, release_source,
+                                              SDFT_DEFER_ALWAYS, &g, msg, sizeof msg),
+                     SDFT_OK);
     uint64_t filled, failed;
     sdft_grid_leaf_counts(g, NULL, &filled, &failed);
     assert_int_equal(filled, 0);
@@ -1124,20 +1165,28 @@ static void test_deferred_fill_and_failure(void **state)
     unsigned char *again = aligned_alloc(64, (n + 63) & ~(size_t)63);
     assert_non_null(again);
     memcpy(again, bytes, n);
-    assert_int_equal(
-        sdft_grid_adopt_deferred(again, n, NULL, release_buffer, NULL, &src, release_source, &g, msg, sizeof msg),
-        SDFT_EINVAL);
+    assert_int_equal(sdft_grid_adopt_deferred(again, n, NULL, release_buffer, NULL, &src, release_source,
+                                              SDFT_DEFER_ALWAYS, &g, msg, sizeof msg),
+                     SDFT_EINVAL);
     assert_null(g);
     assert_int_equal(src.released, 2);
     assert_int_equal(released_buffers, 2);
+    unsigned char *third = aligned_alloc(64, (n + 63) & ~(size_t)63);
+    assert_non_null(third);
+    memcpy(third, bytes, n);
+    assert_int_equal(sdft_grid_adopt_deferred(third, n, NULL, release_buffer, fill_from, &src, release_source,
+                                              (sdft_defer)7, &g, msg, sizeof msg),
+                     SDFT_EINVAL);
+    assert_int_equal(src.released, 3);
+    assert_int_equal(released_buffers, 3);
     unsigned char *bad_bytes = aligned_alloc(64, 64);
     assert_non_null(bad_bytes);
     memset(bad_bytes, 0, 64);
-    assert_int_equal(sdft_grid_adopt_deferred(bad_bytes, 64, NULL, release_buffer, fill_from, &src, release_source, &g,
-                                              msg, sizeof msg),
+    assert_int_equal(sdft_grid_adopt_deferred(bad_bytes, 64, NULL, release_buffer, fill_from, &src, release_source,
+                                              SDFT_DEFER_ALWAYS, &g, msg, sizeof msg),
                      SDFT_EFORMAT);
-    assert_int_equal(src.released, 3);
-    assert_int_equal(released_buffers, 3);
+    assert_int_equal(src.released, 4);
+    assert_int_equal(released_buffers, 4);
     free(src.calls);
     sdft_grid_free(ref);
 
@@ -1481,6 +1530,7 @@ int main(void)
         cmocka_unit_test(test_borrowed_buffer),
         cmocka_unit_test(test_deferred_leaves_match_whole_load),
         cmocka_unit_test(test_deferred_fill_and_failure),
+        cmocka_unit_test(test_deferred_where_exact_loads_small_grids_whole),
         cmocka_unit_test(test_grid_selection_is_the_same_for_vdb_and_nvdb),
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_bake_errors),

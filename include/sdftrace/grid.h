@@ -79,6 +79,19 @@ SDFT_API sdft_error sdft_grid_adopt_buffer(void *data, size_t size, const char *
  * read, after writing the header and masks and NaN values. */
 typedef int (*sdft_leaf_fill_fn)(void *user, uint64_t index, void *leaf);
 
+/* How a deferred grid defers (sdft_grid_adopt_deferred's `how`). */
+typedef enum sdft_defer {
+    /* Defer where it changes nothing but the time and the memory: a level
+     * set whose far bound has cells narrower than a leaf (an active box up
+     * to about 1024^3) reads a leaf's active states for it, so such a grid
+     * is filled whole at load; wider cells see a leaf as one block, read or
+     * not, and the grid is deferred. */
+    SDFT_DEFER_WHERE_EXACT = 0,
+    /* Always defer: a looser far bound on small level sets (an unread leaf
+     * counts as occupied), for the quickest first image. */
+    SDFT_DEFER_ALWAYS = 1
+} sdft_defer;
+
 /* As sdft_grid_adopt_buffer, for a loader that has laid a grid out but not
  * yet filled its leaves (the OpenVDB component's deferred `.vdb` loading):
  * every node above the leaves must be in place; the leaves' bytes need not
@@ -86,13 +99,15 @@ typedef int (*sdft_leaf_fill_fn)(void *user, uint64_t index, void *leaf);
  * leaf i, from the thread that reads it, at most once per leaf and possibly
  * for several leaves at once, and release_user(user) (if not NULL) when it
  * is freed or refuses the buffer. Float and Fp16 grids (SDFT_EINVAL for
- * others, or a NULL fill). Until filled, a leaf counts as occupied for the
- * far bound: still a bound, a looser one. A leaf whose fill failed reads as
+ * others, a NULL fill or an unknown `how`). `how` says whether a small
+ * level set is filled at load (sdft_defer above); until filled, a leaf
+ * counts as occupied for the far bound: still a bound, a looser one. A fill
+ * that fails at load is an error (SDFT_EIO). A leaf whose fill failed reads as
  * NaN, where rays see no surface; sdft_grid_leaf_counts counts them.
  * sdft_grid_data fills every leaf first. */
 SDFT_API sdft_error sdft_grid_adopt_deferred(void *data, size_t size, const char *name, void (*release)(void *data),
                                              sdft_leaf_fill_fn fill, void *user, void (*release_user)(void *user),
-                                             sdft_grid **out, char *msg, size_t msg_len);
+                                             sdft_defer how, sdft_grid **out, char *msg, size_t msg_len);
 
 /* A deferred grid's leaves: how many there are, how many are filled so far,
  * and how many of those failed; for a grid loaded whole, all filled and 0

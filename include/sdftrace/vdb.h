@@ -47,8 +47,10 @@ typedef struct sdft_vdb_options {
     int defer;                 /* 1: lay the grid out and read each leaf's values from the file only when
                                 * something first reads that leaf (OpenVDB's delayed loading, as
                                 * vdb_render does): a renderer's first image sooner, and memory for the
-                                * leaves it reaches. The file must stay unchanged while the grid lives.
-                                * Float and Fp16 (SDFT_EINVAL for other quant or stream 0) [0] */
+                                * leaves it reaches, where that changes nothing else (a level set up to
+                                * about 1024^3 still loads whole: SDFT_DEFER_WHERE_EXACT in grid.h);
+                                * 2: always (SDFT_DEFER_ALWAYS). The file must stay unchanged while the
+                                * grid lives. Float and Fp16 (SDFT_EINVAL for other quant or stream 0) [0] */
 } sdft_vdb_options;
 
 /* Float leaves, no progress, streamed. */

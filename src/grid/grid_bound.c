@@ -442,22 +442,36 @@ static int classify_from_directory(const sdft_grid *g, grid_far *far, int8_t *si
 
 sdft_error sdft_grid_far_build(sdft_grid *g) { return sdft_grid_far_build_cells(g, MAX_CELLS); }
 
+/* S, the voxels per cell edge for at most most_cells cells over the
+ * active box: 4, doubled until they fit; n and c0 the cells per axis and
+ * the first cell. */
+static int far_cells(const sdft_grid *g, size_t most_cells, int n[3], int32_t c0[3])
+{
+    for (int S = 4;; S *= 2) {
+        size_t cells = 1;
+        for (int k = 0; k < 3; k++) {
+            c0[k] = floor_div(g->ilo[k], S);
+            n[k] = floor_div(g->ihi[k], S) - c0[k] + 1;
+            cells *= (size_t)n[k];
+        }
+        if (cells <= most_cells)
+            return S;
+    }
+}
+
+int sdft_grid_far_cell(const sdft_grid *g)
+{
+    int n[3];
+    int32_t c0[3];
+    return far_cells(g, MAX_CELLS, n, c0);
+}
+
 sdft_error sdft_grid_far_build_cells(sdft_grid *g, size_t most_cells)
 {
     grid_far *far = &g->far;
     memset(far, 0, sizeof *far);
-    int S = 4, n[3];
-    for (;;) {
-        size_t cells = 1;
-        for (int k = 0; k < 3; k++) {
-            far->c0[k] = floor_div(g->ilo[k], S);
-            n[k] = floor_div(g->ihi[k], S) - far->c0[k] + 1;
-            cells *= (size_t)n[k];
-        }
-        if (cells <= most_cells)
-            break;
-        S *= 2;
-    }
+    int n[3];
+    const int S = far_cells(g, most_cells, n, far->c0);
     far->cell = S;
     memcpy(far->n, n, sizeof n);
     const int nv[3] = {n[0] + 1, n[1] + 1, n[2] + 1};

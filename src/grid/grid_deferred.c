@@ -87,6 +87,15 @@ void sdft_grid_fill_all(const sdft_grid *g)
         sdft_grid_each_leaf(g, fill_visited, (void *)(uintptr_t)g);
 }
 
+uint64_t sdft_grid_deferred_fill_now(sdft_grid *g)
+{
+    sdft_grid_fill_all(g); /* no directory yet: nothing to publish */
+    const uint64_t failed = g->deferred.failed;
+    free(g->deferred.state);
+    g->deferred.state = NULL; /* every read now goes as in a grid loaded whole */
+    return failed;
+}
+
 void sdft_grid_leaf_counts(const sdft_grid *g, uint64_t *leaves, uint64_t *filled, uint64_t *failed)
 {
     const grid_deferred *d = &g->deferred;

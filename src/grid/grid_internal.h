@@ -60,6 +60,7 @@ typedef struct grid_deferred {
     void (*release_user)(void *user);
     uint64_t first, stride, count;
     uint64_t filled, failed; /* atomic counts */
+    sdft_defer how;
 } grid_deferred;
 
 /* One NanoVDB grid plus the numbers the sampler reads on every call,
@@ -95,6 +96,7 @@ sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len);
 /* Builds / frees g->far (grid_bound.c). Needs g fully decoded, its
  * directory included. SDFT_OK or SDFT_ENOMEM. */
 sdft_error sdft_grid_far_build(sdft_grid *g);
+int sdft_grid_far_cell(const sdft_grid *g); /* the S sdft_grid_far_build picks: voxels per cell edge */
 sdft_error sdft_grid_far_build_cells(sdft_grid *g, size_t most_cells); /* cells of 4 * 2^k voxels, at most most_cells */
 void sdft_grid_far_free(sdft_grid *g);
 
@@ -115,6 +117,10 @@ void sdft_grid_deferred_free(sdft_grid *g);
 void sdft_grid_leaf_fill(const sdft_grid *g, uint64_t at, pnanovdb_coord_t ijk);
 /* Fills every leaf not yet filled (sdft_grid_data). */
 void sdft_grid_fill_all(const sdft_grid *g);
+/* At load, before the directory: fills every leaf and makes g a grid loaded
+ * whole (its loader's user is still released with it). The leaves whose
+ * fill failed. */
+uint64_t sdft_grid_deferred_fill_now(sdft_grid *g);
 void sdft_grid_leaves_free(sdft_grid *g);
 size_t sdft_grid_leaves_bytes(const sdft_grid *g); /* its tables' size */
 

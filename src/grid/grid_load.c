@@ -214,6 +214,18 @@ sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len)
         if (drc)
             return sdft_fail(msg, msg_len, drc, "grid '%s': %s", g->name,
                              drc == SDFT_ENOMEM ? "out of memory for its leaves' states" : "its leaf array is corrupt");
+        /* Where the far bound's cells are narrower than a leaf (boxes up to
+         * about 1024^3), it reads the active states of a leaf's sub-blocks,
+         * and deferring would loosen it (an unread leaf counts as occupied):
+         * such a grid is filled now, whole, and is then a grid like any
+         * other. Wider cells look at a leaf as one block, read or not. */
+        if (g->deferred.how == SDFT_DEFER_WHERE_EXACT && g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET &&
+            g->background > 0.0f && sdft_grid_far_cell(g) < 8) {
+            const uint64_t failed = sdft_grid_deferred_fill_now(g);
+            if (failed)
+                return sdft_fail(msg, msg_len, SDFT_EIO, "grid '%s': %llu leaves could not be read", g->name,
+                                 (unsigned long long)failed);
+        }
     }
     /* The directory first: the far bound reads the cells' signs through it. */
     if (sdft_grid_leaves_build(g))
@@ -388,18 +400,20 @@ sdft_error sdft_grid_adopt_buffer(void *data, size_t size, const char *name, voi
 
 sdft_error sdft_grid_adopt_deferred(void *data, size_t size, const char *name, void (*release)(void *data),
                                     sdft_leaf_fill_fn fill, void *user, void (*release_user)(void *user),
-                                    sdft_grid **out, char *msg, size_t msg_len)
+                                    sdft_defer how, sdft_grid **out, char *msg, size_t msg_len)
 {
-    if (!release || !fill) {
+    if (!release || !fill || (unsigned)how > SDFT_DEFER_ALWAYS) {
         if (out)
             *out = NULL;
         if (release_user)
             release_user(user);
         if (release && data)
             release(data);
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no %s function (NULL)", release ? "fill" : "release");
+        return (unsigned)how > SDFT_DEFER_ALWAYS
+                   ? sdft_fail(msg, msg_len, SDFT_EINVAL, "unknown way to defer %d", (int)how)
+                   : sdft_fail(msg, msg_len, SDFT_EINVAL, "no %s function (NULL)", release ? "fill" : "release");
     }
-    const grid_deferred d = {.fill = fill, .user = user}; /* release_user once the grid is made */
+    const grid_deferred d = {.fill = fill, .user = user, .how = how}; /* release_user once the grid is made */
     const sdft_error rc = grid_of_buffer(data, size, name, 1, &d, out, msg, msg_len);
     if (rc) {
         if (release_user)

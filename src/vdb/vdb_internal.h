@@ -67,7 +67,7 @@ sdft_error write_grid(const openvdb::FloatGrid &grid, bool nvdb, sdft_quant quan
 // as they are copied. With `defer`, only laid out: the NanoVDB grid keeps
 // the OpenVDB grid and copies each leaf when first read. progress may be
 // NULL.
-sdft_error stream_to_nano(openvdb::FloatGrid::Ptr grid, const char *path, sdft_quant quant, bool defer,
+sdft_error stream_to_nano(openvdb::FloatGrid::Ptr grid, const char *path, sdft_quant quant, int defer,
                           sdft_progress_fn progress, void *progress_user, sdft_grid **out, char *msg, size_t msg_len);
 
 // The caller's progress callback (sdftrace/vdb.h), called about once per

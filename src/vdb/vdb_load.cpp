@@ -123,7 +123,7 @@ static sdft_error load(const char *path, const char *name, const sdft_vdb_option
     if (grid->activeVoxelCount() == 0)
         return fail(msg, msg_len, SDFT_EEMPTY, "grid '" + chosen + "' in " + path + " is empty: no active voxels");
     if (o->stream && (o->quant == SDFT_QUANT_NONE || o->quant == SDFT_QUANT_FP16))
-        return sdft_vdb::stream_to_nano(grid, path, o->quant, o->defer != 0, o->progress, o->progress_user, out, msg,
+        return sdft_vdb::stream_to_nano(grid, path, o->quant, o->defer, o->progress, o->progress_user, out, msg,
                                         msg_len);
     return sdft_vdb::to_nano(*grid, o->quant, out, msg, msg_len);
 }

@@ -33,6 +33,8 @@ sdft_error sdft_vdb_open(const char *path, const char *name, const sdft_vdb_opti
         return sdft_fail(msg, msg_len, SDFT_EINVAL, "no options (NULL; sdft_vdb_options_defaults makes them)");
     if ((unsigned)o->quant > SDFT_QUANT_FPN)
         return sdft_fail(msg, msg_len, SDFT_EINVAL, "unknown quantization %d", (int)o->quant);
+    if ((unsigned)o->defer > 2)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "unknown defer %d (0, 1 or 2)", o->defer);
     if (o->defer && (!o->stream || (o->quant != SDFT_QUANT_NONE && o->quant != SDFT_QUANT_FP16)))
         return sdft_fail(msg, msg_len, SDFT_EINVAL, "deferred leaves need a streamed float or fp16 grid");
     return sdft_vdb_open_checked(path, name, o, out, msg, msg_len);

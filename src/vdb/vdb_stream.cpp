@@ -360,7 +360,7 @@ void release_deferred(void *user) noexcept
 }
 
 template <typename BuildT>
-sdft_error stream(openvdb::FloatGrid::Ptr grid_ptr, const char *path, bool defer, sdft_progress_fn progress,
+sdft_error stream(openvdb::FloatGrid::Ptr grid_ptr, const char *path, int defer, sdft_progress_fn progress,
                   void *progress_user, sdft_grid **out, char *msg, size_t msg_len)
 {
     openvdb::FloatGrid &grid = *grid_ptr;
@@ -415,14 +415,15 @@ sdft_error stream(openvdb::FloatGrid::Ptr grid_ptr, const char *path, bool defer
     s.write_grid(active);
     if (deferred)
         return sdft_grid_adopt_deferred(owned.release(), s.size, nullptr, release_buffer, fill_deferred<BuildT>,
-                                        deferred.release(), release_deferred, out, msg, msg_len);
+                                        deferred.release(), release_deferred,
+                                        defer == 2 ? SDFT_DEFER_ALWAYS : SDFT_DEFER_WHERE_EXACT, out, msg, msg_len);
     grid.clear(); // the OpenVDB tree's nodes (~100 MB at 4096^3) go before the bounds are built
     return sdft_grid_adopt_buffer(owned.release(), s.size, nullptr, release_buffer, out, msg, msg_len);
 }
 
 } // namespace
 
-sdft_error stream_to_nano(openvdb::FloatGrid::Ptr grid, const char *path, sdft_quant quant, bool defer,
+sdft_error stream_to_nano(openvdb::FloatGrid::Ptr grid, const char *path, sdft_quant quant, int defer,
                           sdft_progress_fn progress, void *progress_user, sdft_grid **out, char *msg, size_t msg_len)
 {
     return quant == SDFT_QUANT_FP16
