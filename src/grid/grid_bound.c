@@ -53,7 +53,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "grid_internal.h"
+#include "grid_cell.h"
 
 enum { MAX_CELLS = 1 << 24 }; /* 16M cells: ~34 MiB of corners (distance and sign) */
 
@@ -359,18 +359,10 @@ static int8_t tile_region(const sdft_grid *g, pnanovdb_readaccessor_t *acc, cons
  * sign of all its voxels. */
 static int8_t block_code(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const int32_t b[3], int sub)
 {
-    const grid_leaves *d = &g->leaves;
-    uint32_t w = 0;
-    int32_t r[3], l[3];
-    int in_chunk = 1;
-    for (int k = 0; k < 3; k++) {
-        r[k] = (b[k] >> 3) - d->r0[k], l[k] = b[k] & 7;
-        in_chunk &= (uint32_t)r[k] < (uint32_t)d->nr[k];
-    }
-    const uint32_t chunk = in_chunk ? d->top[((size_t)r[2] * d->nr[1] + (size_t)r[1]) * d->nr[0] + (size_t)r[0]] : 0u;
-    if (chunk)
-        w = d->chunk[(size_t)(chunk - 1u) * GRID_CHUNK_ENTRIES +
-                     (size_t)((l[2] * GRID_CHUNK_SIDE + l[1]) * GRID_CHUNK_SIDE + l[0])];
+    const int32_t first_voxel[3] = {b[0] * 8, b[1] * 8, b[2] * 8};
+    uint32_t local;
+    const uint32_t *e = directory_chunk(&g->leaves, first_voxel, &local);
+    const uint32_t w = e ? e[local] : 0u;
     const pnanovdb_coord_t o = {b[0] * 8 + (sub >= 0 ? 4 * (sub & 1) : 0),
                                 b[1] * 8 + (sub >= 0 ? 4 * (sub >> 1 & 1) : 0),
                                 b[2] * 8 + (sub >= 0 ? 4 * (sub >> 2) : 0)};

@@ -35,8 +35,8 @@ GRID_INLINE void grid_leaf_ready(const sdft_grid *g, uint64_t at, pnanovdb_coord
     const grid_deferred *d = &g->deferred;
     if (!d->state)
         return;
-    const uint64_t i = (at - d->first) / d->stride; /* below first wraps above count */
-    if (i < d->count && at == d->first + i * d->stride && __atomic_load_n(&d->state[i], __ATOMIC_ACQUIRE) != LEAF_READY)
+    const uint64_t i = deferred_leaf_index(d, at);
+    if (i < d->count && __atomic_load_n(&d->state[i], __ATOMIC_ACQUIRE) != LEAF_READY)
         sdft_grid_leaf_fill(g, at, ijk);
 }
 
@@ -135,6 +135,25 @@ GRID_INLINE float entry_value(const sdft_grid *g, pnanovdb_grid_type_t type, uin
     return leaf_value(g, type, w, n);
 }
 
+/* The directory's chunk holding voxel c's block, with *local that block's
+ * entry in it; NULL when c lies outside the regions or in one without a
+ * chunk (grid_leaves.c). */
+GRID_INLINE const uint32_t *directory_chunk(const grid_leaves *d, const int32_t c[3], uint32_t *local)
+{
+    uint32_t r[3];
+    for (int k = 0; k < 3; k++) {
+        r[k] = (uint32_t)((c[k] >> 6) - d->r0[k]);
+        if (r[k] >= (uint32_t)d->nr[k]) /* below r0 wraps above nr */
+            return NULL;
+    }
+    const uint32_t chunk = d->top[((size_t)r[2] * (size_t)d->nr[1] + r[1]) * (size_t)d->nr[0] + r[0]];
+    if (!chunk)
+        return NULL;
+    *local = ((uint32_t)c[0] >> 3 & 7u) + GRID_CHUNK_SIDE * ((uint32_t)c[1] >> 3 & 7u) +
+             GRID_CHUNK_SIDE * GRID_CHUNK_SIDE * ((uint32_t)c[2] >> 3 & 7u);
+    return d->chunk + (size_t)(chunk - 1u) * GRID_CHUNK_ENTRIES;
+}
+
 /* The eight values of the cell whose lowest corner is i0 (v[k]: corner
  * i0 + (k & 1, k >> 1 & 1, k >> 2 & 1)), read through the leaf directory
  * (grid_leaves.c); 0 when a corner lies in no block the directory knows
@@ -150,19 +169,11 @@ GRID_INLINE int cell_from_leaves(const sdft_grid *g, pnanovdb_grid_type_t type, 
     const grid_leaves *d = &g->leaves;
     const int32_t c[3] = {i0.x, i0.y, i0.z};
     const uint32_t lowest = tiles ? GRID_TILE_POSITIVE : GRID_TILE_MARKERS; /* entries below are unknown */
-    uint32_t r[3];
-    for (int k = 0; k < 3; k++) {
-        r[k] = (uint32_t)((c[k] >> 6) - d->r0[k]);
-        if (r[k] >= (uint32_t)d->nr[k]) /* below r0 wraps above nr */
-            return 0;
-    }
-    const uint32_t chunk = d->top[((size_t)r[2] * (size_t)d->nr[1] + r[1]) * (size_t)d->nr[0] + r[0]];
-    if (!chunk)
+    uint32_t local;
+    const uint32_t *e = directory_chunk(d, c, &local);
+    if (!e)
         return 0;
-    const uint32_t *e = d->chunk + (size_t)(chunk - 1u) * GRID_CHUNK_ENTRIES;
     const uint32_t ox = (uint32_t)c[0] & 7u, oy = (uint32_t)c[1] & 7u, oz = (uint32_t)c[2] & 7u;
-    const uint32_t local = ((uint32_t)c[0] >> 3 & 7u) + GRID_CHUNK_SIDE * ((uint32_t)c[1] >> 3 & 7u) +
-                           GRID_CHUNK_SIDE * GRID_CHUNK_SIDE * ((uint32_t)c[2] >> 3 & 7u);
     if (ox != 7u && oy != 7u && oz != 7u) { /* the whole cell in one block: two of every three cells */
         const uint32_t w = e[local];
         if (w < lowest)

@@ -54,7 +54,7 @@ void sdft_grid_deferred_free(sdft_grid *g)
 void sdft_grid_leaf_fill(const sdft_grid *g, uint64_t at, pnanovdb_coord_t ijk)
 {
     grid_deferred *d = (grid_deferred *)&g->deferred; /* its counts and states are atomic */
-    const uint64_t i = (at - d->first) / d->stride;
+    const uint64_t i = deferred_leaf_index(d, at);    /* grid_leaf_ready checked it is one */
     uint8_t *state = &d->state[i];
     uint8_t empty = LEAF_EMPTY;
     if (!__atomic_compare_exchange_n(state, &empty, LEAF_FILLING, 0, __ATOMIC_ACQUIRE, __ATOMIC_ACQUIRE)) {
@@ -75,15 +75,13 @@ void sdft_grid_leaf_fill(const sdft_grid *g, uint64_t at, pnanovdb_coord_t ijk)
 static void fill_visited(void *ctx, const int32_t b[3], uint64_t at, uint32_t word)
 {
     (void)word;
-    const sdft_grid *g = ctx;
-    if (__atomic_load_n(&g->deferred.state[(at - g->deferred.first) / g->deferred.stride], __ATOMIC_ACQUIRE) !=
-        LEAF_READY)
-        sdft_grid_leaf_fill(g, at, (pnanovdb_coord_t){b[0] * 8, b[1] * 8, b[2] * 8});
+    grid_leaf_ready(ctx, at, (pnanovdb_coord_t){b[0] * 8, b[1] * 8, b[2] * 8});
 }
 
 void sdft_grid_fill_all(const sdft_grid *g)
 {
-    if (g->deferred.state)
+    const grid_deferred *d = &g->deferred;
+    if (d->state && __atomic_load_n(&d->filled, __ATOMIC_RELAXED) < d->count) /* else every leaf is there */
         sdft_grid_each_leaf(g, fill_visited, (void *)(uintptr_t)g);
 }
 

@@ -63,6 +63,14 @@ typedef struct grid_deferred {
     sdft_defer how;
 } grid_deferred;
 
+/* The index of the deferred leaf at byte `at`, or d->count when `at` is not
+ * the start of one of them (below first wraps above count). */
+static inline uint64_t deferred_leaf_index(const grid_deferred *d, uint64_t at)
+{
+    const uint64_t i = (at - d->first) / d->stride;
+    return i < d->count && at == d->first + i * d->stride ? i : d->count;
+}
+
 /* One NanoVDB grid plus the numbers the sampler reads on every call,
  * decoded once from the grid's header. Immutable after loading. */
 struct sdft_grid {

@@ -37,15 +37,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "grid_internal.h"
+#include "grid_cell.h" /* has_directory */
 
 enum { MAX_REGIONS = 1 << 24 }; /* a 64 MiB top table: a box of 16384^3 voxels */
-
-static int has_directory(pnanovdb_grid_type_t t)
-{
-    return t == PNANOVDB_GRID_TYPE_FLOAT || t == PNANOVDB_GRID_TYPE_FP16 || t == PNANOVDB_GRID_TYPE_FP8 ||
-           t == PNANOVDB_GRID_TYPE_FP4;
-}
 
 /* The leaves the tree itself reaches (each lower node the tree reaches from
  * its origin, then its children), in the order of the lower nodes' array:
@@ -126,8 +120,7 @@ static void visit_leaf(void *ctx, pnanovdb_lower_handle_t lower, uint32_t n, con
     const sdft_grid *g = w->g;
     const grid_deferred *def = &g->deferred;
     const uint64_t leaf = pnanovdb_lower_get_child(g->type, g->buf, lower, n).address.byte_offset;
-    if (def->state &&
-        (leaf < def->first || (leaf - def->first) % def->stride || (leaf - def->first) / def->stride >= def->count))
+    if (def->state && deferred_leaf_index(def, leaf) == def->count)
         return; /* not one of the deferred grid's leaves: left to the accessor */
     w->visit(w->ctx, b, leaf, (uint32_t)((leaf + PNANOVDB_GRID_TYPE_GET(g->type, leaf_off_table)) / 4u));
 }

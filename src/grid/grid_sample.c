@@ -156,6 +156,29 @@ GRID_INLINE float sample_index(const sdft_grid *g, pnanovdb_grid_type_t type, pn
     return sample_tree(g, type, acc, x, level, bound);
 }
 
+/* The far bound's cell of index point x, taken to the nearest point xc of
+ * the cells' box: its lowest corner in the table (x fastest, rows of
+ * n[0] + 1), x's weights t in it, and |x - xc|^2 in cells^2 (*out2); NULL
+ * without a far bound, or for x NaN or absurdly far. */
+static inline const uint16_t *far_cell_corner(const grid_far *f, const float x[3], float t[3], float *out2)
+{
+    if (!f->corner)
+        return NULL;
+    int c[3];
+    *out2 = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        const float u = (x[k] - f->origin[k]) * f->inv_cell;
+        if (!(fabsf(u) < 1e9f)) /* NaN or absurdly far */
+            return NULL;
+        const float uc = sdft_minf(sdft_maxf(u, 0.0f), (float)f->n[k]);
+        *out2 += (u - uc) * (u - uc);
+        c[k] = (int)uc - ((int)uc == f->n[k]);
+        t[k] = uc - (float)c[k];
+    }
+    const size_t sx = (size_t)f->n[0] + 1, sy = sx * ((size_t)f->n[1] + 1);
+    return f->corner + (size_t)c[2] * sy + (size_t)c[1] * sx + (size_t)c[0];
+}
+
 /* The far bound of grid_bound.c at index point x (world units, signed), or
  * 0 where it does not apply: x in an occupied cell, or NaN. One cell read,
  * eight corner reads, one square root, no tree walk. A point outside the
@@ -166,21 +189,11 @@ GRID_INLINE float sample_index(const sdft_grid *g, pnanovdb_grid_type_t type, pn
 static inline float far_bound(const sdft_grid *g, const float x[3])
 {
     const grid_far *f = &g->far;
-    if (!f->corner)
+    float t[3], out2;
+    const uint16_t *d = far_cell_corner(f, x, t, &out2);
+    if (!d)
         return 0.0f;
-    float t[3], out2 = 0.0f;
-    int c[3];
-    for (int k = 0; k < 3; k++) {
-        const float u = (x[k] - f->origin[k]) * f->inv_cell;
-        if (!(fabsf(u) < 1e9f)) /* NaN or absurdly far */
-            return 0.0f;
-        const float uc = sdft_minf(sdft_maxf(u, 0.0f), (float)f->n[k]);
-        out2 += (u - uc) * (u - uc);
-        c[k] = (int)uc - ((int)uc == f->n[k]);
-        t[k] = uc - (float)c[k];
-    }
     const size_t sx = (size_t)f->n[0] + 1, sy = sx * ((size_t)f->n[1] + 1);
-    const uint16_t *d = f->corner + (size_t)c[2] * sy + (size_t)c[1] * sx + (size_t)c[0];
     const unsigned code = d[0] >> FAR_DISTANCE_BITS;
     if (code == 0)
         return 0.0f;
@@ -212,27 +225,16 @@ GRID_INLINE void prefetch_index(const sdft_grid *g, pnanovdb_grid_type_t type, c
     if (!has_directory(type) || !d->top || !(fabsf(x[0]) < 1e9f && fabsf(x[1]) < 1e9f && fabsf(x[2]) < 1e9f))
         return;
     const int32_t c[3] = {ifloor(x[0]), ifloor(x[1]), ifloor(x[2])};
-    uint32_t r[3];
-    for (int k = 0; k < 3; k++) {
-        r[k] = (uint32_t)((c[k] >> 6) - d->r0[k]);
-        if (r[k] >= (uint32_t)d->nr[k])
-            return;
-    }
-    const uint32_t chunk = d->top[((size_t)r[2] * (size_t)d->nr[1] + r[1]) * (size_t)d->nr[0] + r[0]];
-    const uint32_t local = ((uint32_t)c[0] >> 3 & 7u) + GRID_CHUNK_SIDE * ((uint32_t)c[1] >> 3 & 7u) +
-                           GRID_CHUNK_SIDE * GRID_CHUNK_SIDE * ((uint32_t)c[2] >> 3 & 7u);
-    const uint32_t w = chunk ? d->chunk[(size_t)(chunk - 1u) * GRID_CHUNK_ENTRIES + local] : 0u;
-    if (w < GRID_TILE_MARKERS) { /* no leaf: the far bound will be read */
+    uint32_t local;
+    const uint32_t *e = directory_chunk(d, c, &local);
+    const uint32_t w = e ? e[local] : 0u;
+    if (w < GRID_TILE_MARKERS) { /* no leaf known here: the far bound will be read */
         const grid_far *f = &g->far;
-        if (!f->corner)
+        float t[3], out2;
+        const uint16_t *corner = far_cell_corner(f, x, t, &out2);
+        if (!corner)
             return;
-        int cc[3];
-        for (int k = 0; k < 3; k++) {
-            const float u = sdft_minf(sdft_maxf((x[k] - f->origin[k]) * f->inv_cell, 0.0f), (float)f->n[k]);
-            cc[k] = (int)u - ((int)u == f->n[k]);
-        }
         const size_t sx = (size_t)f->n[0] + 1, sy = sx * ((size_t)f->n[1] + 1);
-        const uint16_t *corner = f->corner + (size_t)cc[2] * sy + (size_t)cc[1] * sx + (size_t)cc[0];
         __builtin_prefetch(corner), __builtin_prefetch(corner + sx);
         __builtin_prefetch(corner + sy), __builtin_prefetch(corner + sy + sx);
         return;
