@@ -153,14 +153,27 @@ template <typename BuildT> struct Stream {
         return reinterpret_cast<NanoLeaf *>(buf + at_leaf + i * NanoLeaf::DataType::memUsage());
     }
 
+    // A leaf's header: zeroed (the values too, for Fp16, whose header and
+    // codes interleave with padding), its origin and active mask. Returns
+    // its data, for the values.
+    static typename NanoLeaf::DataType *write_header(const OpenLeaf &from, NanoLeaf *to)
+    {
+        auto *data = to->data();
+        if constexpr (std::is_same<BuildT, float>::value) /* the header; the values follow */
+            std::memset(static_cast<void *>(data), 0,
+                        size_t(reinterpret_cast<uint8_t *>(data->mValues) - reinterpret_cast<uint8_t *>(data)));
+        else
+            std::memset(static_cast<void *>(data), 0, NanoLeaf::DataType::memUsage());
+        data->setOrigin(from.origin());
+        data->mValueMask = from.valueMask();
+        return data;
+    }
+
     // A leaf whose values could not be read: its header and masks, NaN
     // values (rays see no surface there).
     static void write_unreadable_leaf(const OpenLeaf &from, NanoLeaf *to)
     {
-        auto *data = to->data();
-        std::memset(static_cast<void *>(data), 0, NanoLeaf::DataType::memUsage());
-        data->setOrigin(from.origin());
-        data->mValueMask = from.valueMask();
+        auto *data = write_header(from, to);
         const float nan = std::numeric_limits<float>::quiet_NaN();
         if constexpr (std::is_same<BuildT, float>::value)
             std::fill(data->mValues, data->mValues + 512, nan);
@@ -171,14 +184,7 @@ template <typename BuildT> struct Stream {
     // One leaf's values, from the file, into its NanoVDB leaf.
     static void write_leaf(const OpenLeaf &from, NanoLeaf *to)
     {
-        auto *data = to->data();
-        if constexpr (std::is_same<BuildT, float>::value) /* the header; the values follow */
-            std::memset(static_cast<void *>(data), 0,
-                        size_t(reinterpret_cast<uint8_t *>(data->mValues) - reinterpret_cast<uint8_t *>(data)));
-        else
-            std::memset(static_cast<void *>(data), 0, NanoLeaf::DataType::memUsage());
-        data->setOrigin(from.origin());
-        data->mValueMask = from.valueMask();
+        auto *data = write_header(from, to);
         const float *src = from.buffer().data(); // reads the leaf from the mapped file
         if constexpr (std::is_same<BuildT, float>::value) {
             std::memcpy(data->mValues, src, sizeof(data->mValues));
@@ -343,7 +349,8 @@ template <typename BuildT> int fill_deferred(void *user, uint64_t index, void *l
 }
 
 // The deferred grid's OpenVDB tree goes in parallel: a million leaves,
-// each with its file reference, take a while to free one by one.
+// each with its file reference, take a while to free one by one (spot at
+// 4096^3: 0.24 s to free the grid, against 0.30 s deleting it whole).
 void release_deferred(void *user) noexcept
 {
     std::unique_ptr<Deferred> d(static_cast<Deferred *>(user));
