@@ -1092,6 +1092,15 @@ static int fill_from(void *user, uint64_t index, void *leaf)
 }
 
 static void release_source(void *user) { ((fill_source *)user)->released++; }
+
+/* A 64-byte aligned copy of n bytes, for a grid to adopt (release_buffer frees it). */
+static unsigned char *aligned_copy(const unsigned char *bytes, size_t n)
+{
+    unsigned char *copy = aligned_alloc(64, (n + 63) & ~(size_t)63);
+    assert_non_null(copy);
+    memcpy(copy, bytes, n);
+    return copy;
+}
 static int released_buffers;
 static void release_buffer(void *data) { free(data), released_buffers++; }
 
@@ -1116,9 +1125,7 @@ static void test_deferred_fill_and_failure(void **state)
                        .failing = leaves / 2,
                        .calls = calloc(leaves, sizeof(int))};
     assert_non_null(src.calls);
-    unsigned char *buf = aligned_alloc(64, (n + 63) & ~(size_t)63);
-    assert_non_null(buf);
-    memcpy(buf, bytes, src.first);
+    unsigned char *buf = aligned_copy(bytes, n);
     memset(buf + src.first, 0xA5, n - src.first); /* the leaves: not there yet */
     char msg[256];
     sdft_grid *g = NULL;
@@ -1162,20 +1169,14 @@ static void test_deferred_fill_and_failure(void **state)
     assert_int_equal(released_buffers, 1);
 
     /* Refusals release what they were given, once. */
-    unsigned char *again = aligned_alloc(64, (n + 63) & ~(size_t)63);
-    assert_non_null(again);
-    memcpy(again, bytes, n);
-    assert_int_equal(sdft_grid_adopt_deferred(again, n, NULL, release_buffer, NULL, &src, release_source,
-                                              SDFT_DEFER_ALWAYS, &g, msg, sizeof msg),
+    assert_int_equal(sdft_grid_adopt_deferred(aligned_copy(bytes, n), n, NULL, release_buffer, NULL, &src,
+                                              release_source, SDFT_DEFER_ALWAYS, &g, msg, sizeof msg),
                      SDFT_EINVAL);
     assert_null(g);
     assert_int_equal(src.released, 2);
     assert_int_equal(released_buffers, 2);
-    unsigned char *third = aligned_alloc(64, (n + 63) & ~(size_t)63);
-    assert_non_null(third);
-    memcpy(third, bytes, n);
-    assert_int_equal(sdft_grid_adopt_deferred(third, n, NULL, release_buffer, fill_from, &src, release_source,
-                                              (sdft_defer)7, &g, msg, sizeof msg),
+    assert_int_equal(sdft_grid_adopt_deferred(aligned_copy(bytes, n), n, NULL, release_buffer, fill_from, &src,
+                                              release_source, (sdft_defer)7, &g, msg, sizeof msg),
                      SDFT_EINVAL);
     assert_int_equal(src.released, 3);
     assert_int_equal(released_buffers, 3);
