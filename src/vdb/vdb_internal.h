@@ -72,7 +72,7 @@ sdft_error stream_to_nano(openvdb::FloatGrid::Ptr grid, const char *path, sdft_q
 
 // The caller's progress callback (sdftrace/vdb.h), called about once per
 // percent, one call at a time, with a fraction that never decreases; and
-// its answer, to stop. step() from any thread, once per unit of work.
+// its answer, to stop. step(n) from any thread, once per batch of n units.
 struct Progress {
     sdft_progress_fn fn = nullptr;
     void *user = nullptr;
@@ -82,9 +82,10 @@ struct Progress {
     std::atomic<bool> stop{false};
     std::mutex call;
 
-    void step()
+    // n more units of work done (one call per batch: threads share the count).
+    void step(uint64_t n = 1)
     {
-        const uint64_t now = done.fetch_add(1) + 1;
+        const uint64_t now = done.fetch_add(n) + n;
         if (!fn || stop)
             return;
         const int pct = int(100 * now / total);
