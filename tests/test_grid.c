@@ -1,5 +1,6 @@
 /* sdftrace tests — discrete grids: trilinear sampling, the tree bound, a
  * grid render against the procedural one, file round trips, every error. */
+#include <limits.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -441,6 +442,17 @@ static void test_far_bound_never_exceeds_distance(void **state)
     sdft_grid_free(g);
 }
 
+/* The far bound tests' grids: a scene's (the figure at 96^3) and a union of
+ * spheres at 128^3. */
+static void bake_far_bound_grids(sdft_grid *grids[2])
+{
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    sdft_field spheres = spheres_field();
+    grids[0] = bake(&sc->field, 96, 0, NULL);
+    grids[1] = bake(&spheres, 128, 0, NULL);
+}
+
 /* The far bound's cells, classified through the leaf directory (regions
  * without leaves whole, blocks by their masks and tile markers), are the
  * cells the tree walk finds: the same corner table, bit for bit, for a
@@ -449,10 +461,8 @@ static void test_far_bound_never_exceeds_distance(void **state)
 static void test_far_cells_from_directory_match_tree(void **state)
 {
     (void)state;
-    const sdft_scene *sc = sdft_scene_find("figure");
-    assert_non_null(sc);
-    sdft_field spheres = spheres_field();
-    sdft_grid *grids[2] = {bake(&sc->field, 96, 0, NULL), bake(&spheres, 128, 0, NULL)};
+    sdft_grid *grids[2];
+    bake_far_bound_grids(grids);
     for (int i = 0; i < 2; i++)
         for (size_t most = 1u << 24; most >= 128; most /= 16) { /* 4-voxel cells, then 8, 16 */
             sdft_grid *g = grids[i];
@@ -474,6 +484,81 @@ static void test_far_cells_from_directory_match_tree(void **state)
             assert_true(occupied > 10);
             free(a.corner);
         }
+    for (int i = 0; i < 2; i++)
+        sdft_grid_free(grids[i]);
+}
+
+/* The far bound's corner distances are the Euclidean distances, in cells,
+ * from each corner to the nearest corner of an occupied cell, found here by
+ * brute force over every such corner, and stored as the table stores them:
+ * quarters of a voxel, rounded down, saturated. For a scene's grid and a
+ * union of spheres (lines of corners between two shells, whose nearest site
+ * may lie ahead or behind), at 4-voxel cells and at coarser ones. */
+static void test_far_corner_distances_match_brute_force(void **state)
+{
+    (void)state;
+    sdft_grid *grids[2];
+    bake_far_bound_grids(grids);
+    size_t ahead_seen = 0;
+    for (int i = 0; i < 2; i++)
+        for (size_t most = 1u << 24; most >= 1u << 12; most >>= 12) {
+            sdft_grid *g = grids[i];
+            sdft_grid_far_free(g);
+            assert_int_equal(sdft_grid_far_build_cells(g, most), 0);
+            const grid_far *f = &g->far;
+            const int nv[3] = {f->n[0] + 1, f->n[1] + 1, f->n[2] + 1};
+            const size_t corners = (size_t)nv[0] * nv[1] * nv[2];
+            unsigned char *site = calloc(corners, 1);
+            int(*sites)[3] = malloc(corners * sizeof *sites);
+            assert_non_null(site);
+            assert_non_null(sites);
+            size_t count = 0;
+            for (int z = 0; z < f->n[2]; z++)
+                for (int y = 0; y < f->n[1]; y++)
+                    for (int x = 0; x < f->n[0]; x++)
+                        if ((f->corner[((size_t)z * nv[1] + y) * nv[0] + x] >> FAR_DISTANCE_BITS) == 0)
+                            for (int k = 0; k < 8; k++) /* an occupied cell: its corners are sites */
+                                site[((size_t)(z + (k >> 2)) * nv[1] + (size_t)(y + (k >> 1 & 1))) * nv[0] +
+                                     (size_t)(x + (k & 1))] = 1;
+            for (int z = 0; z < nv[2]; z++)
+                for (int y = 0; y < nv[1]; y++)
+                    for (int x = 0; x < nv[0]; x++)
+                        if (site[((size_t)z * nv[1] + y) * nv[0] + x])
+                            sites[count][0] = x, sites[count][1] = y, sites[count][2] = z, count++;
+            assert_true(count > 10);
+            const double most_code = (double)((1u << FAR_DISTANCE_BITS) - 1u);
+            size_t ahead = 0; /* corners whose nearest site along x lies ahead of them, not behind */
+            for (int z = 0; z < nv[2]; z++)
+                for (int y = 0; y < nv[1]; y++)
+                    for (int x = 0; x < nv[0]; x++) {
+                        long best = LONG_MAX;
+                        for (size_t j = 0; j < count; j++) {
+                            const long dx = x - sites[j][0], dy = y - sites[j][1], dz = z - sites[j][2];
+                            const long d2 = dx * dx + dy * dy + dz * dz;
+                            best = d2 < best ? d2 : best;
+                        }
+                        const double q = FAR_DISTANCE_SCALE * f->cell * sqrt((double)best);
+                        const unsigned want = (unsigned)(q < most_code ? q : most_code);
+                        const unsigned got =
+                            f->corner[((size_t)z * nv[1] + y) * nv[0] + x] & ((1u << FAR_DISTANCE_BITS) - 1u);
+                        if (got != want)
+                            fail_msg("cells of %d voxels, corner (%d, %d, %d): distance %u, brute force %u", f->cell, x,
+                                     y, z, got, want);
+                        int behind = -1, after = -1;
+                        for (int b = x - 1; b >= 0 && behind < 0; b--)
+                            behind = site[((size_t)z * nv[1] + y) * nv[0] + b] ? x - b : -1;
+                        for (int a = x + 1; a < nv[0] && after < 0; a++)
+                            after = site[((size_t)z * nv[1] + y) * nv[0] + a] ? a - x : -1;
+                        ahead +=
+                            behind > 0 && after > 0 && after < behind && !site[((size_t)z * nv[1] + y) * nv[0] + x];
+                    }
+            print_message("cells of %d voxels: %zu corners, %zu sites, %zu nearer a site ahead\n", f->cell, corners,
+                          count, ahead);
+            ahead_seen += ahead;
+            free(site);
+            free(sites);
+        }
+    assert_true(ahead_seen > 100); /* between the spheres */
     for (int i = 0; i < 2; i++)
         sdft_grid_free(grids[i]);
 }
@@ -1520,6 +1605,7 @@ int main(void)
         cmocka_unit_test(test_far_bound_never_exceeds_distance),
         cmocka_unit_test(test_far_bound_is_continuous),
         cmocka_unit_test(test_far_cells_from_directory_match_tree),
+        cmocka_unit_test(test_far_corner_distances_match_brute_force),
         cmocka_unit_test(test_grid_trace_is_safe),
         cmocka_unit_test(test_cell_root_against_brute_force),
         cmocka_unit_test(test_exact_root_on_a_grid),

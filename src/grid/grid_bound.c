@@ -94,7 +94,7 @@ static void edt_line(const double *f, double *out, int n, int *v, double *z)
     }
 }
 
-enum { LANES = 8 }; /* adjacent x lines transformed together: one cache line per gather */
+enum { LANES = 16 }; /* adjacent x lines transformed together: a cache line of floats per gather */
 
 /* The squared distances are stored as floats between passes (half the
  * memory of doubles): sums of squared integers, exact below 2^24 cells^2;
@@ -107,10 +107,35 @@ static inline float squared_store(double v)
     return v < SQUARED_MOST ? (float)v : v >= HUGE_VAL ? INFINITY : (float)SQUARED_MOST;
 }
 
+/* The first pass, along x, of a transform whose input is sites (0) and no
+ * site (INFINITY): each value's squared distance to the nearest site on its
+ * line, in place. That is the lower envelope of edt_line for such input (the
+ * parabolas all have f = 0), found by two sweeps: the distance to the last
+ * site before, then to the next site after. */
+static void nearest_site_line(float *line, int n)
+{
+    int last = -1;
+    for (int q = 0; q < n; q++) {
+        if (line[q] == 0.0f)
+            last = q;
+        line[q] = last >= 0 ? (float)(q - last) : INFINITY;
+    }
+    int next = -1;
+    for (int q = n - 1; q >= 0; q--) {
+        if (line[q] == 0.0f)
+            next = q;
+        const float after = next >= 0 ? (float)(next - q) : INFINITY;
+        const float nearest = line[q] < after ? line[q] : after;
+        line[q] = squared_store((double)nearest * nearest);
+    }
+}
+
 /* Squared distance transform of d (n[0] x n[1] x n[2], x fastest), in
- * place: the 1-D transform along x, then y, then z. Along y and z a line's
- * values are a row apart, so LANES lines with adjacent x go together and
- * each gather reads LANES contiguous values; lines run in parallel. */
+ * place, for input d = 0 at the sites and INFINITY elsewhere: the 1-D
+ * transform along x (nearest_site_line), then y, then z. Along y and z a
+ * line's values are a row apart, so LANES lines with adjacent x go
+ * together and each gather reads LANES contiguous values; lines run in
+ * parallel. */
 static int edt3(float *d, const int n[3])
 {
     const int m = n[0] > n[1] ? (n[0] > n[2] ? n[0] : n[2]) : (n[1] > n[2] ? n[1] : n[2]);
@@ -131,9 +156,12 @@ static int edt3(float *d, const int n[3])
                 if (failed)
                     continue;
                 const int i = (int)(item % across), j = (int)(item / across);
-                float *line = axis == 0 ? d + (size_t)i * stride[1] + (size_t)j * stride[2]
-                                        : d + (size_t)i * LANES + (size_t)j * stride[other];
-                const int count = axis == 0 ? 1 : (n[0] - i * LANES < LANES ? n[0] - i * LANES : LANES);
+                if (axis == 0) {
+                    nearest_site_line(d + (size_t)i * stride[1] + (size_t)j * stride[2], n[0]);
+                    continue;
+                }
+                float *line = d + (size_t)i * LANES + (size_t)j * stride[other];
+                const int count = n[0] - i * LANES < LANES ? n[0] - i * LANES : LANES;
                 for (int q = 0; q < n[axis]; q++)
                     for (int l = 0; l < count; l++)
                         f[(size_t)l * m + q] = line[(size_t)q * stride[axis] + l];
@@ -486,33 +514,51 @@ sdft_error sdft_grid_far_build_cells(sdft_grid *g, size_t most_cells)
         free(sign), free(d2), free(corner);
         return SDFT_ENOMEM;
     }
-    /* Sites: the corners of occupied cells. */
-    for (size_t i = 0; i < nvert; i++)
-        d2[i] = INFINITY;
-    for (int z = 0; z < n[2]; z++)
-        for (int y = 0; y < n[1]; y++)
+    /* Sites: the corners of occupied cells. A row of corners (y, z) is the
+     * corner row of the cell rows (y - 1 or y, z - 1 or z); corner x is a
+     * site when cell x - 1 or x of one of them is occupied. Rows in
+     * parallel, each written by one thread. */
+#pragma omp parallel for schedule(static)
+    for (long row = 0; row < (long)nv[1] * nv[2]; row++) {
+        const int y = (int)(row % nv[1]), z = (int)(row / nv[1]);
+        float *out = d2 + (size_t)row * nv[0];
+        for (int x = 0; x < nv[0]; x++)
+            out[x] = INFINITY;
+        for (int k = 0; k < 4; k++) {
+            const int cy = y - (k & 1), cz = z - (k >> 1);
+            if (cy < 0 || cz < 0 || cy >= n[1] || cz >= n[2])
+                continue;
+            const int8_t *cells = sign + ((size_t)cz * n[1] + (size_t)cy) * n[0];
             for (int x = 0; x < n[0]; x++)
-                if (sign[((size_t)z * n[1] + y) * n[0] + x] == 0)
-                    for (int k = 0; k < 8; k++)
-                        d2[((size_t)(z + (k >> 2)) * nv[1] + (size_t)(y + (k >> 1 & 1))) * nv[0] +
-                           (size_t)(x + (k & 1))] = 0.0f;
+                if (cells[x] == 0)
+                    out[x] = out[x + 1] = 0.0f;
+        }
+    }
     if (edt3(d2, nv)) {
         free(sign), free(d2), free(corner);
         return SDFT_ENOMEM;
     }
+    /* Each corner: its distance, in quarters of a voxel rounded down
+     * (truncated: >= 0) and saturated, and, for the lowest corner of a cell,
+     * that cell's code. Rows of corners in parallel. */
     const double most = (double)((1u << FAR_DISTANCE_BITS) - 1u);
 #pragma omp parallel for schedule(static)
-    for (long i = 0; i < (long)nvert; i++) { /* quarters of a voxel, rounded down (truncated: >= 0); saturated */
-        const double q = FAR_DISTANCE_SCALE * S * sqrt((double)d2[i]);
-        corner[i] = (uint16_t)(q < most ? q : most);
+    for (long row = 0; row < (long)nv[1] * nv[2]; row++) {
+        const int y = (int)(row % nv[1]), z = (int)(row / nv[1]);
+        const float *in = d2 + (size_t)row * nv[0];
+        uint16_t *out = corner + (size_t)row * nv[0];
+        for (int x = 0; x < nv[0]; x++) {
+            const double q = FAR_DISTANCE_SCALE * S * sqrt((double)in[x]);
+            out[x] = (uint16_t)(q < most ? q : most);
+        }
+        if (y >= n[1] || z >= n[2])
+            continue;
+        const int8_t *cells = sign + ((size_t)z * n[1] + (size_t)y) * n[0];
+        for (int x = 0; x < n[0]; x++) {
+            const unsigned code = cells[x] > 0 ? FAR_EMPTY_POSITIVE : cells[x] < 0 ? FAR_EMPTY_NEGATIVE : 0;
+            out[x] |= (uint16_t)(code << FAR_DISTANCE_BITS);
+        }
     }
-    for (int z = 0; z < n[2]; z++)
-        for (int y = 0; y < n[1]; y++)
-            for (int x = 0; x < n[0]; x++) {
-                const int8_t sg = sign[((size_t)z * n[1] + y) * n[0] + x];
-                const unsigned code = sg > 0 ? FAR_EMPTY_POSITIVE : sg < 0 ? FAR_EMPTY_NEGATIVE : 0;
-                corner[((size_t)z * nv[1] + y) * nv[0] + x] |= (uint16_t)(code << FAR_DISTANCE_BITS);
-            }
     free(d2);
     free(sign);
     far->corner = corner;
