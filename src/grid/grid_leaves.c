@@ -70,12 +70,11 @@ static uint64_t reached_node(const sdft_grid *g, pnanovdb_readaccessor_t *acc, i
     return found <= (uint32_t)level && reached == at ? at : 0;
 }
 
-/* Calls visit(ctx, lower, n, block) for each entry n of each lower node
- * the tree reaches whose child bit is `children` (1: leaves, 0: tiles),
- * block the entry's 8^3 block (index >> 3); lower nodes in parallel. */
-typedef void (*lower_visit)(void *ctx, pnanovdb_lower_handle_t lower, uint32_t n, const int32_t b[3]);
+/* Calls visit(ctx, lower) for each lower node the tree reaches, in
+ * parallel. */
+typedef void (*lower_node_visit)(void *ctx, pnanovdb_lower_handle_t lower);
 
-static void each_lower_entry(const sdft_grid *g, int children, lower_visit visit, void *ctx)
+static void each_lower(const sdft_grid *g, lower_node_visit visit, void *ctx)
 {
     pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
     const uint64_t count = pnanovdb_tree_get_node_count_lower(g->buf, tree);
@@ -86,26 +85,54 @@ static void each_lower_entry(const sdft_grid *g, int children, lower_visit visit
 #pragma omp for schedule(dynamic, 16)
         for (long li = 0; li < (long)count; li++) {
             const uint64_t at = reached_node(g, &acc, 1, (uint64_t)li);
-            if (!at)
-                continue;
-            pnanovdb_lower_handle_t lower = {{at}};
-            const pnanovdb_coord_t o = pnanovdb_lower_get_bbox_min(g->buf, lower);
-            for (uint32_t n = 0; n < 4096u; n++) {
-                if (children && (n & 31u) == 0 &&
-                    !pnanovdb_read_uint32(g->buf, pnanovdb_address_offset(lower.address, PNANOVDB_LOWER_OFF_CHILD_MASK +
-                                                                                             4u * (n >> 5)))) {
-                    n += 31u; /* 32 entries without a child */
-                    continue;
-                }
-                if ((int)pnanovdb_lower_get_child_mask(g->buf, lower, n) != children)
-                    continue;
-                const int32_t b[3] = {((o.x & ~127) >> 3) + (int32_t)(n >> 8),
-                                      ((o.y & ~127) >> 3) + (int32_t)(n >> 4 & 15u),
-                                      ((o.z & ~127) >> 3) + (int32_t)(n & 15u)};
-                visit(ctx, lower, n, b);
-            }
+            if (at)
+                visit(ctx, (pnanovdb_lower_handle_t){{at}});
         }
     }
+}
+
+/* The block (index >> 3) of entry n of a lower node whose origin is o. */
+static inline void lower_entry_block(pnanovdb_coord_t o, uint32_t n, int32_t b[3])
+{
+    b[0] = ((o.x & ~127) >> 3) + (int32_t)(n >> 8);
+    b[1] = ((o.y & ~127) >> 3) + (int32_t)(n >> 4 & 15u);
+    b[2] = ((o.z & ~127) >> 3) + (int32_t)(n & 15u);
+}
+
+/* Calls visit(ctx, lower, n, block) for each entry n with a child (a leaf)
+ * of each lower node the tree reaches; lower nodes in parallel. */
+typedef void (*lower_visit)(void *ctx, pnanovdb_lower_handle_t lower, uint32_t n, const int32_t b[3]);
+
+typedef struct child_walk {
+    const sdft_grid *g;
+    lower_visit visit;
+    void *ctx;
+} child_walk;
+
+static void visit_children(void *ctx, pnanovdb_lower_handle_t lower)
+{
+    const child_walk *w = ctx;
+    const sdft_grid *g = w->g;
+    const pnanovdb_coord_t o = pnanovdb_lower_get_bbox_min(g->buf, lower);
+    for (uint32_t n = 0; n < 4096u; n++) {
+        if ((n & 31u) == 0 &&
+            !pnanovdb_read_uint32(g->buf,
+                                  pnanovdb_address_offset(lower.address, PNANOVDB_LOWER_OFF_CHILD_MASK + 4u * (n >> 5)))) {
+            n += 31u; /* 32 entries without a child */
+            continue;
+        }
+        if (!pnanovdb_lower_get_child_mask(g->buf, lower, n))
+            continue;
+        int32_t b[3];
+        lower_entry_block(o, n, b);
+        w->visit(w->ctx, lower, n, b);
+    }
+}
+
+static void each_lower_child(const sdft_grid *g, lower_visit visit, void *ctx)
+{
+    child_walk w = {g, visit, ctx};
+    each_lower(g, visit_children, &w);
 }
 
 typedef struct leaf_walk {
@@ -128,7 +155,7 @@ static void visit_leaf(void *ctx, pnanovdb_lower_handle_t lower, uint32_t n, con
 void sdft_grid_each_leaf(const sdft_grid *g, leaf_visit visit, void *ctx)
 {
     leaf_walk w = {g, visit, ctx};
-    each_lower_entry(g, 1, visit_leaf, &w);
+    each_lower_child(g, visit_leaf, &w);
 }
 
 /* The chunks a block appears in: its own region's, and the region before
@@ -192,37 +219,70 @@ static void fill_leaf(void *ctx, const int32_t b[3], uint64_t at, uint32_t word)
     each_place(bl->d, b, set_entry, &word);
 }
 
-static void set_tile(grid_leaves *d, size_t ri, uint32_t local, void *arg)
-{
-    if (!d->top[ri])
-        return; /* no chunk here: nothing to complete */
-    uint32_t *e = &d->chunk[(size_t)(d->top[ri] - 1u) * GRID_CHUNK_ENTRIES + local];
-    if (*e == 0)
-        *e = *(const uint32_t *)arg;
-}
-
 /* The tiles of the lower nodes (8^3 blocks without a leaf) whose value is
  * +-background, marked in the chunks that exist. Like the leaves, a lower
- * node is entered only when the tree itself reaches it from its origin. */
+ * node is entered only when the tree itself reaches it from its origin.
+ * A lower node spans 2^3 regions; a block of one is entered in that
+ * region's chunk and, where its offset along some axes is 0, in the apron
+ * of the regions before along them (each_place). Those chunks are looked up
+ * once per region, and a region none of them exists for is skipped: about
+ * half of them, in a level set's shell. Each entry belongs to one block and
+ * so to one lower node, which one thread visits. */
 typedef struct tile_walk {
     const sdft_grid *g;
     grid_leaves *d;
 } tile_walk;
 
-static void visit_tile(void *ctx, pnanovdb_lower_handle_t lower, uint32_t n, const int32_t b[3])
+static void mark_lower_tiles(void *ctx, pnanovdb_lower_handle_t lower)
 {
     const tile_walk *w = ctx;
     const sdft_grid *g = w->g;
-    const float v = pnanovdb_read_float(g->buf, pnanovdb_lower_get_table_address(g->type, g->buf, lower, n));
-    uint32_t marker = v == g->background ? GRID_TILE_POSITIVE : v == -g->background ? GRID_TILE_NEGATIVE : 0u;
-    if (marker)
-        each_place(w->d, b, set_tile, &marker);
+    grid_leaves *d = w->d;
+    const pnanovdb_coord_t o = pnanovdb_lower_get_bbox_min(g->buf, lower);
+    int32_t b0[3];
+    lower_entry_block(o, 0, b0);
+    for (int q = 0; q < 8; q++) {
+        uint32_t *chunk[8]; /* [c]: the chunk of the region q - c (c's bits: one region back along x, y, z) */
+        int any = 0;
+        for (int c = 0; c < 8; c++) {
+            int32_t r[3];
+            for (int k = 0; k < 3; k++)
+                r[k] = (b0[k] >> 3) + (q >> k & 1) - (c >> k & 1);
+            const size_t ri = region_index(d, r);
+            chunk[c] = ri != SIZE_MAX && d->top[ri] ? d->chunk + (size_t)(d->top[ri] - 1u) * GRID_CHUNK_ENTRIES : NULL;
+            any |= chunk[c] != NULL;
+        }
+        if (!any)
+            continue;
+        for (uint32_t l = 0; l < 512u; l++) {
+            const uint32_t lx = l >> 6, ly = l >> 3 & 7u, lz = l & 7u;
+            const uint32_t n = ((uint32_t)(q & 1) * 8u + lx) << 8 | ((uint32_t)(q >> 1 & 1) * 8u + ly) << 4 |
+                               ((uint32_t)(q >> 2) * 8u + lz);
+            if (pnanovdb_lower_get_child_mask(g->buf, lower, n))
+                continue;
+            const float v = pnanovdb_read_float(g->buf, pnanovdb_lower_get_table_address(g->type, g->buf, lower, n));
+            const uint32_t marker = v == g->background    ? GRID_TILE_POSITIVE
+                                    : v == -g->background ? GRID_TILE_NEGATIVE
+                                                          : 0u;
+            if (!marker)
+                continue;
+            const int at_zero = (lx == 0) | (ly == 0) << 1 | (lz == 0) << 2;
+            for (int c = 0; c < 8; c++) {
+                if ((c & ~at_zero) || !chunk[c]) /* an apron place needs offset 0 along each of c's axes */
+                    continue;
+                const uint32_t x = c & 1 ? 8u : lx, y = c & 2 ? 8u : ly, z = c & 4 ? 8u : lz;
+                uint32_t *e = &chunk[c][(z * GRID_CHUNK_SIDE + y) * GRID_CHUNK_SIDE + x];
+                if (*e == 0)
+                    *e = marker;
+            }
+        }
+    }
 }
 
 static void mark_tiles(const sdft_grid *g, grid_leaves *d)
 {
     tile_walk w = {g, d};
-    each_lower_entry(g, 0, visit_tile, &w);
+    each_lower(g, mark_lower_tiles, &w);
 }
 
 sdft_error sdft_grid_leaves_build(sdft_grid *g)
