@@ -310,18 +310,24 @@ static int rect_sees_box(const sdft_view *v, float x0, float y0, float x1, float
 static void miss_rect(const frame *fr, int x0, int y0, int x1, int y1, sdft_image *img)
 {
     const int w = fr->rp->width;
-    for (int y = y0; y < y1; y++)
+    const size_t n = (size_t)(x1 - x0);
+    for (int y = y0; y < y1; y++) {
+        const size_t row = (size_t)y * (size_t)w + (size_t)x0;
         for (int x = x0; x < x1; x++) {
-            const size_t i = (size_t)y * (size_t)w + (size_t)x;
+            const size_t i = row + (size_t)(x - x0);
             const sdft_vec3 rgb = fr->rp->depth_only
                                       ? sdft_v3(0, 0, 0)
                                       : sky(sdft_view_ray(&fr->view, (float)x + 0.5f, (float)y + 0.5f).dir);
             img->rgb[3 * i] = rgb.x, img->rgb[3 * i + 1] = rgb.y, img->rgb[3 * i + 2] = rgb.z;
-            img->normal[3 * i] = img->normal[3 * i + 1] = img->normal[3 * i + 2] = 0.0f;
             img->depth[i] = INFINITY;
-            img->steps[i] = img->fallbacks[i] = img->primary_steps[i] = 0;
-            img->status[i] = (uint8_t)SDFT_MISS;
         }
+        /* The planes that are zero on a miss, a row at a time. */
+        memset(img->normal + 3 * row, 0, 3 * n * sizeof *img->normal);
+        memset(img->steps + row, 0, n * sizeof *img->steps);
+        memset(img->fallbacks + row, 0, n * sizeof *img->fallbacks);
+        memset(img->primary_steps + row, 0, n * sizeof *img->primary_steps);
+        memset(img->status + row, SDFT_MISS, n * sizeof *img->status);
+    }
 }
 
 static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *img, tile_stats *ts)
