@@ -315,6 +315,19 @@ static int open_grid(const render_opts *o, render_source *src, char *msg, size_t
 
 static void close_field(render_source *src) { sdft_grid_free(src->grid); }
 
+/* Whether render frees its field before the process exits. Not in a
+ * release build: once the image is written the process ends, and the
+ * kernel takes its memory back at once, where freeing a big grid piece by
+ * piece does not come cheap (a deferred 4096^3 grid keeps OpenVDB's tree,
+ * a million leaves each with its own file reference: 0.2 s of a 1.8 s run
+ * on two cores), the way compilers skip freeing at exit. Sanitizer builds
+ * free it, so that LeakSanitizer accounts for every allocation. */
+#if defined(__SANITIZE_ADDRESS__)
+enum { FREE_AT_EXIT = 1 };
+#else
+enum { FREE_AT_EXIT = 0 };
+#endif
+
 static sdft_render_params make_params(const render_opts *o, const render_source *src)
 {
     sdft_render_params p = sdft_render_defaults();
@@ -466,7 +479,8 @@ int cmd_render(int argc, char **argv)
     else if (o.json)
         print_json(&src, &p, &st);
     sdft_image_free(&img);
-    close_field(&src);
+    if (FREE_AT_EXIT)
+        close_field(&src);
     if (!rc && !o.quiet)
         print_summary(&o, &p, &st, omp_get_wtime() - start);
     return rc;
