@@ -22,6 +22,7 @@ static void test_help(void **state)
     assert_non_null(strstr(out, "--band"));
     assert_non_null(strstr(out, "--full"));
     assert_non_null(strstr(out, "--fp16"));
+    assert_non_null(strstr(out, "--quiet"));
     assert_int_equal(tu_run(out, sizeof out, "%s --help", SDFT_CLI), 0);
     assert_non_null(strstr(out, "bake"));
     assert_int_equal(tu_run(out, sizeof out, "%s render --help", SDFT_CLI), 0);
@@ -58,6 +59,23 @@ static void test_bad_input(void **state)
     assert_int_not_equal(rc, 0);
     assert_int_equal(tu_lines(out), 1);
     assert_non_null(strstr(out, "cannot write"));
+}
+
+/* A bake says what it made in one line, and nothing with --quiet; the file
+ * is written either way. */
+static void test_quiet(void **state)
+{
+    (void)state;
+    char vdb[512];
+    tu_tmp(vdb, sizeof vdb, "quiet.vdb");
+    for (int quiet = 0; quiet < 2; quiet++) {
+        remove(vdb);
+        assert_int_equal(
+            tu_run(out, sizeof out, "%s bake --scene temple --res 16 -o %s%s", SDFT_CLI, vdb, quiet ? " --quiet" : ""),
+            0);
+        assert_int_equal(tu_lines(out), quiet ? 0 : 1);
+        assert_true(tu_file_exists(vdb));
+    }
 }
 
 static void test_vdb_accepted_by_openvdb_tools(void **state)
@@ -151,6 +169,7 @@ int main(void)
         cmocka_unit_test(test_version),
         cmocka_unit_test(test_help),
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_quiet),
         cmocka_unit_test(test_vdb_accepted_by_openvdb_tools),
         cmocka_unit_test(test_nvdb_accepted_by_nanovdb_tools),
     };

@@ -29,6 +29,7 @@ void cmd_bake_help(FILE *out)
             "  --fp16            Fp16 leaves in .nvdb, half floats in .vdb (default float)\n"
             "  --grid-name NAME  name of the grid in the file (default sdf)\n"
             "  --threads N       worker threads, 0 = all cores (default 0)\n"
+            "  --quiet           no progress bar and no summary line (errors still go to stderr)\n"
             "Progress goes to stderr when it is a terminal; one summary line to stdout.\n",
             SDFT_BAKE_MAX_RES, d.res, d.band);
 }
@@ -38,7 +39,7 @@ int cmd_bake(int argc, char **argv)
     char msg[512] = "";
     sdft_bake_params p = sdft_bake_defaults();
     const char *scene_name = NULL, *out = NULL;
-    int band_set = 0;
+    int band_set = 0, quiet = 0;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         long n = 0;
@@ -51,6 +52,9 @@ int cmd_bake(int argc, char **argv)
             continue;
         } else if (!strcmp(a, "--fp16")) {
             p.fp16 = 1;
+            continue;
+        } else if (!strcmp(a, "--quiet")) {
+            quiet = 1;
             continue;
         }
         int known = !strcmp(a, "--scene") || !strcmp(a, "--res") || !strcmp(a, "-o") || !strcmp(a, "--band") ||
@@ -107,7 +111,7 @@ int cmd_bake(int argc, char **argv)
     }
     sdft_bake_stats st;
     sdft_progress_bar bar;
-    sdft_progress_bar_init(&bar, 1);
+    sdft_progress_bar_init(&bar, !quiet);
     p.progress = show_progress;
     p.progress_user = &bar;
     const sdft_error rc = sdft_bake(&scene->field, &p, out, NULL, &st, msg, sizeof msg);
@@ -116,8 +120,9 @@ int cmd_bake(int argc, char **argv)
         cli_error("bake", msg);
         return 1;
     }
-    printf("baked %s: %dx%dx%d voxels of %g, %llu active in %llu leaves, %llu evaluations, %.0f ms -> %s\n",
-           scene->name, st.dims[0], st.dims[1], st.dims[2], st.voxel_size, (unsigned long long)st.active_voxels,
-           (unsigned long long)st.leaves, (unsigned long long)st.evaluations, st.ms, out);
+    if (!quiet)
+        printf("baked %s: %dx%dx%d voxels of %g, %llu active in %llu leaves, %llu evaluations, %.0f ms -> %s\n",
+               scene->name, st.dims[0], st.dims[1], st.dims[2], st.voxel_size, (unsigned long long)st.active_voxels,
+               (unsigned long long)st.leaves, (unsigned long long)st.evaluations, st.ms, out);
     return 0;
 }
