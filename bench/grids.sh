@@ -12,7 +12,7 @@
 #     5x faster than vdb_render and 1.5x faster than the plain caster, depth
 #     within 1.5 voxels of vdb_render's on 99% of the pixels both hit;
 #  3. the cost of one evaluation (bench/sample_bench) on spot;
-#  4. with BIG set, a big grid end to end: vdb_render and sdftrace render
+#  4. with BIG set, each big grid end to end: vdb_render and sdftrace render
 #     --grid (as it comes, without shadows like vdb_render, and --fp16),
 #     wall time, peak memory and the share of leaves read, against the
 #     targets (1.5x vdb_render's time; 1.25x the NanoVDB grid's bytes).
@@ -23,8 +23,11 @@
 #        REPEAT  frames per tracer, the best counts (default 3);
 #        GRIDS   which grids (default "temple figure spot fandisk bunny");
 #        ROWS=variants  every variant row instead of the targets' rows;
-#        BIG     a big .vdb for part 4, or "make" to have mesh2sdf --res 4096
-#                write OUT/spot4096.vdb (minutes); unset: no part 4.
+#        BIG     big .vdb files for part 4, separated by spaces; "make" has
+#                mesh2sdf --res 4096 write OUT/spot4096.vdb and
+#                "make-vdb_tool" has vdb_tool -mesh2ls d=4096 w=3 write
+#                OUT/fandisk4096.vdb (minutes each, 7 GiB peak for
+#                vdb_tool); unset: no part 4.
 set -eu
 
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -117,52 +120,72 @@ else
 fi
 
 [ -n "${BIG:-}" ] || exit 0
-echo
-big=$BIG
-if [ "$big" = make ]; then
-    big=$out/spot4096.vdb
-    if [ "${KEEP:-0}" != 1 ] || [ ! -s "$big" ]; then
-        /usr/bin/time -v "$build/mesh2sdf" "$meshes/spot.obj" -o "$big" --res 4096 --quiet 2>"$out/big.make.time"
-        echo "mesh2sdf --res 4096: $(wall "$out/big.make.time") s, $(peak "$out/big.make.time") MiB -> $big"
-    fi
-fi
-echo "== a big grid end to end (issue 12, item 5): $big ($(du -m "$big" | cut -f1) MiB), 2 threads, best of $repeat"
-opts=$("$caster" --view "$big" front "$width" "$height")
-echo "| renderer | wall s | peak MiB | NanoVDB MiB | x vdb_render's time (<= 1.5) | peak / NanoVDB (<= 1.25) | leaves read |"
-echo "|---|---|---|---|---|---|---|"
-# Every renderer REPEAT times, in turns (vdb_render, then each sdftrace
-# row), so that the machine's noise falls on all alike; each row keeps its
-# fastest run's wall time and that run's peak memory.
-rows="vdb_render sdftrace sdftrace--no-shadows sdftrace--fp16"
-i=0
-while [ "$i" -lt "$repeat" ]; do
-    for row in $rows; do
-        case $row in
-        # shellcheck disable=SC2086 # $opts is a list of options
-        vdb_render) /usr/bin/time -v vdb_render "$big" "$out/big_vdb_render.exr" $opts -cpus 2 >/dev/null \
-            2>"$out/big.$row.$i.time" ;;
-        # The default render (a shadow ray per lit hit), the same without
-        # shadows (what vdb_render draws), and with Fp16 leaves; each reads a
-        # leaf from the file when a ray first reaches it (deferred leaves,
-        # render's default).
-        *) /usr/bin/time -v "$bin" render --grid "$big" -o "$out/big.exr" --threads 2 --json --quiet \
-            ${row#sdftrace} >"$out/big.$row.json" 2>"$out/big.$row.$i.time" ;;
-        esac
-    done
-    i=$((i + 1))
+# The big grids of part 4, each made here if asked: "make" is spot at
+# 4096^3 by mesh2sdf, "make-vdb_tool" fandisk at 4096^3 by vdb_tool.
+bigs=
+for big in $BIG; do
+    case $big in
+    make)
+        big=$out/spot4096.vdb
+        if [ "${KEEP:-0}" != 1 ] || [ ! -s "$big" ]; then
+            /usr/bin/time -v "$build/mesh2sdf" "$meshes/spot.obj" -o "$big" --res 4096 --quiet 2>"$out/big.make.time"
+            echo "mesh2sdf --res 4096: $(wall "$out/big.make.time") s, $(peak "$out/big.make.time") MiB -> $big"
+        fi
+        ;;
+    make-vdb_tool)
+        big=$out/fandisk4096.vdb
+        if [ "${KEEP:-0}" != 1 ] || [ ! -s "$big" ]; then
+            /usr/bin/time -v vdb_tool -read "$meshes/fandisk.obj" -mesh2ls d=4096 w=3 -write "$big" \
+                >/dev/null 2>"$out/big.make.time"
+            echo "vdb_tool -mesh2ls d=4096 w=3: $(wall "$out/big.make.time") s, $(peak "$out/big.make.time") MiB -> $big"
+        fi
+        ;;
+    esac
+    bigs="$bigs $big"
 done
-# The fastest run of a row: "wall peak".
-best() { for t in "$out/big.$1".*.time; do echo "$(wall "$t") $(peak "$t")"; done | sort -n | head -n 1; }
-set -- $(best vdb_render)
-vw=$1
-printf '| vdb_render | %s | %s | - | - | - | - |\n' "$1" "$2"
-for row in sdftrace sdftrace--no-shadows sdftrace--fp16; do
-    set -- $(best "$row")
-    json=$out/big.$row.json
-    bytes=$(sed -n 's/.*"grid_bytes": \([0-9]*\).*/\1/p' "$json")
-    leaves=$(sed -n 's/.*"grid_leaves": \([0-9]*\).*/\1/p' "$json")
-    read=$(sed -n 's/.*"grid_leaves_read": \([0-9]*\).*/\1/p' "$json")
-    awk -v w="$1" -v p="$2" -v vw="$vw" -v b="$bytes" -v q="${row#sdftrace}" -v l="$leaves" -v r="$read" 'BEGIN {
-        printf "| sdftrace render %s | %s | %s | %.0f | %.2f | %.2f | %.1f%% |\n", q, w, p, b / 1048576, w / vw,
-               p / (b / 1048576), 100 * r / l }'
+for big in $bigs; do
+    echo
+    echo "== a big grid end to end (issue 12, item 5): $big ($(du -m "$big" | cut -f1) MiB), 2 threads, best of $repeat"
+    opts=$("$caster" --view "$big" front "$width" "$height")
+    echo "| renderer | wall s | peak MiB | NanoVDB MiB | x vdb_render's time (<= 1.5) | peak / NanoVDB (<= 1.25) | leaves read |"
+    echo "|---|---|---|---|---|---|---|"
+    # Every renderer REPEAT times, in turns (vdb_render, then each sdftrace
+    # row), so that the machine's noise falls on all alike; each row keeps its
+    # fastest run's wall time and that run's peak memory.
+    rows="vdb_render sdftrace sdftrace--no-shadows sdftrace--fp16"
+    rm -f "$out"/big.*.time
+    i=0
+    while [ "$i" -lt "$repeat" ]; do
+        for row in $rows; do
+            # shellcheck disable=SC2086 # $opts is a list of options
+            case $row in
+                vdb_render) /usr/bin/time -v vdb_render "$big" "$out/big_vdb_render.exr" $opts -cpus 2 >/dev/null \
+                    2>"$out/big.$row.$i.time" ;;
+                # The default render (a shadow ray per lit hit), the same
+                # without shadows (what vdb_render draws), and with Fp16
+                # leaves; each reads a leaf from the file when a ray first
+                # reaches it (deferred leaves, render's default).
+                *) /usr/bin/time -v "$bin" render --grid "$big" -o "$out/big.exr" --threads 2 --json --quiet \
+                    ${row#sdftrace} >"$out/big.$row.json" 2>"$out/big.$row.$i.time" ;;
+            esac
+        done
+        i=$((i + 1))
+    done
+    # The fastest run of a row: "wall peak".
+    best() { for t in "$out/big.$1".*.time; do echo "$(wall "$t") $(peak "$t")"; done | sort -n | head -n 1; }
+    # shellcheck disable=SC2046 # "wall peak": two words
+    set -- $(best vdb_render)
+    vw=$1
+    printf '| vdb_render | %s | %s | - | - | - | - |\n' "$1" "$2"
+    for row in sdftrace sdftrace--no-shadows sdftrace--fp16; do
+        # shellcheck disable=SC2046 # "wall peak": two words
+        set -- $(best "$row")
+        json=$out/big.$row.json
+        bytes=$(sed -n 's/.*"grid_bytes": \([0-9]*\).*/\1/p' "$json")
+        leaves=$(sed -n 's/.*"grid_leaves": \([0-9]*\).*/\1/p' "$json")
+        read=$(sed -n 's/.*"grid_leaves_read": \([0-9]*\).*/\1/p' "$json")
+        awk -v w="$1" -v p="$2" -v vw="$vw" -v b="$bytes" -v q="${row#sdftrace}" -v l="$leaves" -v r="$read" 'BEGIN {
+            printf "| sdftrace render %s | %s | %s | %.0f | %.2f | %.2f | %.1f%% |\n", q, w, p, b / 1048576, w / vw,
+                   p / (b / 1048576), 100 * r / l }'
+    done
 done
