@@ -225,9 +225,10 @@ static void fill_leaf(void *ctx, const int32_t b[3], uint64_t at, uint32_t word)
  * A lower node spans 2^3 regions; a block of one is entered in that
  * region's chunk and, where its offset along some axes is 0, in the apron
  * of the regions before along them (each_place). Those chunks are looked up
- * once per region, and a region none of them exists for is skipped: about
- * half of them, in a level set's shell. Each entry belongs to one block and
- * so to one lower node, which one thread visits. */
+ * once per region, and a region none of them exists for is skipped (on
+ * vdb_tool's fandisk at 4096^3 this took a quarter off the marking). Each
+ * entry belongs to one block and so to one lower node, which one thread
+ * visits. */
 typedef struct tile_walk {
     const sdft_grid *g;
     grid_leaves *d;
