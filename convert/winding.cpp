@@ -2,6 +2,7 @@
 #include "winding.h"
 
 #include "median_split.h"
+#include "solid_angles.h"
 #include "triangle_distance.h"
 
 #include <algorithm>
@@ -24,48 +25,10 @@ inline Vec3 cross(const Vec3 &a, const Vec3 &b)
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 
-// atan2(y, x) to within 1e-9 rad, about twice as fast as libm's (which was
-// a fifth of mesh2sdf's time): reduce to atan(t), 0 <= t <= 1, then to
-// |u| <= tan(pi/8) by atan(t) = pi/4 + atan((t-1)/(t+1)), and sum the Taylor
-// series to u^21 (remainder below 0.4143^23 / 23 < 3e-10).
-inline double fastAtan2(double y, double x)
-{
-    constexpr double kPi = 3.14159265358979323846, kTanPi8 = 0.41421356237309503;
-    const double ax = std::fabs(x), ay = std::fabs(y);
-    const double hi = std::max(ax, ay), lo = std::min(ax, ay);
-    if (!(hi > 0))
-        return std::atan2(y, x); // zero (or NaN): libm's conventions
-    double t = lo / hi, base = 0;
-    if (t > kTanPi8) {
-        t = (t - 1) / (t + 1);
-        base = 0.25 * kPi;
-    }
-    const double u2 = t * t;
-    double p = 1.0 / 21;
-    p = p * u2 - 1.0 / 19;
-    p = p * u2 + 1.0 / 17;
-    p = p * u2 - 1.0 / 15;
-    p = p * u2 + 1.0 / 13;
-    p = p * u2 - 1.0 / 11;
-    p = p * u2 + 1.0 / 9;
-    p = p * u2 - 1.0 / 7;
-    p = p * u2 + 1.0 / 5;
-    p = p * u2 - 1.0 / 3;
-    double a = base + (t + t * u2 * p); // atan(lo / hi)
-    if (ay > ax)
-        a = 0.5 * kPi - a;
-    if (x < 0)
-        a = kPi - a;
-    return std::copysign(a, y);
-}
-
 // Van Oosterom–Strackee on the corner vectors a, b, c (corners minus q).
 inline double solidAngleOver4Pi(const Vec3 &a, const Vec3 &b, const Vec3 &c)
 {
-    const double la = norm(a), lb = norm(b), lc = norm(c);
-    const double det = dot(a, cross(b, c));
-    const double den = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb;
-    return 2.0 * fastAtan2(det, den) * kInv4Pi;
+    return mesh2sdf::solidAngleOver4Pi(a.data(), b.data(), c.data());
 }
 
 inline double triangleAt(const double *t, const Vec3 &q)
@@ -103,6 +66,21 @@ FastWinding::FastWinding(const std::vector<std::array<float, 3>> &points,
                 mTris[size_t(i) * 9 + v * 3 + k] = points[tris[order[i]][v]][k];
     for (Node &node : mNodes)
         summarize(node);
+    // Each leaf's triangles again, four to a group (solid_angles.h); lanes
+    // past the last repeat its first triangle.
+    for (Node &node : mNodes) {
+        if (node.count > kLeafSize)
+            continue;
+        node.groups = uint32_t(mLeafGroups.size());
+        const uint32_t lanes = (node.count + kSolidAngleLanes - 1) / kSolidAngleLanes * kSolidAngleLanes;
+        mLeafGroups.resize(mLeafGroups.size() + size_t(lanes) * 9);
+        double *groups = &mLeafGroups[node.groups];
+        for (uint32_t i = 0; i < lanes; ++i) {
+            const double *t = &mTris[size_t(node.first + (i < node.count ? i : 0)) * 9];
+            for (int k = 0; k < 9; ++k)
+                groups[(i / kSolidAngleLanes) * kSolidAngleGroup + k * kSolidAngleLanes + i % kSolidAngleLanes] = t[k];
+        }
+    }
     mOrder = std::move(order);
 }
 
@@ -202,8 +180,7 @@ double FastWinding::operator()(const Vec3 &q) const
             const double order2 = (m[0] + m[4] + m[8]) * inv3 - 3.0 * rMr * inv5;
             w += (order1 + order2) * kInv4Pi;
         } else if (node.count <= kLeafSize) {
-            for (uint32_t i = node.first; i < node.first + node.count; ++i)
-                w += triangleAt(&mTris[size_t(i) * 9], q);
+            w += solidAnglesOver4Pi(&mLeafGroups[node.groups], int(node.count), q.data());
         } else {
             stack[top++] = node.left;
             stack[top++] = node.right;

@@ -58,12 +58,14 @@ private:
         double second[9];       // sum of area vector (x) centroid offset (order 2)
         uint32_t first, count;  // leaf: triangle range; inner: count == 0
         uint32_t left, right;   // inner: children
+        uint32_t groups;        // leaf: its triangles' offset in mLeafGroups
     };
     uint32_t build(uint32_t first, uint32_t count, std::vector<uint32_t>& order,
                    const std::vector<Vec3>& centroids);
     void summarize(Node& n) const;
 
     std::vector<double> mTris; // 9 doubles per triangle, in BVH order
+    std::vector<double> mLeafGroups; // each leaf's triangles, four to a group (solid_angles.h)
     std::vector<uint32_t> mOrder; // BVH order -> input index
     std::vector<Node> mNodes;
     double mBeta2;

@@ -48,6 +48,7 @@
 #include "winding_sign.h"
 
 #include "band.h"
+#include "block_flood.h"
 
 #include <algorithm>
 #include <cmath>
@@ -189,6 +190,60 @@ class BlockGradientBound
     std::vector<const WindingSign::OpenEdge *> mNear;
 };
 
+// The cheap way to sign a block (signBlock gives the argument): one bound
+// on the change of w per step for the whole block, its joined components
+// flooded by masks (block_flood.h), one evaluation per component. `distance`
+// and `reach` are signBlock's; `lo` is the block's first voxel centre;
+// `clearance` the distance from the mesh that every point within sqrt(3)/2
+// voxel of a voxel off the band keeps; `windingAt(v)` evaluates w at voxel
+// v. Returns false, having changed nothing, when the bound is infinite or
+// some component reaches farther from its evaluated voxel than the bound
+// allows.
+template <typename Winding>
+bool signByComponents(float *distance, const float *reach, const BlockGradientBound &gradient, const double lo[3],
+                      double voxelSize, double clearance, Winding &&windingAt)
+{
+    bool anyBand = false;
+    for (int v = 0; v < kBlockSize; ++v)
+        anyBand = anyBand || std::isfinite(distance[v]);
+    const double h = voxelSize, halfSide = 0.5 * (kBlockDim - 1) * h;
+    const double centre[3] = {lo[0] + halfSide, lo[1] + halfSide, lo[2] + halfSide};
+    const double perStep =
+        std::sqrt(3.0) * h * (1 + 1e-6) * gradient.at(centre, std::sqrt(3.0) * halfSide, anyBand ? 0.0 : clearance);
+    if (!std::isfinite(perStep))
+        return false;
+    const BlockFlood flood(reach, voxelSize);
+    VoxelMask remaining, inside;
+    for (int v = 0; v < kBlockSize; ++v)
+        remaining.add(v);
+    while (!remaining.empty()) {
+        int seed = -1;
+        remaining.forEach([&](int v) {
+            if (seed < 0 || reach[v] > reach[seed])
+                seed = v;
+        });
+        const double w = windingAt(seed);
+        // The most steps that keep |w - 1/2| - steps * perStep > kMargin.
+        const double margin = std::abs(w - 0.5) - kMargin;
+        int maxLayers = 0;
+        if (margin > 0)
+            maxLayers = perStep > 0 ? int(std::min(std::ceil(margin / perStep) - 1, double(kBlockSize))) : kBlockSize;
+        while (maxLayers > 0 && !(margin > maxLayers * perStep))
+            --maxLayers;
+        int layers = 0;
+        const VoxelMask component = flood.flood(seed, remaining, maxLayers, layers);
+        if (layers > maxLayers)
+            return false;
+        if (w > 0.5)
+            inside = inside | component;
+        remaining = remaining.without(component);
+    }
+    for (int v = 0; v < kBlockSize; ++v)
+        if (inside.has(v))
+            distance[v] = -distance[v];
+    return true;
+}
+
 } // namespace
 
 WindingSign::WindingSign(const TriangleMesh &mesh, const FastWinding &winding, const std::array<double, 3> &origin,
@@ -258,6 +313,21 @@ int WindingSign::cubeSide(const std::array<int, 3> &origin, int size) const
 // cell, at its centre for every point within sqrt(3)/2 voxel of it, with no
 // edge nearer than r - sqrt(3)/2 voxels (every point that near an off-band
 // voxel is that far from the mesh).
+//
+// Before that walk, the cheap way (signByComponents): one bound G on |grad w|
+// for every point within sqrt(3)/2 voxel of any voxel of the block (the
+// bound at the block's centre with its half-diagonal as slack; where no
+// voxel is in the band, no edge nearer than the clearance), so a step
+// changes w by at most perStep = sqrt(3) voxels times G. The block's
+// components under the same joining rule (d(a) + d(b) > |a-b|, off-band
+// voxels at r) are flooded breadth first from their voxel farthest from the
+// surface, evaluated at w0: a voxel L steps from it has a walk of L joined
+// steps within the block, so its w differs from w(seed) by at most
+// L * perStep, and it takes the seed's side when |w0 - 1/2| - L * perStep >
+// kMargin, the walk's own rule with every step at its longest and largest
+// bound. Where that holds for every component the block is done, with one
+// evaluation per component; where not (open edges near the block make G
+// large), the walk above decides it, reusing the evaluations made.
 void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) const
 {
     const double h = mVoxelSize;
@@ -276,6 +346,22 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
     world(0, lo);
     world(kBlockSize - 1, hi);
     const BlockGradientBound gradient(mEdges, lo, hi, h);
+    const double clearance = std::max(mOffBand * (1 - 1e-6) - 0.5 * std::sqrt(3.0) * h, 0.0);
+    // Distance, or for a voxel off the band the bound every such voxel keeps.
+    const float offBand = float(mOffBand);
+    float reach[kBlockSize];
+    for (int v = 0; v < kBlockSize; ++v)
+        reach[v] = std::isfinite(distance[v]) ? distance[v] : offBand;
+    // Winding numbers evaluated so far (NaN: not yet).
+    double evaluated[kBlockSize];
+    std::fill(evaluated, evaluated + kBlockSize, NAN);
+    auto windingOnce = [&](int v) {
+        if (std::isnan(evaluated[v]))
+            evaluated[v] = windingAt(v);
+        return evaluated[v];
+    };
+    if (signByComponents(distance, reach, gradient, lo, h, clearance, windingOnce))
+        return;
     // Change of w per voxel length of a step from voxel v, with a margin for
     // rounding; < 0 until computed. A voxel off the band takes the bound of
     // its 2^3 cell, computed once at the cell's centre for every point within
@@ -285,7 +371,6 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
     double stepBound[kBlockSize], cellBound[kBlockSize / 8];
     std::fill(stepBound, stepBound + kBlockSize, -1.0);
     std::fill(cellBound, cellBound + kBlockSize / 8, -1.0);
-    const double clearance = std::max(mOffBand * (1 - 1e-6) - 0.5 * std::sqrt(3.0) * h, 0.0);
     auto stepAt = [&](int v) {
         if (stepBound[v] >= 0)
             return stepBound[v];
@@ -321,11 +406,6 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
                     steps[stepCount++] = {dx, dy, dz, length, float(length * h) * (1.0f + 1e-5f)};
                 }
 
-    // Distance, or for a voxel off the band the bound every such voxel keeps.
-    const float offBand = float(mOffBand);
-    float reach[kBlockSize];
-    for (int v = 0; v < kBlockSize; ++v)
-        reach[v] = std::isfinite(distance[v]) ? distance[v] : offBand;
     auto neighbours = [&](int v, auto &&visit) {
         const int x = v >> (2 * kBlockLog2), y = (v >> kBlockLog2) & (kBlockDim - 1), z = v & (kBlockDim - 1);
         for (const Step &s : steps) {
@@ -349,7 +429,7 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
         std::push_heap(heap.begin(), heap.end());
     };
     auto evaluate = [&](int v) {
-        anchorW[v] = windingAt(v);
+        anchorW[v] = windingOnce(v);
         drift[v] = 0;
         margin[v] = std::abs(anchorW[v] - 0.5);
     };
