@@ -319,7 +319,7 @@ static void close_field(render_source *src) { sdft_grid_free(src->grid); }
  * release build: once the image is written the process ends, and the
  * kernel takes its memory back at once, where freeing a big grid piece by
  * piece does not come cheap (a deferred 4096^3 grid keeps OpenVDB's tree,
- * a million leaves each with its own file reference: 0.2 s of a 1.8 s run
+ * a million leaves each with its own file reference: 0.1 to 0.2 s of a 1.8 s run
  * on two cores), the way compilers skip freeing at exit. Sanitizer builds
  * free it, so that LeakSanitizer accounts for every allocation. */
 #if defined(__SANITIZE_ADDRESS__)
