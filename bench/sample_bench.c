@@ -7,10 +7,12 @@
  *   band  random points in random leaves, kept where they lie in the band.
  * Each is timed twice: `indep` (the points are independent, so loads
  * overlap: throughput) and `chained` (each point waits for the value before
- * it, as one ray's steps do: latency). `sdftrace-stream` is the field as
- * the tracer's stream evaluates independent rays: each point's memory
- * hinted (sdft_field.prefetch) a few points ahead. Samplers are interleaved, each
- * timed REPEAT times (default 7), the median reported.
+ * it, as one ray's steps do: latency). `sdftrace-stream` is the field
+ * evaluating independent points with each point's memory hinted
+ * (sdft_field.prefetch) a few points ahead, as a caller with scattered
+ * points would (the tracer does not hint: along rays it cost more than it
+ * saved). Samplers are interleaved, each timed REPEAT times (default 7),
+ * the median reported.
  *
  * usage: sample_bench GRID.vdb|GRID.nvdb [POINTS]   (default 2000000) */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
@@ -171,10 +173,9 @@ static double run_field(const void *ctx, const float *xyz, size_t n, int chained
     return sum;
 }
 
-/* sdftrace's field as the tracer's stream calls it (march_many): the
- * field's prefetch hint for a point STREAM_AHEAD points before its
- * evaluation, as the stream hints every lane's next point before it
- * evaluates any. A chain has nothing to hint ahead: it runs as run_field. */
+/* sdftrace's field with hints: the field's prefetch hint for a point
+ * STREAM_AHEAD points before its evaluation. A chain has nothing to hint
+ * ahead: it runs as run_field. */
 enum { STREAM_AHEAD = 16 };
 static double run_stream(const void *ctx, const float *xyz, size_t n, int chained)
 {
