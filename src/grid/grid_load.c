@@ -382,12 +382,12 @@ sdft_error sdft_grid_borrow_buffer(const void *data, size_t size, const char *na
     return grid_of_buffer(data, size, name, 1, NULL, out, msg, msg_len);
 }
 
-sdft_error sdft_grid_adopt_buffer(void *data, size_t size, const char *name, void (*release)(void *data),
-                                  sdft_grid **out, char *msg, size_t msg_len)
+/* grid_of_buffer in place on a buffer the grid adopts: release(data) on
+ * failure, or by the grid once it is freed. */
+static sdft_error adopt(void *data, size_t size, const char *name, void (*release)(void *data),
+                        const grid_deferred *deferred, sdft_grid **out, char *msg, size_t msg_len)
 {
-    if (!release)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no release function (NULL): borrow the buffer instead");
-    const sdft_error rc = grid_of_buffer(data, size, name, 1, NULL, out, msg, msg_len);
+    const sdft_error rc = grid_of_buffer(data, size, name, 1, deferred, out, msg, msg_len);
     if (rc) {
         if (data)
             release(data);
@@ -396,6 +396,14 @@ sdft_error sdft_grid_adopt_buffer(void *data, size_t size, const char *name, voi
     (*out)->release = release;
     (*out)->release_data = data;
     return SDFT_OK;
+}
+
+sdft_error sdft_grid_adopt_buffer(void *data, size_t size, const char *name, void (*release)(void *data),
+                                  sdft_grid **out, char *msg, size_t msg_len)
+{
+    if (!release)
+        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no release function (NULL): borrow the buffer instead");
+    return adopt(data, size, name, release, NULL, out, msg, msg_len);
 }
 
 sdft_error sdft_grid_adopt_deferred(void *data, size_t size, const char *name, void (*release)(void *data),
@@ -414,16 +422,12 @@ sdft_error sdft_grid_adopt_deferred(void *data, size_t size, const char *name, v
                    : sdft_fail(msg, msg_len, SDFT_EINVAL, "no %s function (NULL)", release ? "fill" : "release");
     }
     const grid_deferred d = {.fill = fill, .user = user, .how = how}; /* release_user once the grid is made */
-    const sdft_error rc = grid_of_buffer(data, size, name, 1, &d, out, msg, msg_len);
+    const sdft_error rc = adopt(data, size, name, release, &d, out, msg, msg_len);
     if (rc) {
         if (release_user)
             release_user(user);
-        if (data)
-            release(data);
         return rc;
     }
-    (*out)->release = release;
-    (*out)->release_data = data;
     (*out)->deferred.release_user = release_user;
     return SDFT_OK;
 }

@@ -216,9 +216,10 @@ static inline float far_bound(const sdft_grid *g, const float x[3])
  * directory's entry for x's cell and, in a leaf, the cell's four rows of
  * two voxels (z is the fastest axis, so each row is one or two adjacent
  * values); beside no leaf, the far bound's corners. Plain loads of the
- * directory (small, mostly cached) and prefetches of the rest, so a
- * stream's lanes wait for their memory together (march_many). Reads
- * nothing it cannot bound: x's block is checked as in cell_from_leaves. */
+ * directory (small, mostly cached) and prefetches of the rest, so that a
+ * caller's scattered points wait for their memory together (the field's
+ * prefetch hint; the tracer does not use it, field.h). Reads nothing it
+ * cannot bound: x's block is checked as in cell_from_leaves. */
 GRID_INLINE void prefetch_index(const sdft_grid *g, pnanovdb_grid_type_t type, const float x[3])
 {
     const grid_leaves *d = &g->leaves;
