@@ -435,7 +435,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
     grid->setTransform(xform);
     if (opt.full) {
         progress.stage("dense distances", signEnd, end);
-        fillBox(*grid, box, NearestTriangle(mesh), progress);
+        fillBox(*grid, box, NearestTriangle(mesh, opt.simd), progress);
     }
     grid->setGridClass(opt.sign == SignMethod::None ? openvdb::GRID_UNKNOWN : openvdb::GRID_LEVEL_SET);
     return grid;

@@ -12,10 +12,11 @@
 //    so each of the node's triangles is at least worst >= best(v) from v;
 //  - a node, for the whole packet, when for every centre v its own lower
 //    bound is at least best(v) (CentreBounds::anyReaches);
-//  - a leaf's triangles, for one centre v, when v's own lower bound on the
-//    leaf is at least best(v);
-//  - one triangle, for one centre v, when v's distance to the triangle's
-//    plane (less the plane's slack, trianglePlane) is at least sqrt(best(v)).
+//  - a leaf's triangles, for a row of four centres (i, j, 0..3), when each
+//    centre's own lower bound on the leaf is at least its best.
+// A row's centres all take the distances of every triangle evaluated for the
+// row, and each keeps the smaller: a true distance to a triangle only ever
+// lowers best(v) towards its answer, so it breaks no skip.
 // Bests only fall, so a skip stays justified to the end.
 //
 // The lower bounds of a node, both true because each triangle is the convex
@@ -38,14 +39,14 @@
 //
 // Why packets: neighbouring centres open nearly the same nodes, so one
 // descent serves kPacketSize centres; each centre then pays only its own
-// bounds at the nodes the packet opens (from per-axis terms, CentreBounds)
-// and the triangles no bound excludes. Each centre starts from a
+// bounds at the nodes the packet opens (from per-axis terms, RowTerms) and
+// the triangles no bound excludes, a row of four centres at a time
+// (packet_rows.h, with AVX2 where the processor has it). Each centre starts from a
 // neighbour's nearest triangle, so the bests are near their answers from
 // the first node on, and nearer children are searched first.
 #include "nearest_triangle.h"
 
 #include "median_split.h"
-#include "triangle_distance.h"
 
 #include <algorithm>
 #include <cmath>
@@ -56,7 +57,7 @@ namespace mesh2sdf
 namespace
 {
 
-constexpr uint32_t kLeafSize = 2;
+constexpr uint32_t kLeafSize = 4;
 constexpr double kShrink = 1 - 1e-12;
 
 // The disc's terms cancel: the lateral offset comes from |q - centre|^2 -
@@ -67,41 +68,15 @@ constexpr double kShrink = 1 - 1e-12;
 // disc itself is grown by as much when it is built.
 constexpr double kCancel = 1e-14;
 
-// A triangle's plane for a cheap lower bound on its distance: unit normal
-// n, offset n . a and slack, the farthest any corner lies from the plane as
-// computed plus a margin far above the rounding of n . q - offset; so
-// |n . q - offset| - slack never exceeds the distance from q to the
-// triangle, a convex hull of its corners.
-void trianglePlane(const double *t, double *plane)
-{
-    const double e1[3] = {t[3] - t[0], t[4] - t[1], t[5] - t[2]}, e2[3] = {t[6] - t[0], t[7] - t[1], t[8] - t[2]};
-    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    if (!(length > 0)) { // no plane: a bound of 0
-        std::fill(plane, plane + 5, 0.0);
-        plane[4] = INFINITY;
-        return;
-    }
-    double scale = 0;
-    for (int k = 0; k < 3; ++k) {
-        n[k] /= length;
-        scale = std::max({scale, std::abs(t[k]), std::abs(t[3 + k]), std::abs(t[6 + k])});
-    }
-    const double offset = n[0] * t[0] + n[1] * t[1] + n[2] * t[2];
-    double slack = 0;
-    for (int v = 0; v < 3; ++v)
-        slack = std::max(slack, std::abs(n[0] * t[3 * v] + n[1] * t[3 * v + 1] + n[2] * t[3 * v + 2] - offset));
-    plane[0] = n[0];
-    plane[1] = n[1];
-    plane[2] = n[2];
-    plane[3] = offset;
-    plane[4] = slack + 1e-9 * scale;
-}
-
 } // namespace
 
-NearestTriangle::NearestTriangle(const TriangleMesh &mesh)
+NearestTriangle::NearestTriangle(const TriangleMesh &mesh, bool vectorized)
 {
+#ifdef MESH2SDF_ROWS_AVX2
+    mVectorized = vectorized && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#else
+    mVectorized = false;
+#endif
     const uint32_t n = uint32_t(mesh.triangles.size());
     std::vector<std::array<double, 3>> centroids(n);
     std::vector<uint32_t> order(n);
@@ -115,14 +90,14 @@ NearestTriangle::NearestTriangle(const TriangleMesh &mesh)
     mNodes.reserve(2 * (n / kLeafSize + 1));
     if (n > 0)
         build(0, n, order, centroids, mesh);
-    mTriangles.resize(size_t(n) * 9);
-    for (uint32_t i = 0; i < n; ++i)
+    mTriangles.resize(n);
+    for (uint32_t i = 0; i < n; ++i) {
+        double corner[3][3];
         for (int v = 0; v < 3; ++v)
             for (int k = 0; k < 3; ++k)
-                mTriangles[size_t(i) * 9 + v * 3 + k] = mesh.points[mesh.triangles[order[i]][v]][k];
-    mPlanes.resize(size_t(n) * 5);
-    for (uint32_t i = 0; i < n; ++i)
-        trianglePlane(&mTriangles[size_t(i) * 9], &mPlanes[size_t(i) * 5]);
+                corner[v][k] = mesh.points[mesh.triangles[order[i]][v]][k];
+        mTriangles[i] = prepareTriangle(corner[0], corner[1], corner[2]);
+    }
 }
 
 // Median splits (median_split.h), depth first, so a node's left child
@@ -219,89 +194,58 @@ double NearestTriangle::packetLowerBound2(const Node &node, const double *lo, co
     return std::max(box, disc * disc * kShrink);
 }
 
-// A node's two lower bounds (box and disc) for each centre of a packet, from
-// terms that each depend on one axis: the squared gap to the
-// box, the height above the disc's centre along its normal, and the squared
-// offset from the disc's centre.
-class CentreBounds
-{
-  public:
-    static constexpr int n = NearestTriangle::kPacketDim;
-
-    CentreBounds(const double (*axis)[n], const float *lo, const float *hi, const double *centre, const double *normal,
-                 double thickness, double radius)
-        : mThickness(thickness), mRadius(radius)
-    {
-        for (int k = 0; k < 3; ++k)
-            for (int i = 0; i < n; ++i) {
-                const double gap = std::max({double(lo[k]) - axis[k][i], 0.0, axis[k][i] - double(hi[k])});
-                const double offset = axis[k][i] - centre[k];
-                mGap[k][i] = gap * gap;
-                mHeight[k][i] = offset * normal[k];
-                mSquare[k][i] = offset * offset;
-            }
-    }
-
-    /// Bit l set for each centre (i, j, l) of the row that may lie nearer
-    /// than its best (`best`: the row's kPacketDim squared distances) to the
-    /// node's triangles. Without branches, so that the row is computed
-    /// side by side.
-    unsigned rowReaches(int i, int j, const double *best) const
-    {
-        const double gap = mGap[0][i] + mGap[1][j], height = mHeight[0][i] + mHeight[1][j];
-        const double square = mSquare[0][i] + mSquare[1][j];
-        unsigned mask = 0;
-        for (int l = 0; l < n; ++l) {
-            const double a = height + mHeight[2][l];
-            const double offset2 = square + mSquare[2][l], lateral2 = offset2 - a * a - kCancel * offset2;
-            const double across = std::max(std::abs(a) - mThickness, 0.0);
-            const double along = std::sqrt(std::max(lateral2, mRadius * mRadius)) - mRadius;
-            const double disc = across * across + along * along - kCancel * offset2;
-            const double bound = std::max(gap + mGap[2][l], disc) * kShrink;
-            mask |= unsigned(bound < best[l]) << l;
-        }
-        return mask;
-    }
-
-    /// Whether any centre may lie nearer than its best to the node.
-    bool anyReaches(const double *best) const
-    {
-        for (int i = 0; i < n; ++i)
-            for (int j = 0; j < n; ++j)
-                if (rowReaches(i, j, best + (i * n + j) * n))
-                    return true;
-        return false;
-    }
-
-  private:
-    double mGap[3][n], mHeight[3][n], mSquare[3][n];
-    double mThickness, mRadius;
-};
-
 void NearestTriangle::packetDistance2(const double *corner, double spacing, double *best, uint32_t *nearest) const
 {
     if (mNodes.empty())
         return;
-    double axis[3][kPacketDim], lo[3], hi[3], centre[3];
+#ifdef MESH2SDF_ROWS_AVX2
+    if (mVectorized)
+        return searchAvx2(corner, spacing, best, nearest);
+#endif
+    search<ScalarRows>(corner, spacing, best, nearest);
+}
+
+#ifdef MESH2SDF_ROWS_AVX2
+// The search compiled for AVX2 and FMA, everything it calls inlined
+// (flatten), so that Avx2Rows's intrinsics run in its body.
+__attribute__((target("avx2,fma"), flatten)) void NearestTriangle::searchAvx2(const double *corner, double spacing,
+                                                                             double *best, uint32_t *nearest) const
+{
+    search<Avx2Rows>(corner, spacing, best, nearest);
+}
+#else
+void NearestTriangle::searchAvx2(const double *, double, double *, uint32_t *) const {}
+#endif
+
+// The packet search (the file's head gives why its answers are exact), a
+// row of four centres at a time through `Rows`.
+template <class Rows>
+void NearestTriangle::search(const double *corner, double spacing, double *best, uint32_t *nearest) const
+{
+    constexpr int n = kPacketDim;
+    static_assert(n == 4, "a row is four lanes (packet_rows.h)");
+    constexpr RowRounding rounding{kCancel, kShrink};
+    alignas(32) double axis[3][n];
+    double lo[3], hi[3], centre[3];
     for (int k = 0; k < 3; ++k) {
-        for (int i = 0; i < kPacketDim; ++i)
+        for (int i = 0; i < n; ++i)
             axis[k][i] = corner[k] + i * spacing;
         lo[k] = axis[k][0];
-        hi[k] = axis[k][kPacketDim - 1];
+        hi[k] = axis[k][n - 1];
         centre[k] = 0.5 * (lo[k] + hi[k]);
     }
-    for (int i = 0, v = 0; i < kPacketDim; ++i)
-        for (int j = 0; j < kPacketDim; ++j)
-            for (int l = 0; l < kPacketDim; ++l, ++v)
+    for (int i = 0, v = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j)
+            for (int l = 0; l < n; ++l, ++v)
                 if (nearest[v] != kNone) {
                     const double q[3] = {axis[0][i], axis[1][j], axis[2][l]};
-                    const double d2 = triangleDistance2(&mTriangles[size_t(nearest[v]) * 9], q);
+                    const double d2 = preparedDistance2(mTriangles[nearest[v]], q);
                     if (d2 < best[v])
                         best[v] = d2;
                     else
                         nearest[v] = kNone;
                 }
-    const double radius = 0.5 * std::sqrt(3.0) * (kPacketDim - 1) * spacing * (1 + 1e-12);
+    const double radius = 0.5 * std::sqrt(3.0) * (n - 1) * spacing * (1 + 1e-12);
     double worst = *std::max_element(best, best + kPacketSize);
     struct Entry {
         uint32_t node;
@@ -315,31 +259,26 @@ void NearestTriangle::packetDistance2(const double *corner, double spacing, doub
         if (e.bound >= worst)
             continue;
         const Node &node = mNodes[e.node];
-        const CentreBounds bounds(axis, node.lo, node.hi, node.centre, node.normal, node.thickness, node.radius);
+        const RowTerms terms = Rows::terms(axis, node.lo, node.hi, node.centre, node.normal, node.thickness, node.radius);
         if (node.count > 0) {
-            for (int i = 0; i < kPacketDim; ++i)
-                for (int j = 0; j < kPacketDim; ++j)
-                    for (unsigned mask = bounds.rowReaches(i, j, best + (i * kPacketDim + j) * kPacketDim); mask;
-                         mask &= mask - 1) {
-                        const int l = __builtin_ctz(mask), v = (i * kPacketDim + j) * kPacketDim + l;
-                        const double q[3] = {axis[0][i], axis[1][j], axis[2][l]};
-                        for (uint32_t t = node.first; t < node.first + node.count; ++t) {
-                            const double *plane = &mPlanes[size_t(t) * 5];
-                            const double height =
-                                std::abs(plane[0] * q[0] + plane[1] * q[1] + plane[2] * q[2] - plane[3]) - plane[4];
-                            if (height > 0 && height * height >= best[v])
-                                continue;
-                            const double d2 = triangleDistance2(&mTriangles[size_t(t) * 9], q);
-                            if (d2 < best[v]) {
-                                best[v] = d2;
-                                nearest[v] = t;
-                            }
-                        }
-                    }
+            for (int row = 0; row < n * n; ++row) {
+                double *rowBest = best + row * n;
+                if (!Rows::reaches(terms, rounding, row / n, row % n, rowBest))
+                    continue;
+                for (uint32_t t = node.first; t < node.first + node.count; ++t) {
+                    double d2[n];
+                    Rows::distances(mTriangles[t], axis[0][row / n], axis[1][row % n], axis[2], d2);
+                    for (unsigned lowered = Rows::lower(d2, rowBest); lowered; lowered &= lowered - 1)
+                        nearest[row * n + __builtin_ctz(lowered)] = t;
+                }
+            }
             worst = *std::max_element(best, best + kPacketSize);
             continue;
         }
-        if (!bounds.anyReaches(best))
+        bool any = false;
+        for (int row = 0; row < n * n && !any; ++row)
+            any = Rows::reaches(terms, rounding, row / n, row % n, best + row * n) != 0;
+        if (!any)
             continue;
         // The nearer child is searched first: pushed last.
         const uint32_t left = e.node + 1, right = node.right;

@@ -8,6 +8,7 @@
 #define MESH2SDF_NEAREST_TRIANGLE_H
 
 #include "mesh.h"
+#include "packet_rows.h"
 
 #include <cstdint>
 #include <vector>
@@ -19,7 +20,12 @@ class NearestTriangle
 {
   public:
     /// Copies the mesh's triangles (reordered); the mesh may be freed after.
-    explicit NearestTriangle(const TriangleMesh &mesh);
+    /// `vectorized`: search four voxels at a time with AVX2 where the
+    /// processor has it (false: lane by lane; the answers agree to rounding).
+    explicit NearestTriangle(const TriangleMesh &mesh, bool vectorized = true);
+
+    /// Whether packetDistance2 runs four lanes at once.
+    bool vectorized() const { return mVectorized; }
 
     static constexpr uint32_t kNone = ~uint32_t(0);
 
@@ -50,10 +56,12 @@ class NearestTriangle
                    const std::vector<std::array<double, 3>> &centroids, const TriangleMesh &mesh);
     double packetLowerBound2(const Node &node, const double *lo, const double *hi, const double *centre, double radius,
                              double worst) const;
+    template <class Rows> void search(const double *corner, double spacing, double *best, uint32_t *nearest) const;
+    void searchAvx2(const double *corner, double spacing, double *best, uint32_t *nearest) const;
 
-    std::vector<double> mTriangles; // 9 doubles per triangle, in hierarchy order
-    std::vector<double> mPlanes;    // 5 per triangle: unit normal, offset, slack (trianglePlane)
+    std::vector<PreparedTriangle> mTriangles; // in hierarchy order (packet_rows.h)
     std::vector<Node> mNodes;
+    bool mVectorized;
 };
 
 } // namespace mesh2sdf

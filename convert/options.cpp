@@ -66,6 +66,9 @@ void printHelp()
         "  --name NAME            grid name (default: the mesh's file name stem)\n"
         "  --threads N            worker threads, 0 = all cores (default: 0)\n"
         "  --quiet                no health line, progress bar or summary\n"
+        "  --no-simd              no vector instructions (AVX2) where mesh2sdf would\n"
+        "                         choose them at run time: slower, the same grid to\n"
+        "                         rounding (for comparison and testing)\n"
         "  --check-sign GRID.vdb  do not convert: sample points uniformly in the mesh's\n"
         "                         box grown by 5%%, compute the exact winding number by\n"
         "                         brute force and print, per GRID (repeatable), the\n"
@@ -182,6 +185,8 @@ bool parseOptions(int argc, char** argv, Options& opt, std::string& error)
             opt.fp16 = true;
         } else if (!std::strcmp(a, "--quiet")) {
             opt.quiet = true;
+        } else if (!std::strcmp(a, "--no-simd")) {
+            opt.simd = false;
         } else if (a[0] == '-' && a[1] != '\0') {
             error = std::string("unknown option '") + a + "' (see --help)";
             return false;

@@ -29,6 +29,7 @@ struct Options {
     std::string name;         // grid name; empty: the mesh's file stem
     int threads = 0;          // 0: all cores
     bool quiet = false;
+    bool simd = true;         // vector instructions where the processor has them
     std::vector<std::string> checkSign; // --check-sign GRID.vdb (repeatable): measure, don't convert
     int samples = 10000;      // points for --check-sign
     bool help = false;
