@@ -7,10 +7,13 @@
 // exactly: if a voxel v has d(v) < r, the triangle T it is nearest to was
 // binned to v's block, so v's minimum is at most dist(v, T) = d(v); and it
 // is never below d(v), being a minimum of true distances. A voxel with no
-// triangle within r keeps +inf.
+// triangle within r keeps +inf. So a triangle may lower more voxels of its
+// blocks than those within r of it, and does: it takes the distances of
+// whole rows of four voxels along z at once (packet_rows.h, with AVX2 where
+// the processor has it).
 #include "band.h"
 
-#include "triangle_distance.h"
+#include "packet_rows.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -57,69 +60,103 @@ struct Binned {
 // A triangle in index space (voxel centres at integer coordinates) with the
 // voxels its r-neighbourhood can reach and its plane's normal.
 struct IndexTriangle {
-    double corner[9];
+    PreparedTriangle prepared;
     int lo[3], hi[3]; // inclusive voxel range of the bounding box grown by r
     double normal[3]; // (b - a) x (c - a), not normalized
+    double offset;    // normal . a
 };
 
 IndexTriangle indexTriangle(const TriangleMesh &mesh, size_t t, const std::array<double, 3> &origin, double voxelSize,
                             double r)
 {
     IndexTriangle it;
+    double c[9];
     for (int v = 0; v < 3; ++v)
         for (int k = 0; k < 3; ++k)
-            it.corner[v * 3 + k] = (double(mesh.points[mesh.triangles[t][v]][k]) - origin[k]) / voxelSize;
+            c[v * 3 + k] = (double(mesh.points[mesh.triangles[t][v]][k]) - origin[k]) / voxelSize;
+    it.prepared = prepareTriangle(c, c + 3, c + 6);
     for (int k = 0; k < 3; ++k) {
-        const double lo = std::min({it.corner[k], it.corner[3 + k], it.corner[6 + k]});
-        const double hi = std::max({it.corner[k], it.corner[3 + k], it.corner[6 + k]});
+        const double lo = std::min({c[k], c[3 + k], c[6 + k]});
+        const double hi = std::max({c[k], c[3 + k], c[6 + k]});
         it.lo[k] = int(std::ceil(lo - r));
         it.hi[k] = int(std::floor(hi + r));
     }
-    const double *c = it.corner;
     const double e1[3] = {c[3] - c[0], c[4] - c[1], c[5] - c[2]};
     const double e2[3] = {c[6] - c[0], c[7] - c[1], c[8] - c[2]};
     it.normal[0] = e1[1] * e2[2] - e1[2] * e2[1];
     it.normal[1] = e1[2] * e2[0] - e1[0] * e2[2];
     it.normal[2] = e1[0] * e2[1] - e1[1] * e2[0];
+    it.offset = it.normal[0] * c[0] + it.normal[1] * c[1] + it.normal[2] * c[2];
     return it;
 }
 
 // Lowers d2[] (squared distances in voxels, OpenVDB's leaf order) of the
-// block at `origin` to the triangle's, for the voxels within r of it. A
-// voxel farther than r from the triangle's plane is skipped without the full
-// distance: it is farther than r from the triangle too.
-void lowerByTriangle(const IndexTriangle &t, const std::array<int, 3> &origin, double r2, double *d2)
+// block at `origin` to the triangle's, in rows of four voxels along z that
+// hold a voxel within r of it. A row whose four voxels all lie farther than
+// r from the triangle's plane, on one side, is skipped: they are farther
+// than r from the triangle too.
+template <class Rows>
+void lowerByTriangle(const IndexTriangle &t, const std::array<int, 3> &origin, double r2, const double *z,
+                     double *d2)
 {
     int lo[3], hi[3];
     for (int k = 0; k < 3; ++k) {
-        lo[k] = std::max(t.lo[k], origin[k]);
-        hi[k] = std::min(t.hi[k], origin[k] + kBlockDim - 1);
+        lo[k] = std::max(t.lo[k], origin[k]) - origin[k];
+        hi[k] = std::min(t.hi[k], origin[k] + kBlockDim - 1) - origin[k];
         if (lo[k] > hi[k])
             return;
     }
     const double *n = t.normal;
     // Plane test with a relative margin, so that rounding never skips a voxel
     // of the band.
-    const double slab2 = r2 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) * (1 + 1e-6);
+    const double slab = std::sqrt(r2 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2])) * (1 + 1e-6);
     for (int x = lo[0]; x <= hi[0]; ++x)
         for (int y = lo[1]; y <= hi[1]; ++y) {
-            const double rowPlane = n[0] * (x - t.corner[0]) + n[1] * (y - t.corner[1]) - n[2] * t.corner[2];
-            double *row = d2 + (((x - origin[0]) << kBlockLog2) + (y - origin[1])) * kBlockDim - origin[2];
-            for (int z = lo[2]; z <= hi[2]; ++z) {
-                const double plane = rowPlane + n[2] * z;
-                if (plane * plane > slab2)
+            const double px = origin[0] + x, py = origin[1] + y;
+            const double rowPlane = n[0] * px + n[1] * py - t.offset;
+            double *row = d2 + ((x << kBlockLog2) + y) * kBlockDim;
+            for (int c = lo[2] & ~3; c <= hi[2]; c += 4) {
+                const double first = rowPlane + n[2] * z[c], last = rowPlane + n[2] * z[c + 3];
+                if ((first > slab && last > slab) || (first < -slab && last < -slab))
                     continue;
-                const double p[3] = {double(x), double(y), double(z)};
-                row[z] = std::min(row[z], triangleDistance2(t.corner, p));
+                alignas(32) double d[4];
+                Rows::distances(t.prepared, px, py, z + c, d);
+                Rows::lower(d, row + c);
             }
         }
 }
 
+// The distances of the block at `origin` from its binned triangles
+// entries[first, last) (squared, in voxels, at most r2).
+template <class Rows>
+void lowerBlock(const std::vector<IndexTriangle> &tris, const std::vector<Binned> &entries, size_t first,
+                size_t last, const std::array<int, 3> &origin, double r2, double *d2)
+{
+    alignas(32) double z[kBlockDim];
+    for (int c = 0; c < kBlockDim; ++c)
+        z[c] = origin[2] + c;
+    std::fill(d2, d2 + kBlockSize, r2);
+    for (size_t i = first; i < last; ++i)
+        lowerByTriangle<Rows>(tris[entries[i].triangle], origin, r2, z, d2);
+}
+
+#ifdef MESH2SDF_ROWS_AVX2
+// lowerBlock compiled for AVX2 and FMA, everything it calls inlined.
+__attribute__((target("avx2,fma"), flatten)) void lowerBlockAvx2(const std::vector<IndexTriangle> &tris,
+                                                                const std::vector<Binned> &entries, size_t first,
+                                                                size_t last, const std::array<int, 3> &origin,
+                                                                double r2, double *d2)
+{
+    lowerBlock<Avx2Rows>(tris, entries, first, last, origin, r2, d2);
+}
+#endif
+
 } // namespace
 
 void exactBand(const TriangleMesh &mesh, const std::array<double, 3> &origin, double voxelSize, double halfWidth,
-               const BandBlockSink &sink, const std::function<void(int)> &progress)
+               const BandBlockSink &sink, const std::function<void(int)> &progress, bool simd)
 {
+    const bool vectorized = simd && rowsVectorizable();
     const size_t count = mesh.triangles.size();
     const double r = halfWidth, r2 = r * r;
     std::vector<IndexTriangle> tris(count);
@@ -146,7 +183,7 @@ void exactBand(const TriangleMesh &mesh, const std::array<double, 3> &origin, do
                         const double centre[3] = {bx * kBlockDim + 0.5 * (kBlockDim - 1),
                                                   by * kBlockDim + 0.5 * (kBlockDim - 1),
                                                   bz * kBlockDim + 0.5 * (kBlockDim - 1)};
-                        if (triangleDistance2(it.corner, centre) < reach * reach)
+                        if (preparedDistance2(it.prepared, centre) < reach * reach)
                             out.push_back({blockKey(bx, by, bz), uint32_t(t)});
                     }
         }
@@ -166,13 +203,16 @@ void exactBand(const TriangleMesh &mesh, const std::array<double, 3> &origin, do
     const float limit = float(halfWidth * voxelSize);
     std::atomic<size_t> done{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks, 16), [&](const tbb::blocked_range<size_t> &range) {
-        double d2[kBlockSize];
+        alignas(32) double d2[kBlockSize];
         float distance[kBlockSize];
         for (size_t b = range.begin(); b != range.end(); ++b) {
             const std::array<int, 3> at = blockOrigin(binned[starts[b]].block);
-            std::fill(d2, d2 + kBlockSize, r2);
-            for (size_t i = starts[b]; i < starts[b + 1]; ++i)
-                lowerByTriangle(tris[binned[i].triangle], at, r2, d2);
+#ifdef MESH2SDF_ROWS_AVX2
+            if (vectorized)
+                lowerBlockAvx2(tris, binned, starts[b], starts[b + 1], at, r2, d2);
+            else
+#endif
+                lowerBlock<ScalarRows>(tris, binned, starts[b], starts[b + 1], at, r2, d2);
             bool any = false;
             for (int v = 0; v < kBlockSize; ++v) {
                 const float d = float(std::sqrt(d2[v]) * voxelSize);

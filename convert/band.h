@@ -27,9 +27,10 @@ using BandBlockSink = std::function<void(const std::array<int, 3> &origin, float
 
 /// The band of `mesh` on the voxel grid whose voxel (i, j, k) has its centre
 /// at origin + (i, j, k) * voxelSize; `halfWidth` in voxels. `progress` (may
-/// be empty) receives 0..100 as blocks complete.
+/// be empty) receives 0..100 as blocks complete. `simd`: with AVX2 where
+/// the processor has it (false: without; the same band to rounding).
 void exactBand(const TriangleMesh &mesh, const std::array<double, 3> &origin, double voxelSize, double halfWidth,
-               const BandBlockSink &sink, const std::function<void(int)> &progress);
+               const BandBlockSink &sink, const std::function<void(int)> &progress, bool simd = true);
 
 } // namespace mesh2sdf
 

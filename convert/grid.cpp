@@ -57,7 +57,7 @@ Vec3 worldOf(const BoxGeometry &box, const openvdb::Coord &ijk)
 // given (else unsigned). Inactive values are +background, or -background
 // where `sign` puts them inside.
 openvdb::FloatGrid::Ptr exactBandGrid(const TriangleMesh &mesh, const BoxGeometry &box, float band,
-                                      const WindingSign *sign, Progress &progress)
+                                      const WindingSign *sign, bool simd, Progress &progress)
 {
     using Leaf = openvdb::FloatTree::LeafNodeType;
     static_assert(Leaf::DIM == kBlockDim, "band blocks are OpenVDB leaves");
@@ -78,7 +78,7 @@ openvdb::FloatGrid::Ptr exactBandGrid(const TriangleMesh &mesh, const BoxGeometr
             std::lock_guard<std::mutex> lock(leavesMutex);
             leaves.push_back(leaf);
         },
-        [&](int percent) { progress.report(percent); });
+        [&](int percent) { progress.report(percent); }, simd);
     openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(background);
     for (Leaf *leaf : leaves)
         grid->tree().addLeaf(leaf); // the tree takes ownership
@@ -425,7 +425,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
         std::unique_ptr<WindingSign> sign;
         if (winding)
             sign.reset(new WindingSign(mesh, *tree, box.origin, box.voxelSize, band));
-        grid = exactBandGrid(mesh, box, band, sign.get(), progress);
+        grid = exactBandGrid(mesh, box, band, sign.get(), opt.simd, progress);
         if (winding) {
             progress.stage("sign off the band", bandEnd, signEnd);
             signTiles(grid->tree(), *sign, progress);

@@ -72,11 +72,7 @@ constexpr double kCancel = 1e-14;
 
 NearestTriangle::NearestTriangle(const TriangleMesh &mesh, bool vectorized)
 {
-#ifdef MESH2SDF_ROWS_AVX2
-    mVectorized = vectorized && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-#else
-    mVectorized = false;
-#endif
+    mVectorized = vectorized && rowsVectorizable();
     const uint32_t n = uint32_t(mesh.triangles.size());
     std::vector<std::array<double, 3>> centroids(n);
     std::vector<uint32_t> order(n);

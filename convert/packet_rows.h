@@ -1,6 +1,7 @@
 // mesh2sdf — the per-row work of the packet search (nearest_triangle.cpp):
 // for one row of four voxel centres (i, j, 0..3), which differ only in z,
-// a node's two lower bounds and a triangle's squared distances. Written
+// a node's two lower bounds and a triangle's squared distances (also the
+// exact band's rows, band.cpp). Written
 // twice, lane by lane in plain C++ (ScalarRows) and four lanes at once with
 // AVX2 and FMA (Avx2Rows, for a caller compiled for those: see
 // NearestTriangle::searchAvx2); both compute the same formulas, to rounding.
@@ -36,6 +37,16 @@
 
 namespace mesh2sdf
 {
+
+/// Whether this processor runs Avx2Rows (AVX2 and FMA).
+inline bool rowsVectorizable()
+{
+#ifdef MESH2SDF_ROWS_AVX2
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#else
+    return false;
+#endif
+}
 
 /// A triangle prepared for many distance queries (see above).
 struct PreparedTriangle {
