@@ -932,6 +932,69 @@ static void test_full_distances(void **state)
     }
 }
 
+/* --full around thin triangles: a cube with four slivers beside it, two
+ * thinner than mesh2sdf's threshold for a reliable normal (kThin, 1e-8 of
+ * the longest edge: they count as their edges) and two just above it (their
+ * normal from an ill-conditioned cross product), flat and tilted. Every
+ * voxel of the box, with vector instructions and without (--no-simd), must
+ * equal the brute-force distance within 1e-4 voxel. The corners are exact
+ * in float, so mesh2sdf and the brute force see the same triangles. */
+static void test_full_thin_triangles(void **state)
+{
+    (void)state;
+    mesh m = {0};
+    make_cube(&m);
+    const double tiny[2] = {0x1p-30, 0x1p-23}; /* below and above kThin */
+    for (int i = 0; i < 2; i++) {
+        const double z = i ? -0.75 : 0.75;
+        mesh_vertex(&m, -0.5, 0, z);
+        mesh_vertex(&m, 0.5, 0, z);
+        mesh_vertex(&m, 0, tiny[i], z);
+        mesh_triangle(&m, m.nv - 3, m.nv - 2, m.nv - 1);
+    }
+    const double tilt[2] = {0x1p-28, 0x1p-24};
+    for (int i = 0; i < 2; i++) {
+        const double x = i ? 0.875 : -0.875;
+        mesh_vertex(&m, x, -0.5, -0.375);
+        mesh_vertex(&m, x + 0.25, 0.5, 0.375);
+        mesh_vertex(&m, x + 0.125 + tilt[i], tilt[i], 0);
+        mesh_triangle(&m, m.nv - 3, m.nv - 2, m.nv - 1);
+    }
+    char off[512];
+    tu_tmp(off, sizeof off, "thin.off");
+    write_off(off, &m);
+    const char *flags[2] = {"--res 40 --full", "--res 40 --full --no-simd"};
+    for (int f = 0; f < 2; f++) {
+        dense g = {0};
+        convert(off, f ? "thin_scalar" : "thin", flags[f], &g);
+        double worst = 0;
+        long near_sliver = 0, voxels = 0;
+        for (int i = 0; i < g.n[0]; i++)
+            for (int j = 0; j < g.n[1]; j++)
+                for (int k = 0; k < g.n[2]; k++) {
+                    double p[3], cube = INFINITY, sliver = INFINITY;
+                    dense_point(&g, i, j, k, p);
+                    for (int t = 0; t < m.nt; t++) {
+                        const double d2 = tri_dist2(p, &m.v[3 * m.t[3 * t]], &m.v[3 * m.t[3 * t + 1]],
+                                                    &m.v[3 * m.t[3 * t + 2]]);
+                        if (t < 12)
+                            cube = fmin(cube, d2);
+                        else
+                            sliver = fmin(sliver, d2);
+                    }
+                    near_sliver += sliver < cube;
+                    voxels++;
+                    worst = fmax(worst, fabs(fabs(dense_at(&g, i, j, k)) - sqrt(fmin(cube, sliver))) / g.h);
+                }
+        printf("thin triangles %s: %ld voxels (%ld nearest a sliver), largest distance error %.2e voxel\n",
+               flags[f], voxels, near_sliver, worst);
+        free(g.data);
+        assert_true(near_sliver > voxels / 10);
+        assert_true(worst <= 1e-4);
+    }
+    mesh_free(&m);
+}
+
 static void test_render_round_trip(void **state)
 {
     (void)state;
@@ -1234,6 +1297,7 @@ int main(void)
         cmocka_unit_test(test_sign_sheet_stack),
         cmocka_unit_test(test_sign_bunny_base),
         cmocka_unit_test(test_full_distances),
+        cmocka_unit_test(test_full_thin_triangles),
         cmocka_unit_test(test_render_round_trip),
     };
     return cmocka_run_group_tests_name("mesh2sdf", tests, NULL, NULL);
