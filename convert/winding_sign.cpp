@@ -21,6 +21,44 @@
 // f(d) = min(L / (4 pi d^2), 1 / (2 pi d)) (edgeField), decreasing in d, so a
 // lower bound on the distance gives an upper bound on the field.
 //
+// A group of edges far away (EdgeField). Let currents c_e flow along edges
+// a_e -> b_e, all within R of a centre c, with chord T = sum c_e (b_e - a_e)
+// and mass M = sum c_e L_e. With f(r) = r / |r|^3,
+//   B(x) = 1/(4 pi) sum c_e int_e dl x f(x - y)
+//        = 1/(4 pi) [T x f(x - c) + sum c_e int_e dl x (f(x - y) - f(x - c))].
+// The Jacobian of f is (I - 3 r r^T / |r|^2) / |r|^3, of norm 2 / |r|^3, and
+// the segment from x - c to x - y keeps at least D - R from 0 when D = |x - c|
+// > R (c and y lie in the ball of radius R about c), so |f(x - y) - f(x - c)|
+// <= 2 R / (D - R)^3 and
+//   |B(x)| <= (|T| / D^2 + 2 M R / (D - R)^3) / (4 pi),
+// decreasing in D. For a closed loop T = 0 and the bound falls off as 1/D^3,
+// where the sum edge by edge falls off as M/D^2. EdgeField keeps a tree of
+// groups (median splits of the edges) and takes a group's bound, at a lower
+// bound of D over the region, where it is smaller than the edges could give
+// one by one; a leaf is one edge and its bound above.
+//
+// The exact field of one edge at p (segmentField) is the closed form of the
+// Biot-Savart integral, (ra x rb) (|ra| + |rb|) / (|ra| |rb| (|ra| |rb| +
+// ra . rb)) / (4 pi) with ra = p - a, rb = p - b; grad w = +-B with one sign
+// for all edges (each is directed along its net current).
+//
+// Along a step from a to b = a + l t (|t| = 1) that crosses no mesh point,
+// w(b) - w(a) = int_0^l g(s) ds with g(s) = grad w(a + s t) . t, and the
+// trapezoid rule gives |int g| <= l |g(0) + g(l)| / 2 + l^3 / 12 sup |g''|.
+// signBlock splits the edges into near ones, whose field it computes exactly
+// at each voxel, and far ones, which add at most l times their bound on |B|.
+// For the near part, g'' is a sum over edges of int dl x D^2 f[t, t] . t;
+// f = -grad(1/|r|), so |D^2 f[t, t]| is at most the largest third
+// directional derivative of 1/|r| (for a symmetric form the norm is reached
+// on the diagonal), which is 3! |P_3(cos theta)| / |r|^4 <= 6 / |r|^4 (the
+// derivatives at 0 of 1/|r - s u| = sum s^n P_n(cos theta) / |r|^(n+1)).
+// Integrating |dl| 6 / |r|^4 / (4 pi) over an edge at distance >= d gives at
+// most min(6 L / d^4, 3 pi / d^3) / (4 pi) = min(3 L / (2 pi d^4), 3 / (4
+// d^3)) (edgeCurvature). Every point of the step lies within l/2 <= sqrt(3)/2
+// voxel of a or b, so the larger of the sums K at a and b, each taken over
+// the ball of that radius, bounds sup |g''|. A step takes the smaller of
+// this and l times the larger edge by edge bound G at its ends.
+//
 // w is evaluated by FastWinding (winding.h), whose far-field expansion
 // (beta = 2, order 2) is not exact: against the brute-force sum it errs by up
 // to 0.06 at random points of the test meshes (median 0.003). Its Taylor
@@ -78,7 +116,14 @@ double edgeField(double d, double length)
     return d > 0 ? std::min(length / (4 * kPi * d * d), 1 / (2 * kPi * d)) : INFINITY;
 }
 
-double segmentDistance(const WindingSign::OpenEdge &e, const double *p)
+// Bound on the second derivative along any line of the field of one edge
+// of length `length` carrying current 1, at distance d from it.
+double edgeCurvature(double d, double length)
+{
+    return d > 0 ? std::min(3 * length / (2 * kPi * d * d * d * d), 3 / (4 * d * d * d)) : INFINITY;
+}
+
+double segmentDistance(const OpenEdge &e, const double *p)
 {
     double ab[3], ap[3], ab2 = 0, t = 0;
     for (int k = 0; k < 3; ++k) {
@@ -98,7 +143,7 @@ double segmentDistance(const WindingSign::OpenEdge &e, const double *p)
 
 // Vertices are welded by exact position, as the health counts do, so seams
 // of duplicated vertices carry nothing.
-std::vector<WindingSign::OpenEdge> openEdges(const TriangleMesh &mesh)
+std::vector<OpenEdge> openEdges(const TriangleMesh &mesh)
 {
     struct PointHash {
         size_t operator()(const std::array<float, 3> &p) const
@@ -122,13 +167,14 @@ std::vector<WindingSign::OpenEdge> openEdges(const TriangleMesh &mesh)
             const uint64_t key = (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
             net[key] += a < b ? 1 : -1;
         }
-    std::vector<WindingSign::OpenEdge> edges;
+    std::vector<OpenEdge> edges;
     for (const auto &kv : net) {
         if (kv.second == 0)
             continue;
-        const auto &p = mesh.points[uint32_t(kv.first >> 32)];
-        const auto &q = mesh.points[uint32_t(kv.first & 0xffffffffu)];
-        WindingSign::OpenEdge e;
+        // Directed along the net current: min -> max when positive.
+        const auto &p = mesh.points[uint32_t(kv.second > 0 ? kv.first >> 32 : kv.first & 0xffffffffu)];
+        const auto &q = mesh.points[uint32_t(kv.second > 0 ? kv.first & 0xffffffffu : kv.first >> 32)];
+        OpenEdge e;
         double len2 = 0;
         for (int k = 0; k < 3; ++k) {
             e.a[k] = p[k];
@@ -142,12 +188,181 @@ std::vector<WindingSign::OpenEdge> openEdges(const TriangleMesh &mesh)
         edges.push_back(e);
     }
     // A deterministic order, so that the bounds' rounding is the same each run.
-    std::sort(edges.begin(), edges.end(), [](const WindingSign::OpenEdge &x, const WindingSign::OpenEdge &y) {
+    std::sort(edges.begin(), edges.end(), [](const OpenEdge &x, const OpenEdge &y) {
         return std::lexicographical_compare(x.a, x.a + 3, y.a, y.a + 3) ||
                (std::equal(x.a, x.a + 3, y.a) && std::lexicographical_compare(x.b, x.b + 3, y.b, y.b + 3));
     });
     return edges;
 }
+
+// Adds to B the field of edge e, current e.current from a to b, at p:
+// (ra x rb) (|ra| + |rb|) / (|ra| |rb| (|ra| |rb| + ra . rb)) / (4 pi) with
+// ra = p - a, rb = p - b, the closed form of the Biot-Savart integral, zero
+// on the edge's line beyond its ends.
+void segmentField(const OpenEdge &e, const double *p, double B[3])
+{
+    double ra[3], rb[3];
+    for (int k = 0; k < 3; ++k) {
+        ra[k] = p[k] - e.a[k];
+        rb[k] = p[k] - e.b[k];
+    }
+    const double la = std::sqrt(ra[0] * ra[0] + ra[1] * ra[1] + ra[2] * ra[2]);
+    const double lb = std::sqrt(rb[0] * rb[0] + rb[1] * rb[1] + rb[2] * rb[2]);
+    const double denominator = la * lb * (la * lb + ra[0] * rb[0] + ra[1] * rb[1] + ra[2] * rb[2]);
+    const double f = denominator > 0 ? e.current * (la + lb) / (4 * kPi * denominator) : INFINITY;
+    B[0] += f * (ra[1] * rb[2] - ra[2] * rb[1]);
+    B[1] += f * (ra[2] * rb[0] - ra[0] * rb[2]);
+    B[2] += f * (ra[0] * rb[1] - ra[1] * rb[0]);
+}
+
+// A lower bound on the distance from edge e to every point within `inflate`
+// of the box [lo, hi]: the gap between the boxes, or e's distance from the
+// box's centre less its half-diagonal, less `inflate`.
+double edgeGap(const OpenEdge &e, const double lo[3], const double hi[3], double inflate)
+{
+    double gap2 = 0, half2 = 0, centre[3];
+    for (int k = 0; k < 3; ++k) {
+        const double gap = std::max({e.lo[k] - hi[k], 0.0, lo[k] - e.hi[k]});
+        gap2 += gap * gap;
+        centre[k] = 0.5 * (lo[k] + hi[k]);
+        half2 += 0.25 * (hi[k] - lo[k]) * (hi[k] - lo[k]);
+    }
+    return std::max(std::sqrt(gap2), segmentDistance(e, centre) - std::sqrt(half2)) - inflate;
+}
+
+} // namespace
+
+EdgeField::EdgeField(const TriangleMesh &mesh) : mEdges(openEdges(mesh))
+{
+    std::vector<uint32_t> order(mEdges.size());
+    for (size_t i = 0; i < order.size(); ++i)
+        order[i] = uint32_t(i);
+    mGroups.reserve(2 * mEdges.size());
+    if (!mEdges.empty())
+        build(order, 0, order.size());
+}
+
+// Splits the edges order[first, first + count) at the median of their
+// midpoints along the longest side of their box; a group per node.
+uint32_t EdgeField::build(std::vector<uint32_t> &order, size_t first, size_t count)
+{
+    const uint32_t index = uint32_t(mGroups.size());
+    mGroups.push_back(Group{});
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, chord[3] = {0, 0, 0};
+    double mass = 0;
+    for (size_t i = first; i < first + count; ++i) {
+        const OpenEdge &e = mEdges[order[i]];
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], e.lo[k]);
+            hi[k] = std::max(hi[k], e.hi[k]);
+            chord[k] += e.current * (e.b[k] - e.a[k]);
+        }
+        mass += e.current * e.length;
+    }
+    Group g;
+    double radius2 = 0;
+    for (int k = 0; k < 3; ++k)
+        g.centre[k] = 0.5 * (lo[k] + hi[k]);
+    for (size_t i = first; i < first + count; ++i) {
+        const OpenEdge &e = mEdges[order[i]];
+        double a2 = 0, b2 = 0;
+        for (int k = 0; k < 3; ++k) {
+            a2 += (e.a[k] - g.centre[k]) * (e.a[k] - g.centre[k]);
+            b2 += (e.b[k] - g.centre[k]) * (e.b[k] - g.centre[k]);
+        }
+        radius2 = std::max({radius2, a2, b2});
+    }
+    // Margins for rounding: the chord of a closed loop sums to zero only up
+    // to rounding, and the radius must hold the endpoints as stored.
+    g.radius = std::sqrt(radius2) * (1 + 1e-9);
+    g.chord = std::sqrt(chord[0] * chord[0] + chord[1] * chord[1] + chord[2] * chord[2]) + 1e-9 * mass;
+    g.mass = mass;
+    if (count == 1) {
+        g.left = g.right = order[first];
+        mGroups[index] = g;
+        return index;
+    }
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+        if (hi[k] - lo[k] > hi[axis] - lo[axis])
+            axis = k;
+    auto mid = [&](uint32_t i) { return mEdges[i].a[axis] + mEdges[i].b[axis]; };
+    const size_t half = count / 2;
+    std::nth_element(order.begin() + first, order.begin() + first + half, order.begin() + first + count,
+                     [&](uint32_t x, uint32_t y) { return mid(x) < mid(y) || (mid(x) == mid(y) && x < y); });
+    g.left = build(order, first, half);
+    g.right = build(order, first + half, count - half);
+    mGroups[index] = g;
+    return index;
+}
+
+// The sum, over a cut of the tree, of group bounds (the group's field at
+// every point within `inflate` of the box, by the dipole argument at the top
+// of the file) where they are small, and of leaf(edge, gap) at the edges
+// reached, gap a lower bound on the edge's distance from those points.
+template <typename Leaf>
+double EdgeField::walk(uint32_t node, const double lo[3], const double hi[3], double inflate, Leaf &&leaf) const
+{
+    const Group &g = mGroups[node];
+    if (g.left == g.right) {
+        const OpenEdge &e = mEdges[g.left];
+        return leaf(e, edgeGap(e, lo, hi, inflate));
+    }
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) {
+        const double gap = std::max({lo[k] - g.centre[k], 0.0, g.centre[k] - hi[k]});
+        d2 += gap * gap;
+    }
+    const double d = std::sqrt(d2) - inflate, r = g.radius;
+    if (d > r) {
+        const double q = d - r;
+        const double group = (g.chord / (d * d) + 2 * g.mass * r / (q * q * q)) / (4 * kPi);
+        // Taken where no edge by edge sum could do much better: each edge
+        // gives at least about current * length / (4 pi (d + r)^2).
+        if (group <= g.mass / (4 * kPi * (d + r) * (d + r)))
+            return group;
+    }
+    return walk(g.left, lo, hi, inflate, leaf) + walk(g.right, lo, hi, inflate, leaf);
+}
+
+double EdgeField::overBox(const double lo[3], const double hi[3], double inflate, double floor) const
+{
+    if (mGroups.empty())
+        return 0;
+    return walk(0, lo, hi, inflate,
+                [&](const OpenEdge &e, double gap) { return e.current * edgeField(std::max(gap, floor), e.length); });
+}
+
+void EdgeField::field(const double p[3], double B[3]) const
+{
+    B[0] = B[1] = B[2] = 0;
+    for (const OpenEdge &e : mEdges)
+        segmentField(e, p, B);
+}
+
+double EdgeField::curvature(const double p[3], double inflate) const
+{
+    double K = 0;
+    for (const OpenEdge &e : mEdges)
+        K += e.current * edgeCurvature(segmentDistance(e, p) - inflate, e.length);
+    return K;
+}
+
+double EdgeField::farPart(const double lo[3], const double hi[3], double inflate, double nearDistance,
+                          std::vector<const OpenEdge *> &near) const
+{
+    if (mGroups.empty())
+        return 0;
+    return walk(0, lo, hi, inflate, [&](const OpenEdge &e, double gap) {
+        if (gap > nearDistance)
+            return e.current * edgeField(gap, e.length);
+        near.push_back(&e);
+        return 0.0;
+    });
+}
+
+namespace
+{
 
 // Bound on |grad w| within sqrt(3)/2 voxel of a voxel centre of one block:
 // every point of a step to one of the 26 neighbours lies within half the
@@ -156,21 +371,23 @@ std::vector<WindingSign::OpenEdge> openEdges(const TriangleMesh &mesh)
 class BlockGradientBound
 {
   public:
-    BlockGradientBound(const std::vector<WindingSign::OpenEdge> &edges, const double lo[3], const double hi[3],
-                       double voxelSize)
+    BlockGradientBound(const EdgeField &field, const double lo[3], const double hi[3], double voxelSize)
         : mReach(0.5 * std::sqrt(3.0) * voxelSize)
     {
-        for (const auto &e : edges) {
-            double d2 = 0;
-            for (int k = 0; k < 3; ++k) {
-                const double gap = std::max({e.lo[k] - hi[k], 0.0, lo[k] - e.hi[k]});
-                d2 += gap * gap;
-            }
-            const double d = std::sqrt(d2) - mReach;
-            if (d > kNearVoxels * voxelSize)
-                mFar += e.current * edgeField(d, e.length);
-            else
-                mNear.push_back(&e);
+        mFar = field.farPart(lo, hi, mReach, kNearVoxels * voxelSize, mNear);
+    }
+    double far() const { return mFar; }
+    // At p, the near edges' exact field B; and over every point within
+    // sqrt(3)/2 voxel of p that no edge is nearer than `floor`, their bound
+    // G on |B| and K on the second derivative of B along any line.
+    void nearField(const double *p, double floor, double B[3], double &G, double &K) const
+    {
+        B[0] = B[1] = B[2] = G = K = 0;
+        for (const auto *e : mNear) {
+            const double d = std::max(segmentDistance(*e, p) - mReach, floor);
+            G += e->current * edgeField(d, e->length);
+            K += e->current * edgeCurvature(d, e->length);
+            segmentField(*e, p, B);
         }
     }
     double at(const double *p) const { return at(p, 0.0, 0.0); }
@@ -187,7 +404,7 @@ class BlockGradientBound
   private:
     double mReach;
     double mFar = 0;
-    std::vector<const WindingSign::OpenEdge *> mNear;
+    std::vector<const OpenEdge *> mNear;
 };
 
 // The cheap way to sign a block (signBlock gives the argument): one bound
@@ -248,8 +465,7 @@ bool signByComponents(float *distance, const float *reach, const BlockGradientBo
 
 WindingSign::WindingSign(const TriangleMesh &mesh, const FastWinding &winding, const std::array<double, 3> &origin,
                          double voxelSize, double halfWidth)
-    : mWinding(winding), mOrigin(origin), mVoxelSize(voxelSize), mOffBand(halfWidth * voxelSize),
-      mEdges(openEdges(mesh))
+    : mWinding(winding), mOrigin(origin), mVoxelSize(voxelSize), mOffBand(halfWidth * voxelSize), mField(mesh)
 {
 }
 
@@ -271,16 +487,7 @@ int WindingSign::cubeSide(const std::array<int, 3> &origin, int size) const
         clearance = mWinding.distance({centre[0], centre[1], centre[2]}) * (1 - 1e-6) - rho;
     if (!(clearance > 0))
         return 0;
-    double gradient = 0;
-    for (const OpenEdge &e : mEdges) {
-        double gap2 = 0;
-        for (int k = 0; k < 3; ++k) {
-            const double gap = std::max({e.lo[k] - hi[k], 0.0, lo[k] - e.hi[k]});
-            gap2 += gap * gap;
-        }
-        const double d = std::max({std::sqrt(gap2), segmentDistance(e, centre) - rho, clearance});
-        gradient += e.current * edgeField(d, e.length);
-    }
+    const double gradient = mField.overBox(lo, hi, 0.0, clearance);
     const double w = mWinding({centre[0], centre[1], centre[2]});
     // A margin for rounding in the bound, as in signBlock.
     if (!(std::abs(w - 0.5) > rho * gradient * (1 + 1e-6) + kMargin))
@@ -292,8 +499,11 @@ int WindingSign::cubeSide(const std::array<int, 3> &origin, int size) const
 // 26-neighbourhood, whose distances satisfy d(a) + d(b) > |a-b| lie on a
 // segment that cannot cross the mesh (a crossing point x would give
 // d(a) + d(b) <= |a-x| + |x-b| = |a-b|), so w is smooth between them and
-// changes along it by at most |a-b| times the larger gradient bound of a and
-// b (BlockGradientBound). (Diagonal steps matter: next to a surface that is
+// changes along it by at most the step bound at the top of the file: the
+// far edges' bound on |B| times |a-b|, plus for the near edges the smaller of
+// |a-b| times the larger of their bounds G at a and b, and the trapezoid rule
+// on their exact fields at a and b with its remainder (BlockGradientBound's
+// nearField, computed once per voxel). (Diagonal steps matter: next to a surface that is
 // not axis-aligned, a voxel nearer than half a voxel often has no face
 // neighbour far enough for the test, but one along a diagonal.) A band
 // voxel's d is its exact distance; a voxel off the band has d >= the
@@ -309,10 +519,9 @@ int WindingSign::cubeSide(const std::array<int, 3> &origin, int size) const
 // and becomes the anchor of the voxels reached through it. Then the voxels
 // off the band, breadth first from the band's: the same rule, the first walk
 // that decides a voxel kept (any walk proves its side), a voxel no walk
-// reaches evaluated. Off the band the gradient bound is taken once per 2^3
-// cell, at its centre for every point within sqrt(3)/2 voxel of it, with no
-// edge nearer than r - sqrt(3)/2 voxels (every point that near an off-band
-// voxel is that far from the mesh).
+// reaches evaluated. Off the band G and K are taken with no edge nearer
+// than r - sqrt(3)/2 voxels (every point that near an off-band voxel is
+// that far from the mesh).
 //
 // Before that walk, the cheap way (signByComponents): one bound G on |grad w|
 // for every point within sqrt(3)/2 voxel of any voxel of the block (the
@@ -345,7 +554,7 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
     double lo[3], hi[3];
     world(0, lo);
     world(kBlockSize - 1, hi);
-    const BlockGradientBound gradient(mEdges, lo, hi, h);
+    const BlockGradientBound gradient(mField, lo, hi, h);
     const double clearance = std::max(mOffBand * (1 - 1e-6) - 0.5 * std::sqrt(3.0) * h, 0.0);
     // Distance, or for a voxel off the band the bound every such voxel keeps.
     const float offBand = float(mOffBand);
@@ -362,37 +571,47 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
     };
     if (signByComponents(distance, reach, gradient, lo, h, clearance, windingOnce))
         return;
-    // Change of w per voxel length of a step from voxel v, with a margin for
-    // rounding; < 0 until computed. A voxel off the band takes the bound of
-    // its 2^3 cell, computed once at the cell's centre for every point within
-    // sqrt(3)/2 voxel of it, with no edge nearer than the clearance every
-    // point within sqrt(3)/2 voxel of an off-band voxel keeps (cubeSide).
+    // The near edges' field at each voxel (computed when first needed): the
+    // exact field B, and over every point within sqrt(3)/2 voxel of the
+    // voxel, the edge by edge bound G on |B| and the bound K on the second
+    // derivative of B along a line; off the band no edge is nearer than the
+    // clearance. The edges farther away add at most gradient.far() to |B|.
     auto inBand = [&](int v) { return std::isfinite(distance[v]); };
-    double stepBound[kBlockSize], cellBound[kBlockSize / 8];
-    std::fill(stepBound, stepBound + kBlockSize, -1.0);
-    std::fill(cellBound, cellBound + kBlockSize / 8, -1.0);
-    auto stepAt = [&](int v) {
-        if (stepBound[v] >= 0)
-            return stepBound[v];
-        if (inBand(v)) {
+    // Per voxel, in the units a step needs: B h / 2, G h, K h^3 / 12, and
+    // a margin for rounding in B's sums.
+    struct NearField {
+        double B[3], G, K, rounding;
+    };
+    NearField field[kBlockSize];
+    if (!mField.edges().empty())
+        for (int v = 0; v < kBlockSize; ++v) {
             double p[3];
             world(v, p);
-            return stepBound[v] = gradient.at(p) * h * (1 + 1e-6);
+            NearField &f = field[v];
+            gradient.nearField(p, inBand(v) ? 0.0 : clearance, f.B, f.G, f.K);
+            for (double &b : f.B)
+                b *= 0.5 * h;
+            f.G *= h;
+            f.K *= h * h * h / 12;
+            f.rounding = 2e-9 * (std::abs(f.B[0]) + std::abs(f.B[1]) + std::abs(f.B[2]));
         }
-        const int x = v >> (2 * kBlockLog2), y = (v >> kBlockLog2) & (kBlockDim - 1), z = v & (kBlockDim - 1);
-        const int cell = (((x >> 1) << (2 * kBlockLog2 - 2)) | ((y >> 1) << (kBlockLog2 - 1)) | (z >> 1));
-        if (cellBound[cell] < 0) {
-            const double c[3] = {mOrigin[0] + (origin[0] + (x | 1) - 0.5) * h,
-                                 mOrigin[1] + (origin[1] + (y | 1) - 0.5) * h,
-                                 mOrigin[2] + (origin[2] + (z | 1) - 0.5) * h};
-            cellBound[cell] = gradient.at(c, 0.5 * std::sqrt(3.0) * h, clearance) * h * (1 + 1e-6);
-        }
-        return stepBound[v] = cellBound[cell];
+    // A bound on the change of w along the step from v to its neighbour u
+    // (offset o, `length` voxels), with a margin for rounding: the far
+    // edges' part, plus the smaller of the near edges' bound by G and their
+    // trapezoid rule with its remainder (see the top of the file).
+    const double far = gradient.far() * h;
+    auto change = [&](int v, int u, const int *o, double length) {
+        const NearField &a = field[v], &b = field[u];
+        const double byG = length * std::max(a.G, b.G);
+        const double dot = (a.B[0] + b.B[0]) * o[0] + (a.B[1] + b.B[1]) * o[1] + (a.B[2] + b.B[2]) * o[2];
+        const double byB =
+            std::abs(dot) + length * length * length * std::max(a.K, b.K) + length * (a.rounding + b.rounding);
+        return (std::min(byG, byB) + length * far) * (1 + 1e-6);
     };
     // The 26 neighbour offsets, their lengths in voxels, and the length in
     // world units (with a margin for rounding) that d(a) + d(b) must exceed.
     struct Step {
-        int dx, dy, dz;
+        int offset[3];
         double length;
         float crossing;
     };
@@ -403,18 +622,18 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
             for (int dz = -1; dz <= 1; ++dz)
                 if (dx || dy || dz) {
                     const double length = std::sqrt(double(dx * dx + dy * dy + dz * dz));
-                    steps[stepCount++] = {dx, dy, dz, length, float(length * h) * (1.0f + 1e-5f)};
+                    steps[stepCount++] = {{dx, dy, dz}, length, float(length * h) * (1.0f + 1e-5f)};
                 }
 
     auto neighbours = [&](int v, auto &&visit) {
         const int x = v >> (2 * kBlockLog2), y = (v >> kBlockLog2) & (kBlockDim - 1), z = v & (kBlockDim - 1);
         for (const Step &s : steps) {
-            const int n[3] = {x + s.dx, y + s.dy, z + s.dz};
+            const int n[3] = {x + s.offset[0], y + s.offset[1], z + s.offset[2]};
             if (n[0] < 0 || n[1] < 0 || n[2] < 0 || n[0] >= kBlockDim || n[1] >= kBlockDim || n[2] >= kBlockDim)
                 continue;
             const int u = (((n[0] << kBlockLog2) | n[1]) << kBlockLog2) | n[2];
             if (reach[v] + reach[u] > s.crossing)
-                visit(u, s.length);
+                visit(u, s);
         }
     };
     // Most certain first: a max-heap on margin = |w(anchor) - 1/2| - drift.
@@ -454,10 +673,10 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
         if (!(margin[v] > kMargin))
             evaluate(v); // no walk from an evaluated voxel decides it
         decided[v] = true;
-        neighbours(v, [&](int u, double length) {
+        neighbours(v, [&](int u, const Step &s) {
             if (decided[u] || !inBand(u))
                 return;
-            const double d = mEdges.empty() ? 0.0 : drift[v] + length * std::max(stepAt(v), stepAt(u));
+            const double d = mField.edges().empty() ? 0.0 : drift[v] + change(v, u, s.offset, s.length);
             const double m = std::abs(anchorW[v] - 0.5) - d;
             if (m > margin[u]) {
                 margin[u] = m;
@@ -486,10 +705,10 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
             queue.push_back(int(start));
         }
         const int v = queue[next++];
-        neighbours(v, [&](int u, double length) {
+        neighbours(v, [&](int u, const Step &s) {
             if (decided[u])
                 return;
-            const double d = mEdges.empty() ? 0.0 : drift[v] + length * std::max(stepAt(v), stepAt(u));
+            const double d = mField.edges().empty() ? 0.0 : drift[v] + change(v, u, s.offset, s.length);
             if (std::abs(anchorW[v] - 0.5) - d > kMargin) {
                 decided[u] = true;
                 drift[u] = d;

@@ -9,10 +9,66 @@
 #include "winding.h"
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 namespace mesh2sdf
 {
+
+/// Edges whose triangles' boundaries do not cancel (see winding_sign.cpp),
+/// each directed along its net current.
+struct OpenEdge {
+    double a[3], b[3];   // endpoints, world units; the current flows a -> b
+    double lo[3], hi[3]; // bounding box
+    double length;
+    double current; // |k - l|: net number of triangle boundaries along it
+};
+
+/// Bounds on |grad w|, the winding number's gradient, from a mesh's open
+/// edges (winding_sign.cpp proves them): edge by edge up close, and for a
+/// group of edges far from a region, by the group's net current and size
+/// (a closed loop's field falls off as a dipole's, not as its length's).
+class EdgeField
+{
+  public:
+    explicit EdgeField(const TriangleMesh &mesh);
+
+    const std::vector<OpenEdge> &edges() const { return mEdges; }
+
+    /// A bound on |grad w| at every point off the mesh within `inflate` of
+    /// the box [lo, hi] (world units; lo == hi for a point) that is at least
+    /// `floor` from every open edge.
+    double overBox(const double lo[3], const double hi[3], double inflate, double floor = 0) const;
+
+    /// The exact field at p (grad w up to its sign: the Biot-Savart field of
+    /// the open edges), in 1 / world units.
+    void field(const double p[3], double B[3]) const;
+
+    /// A bound on the second derivative of the field along any line, at
+    /// every point off the mesh within `inflate` of p.
+    double curvature(const double p[3], double inflate) const;
+
+    /// overBox's bound split in two: the sum over groups and edges farther
+    /// than `nearDistance` from the inflated box is returned; edges nearer
+    /// go to `near`, for the caller to bound point by point.
+    double farPart(const double lo[3], const double hi[3], double inflate, double nearDistance,
+                   std::vector<const OpenEdge *> &near) const;
+
+  private:
+    struct Group {
+        double centre[3];
+        double radius;        // every edge of the group lies within it of the centre
+        double chord;         // |sum of current * (b - a)|, rounded up
+        double mass;          // sum of current * length
+        uint32_t left, right; // children; left == right: a leaf, edge `left`
+    };
+    uint32_t build(std::vector<uint32_t> &order, size_t first, size_t count);
+    template <typename Leaf>
+    double walk(uint32_t node, const double lo[3], const double hi[3], double inflate, Leaf &&leaf) const;
+
+    std::vector<OpenEdge> mEdges;
+    std::vector<Group> mGroups;
+};
 
 class WindingSign
 {
@@ -36,20 +92,12 @@ class WindingSign
     /// the cube). Thread-safe (read-only).
     int cubeSide(const std::array<int, 3> &origin, int size) const;
 
-    /// Edges whose triangles' boundaries do not cancel (see winding_sign.cpp).
-    struct OpenEdge {
-        double a[3], b[3];   // endpoints, world units
-        double lo[3], hi[3]; // bounding box
-        double length;
-        double current; // |k - l|: net number of triangle boundaries along it
-    };
-
   private:
     const FastWinding &mWinding;
     std::array<double, 3> mOrigin;
     double mVoxelSize;
     double mOffBand; // world distance that every voxel off the band keeps from the mesh
-    std::vector<OpenEdge> mEdges;
+    EdgeField mField;
 };
 
 } // namespace mesh2sdf
