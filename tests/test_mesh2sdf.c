@@ -914,6 +914,24 @@ static void test_sign_bunny_base(void **state)
 }
 
 /* --full on the five shared meshes: exact distances at random voxels. */
+/* The bounds on the winding number's gradient that the sign rests on
+ * (convert/winding_sign.cpp: the exact field of the open edges, the bound
+ * over a box edge by edge and by groups, the trapezoid rule along a step),
+ * held to finite differences and changes of the brute-force winding number at
+ * random points near and far from the open edges of the teapot and suzanne
+ * (tests/mesh2sdf_bound_probe.cpp). */
+static void test_gradient_bounds(void **state)
+{
+    (void)state;
+    const char *names[] = {"teapot", "suzanne"};
+    for (int i = 0; i < 2; i++) {
+        char out[4096];
+        int rc = tu_run(out, sizeof out, "%s '%s/%s.obj' 300", SDFT_BOUND_PROBE, SDFT_MESH_DIR, names[i]);
+        printf("%s:\n%s", names[i], out);
+        assert_int_equal(rc, 0);
+    }
+}
+
 static void test_full_distances(void **state)
 {
     (void)state;
@@ -1296,6 +1314,7 @@ int main(void)
         cmocka_unit_test(test_sign_slit_sphere),
         cmocka_unit_test(test_sign_sheet_stack),
         cmocka_unit_test(test_sign_bunny_base),
+        cmocka_unit_test(test_gradient_bounds),
         cmocka_unit_test(test_full_distances),
         cmocka_unit_test(test_full_thin_triangles),
         cmocka_unit_test(test_render_round_trip),
