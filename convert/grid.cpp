@@ -424,7 +424,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
         progress.stage(winding ? "exact distance, sign" : "exact distance", 0, winding ? bandEnd : signEnd);
         std::unique_ptr<WindingSign> sign;
         if (winding)
-            sign.reset(new WindingSign(mesh, *tree, box.origin, box.voxelSize, band));
+            sign.reset(new WindingSign(mesh, *tree, box.origin, box.voxelSize, band, opt.simd));
         grid = exactBandGrid(mesh, box, band, sign.get(), opt.simd, progress);
         if (winding) {
             progress.stage("sign off the band", bandEnd, signEnd);
