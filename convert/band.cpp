@@ -96,8 +96,7 @@ IndexTriangle indexTriangle(const TriangleMesh &mesh, size_t t, const std::array
 // r from the triangle's plane, on one side, is skipped: they are farther
 // than r from the triangle too.
 template <class Rows>
-void lowerByTriangle(const IndexTriangle &t, const std::array<int, 3> &origin, double r2, const double *z,
-                     double *d2)
+void lowerByTriangle(const IndexTriangle &t, const std::array<int, 3> &origin, double r2, const double *z, double *d2)
 {
     int lo[3], hi[3];
     for (int k = 0; k < 3; ++k) {
@@ -129,8 +128,8 @@ void lowerByTriangle(const IndexTriangle &t, const std::array<int, 3> &origin, d
 // The distances of the block at `origin` from its binned triangles
 // entries[first, last) (squared, in voxels, at most r2).
 template <class Rows>
-void lowerBlock(const std::vector<IndexTriangle> &tris, const std::vector<Binned> &entries, size_t first,
-                size_t last, const std::array<int, 3> &origin, double r2, double *d2)
+void lowerBlock(const std::vector<IndexTriangle> &tris, const std::vector<Binned> &entries, size_t first, size_t last,
+                const std::array<int, 3> &origin, double r2, double *d2)
 {
     alignas(32) double z[kBlockDim];
     for (int c = 0; c < kBlockDim; ++c)
@@ -143,9 +142,9 @@ void lowerBlock(const std::vector<IndexTriangle> &tris, const std::vector<Binned
 #ifdef MESH2SDF_ROWS_AVX2
 // lowerBlock compiled for AVX2 and FMA, everything it calls inlined.
 __attribute__((target("avx2,fma"), flatten)) void lowerBlockAvx2(const std::vector<IndexTriangle> &tris,
-                                                                const std::vector<Binned> &entries, size_t first,
-                                                                size_t last, const std::array<int, 3> &origin,
-                                                                double r2, double *d2)
+                                                                 const std::vector<Binned> &entries, size_t first,
+                                                                 size_t last, const std::array<int, 3> &origin,
+                                                                 double r2, double *d2)
 {
     lowerBlock<Avx2Rows>(tris, entries, first, last, origin, r2, d2);
 }

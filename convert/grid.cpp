@@ -407,7 +407,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
 
     std::unique_ptr<FastWinding> tree;
     if (winding)
-        tree.reset(new FastWinding(mesh.points, mesh.triangles));
+        tree.reset(new FastWinding(mesh.points, mesh.triangles, 2.0, opt.simd));
 
     // The bar: the band (with its leaves' signs) and the tiles' signs, then
     // dense distances with --full, each its share of the run's time on the

@@ -205,7 +205,7 @@ void NearestTriangle::packetDistance2(const double *corner, double spacing, doub
 // The search compiled for AVX2 and FMA, everything it calls inlined
 // (flatten), so that Avx2Rows's intrinsics run in its body.
 __attribute__((target("avx2,fma"), flatten)) void NearestTriangle::searchAvx2(const double *corner, double spacing,
-                                                                             double *best, uint32_t *nearest) const
+                                                                              double *best, uint32_t *nearest) const
 {
     search<Avx2Rows>(corner, spacing, best, nearest);
 }
@@ -255,7 +255,8 @@ void NearestTriangle::search(const double *corner, double spacing, double *best,
         if (e.bound >= worst)
             continue;
         const Node &node = mNodes[e.node];
-        const RowTerms terms = Rows::terms(axis, node.lo, node.hi, node.centre, node.normal, node.thickness, node.radius);
+        const RowTerms terms =
+            Rows::terms(axis, node.lo, node.hi, node.centre, node.normal, node.thickness, node.radius);
         if (node.count > 0) {
             for (int row = 0; row < n * n; ++row) {
                 double *rowBest = best + row * n;

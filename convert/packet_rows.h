@@ -250,13 +250,15 @@ struct Avx2Rows {
             const double wx = x - t.corner[k][0], wy = y - t.corner[k][1];
             const __m256d wz = _mm256_sub_pd(zs, _mm256_set1_pd(t.corner[k][2]));
             const __m256d along = _mm256_fmadd_pd(wz, _mm256_set1_pd(e[2]), _mm256_set1_pd(wx * e[0] + wy * e[1]));
-            const __m256d s = _mm256_min_pd(_mm256_max_pd(_mm256_mul_pd(along, _mm256_set1_pd(t.inverse[k])), zero), one);
+            const __m256d s =
+                _mm256_min_pd(_mm256_max_pd(_mm256_mul_pd(along, _mm256_set1_pd(t.inverse[k])), zero), one);
             const __m256d rx = _mm256_fnmadd_pd(s, _mm256_set1_pd(e[0]), _mm256_set1_pd(wx));
             const __m256d ry = _mm256_fnmadd_pd(s, _mm256_set1_pd(e[1]), _mm256_set1_pd(wy));
             const __m256d rz = _mm256_fnmadd_pd(s, _mm256_set1_pd(e[2]), wz);
             const __m256d r2 = _mm256_fmadd_pd(rz, rz, _mm256_fmadd_pd(ry, ry, _mm256_mul_pd(rx, rx)));
             edges = _mm256_min_pd(edges, r2);
-            side = _mm256_min_pd(side, _mm256_fmadd_pd(wz, _mm256_set1_pd(m[2]), _mm256_set1_pd(wx * m[0] + wy * m[1])));
+            side =
+                _mm256_min_pd(side, _mm256_fmadd_pd(wz, _mm256_set1_pd(m[2]), _mm256_set1_pd(wx * m[0] + wy * m[1])));
             if (k == 0)
                 height = _mm256_fmadd_pd(wz, _mm256_set1_pd(t.normal[2]),
                                          _mm256_set1_pd(wx * t.normal[0] + wy * t.normal[1]));

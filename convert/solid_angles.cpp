@@ -174,10 +174,10 @@ bool solidAnglesVectorized()
 #endif
 }
 
-double solidAnglesOver4Pi(const double *groups, int count, const double *q)
+double solidAnglesOver4Pi(const double *groups, int count, const double *q, bool vectorized)
 {
 #ifdef MESH2SDF_AVX2
-    if (solidAnglesVectorized())
+    if (vectorized && solidAnglesVectorized())
         return solidAnglesAvx2(groups, count, q);
 #endif
     return solidAnglesScalar(groups, count, q);

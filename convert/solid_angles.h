@@ -26,8 +26,9 @@ bool solidAnglesVectorized();
 
 /// Sum over the first `count` triangles of `groups` of the solid angle seen
 /// from q (3 doubles), divided by 4π, as solidAngleOver4Pi gives it (to
-/// rounding).
-double solidAnglesOver4Pi(const double *groups, int count, const double *q);
+/// rounding); four lanes at once where `vectorized` (and the processor
+/// has them).
+double solidAnglesOver4Pi(const double *groups, int count, const double *q, bool vectorized = true);
 
 } // namespace mesh2sdf
 

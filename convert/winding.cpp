@@ -44,8 +44,8 @@ double triangleWinding(const Vec3 &a, const Vec3 &b, const Vec3 &c, const Vec3 &
 }
 
 FastWinding::FastWinding(const std::vector<std::array<float, 3>> &points,
-                         const std::vector<std::array<uint32_t, 3>> &tris, double beta)
-    : mBeta2(beta * beta)
+                         const std::vector<std::array<uint32_t, 3>> &tris, double beta, bool simd)
+    : mBeta2(beta * beta), mVectorized(simd && solidAnglesVectorized())
 {
     const uint32_t n = static_cast<uint32_t>(tris.size());
     std::vector<Vec3> centroids(n);
@@ -180,7 +180,7 @@ double FastWinding::operator()(const Vec3 &q) const
             const double order2 = (m[0] + m[4] + m[8]) * inv3 - 3.0 * rMr * inv5;
             w += (order1 + order2) * kInv4Pi;
         } else if (node.count <= kLeafSize) {
-            w += solidAnglesOver4Pi(&mLeafGroups[node.groups], int(node.count), q.data());
+            w += solidAnglesOver4Pi(&mLeafGroups[node.groups], int(node.count), q.data(), mVectorized);
         } else {
             stack[top++] = node.left;
             stack[top++] = node.right;

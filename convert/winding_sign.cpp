@@ -425,9 +425,8 @@ class BlockGradientBound
     // segmentDistance, edgeField, edgeCurvature and segmentField, lane by
     // lane as written above (std::min(x, y) is _mm256_min_pd(y, x): the
     // same operand wins on NaN).
-    __attribute__((target("avx2,fma"))) void nearFieldRowAvx2(double x, double y, const double *z,
-                                                              const double *floor, double (*B)[4], double *G,
-                                                              double *K) const
+    __attribute__((target("avx2,fma"))) void nearFieldRowAvx2(double x, double y, const double *z, const double *floor,
+                                                              double (*B)[4], double *G, double *K) const
     {
         const __m256d zs = _mm256_loadu_pd(z), zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
         const __m256d inf = _mm256_set1_pd(INFINITY), pi = _mm256_set1_pd(kPi), reach = _mm256_set1_pd(mReach);
@@ -446,7 +445,8 @@ class BlockGradientBound
             const __m256d dx = _mm256_fnmadd_pd(t, _mm256_set1_pd(abx), _mm256_set1_pd(rax));
             const __m256d dy = _mm256_fnmadd_pd(t, _mm256_set1_pd(aby), _mm256_set1_pd(ray));
             const __m256d dz = _mm256_fnmadd_pd(t, _mm256_set1_pd(abz), raz);
-            const __m256d dist = _mm256_sqrt_pd(_mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx))));
+            const __m256d dist =
+                _mm256_sqrt_pd(_mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx))));
             // d = max(dist - reach, floor): std::max(x, y) is _mm256_max_pd(y, x).
             const __m256d d = _mm256_max_pd(floors, _mm256_sub_pd(dist, reach));
             const __m256d positive = _mm256_cmp_pd(d, zero, _CMP_GT_OQ);
@@ -454,10 +454,10 @@ class BlockGradientBound
             const __m256d d2 = _mm256_mul_pd(d, d), d3 = _mm256_mul_pd(d2, d);
             const __m256d field = _mm256_min_pd(_mm256_div_pd(one, _mm256_mul_pd(_mm256_set1_pd(2 * kPi), d)),
                                                 _mm256_div_pd(length, _mm256_mul_pd(_mm256_set1_pd(4 * kPi), d2)));
-            const __m256d curvature =
-                _mm256_min_pd(_mm256_div_pd(_mm256_set1_pd(3.0), _mm256_mul_pd(_mm256_set1_pd(4.0), d3)),
-                              _mm256_div_pd(_mm256_mul_pd(_mm256_set1_pd(3.0), length),
-                                            _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(2.0), pi), _mm256_mul_pd(d3, d))));
+            const __m256d curvature = _mm256_min_pd(
+                _mm256_div_pd(_mm256_set1_pd(3.0), _mm256_mul_pd(_mm256_set1_pd(4.0), d3)),
+                _mm256_div_pd(_mm256_mul_pd(_mm256_set1_pd(3.0), length),
+                              _mm256_mul_pd(_mm256_mul_pd(_mm256_set1_pd(2.0), pi), _mm256_mul_pd(d3, d))));
             g = _mm256_add_pd(g, _mm256_mul_pd(current, _mm256_blendv_pd(inf, field, positive)));
             kk = _mm256_add_pd(kk, _mm256_mul_pd(current, _mm256_blendv_pd(inf, curvature, positive)));
             // segmentField
@@ -466,11 +466,10 @@ class BlockGradientBound
             const __m256d lab = _mm256_mul_pd(la, lb);
             const __m256d dot = _mm256_fmadd_pd(raz, rbz, _mm256_set1_pd(rax * rbx + ray * rby));
             const __m256d denominator = _mm256_mul_pd(lab, _mm256_add_pd(lab, dot));
-            const __m256d f = _mm256_blendv_pd(
-                inf,
-                _mm256_div_pd(_mm256_mul_pd(current, _mm256_add_pd(la, lb)),
-                              _mm256_mul_pd(_mm256_set1_pd(4 * kPi), denominator)),
-                _mm256_cmp_pd(denominator, zero, _CMP_GT_OQ));
+            const __m256d f = _mm256_blendv_pd(inf,
+                                               _mm256_div_pd(_mm256_mul_pd(current, _mm256_add_pd(la, lb)),
+                                                             _mm256_mul_pd(_mm256_set1_pd(4 * kPi), denominator)),
+                                               _mm256_cmp_pd(denominator, zero, _CMP_GT_OQ));
             // ra x rb
             const __m256d cx = _mm256_fmsub_pd(_mm256_set1_pd(ray), rbz, _mm256_mul_pd(raz, _mm256_set1_pd(rby)));
             const __m256d cy = _mm256_fmsub_pd(raz, _mm256_set1_pd(rbx), _mm256_mul_pd(_mm256_set1_pd(rax), rbz));

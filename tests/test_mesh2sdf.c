@@ -993,8 +993,8 @@ static void test_full_thin_triangles(void **state)
                     double p[3], cube = INFINITY, sliver = INFINITY;
                     dense_point(&g, i, j, k, p);
                     for (int t = 0; t < m.nt; t++) {
-                        const double d2 = tri_dist2(p, &m.v[3 * m.t[3 * t]], &m.v[3 * m.t[3 * t + 1]],
-                                                    &m.v[3 * m.t[3 * t + 2]]);
+                        const double d2 =
+                            tri_dist2(p, &m.v[3 * m.t[3 * t]], &m.v[3 * m.t[3 * t + 1]], &m.v[3 * m.t[3 * t + 2]]);
                         if (t < 12)
                             cube = fmin(cube, d2);
                         else
@@ -1004,8 +1004,8 @@ static void test_full_thin_triangles(void **state)
                     voxels++;
                     worst = fmax(worst, fabs(fabs(dense_at(&g, i, j, k)) - sqrt(fmin(cube, sliver))) / g.h);
                 }
-        printf("thin triangles %s: %ld voxels (%ld nearest a sliver), largest distance error %.2e voxel\n",
-               flags[f], voxels, near_sliver, worst);
+        printf("thin triangles %s: %ld voxels (%ld nearest a sliver), largest distance error %.2e voxel\n", flags[f],
+               voxels, near_sliver, worst);
         free(g.data);
         assert_true(near_sliver > voxels / 10);
         assert_true(worst <= 1e-4);
@@ -1066,9 +1066,9 @@ static void test_help(void **state)
     (void)state;
     char out[16384];
     assert_int_equal(tu_run(out, sizeof out, "%s --help", SDFT_MESH2SDF), 0);
-    const char *flags[] = {"-o",     "--nvdb",    "--npy",     "--res",        "--voxel-size",
-                           "--band", "--full",    "--padding", "--sign",       "--fp16",
-                           "--name", "--threads", "--quiet",   "--check-sign", "--samples"};
+    const char *flags[] = {"-o",      "--nvdb",       "--npy",     "--res",    "--voxel-size", "--band",
+                           "--full",  "--padding",    "--sign",    "--fp16",   "--name",       "--threads",
+                           "--quiet", "--check-sign", "--samples", "--no-simd"};
     for (size_t i = 0; i < sizeof flags / sizeof *flags; i++)
         if (!strstr(out, flags[i]))
             fail_msg("--help does not list %s", flags[i]);
