@@ -716,15 +716,27 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
                     steps[stepCount++] = {{dx, dy, dz}, length, float(length * h) * (1.0f + 1e-5f)};
                 }
 
+    // Which steps join each voxel to a neighbour in the block: bit s of
+    // joined[v] for steps[s] when reach[v] + reach[u] exceeds its crossing,
+    // computed once, step by step over the voxels that have that neighbour
+    // (a loop without branches), so that the walk below visits a voxel's
+    // joined neighbours, in the steps' order, without testing the others.
+    uint32_t joined[kBlockSize] = {};
+    for (int si = 0; si < stepCount; ++si) {
+        const Step &s = steps[si];
+        const int delta = (((s.offset[0] << kBlockLog2) + s.offset[1]) << kBlockLog2) + s.offset[2];
+        const int zlo = std::max(0, -s.offset[2]), zhi = std::min(kBlockDim, kBlockDim - s.offset[2]);
+        for (int x = std::max(0, -s.offset[0]); x < std::min(kBlockDim, kBlockDim - s.offset[0]); ++x)
+            for (int y = std::max(0, -s.offset[1]); y < std::min(kBlockDim, kBlockDim - s.offset[1]); ++y) {
+                const int row = ((x << kBlockLog2) + y) << kBlockLog2;
+                for (int z = zlo; z < zhi; ++z)
+                    joined[row + z] |= uint32_t(reach[row + z] + reach[row + z + delta] > s.crossing) << si;
+            }
+    }
     auto neighbours = [&](int v, auto &&visit) {
-        const int x = v >> (2 * kBlockLog2), y = (v >> kBlockLog2) & (kBlockDim - 1), z = v & (kBlockDim - 1);
-        for (const Step &s : steps) {
-            const int n[3] = {x + s.offset[0], y + s.offset[1], z + s.offset[2]};
-            if (n[0] < 0 || n[1] < 0 || n[2] < 0 || n[0] >= kBlockDim || n[1] >= kBlockDim || n[2] >= kBlockDim)
-                continue;
-            const int u = (((n[0] << kBlockLog2) | n[1]) << kBlockLog2) | n[2];
-            if (reach[v] + reach[u] > s.crossing)
-                visit(u, s);
+        for (uint32_t m = joined[v]; m; m &= m - 1) {
+            const Step &s = steps[__builtin_ctz(m)];
+            visit(v + (((s.offset[0] << kBlockLog2) + s.offset[1]) << kBlockLog2) + s.offset[2], s);
         }
     };
     // Most certain first: a max-heap on margin = |w(anchor) - 1/2| - drift.
