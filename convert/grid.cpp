@@ -212,12 +212,18 @@ void signTiles(openvdb::FloatTree &tree, const WindingSign &sign, Progress &prog
         cubes.insert(cubes.end(), s->cubes.begin(), s->cubes.end());
     for (const auto &s : sides2)
         cubes.insert(cubes.end(), s->cubes.begin(), s->cubes.end());
+    // The undecided cubes alone, one task each: they are the costly few
+    // among many decided ones, often side by side, and a range of all the
+    // cubes left one thread to walk most of them.
+    std::vector<size_t> undecided;
+    for (size_t i = 0; i < cubes.size(); ++i)
+        if (cubes[i].side == 0)
+            undecided.push_back(i);
     std::vector<Leaf *> leaves(cubes.size(), nullptr);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, cubes.size(), 16), [&](const tbb::blocked_range<size_t> &r) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, undecided.size(), 1), [&](const tbb::blocked_range<size_t> &r) {
         float distance[kBlockSize];
-        for (size_t i = r.begin(); i != r.end(); ++i) {
-            if (cubes[i].side != 0)
-                continue;
+        for (size_t u = r.begin(); u != r.end(); ++u) {
+            const size_t i = undecided[u];
             std::fill(distance, distance + kBlockSize, INFINITY);
             sign.signBlock(cubes[i].origin, distance);
             const openvdb::Coord at(cubes[i].origin[0], cubes[i].origin[1], cubes[i].origin[2]);
