@@ -699,12 +699,14 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
             std::abs(dot) + length * length * length * std::max(a.K, b.K) + length * (a.rounding + b.rounding);
         return (std::min(byG, byB) + length * far) * (1 + 1e-6);
     };
-    // The 26 neighbour offsets, their lengths in voxels, and the length in
-    // world units (with a margin for rounding) that d(a) + d(b) must exceed.
+    // The 26 neighbour offsets, their lengths in voxels, the length in world
+    // units (with a margin for rounding) that d(a) + d(b) must exceed, and
+    // the offset in the block's voxel numbering.
     struct Step {
         int offset[3];
         double length;
         float crossing;
+        int delta;
     };
     Step steps[26];
     int stepCount = 0;
@@ -713,7 +715,10 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
             for (int dz = -1; dz <= 1; ++dz)
                 if (dx || dy || dz) {
                     const double length = std::sqrt(double(dx * dx + dy * dy + dz * dz));
-                    steps[stepCount++] = {{dx, dy, dz}, length, float(length * h) * (1.0f + 1e-5f)};
+                    steps[stepCount++] = {{dx, dy, dz},
+                                          length,
+                                          float(length * h) * (1.0f + 1e-5f),
+                                          (dx * kBlockDim + dy) * kBlockDim + dz};
                 }
 
     // Which steps join each voxel to a neighbour in the block: bit s of
@@ -724,7 +729,7 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
     uint32_t joined[kBlockSize] = {};
     for (int si = 0; si < stepCount; ++si) {
         const Step &s = steps[si];
-        const int delta = (((s.offset[0] << kBlockLog2) + s.offset[1]) << kBlockLog2) + s.offset[2];
+        const int delta = s.delta;
         const int zlo = std::max(0, -s.offset[2]), zhi = std::min(kBlockDim, kBlockDim - s.offset[2]);
         for (int x = std::max(0, -s.offset[0]); x < std::min(kBlockDim, kBlockDim - s.offset[0]); ++x)
             for (int y = std::max(0, -s.offset[1]); y < std::min(kBlockDim, kBlockDim - s.offset[1]); ++y) {
@@ -736,7 +741,7 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
     auto neighbours = [&](int v, auto &&visit) {
         for (uint32_t m = joined[v]; m; m &= m - 1) {
             const Step &s = steps[__builtin_ctz(m)];
-            visit(v + (((s.offset[0] << kBlockLog2) + s.offset[1]) << kBlockLog2) + s.offset[2], s);
+            visit(v + s.delta, s);
         }
     };
     // Most certain first: a max-heap on margin = |w(anchor) - 1/2| - drift.
