@@ -11,7 +11,7 @@
 //    box is at least `worst`, the largest best(v): every v lies in that box,
 //    so each of the node's triangles is at least worst >= best(v) from v;
 //  - a node, for the whole packet, when for every centre v its own lower
-//    bound is at least best(v) (CentreBounds::anyReaches);
+//    bound is at least best(v) (Rows::reaches, packet_rows.h, row by row);
 //  - a leaf's triangles, for a row of four centres (i, j, 0..3), when each
 //    centre's own lower bound on the leaf is at least its best.
 // A row's centres all take the distances of every triangle evaluated for the
@@ -209,8 +209,6 @@ __attribute__((target("avx2,fma"), flatten)) void NearestTriangle::searchAvx2(co
 {
     search<Avx2Rows>(corner, spacing, best, nearest);
 }
-#else
-void NearestTriangle::searchAvx2(const double *, double, double *, uint32_t *) const {}
 #endif
 
 // The packet search (the file's head gives why its answers are exact), a

@@ -24,9 +24,6 @@ class NearestTriangle
     /// processor has it (false: lane by lane; the answers agree to rounding).
     explicit NearestTriangle(const TriangleMesh &mesh, bool vectorized = true);
 
-    /// Whether packetDistance2 runs four lanes at once.
-    bool vectorized() const { return mVectorized; }
-
     static constexpr uint32_t kNone = ~uint32_t(0);
 
     /// A packet: the kPacketDim^3 voxel centres corner + (i, j, k) * spacing,
@@ -57,7 +54,9 @@ class NearestTriangle
     double packetLowerBound2(const Node &node, const double *lo, const double *hi, const double *centre, double radius,
                              double worst) const;
     template <class Rows> void search(const double *corner, double spacing, double *best, uint32_t *nearest) const;
+#ifdef MESH2SDF_ROWS_AVX2
     void searchAvx2(const double *corner, double spacing, double *best, uint32_t *nearest) const;
+#endif
 
     std::vector<PreparedTriangle> mTriangles; // in hierarchy order (packet_rows.h)
     std::vector<Node> mNodes;

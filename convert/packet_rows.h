@@ -114,7 +114,7 @@ inline double preparedDistance2(const PreparedTriangle &t, const double *p)
     return inside ? height * height : edges;
 }
 
-/// A node's per-axis terms for a packet (the search's CentreBounds): for
+/// A node's per-axis terms for a packet (terms(), then reaches() per row): for
 /// axis k and coordinate index i, the squared gap to the node's box, the
 /// height above its disc's centre along the disc's normal, and the squared
 /// offset from that centre; with the disc's thickness and radius.
