@@ -142,6 +142,59 @@ static names exported(const char *lib)
     return s;
 }
 
+/* Every function a public header declares at file scope (a line that
+ * starts a declaration and names sdft_something followed by '(', not a
+ * static inline definition or a typedef) carries SDFT_API, so that the
+ * shared libraries export it: a declaration without it links against the
+ * static library and fails against the shared one. */
+static void test_every_declared_function_is_marked(void **state)
+{
+    (void)state;
+    names h = public_headers();
+    int declarations = 0;
+    for (size_t i = 0; i < h.n; i++) {
+        if (strcmp(h.name[i], "config.h") == 0)
+            continue;
+        char path[1024];
+        snprintf(path, sizeof path, "%s/include/sdftrace/%s", SDFT_SOURCE_DIR, h.name[i]);
+        char *text = tu_slurp(path);
+        assert_non_null(text);
+        for (char *c = text; *c; c++) /* blank out comments, keeping the lines */
+            if (c[0] == '/' && c[1] == '*') {
+                char *end = strstr(c + 2, "*/");
+                assert_non_null(end);
+                for (; c < end + 2; c++)
+                    if (*c != '\n')
+                        *c = ' ';
+                c--;
+            }
+        char *save = NULL;
+        for (char *line = strtok_r(text, "\n", &save); line; line = strtok_r(NULL, "\n", &save)) {
+            if (!isalpha((unsigned char)line[0]) || strncmp(line, "static", 6) == 0 || strncmp(line, "typedef", 7) == 0)
+                continue;
+            for (const char *at = line; (at = strstr(at, "sdft_")); at += 5) {
+                if (at > line && (isalnum((unsigned char)at[-1]) || at[-1] == '_'))
+                    continue;
+                const char *end = at;
+                while (isalnum((unsigned char)*end) || *end == '_')
+                    end++;
+                while (*end == ' ')
+                    end++;
+                if (*end != '(')
+                    continue;
+                declarations++;
+                if (!strstr(line, "SDFT_API"))
+                    fail_msg("sdftrace/%s declares %.*s without SDFT_API", h.name[i], (int)(strchr(at, '(') - at), at);
+                break;
+            }
+        }
+        free(text);
+    }
+    print_message("%d declarations, all marked\n", declarations);
+    assert_true(declarations > 40);
+    free(h.name);
+}
+
 static void test_shared_libraries_export_the_api(void **state)
 {
     (void)state;
@@ -410,6 +463,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_headers_compile_alone_as_c_and_cxx),
+        cmocka_unit_test(test_every_declared_function_is_marked),
         cmocka_unit_test(test_shared_libraries_export_the_api),
         cmocka_unit_test(test_static_libraries_define_only_sdft),
         cmocka_unit_test(test_core_needs_only_openmp_and_libm),

@@ -46,7 +46,7 @@ static inline sdft_ray sdft_view_ray(const sdft_view *v, float px, float py)
  * vertical field of view fov_deg frames the whole box with a 15% margin in
  * a width x height image: what `sdftrace render --grid` uses without a
  * scene, and the grid bench's front view. */
-sdft_camera sdft_camera_front(sdft_aabb b, int width, int height, float fov_deg);
+SDFT_API sdft_camera sdft_camera_front(sdft_aabb b, int width, int height, float fov_deg);
 
 /* Half a pixel's footprint at unit distance: Keinert's pixelRadius. */
 SDFT_API float sdft_camera_pixel_radius(const sdft_camera *c, int height);
