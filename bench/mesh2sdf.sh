@@ -19,11 +19,19 @@
 # grids differ (largest distance difference in voxels, sign disagreements at
 # clearly inside or outside voxels).
 #
+# Every timed command runs REPEAT times (default 3), the tools of a row in
+# turns (vdb_tool, winding, flood, then again), and each keeps its fastest
+# run's wall time and that run's peak memory: on a shared machine one run's
+# time moves by 10% or more, and taking each tool's best the same way keeps
+# the ratio side by side. The per-point queries run once (they time
+# themselves and take ten times longer).
+#
 # usage: bench/mesh2sdf.sh [RES...]   (narrow band; default: 256 512 1024)
-# env:   BUILD=build  MESHES="spot ..."  SAMPLES=10000  THREADS=0
+# env:   BUILD=build  MESHES="spot ..."  SAMPLES=10000  THREADS=0  REPEAT=3
 #        DENSE="128 256" (dense resolutions; empty: none)  NARROW=0 (no narrow-band table)
 # Prints the tables on stdout; grids go to $BUILD/bench-mesh2sdf/.
 set -euo pipefail
+export LC_ALL=C # bash's EPOCHREALTIME and awk: a decimal point, not a comma
 cd "$(dirname "$0")/.."
 BUILD=${BUILD:-build}
 MESH_DIR=${MESH_DIR:-tests/data/meshes}
@@ -32,6 +40,8 @@ SAMPLES=${SAMPLES:-10000}
 THREADS=${THREADS:-0}
 DENSE=${DENSE-"128 256"}
 NARROW=${NARROW:-1}
+REPEAT=${REPEAT:-3}
+[[ $REPEAT =~ ^[1-9][0-9]*$ ]] || { echo "bench/mesh2sdf.sh: REPEAT must be a positive integer" >&2; exit 1; }
 RESOLUTIONS=("$@")
 [ ${#RESOLUTIONS[@]} -gt 0 ] || RESOLUTIONS=(256 512 1024)
 M2S=$BUILD/mesh2sdf
@@ -46,12 +56,14 @@ mkdir -p "$OUT"
 # Runs a command under GNU time; prints "seconds peak_MiB"; its stdout goes
 # to $OUT/stdout.log.
 measure() {
-    local log=$OUT/time.log
+    local log=$OUT/time.log start end
+    start=$EPOCHREALTIME
     /usr/bin/time -v -o "$log" "$@" >"$OUT/stdout.log" 2>"$OUT/stderr.log" || {
         echo "bench/mesh2sdf.sh: failed: $*" >&2; cat "$OUT/stderr.log" >&2; exit 1; }
-    awk -F': ' '/Elapsed \(wall clock\)/ { n = split($2, t, ":"); s = 0; for (i = 1; i <= n; i++) s = s * 60 + t[i] }
-                /Maximum resident set size/ { m = $2 / 1024 }
-                END { printf "%.2f %.0f\n", s, m }' "$log"
+    end=$EPOCHREALTIME
+    # Wall time from bash's microsecond clock (GNU time's is in hundredths).
+    awk -F': ' -v s="$(awk -v a="$start" -v b="$end" 'BEGIN { print b - a }')" \
+        '/Maximum resident set size/ { m = $2 / 1024 } END { printf "%.3f %.0f\n", s, m }' "$log"
 }
 
 # Longest side of an OBJ's bounding box.
@@ -61,6 +73,15 @@ longest_side() {
 }
 
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", (b > 0 ? a / b : 0) }'; }
+
+# Runs a command as measure does, in this shell (so that a failure stops
+# the bench), and prints the faster of its "seconds peak_MiB" and $1's.
+faster() {
+    local best=$1
+    shift
+    measure "$@" >"$OUT/measure.txt"
+    awk -v b="$best" '{ split(b, y, " "); print (b == "" || $1 + 0 <= y[1] + 0) ? $0 : b }' "$OUT/measure.txt"
+}
 
 # The narrow-band table.
 narrow_table() {
@@ -75,9 +96,18 @@ for name in $MESHES; do
     grids=()
     for n in "${RESOLUTIONS[@]}"; do
         h=$(awk -v s="$side" -v n="$n" 'BEGIN { printf "%.9g", s / n }')
-        read -r T[vdb$n] M[vdb$n] < <(measure vdb_tool -read "$mesh" -mesh2ls voxel="$h" width=3 -write "$OUT/$name-$n-vdbtool.vdb")
-        read -r T[wind$n] M[wind$n] < <(measure "$M2S" "$mesh" -o "$OUT/$name-$n-winding.vdb" --voxel-size "$h" --sign winding --threads "$THREADS" --quiet)
-        read -r T[flood$n] M[flood$n] < <(measure "$M2S" "$mesh" -o "$OUT/$name-$n-flood.vdb" --voxel-size "$h" --sign flood --threads "$THREADS" --quiet)
+        vdb="" wind="" flood=""
+        for ((r = 0; r < REPEAT; r++)); do
+            faster "$vdb" vdb_tool -read "$mesh" -mesh2ls voxel="$h" width=3 -write "$OUT/$name-$n-vdbtool.vdb" >"$OUT/best.txt"
+            vdb=$(<"$OUT/best.txt")
+            faster "$wind" "$M2S" "$mesh" -o "$OUT/$name-$n-winding.vdb" --voxel-size "$h" --sign winding --threads "$THREADS" --quiet >"$OUT/best.txt"
+            wind=$(<"$OUT/best.txt")
+            faster "$flood" "$M2S" "$mesh" -o "$OUT/$name-$n-flood.vdb" --voxel-size "$h" --sign flood --threads "$THREADS" --quiet >"$OUT/best.txt"
+            flood=$(<"$OUT/best.txt")
+        done
+        read -r T[vdb$n] M[vdb$n] <<<"$vdb"
+        read -r T[wind$n] M[wind$n] <<<"$wind"
+        read -r T[flood$n] M[flood$n] <<<"$flood"
         grids+=(--check-sign "$OUT/$name-$n-vdbtool.vdb" --check-sign "$OUT/$name-$n-winding.vdb" --check-sign "$OUT/$name-$n-flood.vdb")
     done
     declare -A W=()
@@ -104,7 +134,12 @@ for name in $MESHES; do
     for n in $DENSE; do
         h=$(awk -v s="$side" -v n="$n" 'BEGIN { printf "%.9g", s / n }')
         npy=$OUT/$name-$n-full.npy
-        read -r t m < <(measure "$M2S" "$mesh" -o "$OUT/$name-$n-full.vdb" --npy "$npy" --voxel-size "$h" --full --threads "$THREADS" --quiet)
+        full=""
+        for ((r = 0; r < REPEAT; r++)); do
+            faster "$full" "$M2S" "$mesh" -o "$OUT/$name-$n-full.vdb" --npy "$npy" --voxel-size "$h" --full --threads "$THREADS" --quiet >"$OUT/best.txt"
+            full=$(<"$OUT/best.txt")
+        done
+        read -r t m <<<"$full"
         box=$(awk -F'[][]' '/"shape"/ { gsub(/, /, "x", $2); print $2 }' "${npy%.npy}.json")
         line=$("$POINTS" "$mesh" "$npy" "$THREADS")
         p=$(sed -n 's/.*seconds=\([^ ]*\).*/\1/p' <<<"$line")
