@@ -105,9 +105,9 @@ for name in $MESHES; do
             faster "$flood" "$M2S" "$mesh" -o "$OUT/$name-$n-flood.vdb" --voxel-size "$h" --sign flood --threads "$THREADS" --quiet >"$OUT/best.txt"
             flood=$(<"$OUT/best.txt")
         done
-        read -r T[vdb$n] M[vdb$n] <<<"$vdb"
-        read -r T[wind$n] M[wind$n] <<<"$wind"
-        read -r T[flood$n] M[flood$n] <<<"$flood"
+        read -r "T[vdb$n]" "M[vdb$n]" <<<"$vdb"
+        read -r "T[wind$n]" "M[wind$n]" <<<"$wind"
+        read -r "T[flood$n]" "M[flood$n]" <<<"$flood"
         grids+=(--check-sign "$OUT/$name-$n-vdbtool.vdb" --check-sign "$OUT/$name-$n-winding.vdb" --check-sign "$OUT/$name-$n-flood.vdb")
     done
     declare -A W=()
