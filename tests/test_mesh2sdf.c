@@ -1185,6 +1185,24 @@ static void test_bad_input(void **state)
         expect_failure(args, "non-finite");
         assert_no_output(out_vdb);
     }
+    /* ... while numbers written other ways still read: a leading '+', a
+     * signed zero, exponents, CRLF line ends; a number with trailing
+     * characters is malformed */
+    tu_tmp(path, sizeof path, "spelled.obj");
+    write_text(path, "v +0 -0.0 0e0\r\nv 1 0 0\r\nv 0 +1.0 0\r\nv 0 0 1E+0\r\n"
+                     "f 1 3 2\r\nf 1 2 4\r\nf 2 3 4\r\nf 1 4 3\r\n");
+    {
+        char out[8192];
+        const int rc = tu_run(out, sizeof out, "%s '%s' -o '%s' --res 16 --quiet", SDFT_MESH2SDF, path, out_vdb);
+        if (rc != 0)
+            fail_msg("mesh2sdf on %s: %s", path, out);
+        remove(out_vdb);
+    }
+    tu_tmp(path, sizeof path, "malformed.obj");
+    write_text(path, "v 0 0 0\nv 1.0x 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n");
+    snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
+    expect_failure(args, "malformed coordinate (line 2)");
+    assert_no_output(out_vdb);
     mesh m = {0};
     make_cube(&m);
     const float poison[2] = {NAN, INFINITY};
