@@ -1132,6 +1132,18 @@ static void write_text(const char *path, const char *text)
     fclose(f);
 }
 
+/* A mesh file NAME in the test folder holding `text`: mesh2sdf on it must
+ * fail as expect_failure says and leave nothing at out_vdb. */
+static void expect_text_failure(const char *name, const char *text, const char *expect, const char *out_vdb)
+{
+    char path[512], args[2048];
+    tu_tmp(path, sizeof path, name);
+    write_text(path, text);
+    snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
+    expect_failure(args, expect);
+    assert_no_output(out_vdb);
+}
+
 static void test_bad_input(void **state)
 {
     (void)state;
@@ -1148,30 +1160,14 @@ static void test_bad_input(void **state)
     assert_no_output(out_vdb);
 
     /* unknown extension */
-    tu_tmp(path, sizeof path, "mesh.xyz");
-    write_text(path, "v 0 0 0\n");
-    snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
-    expect_failure(args, "unknown mesh extension");
-    assert_no_output(out_vdb);
+    expect_text_failure("mesh.xyz", "v 0 0 0\n", "unknown mesh extension", out_vdb);
 
     /* unreadable mesh: a PLY that is not one */
-    tu_tmp(path, sizeof path, "garbage.ply");
-    write_text(path, "this is not a ply file\n\x01\x02\x03");
-    snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
-    expect_failure(args, NULL);
-    assert_no_output(out_vdb);
+    expect_text_failure("garbage.ply", "this is not a ply file\n\x01\x02\x03", NULL, out_vdb);
 
     /* empty mesh: vertices, no faces; and an empty file */
-    tu_tmp(path, sizeof path, "nofaces.obj");
-    write_text(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
-    snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
-    expect_failure(args, "no faces");
-    assert_no_output(out_vdb);
-    tu_tmp(path, sizeof path, "empty.off");
-    write_text(path, "");
-    snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
-    expect_failure(args, NULL);
-    assert_no_output(out_vdb);
+    expect_text_failure("nofaces.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no faces", out_vdb);
+    expect_text_failure("empty.off", "", NULL, out_vdb);
 
     /* NaN and Inf coordinates: as text in an OBJ, as floats in a binary PLY */
     const char *bad_obj[] = {"nan 0 0", "0 inf 0", "0 0 1e999"};
@@ -1198,11 +1194,8 @@ static void test_bad_input(void **state)
             fail_msg("mesh2sdf on %s: %s", path, out);
         remove(out_vdb);
     }
-    tu_tmp(path, sizeof path, "malformed.obj");
-    write_text(path, "v 0 0 0\nv 1.0x 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n");
-    snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
-    expect_failure(args, "malformed coordinate (line 2)");
-    assert_no_output(out_vdb);
+    expect_text_failure("malformed.obj", "v 0 0 0\nv 1.0x 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n",
+                        "malformed coordinate (line 2)", out_vdb);
     mesh m = {0};
     make_cube(&m);
     const float poison[2] = {NAN, INFINITY};
@@ -1243,11 +1236,7 @@ static void test_bad_input(void **state)
     mesh_free(&m);
 
     /* every triangle degenerate / zero-size bounding box */
-    tu_tmp(path, sizeof path, "point.obj");
-    write_text(path, "v 1 1 1\nv 1 1 1\nv 1 1 1\nf 1 2 3\n");
-    snprintf(args, sizeof args, "'%s' -o '%s'", path, out_vdb);
-    expect_failure(args, "no non-degenerate triangles");
-    assert_no_output(out_vdb);
+    expect_text_failure("point.obj", "v 1 1 1\nv 1 1 1\nv 1 1 1\nf 1 2 3\n", "no non-degenerate triangles", out_vdb);
 
     /* --res out of range, too small for the padding; --voxel-size <= 0, NaN */
     const char *bad_flags[][2] = {{"--res 0", "--res must be"},
