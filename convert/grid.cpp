@@ -10,12 +10,14 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <utility>
 #include <mutex>
 #include <vector>
 
@@ -411,9 +413,25 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
     const bool winding = opt.sign == SignMethod::Winding;
     const float band = float(opt.band);
 
+    // The hierarchies the run needs, built side by side (each is serial):
+    // the winding tree and the open edges for the signs, the nearest
+    // triangle's for --full.
     std::unique_ptr<FastWinding> tree;
-    if (winding)
-        tree.reset(new FastWinding(mesh.points, mesh.triangles, 2.0, opt.simd));
+    std::unique_ptr<EdgeField> edges;
+    std::unique_ptr<NearestTriangle> nearest;
+    tbb::parallel_invoke(
+        [&] {
+            if (winding)
+                tree.reset(new FastWinding(mesh.points, mesh.triangles, 2.0, opt.simd));
+        },
+        [&] {
+            if (winding)
+                edges.reset(new EdgeField(mesh));
+        },
+        [&] {
+            if (opt.full)
+                nearest.reset(new NearestTriangle(mesh, opt.simd));
+        });
 
     // The bar: the band (with its leaves' signs) and the tiles' signs, then
     // dense distances with --full, each its share of the run's time on the
@@ -430,7 +448,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
         progress.stage(winding ? "exact distance, sign" : "exact distance", 0, winding ? bandEnd : signEnd);
         std::unique_ptr<WindingSign> sign;
         if (winding)
-            sign.reset(new WindingSign(mesh, *tree, box.origin, box.voxelSize, band, opt.simd));
+            sign.reset(new WindingSign(std::move(*edges), *tree, box.origin, box.voxelSize, band, opt.simd));
         grid = exactBandGrid(mesh, box, band, sign.get(), opt.simd, progress);
         if (winding) {
             progress.stage("sign off the band", bandEnd, signEnd);
@@ -441,7 +459,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
     grid->setTransform(xform);
     if (opt.full) {
         progress.stage("dense distances", signEnd, end);
-        fillBox(*grid, box, NearestTriangle(mesh, opt.simd), progress);
+        fillBox(*grid, box, *nearest, progress);
     }
     grid->setGridClass(opt.sign == SignMethod::None ? openvdb::GRID_UNKNOWN : openvdb::GRID_LEVEL_SET);
     return grid;

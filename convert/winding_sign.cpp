@@ -94,6 +94,7 @@
 #include <cstdint>
 #include <cstring>
 #include <unordered_map>
+#include <utility>
 
 namespace mesh2sdf
 {
@@ -547,10 +548,10 @@ bool signByComponents(float *distance, const float *reach, const BlockGradientBo
 
 } // namespace
 
-WindingSign::WindingSign(const TriangleMesh &mesh, const FastWinding &winding, const std::array<double, 3> &origin,
+WindingSign::WindingSign(EdgeField field, const FastWinding &winding, const std::array<double, 3> &origin,
                          double voxelSize, double halfWidth, bool simd)
-    : mWinding(winding), mOrigin(origin), mVoxelSize(voxelSize), mOffBand(halfWidth * voxelSize), mField(mesh),
-      mVectorized(simd && rowsVectorizable())
+    : mWinding(winding), mOrigin(origin), mVoxelSize(voxelSize), mOffBand(halfWidth * voxelSize),
+      mField(std::move(field)), mVectorized(simd && rowsVectorizable())
 {
 }
 

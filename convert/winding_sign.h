@@ -73,13 +73,15 @@ class EdgeField
 class WindingSign
 {
   public:
-    /// `winding` is the mesh's winding tree and must outlive this object;
-    /// voxel (i, j, k) has its centre at origin + (i, j, k) * voxelSize.
-    /// `halfWidth` is the exact band's (band.h), in voxels: every voxel off
-    /// the band is at least that far from the mesh. `simd`: the near field
-    /// four voxels at a time with AVX2 where the processor has it.
-    WindingSign(const TriangleMesh &mesh, const FastWinding &winding, const std::array<double, 3> &origin,
-                double voxelSize, double halfWidth, bool simd = true);
+    /// `field` is the mesh's open edges (EdgeField(mesh), built apart so
+    /// that it can be built beside the winding tree); `winding` is the
+    /// mesh's winding tree and must outlive this object; voxel (i, j, k)
+    /// has its centre at origin + (i, j, k) * voxelSize. `halfWidth` is the
+    /// exact band's (band.h), in voxels: every voxel off the band is at
+    /// least that far from the mesh. `simd`: the near field four voxels at
+    /// a time with AVX2 where the processor has it.
+    WindingSign(EdgeField field, const FastWinding &winding, const std::array<double, 3> &origin, double voxelSize,
+                double halfWidth, bool simd = true);
 
     /// Signs every voxel of the block at `origin` (band.h's layout) by
     /// whether the winding number exceeds 1/2 there: band voxels (finite
