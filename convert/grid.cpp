@@ -17,8 +17,8 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
-#include <utility>
 #include <mutex>
+#include <utility>
 #include <vector>
 
 namespace mesh2sdf
