@@ -58,12 +58,10 @@ struct Binned {
 };
 
 // A triangle in index space (voxel centres at integer coordinates) with the
-// voxels its r-neighbourhood can reach and its plane's normal.
+// voxels its r-neighbourhood can reach.
 struct IndexTriangle {
     PreparedTriangle prepared;
     int lo[3], hi[3]; // inclusive voxel range of the bounding box grown by r
-    double normal[3]; // (b - a) x (c - a), not normalized
-    double offset;    // normal . a
 };
 
 IndexTriangle indexTriangle(const TriangleMesh &mesh, size_t t, const std::array<double, 3> &origin, double voxelSize,
@@ -81,12 +79,6 @@ IndexTriangle indexTriangle(const TriangleMesh &mesh, size_t t, const std::array
         it.lo[k] = int(std::ceil(lo - r));
         it.hi[k] = int(std::floor(hi + r));
     }
-    const double e1[3] = {c[3] - c[0], c[4] - c[1], c[5] - c[2]};
-    const double e2[3] = {c[6] - c[0], c[7] - c[1], c[8] - c[2]};
-    it.normal[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    it.normal[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    it.normal[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    it.offset = it.normal[0] * c[0] + it.normal[1] * c[1] + it.normal[2] * c[2];
     return it;
 }
 
@@ -94,7 +86,8 @@ IndexTriangle indexTriangle(const TriangleMesh &mesh, size_t t, const std::array
 // block at `origin` to the triangle's, in rows of four voxels along z that
 // hold a voxel within r of it. A row whose four voxels all lie farther than
 // r from the triangle's plane, on one side, is skipped: they are farther
-// than r from the triangle too.
+// than r from the triangle too. (A triangle without a reliable normal,
+// packet_rows.h, has normal 0 and skips no row.)
 template <class Rows>
 void lowerByTriangle(const IndexTriangle &t, const std::array<int, 3> &origin, double r2, const double *z, double *d2)
 {
@@ -105,14 +98,15 @@ void lowerByTriangle(const IndexTriangle &t, const std::array<int, 3> &origin, d
         if (lo[k] > hi[k])
             return;
     }
-    const double *n = t.normal;
+    const double *n = t.prepared.normal, *a = t.prepared.corner[0];
+    const double offset = n[0] * a[0] + n[1] * a[1] + n[2] * a[2];
     // Plane test with a relative margin, so that rounding never skips a voxel
     // of the band.
-    const double slab = std::sqrt(r2 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2])) * (1 + 1e-6);
+    const double slab = std::sqrt(r2) * (1 + 1e-6);
     for (int x = lo[0]; x <= hi[0]; ++x)
         for (int y = lo[1]; y <= hi[1]; ++y) {
             const double px = origin[0] + x, py = origin[1] + y;
-            const double rowPlane = n[0] * px + n[1] * py - t.offset;
+            const double rowPlane = n[0] * px + n[1] * py - offset;
             double *row = d2 + ((x << kBlockLog2) + y) * kBlockDim;
             for (int c = lo[2] & ~3; c <= hi[2]; c += 4) {
                 const double first = rowPlane + n[2] * z[c], last = rowPlane + n[2] * z[c + 3];

@@ -5,7 +5,7 @@
 // the smallest squared distance from v to a triangle evaluated so far (or
 // the caller's bound). It skips a set of triangles only on a lower bound on
 // their distance from v that is at least best(v), so no skipped triangle is
-// nearer than v's final best, and the answer, a minimum of triangleDistance2
+// nearer than v's final best, and the answer, a minimum of preparedDistance2
 // over evaluated triangles, is the minimum over all of them. The skips:
 //  - a node, for the whole packet, when its lower bound over the packet's
 //    box is at least `worst`, the largest best(v): every v lies in that box,

@@ -1,6 +1,9 @@
-// mesh2sdf — the squared distance from a point to a triangle, shared by the
-// exact band (band.cpp) and the winding tree's nearest-triangle search
-// (winding.cpp). No OpenVDB here.
+// mesh2sdf — the squared distance from a point to a triangle by its
+// closest-point regions, for the winding tree's nearest-triangle search
+// (winding.cpp), which the per-point bench query and the off-band clearance
+// use. The band and the dense search use packet_rows.h's branch-free form
+// instead; the bench's comparison of the two grids is then a check between
+// two independent formulas. No OpenVDB here.
 #ifndef MESH2SDF_TRIANGLE_DISTANCE_H
 #define MESH2SDF_TRIANGLE_DISTANCE_H
 
