@@ -48,8 +48,8 @@ double doubleArea2(const std::array<float, 3> &a, const std::array<float, 3> &b,
     return x * x + y * y + z * z;
 }
 
-// Boundary and non-manifold edge counts on vertices welded by exact position.
-void countEdges(TriangleMesh &mesh)
+// TriangleMesh::welded for `points`.
+std::vector<uint32_t> weldByPosition(const std::vector<std::array<float, 3>> &points)
 {
     struct Key {
         float x, y, z;
@@ -63,12 +63,21 @@ void countEdges(TriangleMesh &mesh)
             return (size_t(b[0]) * 73856093u) ^ (size_t(b[1]) * 19349663u) ^ (size_t(b[2]) * 83492791u);
         }
     };
-    std::unordered_map<Key, uint32_t, KeyHash> weld;
-    std::vector<uint32_t> id(mesh.points.size());
-    for (size_t i = 0; i < mesh.points.size(); ++i) {
-        const auto &p = mesh.points[i];
-        id[i] = weld.emplace(Key{p[0] + 0.0f, p[1] + 0.0f, p[2] + 0.0f}, uint32_t(weld.size())).first->second;
+    std::unordered_map<Key, uint32_t, KeyHash> first;
+    first.reserve(points.size());
+    std::vector<uint32_t> welded(points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+        const auto &p = points[i];
+        // + 0.0f makes -0 +0, so that equal keys hash alike.
+        welded[i] = first.emplace(Key{p[0] + 0.0f, p[1] + 0.0f, p[2] + 0.0f}, uint32_t(i)).first->second;
     }
+    return welded;
+}
+
+// Boundary and non-manifold edge counts on the welded vertices.
+void countEdges(TriangleMesh &mesh)
+{
+    const std::vector<uint32_t> &id = mesh.welded;
     std::unordered_map<uint64_t, uint32_t> uses;
     uses.reserve(mesh.triangles.size() * 2);
     for (const auto &t : mesh.triangles)
@@ -289,6 +298,7 @@ bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
         error = "mesh bounding box has zero size: " + path;
         return false;
     }
+    mesh.welded = weldByPosition(mesh.points);
     countEdges(mesh);
     return true;
 }

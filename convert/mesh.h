@@ -26,6 +26,10 @@ struct TriangleMesh {
     std::vector<std::array<uint32_t, 3>> triangles;
     std::array<double, 3> lo{}, hi{}; // bounding box of the used points
     MeshHealth health;
+    /// Per point, the first point at the same position (-0 and +0 alike):
+    /// vertices welded by exact position, so that a seam of duplicated
+    /// vertices joins its triangles (the health counts, the open edges).
+    std::vector<uint32_t> welded;
 };
 
 /// Reads `path` (.obj .ply .off .stl .om) through OpenMesh, triangulates its

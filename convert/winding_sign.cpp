@@ -143,22 +143,11 @@ double segmentDistance(const OpenEdge &e, const double *p)
     return std::sqrt(d2);
 }
 
-// Vertices are welded by exact position, as the health counts do, so seams
-// of duplicated vertices carry nothing.
+// On the mesh's welded vertices (TriangleMesh::welded, as the health counts
+// take them), so seams of duplicated vertices carry nothing.
 std::vector<OpenEdge> openEdges(const TriangleMesh &mesh)
 {
-    struct PointHash {
-        size_t operator()(const std::array<float, 3> &p) const
-        {
-            uint32_t b[3];
-            std::memcpy(b, p.data(), sizeof b);
-            return (size_t(b[0]) * 0x9E3779B97F4A7C15ull) ^ (size_t(b[1]) * 0xC2B2AE3D27D4EB4Full) ^ b[2];
-        }
-    };
-    std::unordered_map<std::array<float, 3>, uint32_t, PointHash> weld;
-    std::vector<uint32_t> id(mesh.points.size());
-    for (size_t i = 0; i < mesh.points.size(); ++i)
-        id[i] = weld.emplace(mesh.points[i], uint32_t(i)).first->second;
+    const std::vector<uint32_t> &id = mesh.welded;
     std::unordered_map<uint64_t, int> net; // (min, max) -> uses min->max minus max->min
     net.reserve(mesh.triangles.size() * 2);
     for (const auto &t : mesh.triangles)
@@ -410,7 +399,6 @@ class BlockGradientBound
                 B[k][l] = b[k];
         }
     }
-    double at(const double *p) const { return at(p, 0.0, 0.0); }
     // The bound at every point within `slack` of p, where no edge is nearer
     // than `floor`.
     double at(const double *p, double slack, double floor) const

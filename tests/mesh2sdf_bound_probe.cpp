@@ -2,9 +2,10 @@
 // (convert/winding_sign.cpp), held to the brute-force winding number of a
 // mesh at random points near its open edges. test_mesh2sdf runs it.
 //
-// usage: mesh2sdf_bound_probe MESH.obj [SAMPLES]
+// usage: mesh2sdf_bound_probe MESH [SAMPLES]   (any mesh mesh2sdf reads)
 // Prints one line per bound with the largest ratio of the measured change to
 // the bound (must stay <= 1), and exits 1 if any exceeds it.
+#include "mesh.h"
 #include "winding.h"
 #include "winding_sign.h"
 
@@ -12,39 +13,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <random>
-#include <sstream>
 #include <string>
 
 using namespace mesh2sdf;
 
 namespace
 {
-
-bool readObj(const char *path, TriangleMesh &mesh)
-{
-    std::ifstream in(path);
-    std::string line;
-    while (std::getline(in, line)) {
-        std::istringstream s(line);
-        std::string tag;
-        s >> tag;
-        if (tag == "v") {
-            std::array<float, 3> p;
-            s >> p[0] >> p[1] >> p[2];
-            mesh.points.push_back(p);
-        } else if (tag == "f") {
-            std::vector<uint32_t> face;
-            std::string corner;
-            while (s >> corner)
-                face.push_back(uint32_t(std::stoul(corner.substr(0, corner.find('/')))) - 1);
-            for (size_t i = 2; i < face.size(); ++i)
-                mesh.triangles.push_back({face[0], face[i - 1], face[i]});
-        }
-    }
-    return !mesh.triangles.empty();
-}
 
 double norm(const double *v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
@@ -55,17 +30,13 @@ int main(int argc, char **argv)
     if (argc < 2)
         return 2;
     TriangleMesh mesh;
-    if (!readObj(argv[1], mesh)) {
-        std::fprintf(stderr, "cannot read %s\n", argv[1]);
+    std::string error;
+    if (!loadMesh(argv[1], mesh, error)) {
+        std::fprintf(stderr, "%s\n", error.c_str());
         return 2;
     }
     const int samples = argc > 2 ? std::atoi(argv[2]) : 300;
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (const auto &p : mesh.points)
-        for (int k = 0; k < 3; ++k) {
-            lo[k] = std::min(lo[k], double(p[k]));
-            hi[k] = std::max(hi[k], double(p[k]));
-        }
+    const double *lo = mesh.lo.data(), *hi = mesh.hi.data();
     const double size = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
     const FastWinding winding(mesh.points, mesh.triangles);
     const EdgeField field(mesh);

@@ -926,16 +926,10 @@ static void test_gradient_bounds(void **state)
     /* A sphere with one small round hole (radius 0.1): far away its open
      * edges' field is a dipole's, which the group bound must stay above. */
     char holed[512];
-    tu_tmp(holed, sizeof holed, "holed_sphere.obj");
+    tu_tmp(holed, sizeof holed, "holed_sphere.off");
     mesh m = {0};
     add_sphere_band(&m, 1.0, 0.1, 3.14159265358979323846, 24, 32, 0, NULL);
-    FILE *f = fopen(holed, "w");
-    assert_non_null(f);
-    for (int i = 0; i < m.nv; i++)
-        fprintf(f, "v %.9g %.9g %.9g\n", m.v[3 * i], m.v[3 * i + 1], m.v[3 * i + 2]);
-    for (int t = 0; t < m.nt; t++)
-        fprintf(f, "f %d %d %d\n", m.t[3 * t] + 1, m.t[3 * t + 1] + 1, m.t[3 * t + 2] + 1);
-    fclose(f);
+    write_off(holed, &m);
     mesh_free(&m);
     char paths[3][1024];
     snprintf(paths[0], sizeof paths[0], "%s/teapot.obj", SDFT_MESH_DIR);
