@@ -309,45 +309,51 @@ void fillBox(openvdb::FloatGrid &grid, const BoxGeometry &box, const NearestTria
             }
     std::atomic<size_t> done{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks.size()), [&](const tbb::blocked_range<size_t> &r) {
+        constexpr int kPackets = kBlockDim / kPacketDim; // per axis
         double best[NearestTriangle::kPacketSize];
         uint32_t seed[NearestTriangle::kPacketSize];
-        uint32_t blockNearest[kBlockSize]; // leaf order
+        uint32_t blockNearest[kBlockSize];                // leaf order
+        openvdb::Index offset[NearestTriangle::kPacketSize]; // of the packet's voxels in the leaf
+        bool wanted[NearestTriangle::kPacketSize];           // in the box, and not in the band
         for (size_t b = r.begin(); b != r.end(); ++b) {
             Block &block = blocks[b];
             if (!block.leaf)
                 block.leaf = new Leaf(block.origin, block.tile, false);
             Leaf &leaf = *block.leaf;
+            float *values = leaf.buffer().data();
             std::fill(blockNearest, blockNearest + kBlockSize, NearestTriangle::kNone);
-            constexpr int kPackets = kBlockDim / kPacketDim; // per axis
             for (int p = 0; p < kPackets * kPackets * kPackets; ++p) {
-                const openvdb::Coord packet =
-                    block.origin + openvdb::Coord(p / (kPackets * kPackets) * kPacketDim,
+                const openvdb::Coord packetOffset(p / (kPackets * kPackets) * kPacketDim,
                                                   p / kPackets % kPackets * kPacketDim, p % kPackets * kPacketDim);
+                const openvdb::Coord packet = block.origin + packetOffset;
                 bool any = false;
                 for (int v = 0; v < NearestTriangle::kPacketSize; ++v) {
                     const openvdb::Coord ijk = packetVoxel(packet, v);
                     const openvdb::Index at = Leaf::coordToOffset(ijk);
-                    if (ijk[0] >= box.dims[0] || ijk[1] >= box.dims[1] || ijk[2] >= box.dims[2])
+                    offset[v] = at;
+                    const bool inBox = ijk[0] < box.dims[0] && ijk[1] < box.dims[1] && ijk[2] < box.dims[2];
+                    wanted[v] = inBox && !leaf.isValueOn(at);
+                    if (!inBox)
                         best[v] = 0; // beyond the box: wanted by no one
-                    else if (leaf.isValueOn(at))
-                        best[v] = double(leaf.getValue(at)) * leaf.getValue(at); // the band's, exact
+                    else if (!wanted[v])
+                        best[v] = double(values[at]) * values[at]; // the band's, exact
                     else
                         best[v] = INFINITY;
-                    any = any || best[v] == INFINITY;
-                    seed[v] = packetSeed(blockNearest, ijk - block.origin, packet - block.origin);
+                    any = any || wanted[v];
+                    seed[v] = packetSeed(blockNearest, ijk - block.origin, packetOffset);
                 }
                 if (!any)
                     continue;
                 const Vec3 corner = worldOf(box, packet);
                 nearest.packetDistance2(corner.data(), box.voxelSize, best, seed);
                 for (int v = 0; v < NearestTriangle::kPacketSize; ++v) {
-                    const openvdb::Coord ijk = packetVoxel(packet, v);
-                    const openvdb::Index at = Leaf::coordToOffset(ijk);
+                    const openvdb::Index at = offset[v];
                     blockNearest[at] = seed[v];
-                    if (ijk[0] >= box.dims[0] || ijk[1] >= box.dims[1] || ijk[2] >= box.dims[2] || leaf.isValueOn(at))
+                    if (!wanted[v])
                         continue;
                     const float d = float(std::sqrt(best[v]));
-                    leaf.setValueOn(at, leaf.getValue(at) < 0 ? -d : d);
+                    values[at] = values[at] < 0 ? -d : d; // the sign the tree gave it
+                    leaf.setActiveState(at, true);
                 }
             }
         }
@@ -430,7 +436,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
         },
         [&] {
             if (opt.full)
-                nearest.reset(new NearestTriangle(mesh, opt.simd));
+                nearest.reset(new NearestTriangle(mesh, opt.simd, opt.simd512));
         });
 
     // The bar: the band (with its leaves' signs) and the tiles' signs, then

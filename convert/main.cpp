@@ -10,6 +10,8 @@
 #include "progress.h"
 
 #include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <chrono>
 #include <cstdio>
@@ -136,18 +138,36 @@ int main(int argc, char** argv)
     progress.stage("writing", buildGridEnd(opt), 100);
     const size_t slash = opt.npy.find_last_of('/');
     const std::string npyName = slash == std::string::npos ? opt.npy : opt.npy.substr(slash + 1);
-    const bool written = writeVdb(*grid, vdbFile.tmp, error) &&
-                         (opt.nvdb.empty() || writeNvdb(*grid, opt.fp16, nvdbFile.tmp, error)) &&
-                         (opt.npy.empty() || (writeNpy(*grid, box, npyFile.tmp, error) &&
-                                              writeNpyJson(box, npyName, how, grid->background(), jsonFile.tmp, error)));
+    // The grid files and the dense array side by side: each reads the
+    // finished tree only, and OpenVDB's writer runs on one thread.
+    std::string gridError, arrayError;
+    bool gridsWritten = false, arrayWritten = false;
+    tbb::parallel_invoke(
+        [&] {
+            gridsWritten = writeVdb(*grid, vdbFile.tmp, gridError) &&
+                           (opt.nvdb.empty() || writeNvdb(*grid, opt.fp16, nvdbFile.tmp, gridError));
+        },
+        [&] {
+            arrayWritten = opt.npy.empty() ||
+                           (writeNpy(*grid, box, npyFile.tmp, arrayError) &&
+                            writeNpyJson(box, npyName, how, grid->background(), jsonFile.tmp, arrayError));
+        });
+    const bool written = gridsWritten && arrayWritten;
+    error = gridsWritten ? arrayError : gridError;
     if (!written) {
         progress.finish();
         return fail(error, pending);
     }
-    for (PendingFile* f : pending)
-        if (!commitFile(*f, error)) {
+    // Renamed side by side too: replacing a large old file frees its blocks
+    // within rename().
+    std::vector<std::string> commitErrors(pending.size());
+    std::vector<char> committed(pending.size(), 0);
+    tbb::parallel_for(size_t(0), pending.size(),
+                      [&](size_t i) { committed[i] = commitFile(*pending[i], commitErrors[i]); });
+    for (size_t i = 0; i < pending.size(); ++i)
+        if (!committed[i]) {
             progress.finish();
-            return fail(error, pending);
+            return fail(commitErrors[i], pending);
         }
     progress.report(100);
     progress.finish();

@@ -11,12 +11,14 @@
 //    box is at least `worst`, the largest best(v): every v lies in that box,
 //    so each of the node's triangles is at least worst >= best(v) from v;
 //  - a node, for the whole packet, when for every centre v its own lower
-//    bound is at least best(v) (Rows::reaches, packet_rows.h, row by row);
-//  - a leaf's triangles, for a row of four centres (i, j, 0..3), when each
+//    bound is at least best(v) (Rows::groupReaches, packet_rows.h, a group
+//    of rows at a time);
+//  - a leaf's triangles, for a group of rows (one row of four centres
+//    (i, j, 0..3), or two, (i, j..j + 1, 0..3), with AVX-512), when each
 //    centre's own lower bound on the leaf is at least its best.
-// A row's centres all take the distances of every triangle evaluated for the
-// row, and each keeps the smaller: a true distance to a triangle only ever
-// lowers best(v) towards its answer, so it breaks no skip.
+// A group's centres all take the distances of every triangle evaluated for
+// the group, and each keeps the smaller: a true distance to a triangle only
+// ever lowers best(v) towards its answer, so it breaks no skip.
 // Bests only fall, so a skip stays justified to the end.
 //
 // The lower bounds of a node, both true because each triangle is the convex
@@ -41,10 +43,17 @@
 // descent serves kPacketSize centres; each centre then pays only its own
 // bounds at the nodes the packet opens (from per-axis terms, RowTerms) and
 // the triangles no bound excludes, a row of four centres at a time
-// (packet_rows.h, with AVX2 where the processor has it). Each centre starts from a
+// (packet_rows.h, with AVX2 where the processor has it; two rows, eight
+// centres, with AVX-512). Each centre starts from a
 // neighbour's nearest triangle, so the bests are near their answers from
 // the first node on, and nearer children are searched first.
 #include "nearest_triangle.h"
+
+// GCC 12 flags its own AVX-512 intrinsics (_mm512_max_pd and others pass an
+// _mm512_undefined_pd() as the unused merge source) as maybe-uninitialized
+// once they are inlined into searchAvx512; a false positive in its headers,
+// silenced for this file only.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
 #include "median_split.h"
 
@@ -70,9 +79,10 @@ constexpr double kCancel = 1e-14;
 
 } // namespace
 
-NearestTriangle::NearestTriangle(const TriangleMesh &mesh, bool vectorized)
+NearestTriangle::NearestTriangle(const TriangleMesh &mesh, bool vectorized, bool wide)
 {
     mVectorized = vectorized && rowsVectorizable();
+    mVectorized512 = mVectorized && wide && rowsVectorizable512();
     const uint32_t n = uint32_t(mesh.triangles.size());
     std::vector<std::array<double, 3>> centroids(n);
     std::vector<uint32_t> order(n);
@@ -195,6 +205,8 @@ void NearestTriangle::packetDistance2(const double *corner, double spacing, doub
     if (mNodes.empty())
         return;
 #ifdef MESH2SDF_ROWS_AVX2
+    if (mVectorized512)
+        return searchAvx512(corner, spacing, best, nearest);
     if (mVectorized)
         return searchAvx2(corner, spacing, best, nearest);
 #endif
@@ -208,6 +220,14 @@ __attribute__((target("avx2,fma"), flatten)) void NearestTriangle::searchAvx2(co
                                                                               double *best, uint32_t *nearest) const
 {
     search<Avx2Rows>(corner, spacing, best, nearest);
+}
+
+// The same with AVX-512 for the triangle distances, two rows at a time.
+__attribute__((target("avx512f,avx2,fma"), flatten)) void NearestTriangle::searchAvx512(const double *corner,
+                                                                                        double spacing, double *best,
+                                                                                        uint32_t *nearest) const
+{
+    search<Avx512Rows>(corner, spacing, best, nearest);
 }
 #endif
 
@@ -256,14 +276,17 @@ void NearestTriangle::search(const double *corner, double spacing, double *best,
         const RowTerms terms =
             Rows::terms(axis, node.lo, node.hi, node.centre, node.normal, node.thickness, node.radius);
         if (node.count > 0) {
-            for (int row = 0; row < n * n; ++row) {
+            // Rows::kRows rows (i, j..j + kRows - 1) at a time, skipped when
+            // none of them reaches the leaf.
+            static_assert(n % Rows::kRows == 0, "a group of rows stays in one i");
+            for (int row = 0; row < n * n; row += Rows::kRows) {
                 double *rowBest = best + row * n;
-                if (!Rows::reaches(terms, rounding, row / n, row % n, rowBest))
+                if (!Rows::groupReaches(terms, rounding, row / n, row % n, rowBest))
                     continue;
                 for (uint32_t t = node.first; t < node.first + node.count; ++t) {
-                    double d2[n];
-                    Rows::distances(mTriangles[t], axis[0][row / n], axis[1][row % n], axis[2], d2);
-                    for (unsigned lowered = Rows::lower(d2, rowBest); lowered; lowered &= lowered - 1)
+                    double d2[n * Rows::kRows];
+                    Rows::groupDistances(mTriangles[t], axis[0][row / n], &axis[1][row % n], axis[2], d2);
+                    for (unsigned lowered = Rows::lowerGroup(d2, rowBest); lowered; lowered &= lowered - 1)
                         nearest[row * n + __builtin_ctz(lowered)] = t;
                 }
             }
@@ -271,8 +294,8 @@ void NearestTriangle::search(const double *corner, double spacing, double *best,
             continue;
         }
         bool any = false;
-        for (int row = 0; row < n * n && !any; ++row)
-            any = Rows::reaches(terms, rounding, row / n, row % n, best + row * n) != 0;
+        for (int row = 0; row < n * n && !any; row += Rows::kRows)
+            any = Rows::groupReaches(terms, rounding, row / n, row % n, best + row * n) != 0;
         if (!any)
             continue;
         // The nearer child is searched first: pushed last.

@@ -21,8 +21,10 @@ class NearestTriangle
   public:
     /// Copies the mesh's triangles (reordered); the mesh may be freed after.
     /// `vectorized`: search four voxels at a time with AVX2 where the
-    /// processor has it (false: lane by lane; the answers agree to rounding).
-    explicit NearestTriangle(const TriangleMesh &mesh, bool vectorized = true);
+    /// processor has it, and `wide`: a triangle's distances to eight voxels
+    /// at a time with AVX-512 where it has that (false: lane by lane; the
+    /// answers agree to rounding).
+    explicit NearestTriangle(const TriangleMesh &mesh, bool vectorized = true, bool wide = true);
 
     static constexpr uint32_t kNone = ~uint32_t(0);
 
@@ -56,11 +58,12 @@ class NearestTriangle
     template <class Rows> void search(const double *corner, double spacing, double *best, uint32_t *nearest) const;
 #ifdef MESH2SDF_ROWS_AVX2
     void searchAvx2(const double *corner, double spacing, double *best, uint32_t *nearest) const;
+    void searchAvx512(const double *corner, double spacing, double *best, uint32_t *nearest) const;
 #endif
 
     std::vector<PreparedTriangle> mTriangles; // in hierarchy order (packet_rows.h)
     std::vector<Node> mNodes;
-    bool mVectorized;
+    bool mVectorized, mVectorized512;
 };
 
 } // namespace mesh2sdf

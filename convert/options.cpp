@@ -66,9 +66,12 @@ void printHelp()
         "  --name NAME            grid name (default: the mesh's file name stem)\n"
         "  --threads N            worker threads, 0 = all cores (default: 0)\n"
         "  --quiet                no health line, progress bar or summary\n"
-        "  --no-simd              no vector instructions (AVX2) where mesh2sdf would\n"
-        "                         choose them at run time: slower, the same grid to\n"
-        "                         rounding (for comparison and testing)\n"
+        "  --simd LEVEL           vector instructions, chosen at run time: auto (the\n"
+        "                         widest the processor has: AVX-512 for the dense\n"
+        "                         search, else AVX2; default), avx2 (no AVX-512) or\n"
+        "                         none; the same grid to rounding, for comparison\n"
+        "                         and testing\n"
+        "  --no-simd              the same as --simd none\n"
         "  --check-sign GRID.vdb  do not convert: sample points uniformly in the mesh's\n"
         "                         box grown by 5%%, compute the exact winding number by\n"
         "                         brute force and print, per GRID (repeatable), the\n"
@@ -185,8 +188,18 @@ bool parseOptions(int argc, char** argv, Options& opt, std::string& error)
             opt.fp16 = true;
         } else if (!std::strcmp(a, "--quiet")) {
             opt.quiet = true;
+        } else if (!std::strcmp(a, "--simd")) {
+            if (!value(v))
+                return false;
+            if (!std::strcmp(v, "auto") || !std::strcmp(v, "avx2") || !std::strcmp(v, "none")) {
+                opt.simd = std::strcmp(v, "none") != 0;
+                opt.simd512 = !std::strcmp(v, "auto");
+            } else {
+                error = std::string("--simd must be auto, avx2 or none, got '") + v + "'";
+                return false;
+            }
         } else if (!std::strcmp(a, "--no-simd")) {
-            opt.simd = false;
+            opt.simd = opt.simd512 = false;
         } else if (a[0] == '-' && a[1] != '\0') {
             error = std::string("unknown option '") + a + "' (see --help)";
             return false;

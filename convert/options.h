@@ -30,6 +30,7 @@ struct Options {
     int threads = 0;          // 0: all cores
     bool quiet = false;
     bool simd = true;         // vector instructions where the processor has them
+    bool simd512 = true;      // and AVX-512 among them (--simd auto)
     std::vector<std::string> checkSign; // --check-sign GRID.vdb (repeatable): measure, don't convert
     int samples = 10000;      // points for --check-sign
     bool help = false;

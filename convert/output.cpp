@@ -1,10 +1,13 @@
 // mesh2sdf — output files (see output.h).
 #include "output.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <vector>
+
+#include <tbb/parallel_for.h>
 
 #include "util/json.h"
 #include "vdb/vdb_internal.h"
@@ -97,14 +100,37 @@ bool writeNpy(const openvdb::FloatGrid& grid, const BoxGeometry& box, const std:
     const unsigned char preamble[10] = {0x93, 'N', 'U', 'M', 'P', 'Y', 1, 0,
                                         static_cast<unsigned char>(hlen & 0xff), static_cast<unsigned char>(hlen >> 8)};
     bool ok = std::fwrite(preamble, 1, 10, f) == 10 && std::fwrite(header.data(), 1, header.size(), f) == header.size();
-    openvdb::FloatGrid::ConstAccessor acc = grid.getConstAccessor();
-    std::vector<float> row(size_t(box.dims[2]));
-    for (int i = 0; ok && i < box.dims[0]; ++i)
-        for (int j = 0; ok && j < box.dims[1]; ++j) {
-            for (int k = 0; k < box.dims[2]; ++k)
-                row[size_t(k)] = acc.getValue(openvdb::Coord(i, j, k));
-            ok = std::fwrite(row.data(), sizeof(float), row.size(), f) == row.size();
-        }
+    // A slab of Leaf::DIM planes of x at a time: its leaf-sized blocks
+    // copied in parallel from their leaves (or the tile holding them), the
+    // slab then written whole. Leaves are aligned to Leaf::DIM, and voxel
+    // (0, 0, 0) of the box is the grid's index origin.
+    using Leaf = openvdb::FloatTree::LeafNodeType;
+    constexpr int n = int(Leaf::DIM);
+    const openvdb::FloatTree& tree = grid.tree();
+    const size_t ny = size_t(box.dims[1]), nz = size_t(box.dims[2]);
+    const int blocksY = (box.dims[1] + n - 1) / n, blocksZ = (box.dims[2] + n - 1) / n;
+    std::vector<float> slab(size_t(n) * ny * nz);
+    for (int x0 = 0; ok && x0 < box.dims[0]; x0 += n) {
+        const int planes = std::min(n, box.dims[0] - x0);
+        tbb::parallel_for(0, blocksY * blocksZ, [&](int b) {
+            const int y0 = b / blocksZ * n, z0 = b % blocksZ * n;
+            const int ys = std::min(n, box.dims[1] - y0), zs = std::min(n, box.dims[2] - z0);
+            const openvdb::Coord at(x0, y0, z0);
+            const Leaf* leaf = tree.probeConstLeaf(at);
+            const float* values = leaf ? leaf->buffer().data() : nullptr;
+            const float tile = leaf ? 0.0f : tree.getValue(at);
+            for (int i = 0; i < planes; ++i)
+                for (int j = 0; j < ys; ++j) {
+                    float* row = slab.data() + (size_t(i) * ny + size_t(y0 + j)) * nz + size_t(z0);
+                    if (values)
+                        std::copy_n(values + Leaf::coordToOffset(openvdb::Coord(i, j, 0)), zs, row);
+                    else
+                        std::fill_n(row, zs, tile);
+                }
+        });
+        const size_t count = size_t(planes) * ny * nz;
+        ok = std::fwrite(slab.data(), sizeof(float), count, f) == count;
+    }
     ok = (std::fclose(f) == 0) && ok;
     if (!ok)
         error = "cannot write " + tmp + ": " + std::strerror(errno);

@@ -5,6 +5,8 @@
 // twice, lane by lane in plain C++ (ScalarRows) and four lanes at once with
 // AVX2 and FMA (Avx2Rows, for a caller compiled for those: see
 // NearestTriangle::searchAvx2); both compute the same formulas, to rounding.
+// Avx512Rows (the dense search only) does a group of two rows, eight lanes,
+// in one AVX-512 vector, lane by lane Avx2Rows's operations.
 // No OpenVDB here.
 //
 // Why the distance is exact (PreparedTriangle, rowDistances). Let q be the
@@ -129,6 +131,9 @@ struct RowRounding {
 };
 
 struct ScalarRows {
+    /// Rows per group (groupDistances, lowerGroup): one.
+    static constexpr int kRows = 1;
+
     /// The terms of the node with box [lo, hi] and disc (centre, normal,
     /// thickness, radius) for the packet whose centres have coordinates
     /// axis[k][0..3] along axis k.
@@ -188,11 +193,24 @@ struct ScalarRows {
             d2[l] = preparedDistance2(t, p);
         }
     }
+
+    /// A group of kRows rows, (x, y[r], z[l]) in lane 4 r + l: one row here.
+    static void groupDistances(const PreparedTriangle &t, double x, const double *y, const double *z, double *d2)
+    {
+        distances(t, x, y[0], z, d2);
+    }
+    static unsigned lowerGroup(const double *d2, double *best) { return lower(d2, best); }
+    static unsigned groupReaches(const RowTerms &n, RowRounding r, int i, int j, const double *best)
+    {
+        return reaches(n, r, i, j, best);
+    }
 };
 
 #ifdef MESH2SDF_ROWS_AVX2
 #define MESH2SDF_AVX2_INLINE __attribute__((target("avx2,fma"))) inline
 struct Avx2Rows {
+    static constexpr int kRows = 1;
+
     MESH2SDF_AVX2_INLINE static RowTerms terms(const double (*axis)[4], const float *lo, const float *hi,
                                                const double *centre, const double *normal, double thickness,
                                                double radius)
@@ -266,8 +284,108 @@ struct Avx2Rows {
         const __m256d inside = _mm256_cmp_pd(side, zero, _CMP_GT_OQ);
         _mm256_storeu_pd(d2, _mm256_blendv_pd(edges, _mm256_mul_pd(height, height), inside));
     }
+
+    MESH2SDF_AVX2_INLINE static void groupDistances(const PreparedTriangle &t, double x, const double *y,
+                                                    const double *z, double *d2)
+    {
+        distances(t, x, y[0], z, d2);
+    }
+    MESH2SDF_AVX2_INLINE static unsigned lowerGroup(const double *d2, double *best) { return lower(d2, best); }
+    MESH2SDF_AVX2_INLINE static unsigned groupReaches(const RowTerms &n, RowRounding r, int i, int j,
+                                                      const double *best)
+    {
+        return reaches(n, r, i, j, best);
+    }
 };
 #undef MESH2SDF_AVX2_INLINE
+
+/// Whether this processor runs Avx512Rows (AVX-512 F besides AVX2 and FMA).
+inline bool rowsVectorizable512()
+{
+    return rowsVectorizable() && __builtin_cpu_supports("avx512f");
+}
+
+#define MESH2SDF_AVX512_INLINE __attribute__((target("avx512f,avx2,fma"))) inline
+/// Avx2Rows with its triangle distances two rows at a time: rows (x, y[0],
+/// z[0..3]) and (x, y[1], z[0..3]) in the eight lanes of one AVX-512
+/// vector, lane by lane the same operations as Avx2Rows::distances. Where
+/// the processor has full-width AVX-512 units, that is twice the lanes per
+/// instruction for the search's costliest step.
+struct Avx512Rows : Avx2Rows {
+    static constexpr int kRows = 2;
+
+    /// A vector whose low four lanes are a and high four are b.
+    MESH2SDF_AVX512_INLINE static __m512d halves(double a, double b)
+    {
+        return _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_set1_pd(a)), _mm256_set1_pd(b), 1);
+    }
+
+    MESH2SDF_AVX512_INLINE static void groupDistances(const PreparedTriangle &t, double x, const double *y,
+                                                      const double *z, double *d2)
+    {
+        const __m512d zs = _mm512_broadcast_f64x4(_mm256_loadu_pd(z)), zero = _mm512_setzero_pd();
+        const __m512d one = _mm512_set1_pd(1.0);
+        __m512d edges = _mm512_set1_pd(INFINITY), side = _mm512_set1_pd(INFINITY), height = zero;
+        for (int k = 0; k < 3; ++k) {
+            const double *e = t.edge[k], *m = t.inward[k];
+            const double wx = x - t.corner[k][0], wy0 = y[0] - t.corner[k][1], wy1 = y[1] - t.corner[k][1];
+            const __m512d wz = _mm512_sub_pd(zs, _mm512_set1_pd(t.corner[k][2]));
+            const __m512d along =
+                _mm512_fmadd_pd(wz, _mm512_set1_pd(e[2]), halves(wx * e[0] + wy0 * e[1], wx * e[0] + wy1 * e[1]));
+            const __m512d s =
+                _mm512_min_pd(_mm512_max_pd(_mm512_mul_pd(along, _mm512_set1_pd(t.inverse[k])), zero), one);
+            const __m512d rx = _mm512_fnmadd_pd(s, _mm512_set1_pd(e[0]), _mm512_set1_pd(wx));
+            const __m512d ry = _mm512_fnmadd_pd(s, _mm512_set1_pd(e[1]), halves(wy0, wy1));
+            const __m512d rz = _mm512_fnmadd_pd(s, _mm512_set1_pd(e[2]), wz);
+            const __m512d r2 = _mm512_fmadd_pd(rz, rz, _mm512_fmadd_pd(ry, ry, _mm512_mul_pd(rx, rx)));
+            edges = _mm512_min_pd(edges, r2);
+            side = _mm512_min_pd(
+                side, _mm512_fmadd_pd(wz, _mm512_set1_pd(m[2]), halves(wx * m[0] + wy0 * m[1], wx * m[0] + wy1 * m[1])));
+            if (k == 0)
+                height = _mm512_fmadd_pd(
+                    wz, _mm512_set1_pd(t.normal[2]),
+                    halves(wx * t.normal[0] + wy0 * t.normal[1], wx * t.normal[0] + wy1 * t.normal[1]));
+        }
+        const __mmask8 inside = _mm512_cmp_pd_mask(side, zero, _CMP_GT_OQ);
+        _mm512_storeu_pd(d2, _mm512_mask_blend_pd(inside, edges, _mm512_mul_pd(height, height)));
+    }
+
+    /// Avx2Rows::reaches for rows (i, j) and (i, j + 1) at once: bit 4 r + l
+    /// for centre (i, j + r, l).
+    MESH2SDF_AVX512_INLINE static unsigned groupReaches(const RowTerms &n, RowRounding r, int i, int j,
+                                                        const double *best)
+    {
+        const __m512d gap = _mm512_add_pd(halves(n.gap[0][i] + n.gap[1][j], n.gap[0][i] + n.gap[1][j + 1]),
+                                          _mm512_broadcast_f64x4(_mm256_load_pd(n.gap[2])));
+        const __m512d a = _mm512_add_pd(halves(n.height[0][i] + n.height[1][j], n.height[0][i] + n.height[1][j + 1]),
+                                        _mm512_broadcast_f64x4(_mm256_load_pd(n.height[2])));
+        const __m512d offset2 =
+            _mm512_add_pd(halves(n.square[0][i] + n.square[1][j], n.square[0][i] + n.square[1][j + 1]),
+                          _mm512_broadcast_f64x4(_mm256_load_pd(n.square[2])));
+        const __m512d cancel = _mm512_mul_pd(_mm512_set1_pd(r.cancel), offset2);
+        const __m512d lateral2 = _mm512_sub_pd(_mm512_fnmadd_pd(a, a, offset2), cancel);
+        const __m512d zero = _mm512_setzero_pd(), radius = _mm512_set1_pd(n.radius);
+        const __m512d absA = _mm512_abs_pd(a);
+        const __m512d across = _mm512_max_pd(_mm512_sub_pd(absA, _mm512_set1_pd(n.thickness)), zero);
+        const __m512d along =
+            _mm512_sub_pd(_mm512_sqrt_pd(_mm512_max_pd(lateral2, _mm512_mul_pd(radius, radius))), radius);
+        const __m512d disc = _mm512_sub_pd(_mm512_fmadd_pd(across, across, _mm512_mul_pd(along, along)), cancel);
+        const __m512d bound = _mm512_mul_pd(_mm512_max_pd(gap, disc), _mm512_set1_pd(r.shrink));
+        return _mm512_cmp_pd_mask(bound, _mm512_loadu_pd(best), _CMP_LT_OQ);
+    }
+
+    /// best[l] = min(best[l], d2[l]) for eight lanes; bit l set where d2[l]
+    /// was smaller.
+    MESH2SDF_AVX512_INLINE static unsigned lowerGroup(const double *d2, double *best)
+    {
+        const __m512d d = _mm512_loadu_pd(d2), b = _mm512_loadu_pd(best);
+        const unsigned mask = _mm512_cmp_pd_mask(d, b, _CMP_LT_OQ);
+        if (mask)
+            _mm512_storeu_pd(best, _mm512_min_pd(d, b));
+        return mask;
+    }
+};
+#undef MESH2SDF_AVX512_INLINE
 #endif
 
 } // namespace mesh2sdf

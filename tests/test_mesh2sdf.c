@@ -965,7 +965,7 @@ static void test_full_distances(void **state)
  * thinner than mesh2sdf's threshold for a reliable normal (kThin, 1e-8 of
  * the longest edge: they count as their edges) and two just above it (their
  * normal from an ill-conditioned cross product), flat and tilted. Every
- * voxel of the box, with vector instructions and without (--no-simd), must
+ * voxel of the box, with each level of vector instructions (--simd), must
  * equal the brute-force distance within 1e-4 voxel. The corners are exact
  * in float, so mesh2sdf and the brute force see the same triangles. */
 static void test_full_thin_triangles(void **state)
@@ -992,10 +992,13 @@ static void test_full_thin_triangles(void **state)
     char off[512];
     tu_tmp(off, sizeof off, "thin.off");
     write_off(off, &m);
-    const char *flags[2] = {"--res 40 --full", "--res 40 --full --no-simd"};
-    for (int f = 0; f < 2; f++) {
+    /* The widest vector instructions the processor has (AVX-512 or AVX2),
+     * AVX2 alone, and none. */
+    const char *flags[3] = {"--res 40 --full", "--res 40 --full --simd avx2", "--res 40 --full --no-simd"};
+    const char *names[3] = {"thin", "thin_avx2", "thin_scalar"};
+    for (int f = 0; f < 3; f++) {
         dense g = {0};
-        convert(off, f ? "thin_scalar" : "thin", flags[f], &g);
+        convert(off, names[f], flags[f], &g);
         double worst = 0;
         long near_sliver = 0, voxels = 0;
         for (int i = 0; i < g.n[0]; i++)
@@ -1079,7 +1082,7 @@ static void test_help(void **state)
     assert_int_equal(tu_run(out, sizeof out, "%s --help", SDFT_MESH2SDF), 0);
     const char *flags[] = {"-o",      "--nvdb",       "--npy",     "--res",    "--voxel-size", "--band",
                            "--full",  "--padding",    "--sign",    "--fp16",   "--name",       "--threads",
-                           "--quiet", "--check-sign", "--samples", "--no-simd"};
+                           "--quiet", "--check-sign", "--samples", "--no-simd",    "--simd"};
     for (size_t i = 0; i < sizeof flags / sizeof *flags; i++)
         if (!strstr(out, flags[i]))
             fail_msg("--help does not list %s", flags[i]);
@@ -1246,6 +1249,7 @@ static void test_bad_input(void **state)
                                   {"--band ' 2'", "--band must be"}, /* strict: no blanks, as sdftrace */
                                   {"--res '32 '", "--res must be"},
                                   {"--sign maybe", "--sign must be"},
+                                  {"--simd sse", "--simd must be"},
                                   {"--threads -2", "--threads must be"},
                                   {"--bogus", "unknown option"},
                                   {"--res", "needs a value"}};
