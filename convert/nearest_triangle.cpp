@@ -248,17 +248,23 @@ void NearestTriangle::search(const double *corner, double spacing, double *best,
         hi[k] = axis[k][n - 1];
         centre[k] = 0.5 * (lo[k] + hi[k]);
     }
-    for (int i = 0, v = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j)
-            for (int l = 0; l < n; ++l, ++v)
-                if (nearest[v] != kNone) {
-                    const double q[3] = {axis[0][i], axis[1][j], axis[2][l]};
-                    const double d2 = preparedDistance2(mTriangles[nearest[v]], q);
-                    if (d2 < best[v])
-                        best[v] = d2;
-                    else
-                        nearest[v] = kNone;
-                }
+    // The seeds, each evaluated once for its whole group of rows (neighbours
+    // mostly share one): a true distance only lowers a best.
+    uint32_t seeds[kPacketSize];
+    std::copy(nearest, nearest + kPacketSize, seeds);
+    std::fill(nearest, nearest + kPacketSize, kNone);
+    for (int row = 0; row < n * n; row += Rows::kRows) {
+        const uint32_t *groupSeeds = seeds + row * n;
+        for (int l = 0; l < n * Rows::kRows; ++l) {
+            const uint32_t t = groupSeeds[l];
+            if (t == kNone || std::find(groupSeeds, groupSeeds + l, t) != groupSeeds + l)
+                continue;
+            double d2[n * Rows::kRows];
+            Rows::groupDistances(mTriangles[t], axis[0][row / n], &axis[1][row % n], axis[2], d2);
+            for (unsigned lowered = Rows::lowerGroup(d2, best + row * n); lowered; lowered &= lowered - 1)
+                nearest[row * n + __builtin_ctz(lowered)] = t;
+        }
+    }
     const double radius = 0.5 * std::sqrt(3.0) * (n - 1) * spacing * (1 + 1e-12);
     double worst = *std::max_element(best, best + kPacketSize);
     struct Entry {
@@ -279,6 +285,7 @@ void NearestTriangle::search(const double *corner, double spacing, double *best,
             // Rows::kRows rows (i, j..j + kRows - 1) at a time, skipped when
             // none of them reaches the leaf.
             static_assert(n % Rows::kRows == 0, "a group of rows stays in one i");
+            bool lowered = false;
             for (int row = 0; row < n * n; row += Rows::kRows) {
                 double *rowBest = best + row * n;
                 if (!Rows::groupReaches(terms, rounding, row / n, row % n, rowBest))
@@ -286,11 +293,14 @@ void NearestTriangle::search(const double *corner, double spacing, double *best,
                 for (uint32_t t = node.first; t < node.first + node.count; ++t) {
                     double d2[n * Rows::kRows];
                     Rows::groupDistances(mTriangles[t], axis[0][row / n], &axis[1][row % n], axis[2], d2);
-                    for (unsigned lowered = Rows::lowerGroup(d2, rowBest); lowered; lowered &= lowered - 1)
-                        nearest[row * n + __builtin_ctz(lowered)] = t;
+                    const unsigned lanes = Rows::lowerGroup(d2, rowBest);
+                    lowered = lowered || lanes != 0;
+                    for (unsigned lane = lanes; lane; lane &= lane - 1)
+                        nearest[row * n + __builtin_ctz(lane)] = t;
                 }
             }
-            worst = *std::max_element(best, best + kPacketSize);
+            if (lowered)
+                worst = *std::max_element(best, best + kPacketSize);
             continue;
         }
         bool any = false;
