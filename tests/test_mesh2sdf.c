@@ -1027,6 +1027,66 @@ static void test_full_thin_triangles(void **state)
     mesh_free(&m);
 }
 
+/* The progress bar on a terminal (script(1), from util-linux, gives
+ * mesh2sdf one): its frames never go back, the stages come in order, and
+ * 100% shows once, in the last frame, labelled "writing", after every
+ * stage's work (once the sign pass of a big conversion ran at 100%). */
+static void test_progress_bar(void **state)
+{
+    (void)state;
+    if (!tu_file_exists("/usr/bin/script")) {
+        print_message("skipped: no script(1) to give mesh2sdf a terminal\n");
+        skip();
+    }
+    char in[1024], vdb[512], npy[512];
+    static char out[65536];
+    snprintf(in, sizeof in, "%s/spot.obj", SDFT_MESH_DIR);
+    tu_tmp(vdb, sizeof vdb, "progress.vdb");
+    tu_tmp(npy, sizeof npy, "progress.npy");
+    const char *stages[2][4] = {{"exact distance, sign", "sign off the band", "writing", NULL},
+                                {"exact distance, sign", "sign off the band", "dense distances", "writing"}};
+    for (int full = 0; full < 2; full++) {
+        const int rc = tu_run(out, sizeof out, "script -qec \"%s '%s' -o '%s' --npy '%s' --res 48%s\" /dev/null",
+                              SDFT_MESH2SDF, in, vdb, npy, full ? " --full" : "");
+        if (rc != 0)
+            fail_msg("mesh2sdf under script failed: %s", out);
+        int frames = 0, last = -1, stage = 0, hundreds = 0;
+        char label[32] = "";
+        for (const char *f = strstr(out, "\r["); f; f = strstr(f + 2, "\r[")) {
+            const char *close = strchr(f, ']');
+            int percent;
+            char name[32] = "";
+            if (!close || sscanf(close + 1, " %d%% %31[^\r]", &percent, name) < 1)
+                continue; /* the line that clears the bar */
+            for (size_t n = strlen(name); n > 0 && name[n - 1] == ' '; n--)
+                name[n - 1] = '\0';
+            if (strcmp(name, stages[full][stage]) != 0) {
+                stage++;
+                if (stage >= 4 || !stages[full][stage] || strcmp(name, stages[full][stage]) != 0)
+                    fail_msg("stage '%s' out of order (after '%s')", name, label);
+            }
+            if (percent < last)
+                fail_msg("the bar went back from %d%% to %d%% (%s)", last, percent, name);
+            if (hundreds > 0)
+                fail_msg("a frame after 100%%: %d%% %s", percent, name);
+            if (percent == 100) {
+                hundreds++;
+                if (strcmp(name, "writing") != 0)
+                    fail_msg("100%% during '%s'", name);
+            }
+            last = percent;
+            snprintf(label, sizeof label, "%s", name);
+            frames++;
+        }
+        printf("progress bar%s: %d frames, last %d%% %s\n", full ? " --full" : "", frames, last, label);
+        assert_true(frames >= 10);
+        assert_int_equal(hundreds, 1);
+        assert_string_equal(label, "writing");
+        assert_non_null(stages[full][stage]);
+        assert_string_equal(stages[full][stage], "writing");
+    }
+}
+
 static void test_render_round_trip(void **state)
 {
     (void)state;
@@ -1340,6 +1400,7 @@ int main(void)
         cmocka_unit_test(test_full_distances),
         cmocka_unit_test(test_full_thin_triangles),
         cmocka_unit_test(test_render_round_trip),
+        cmocka_unit_test(test_progress_bar),
     };
     return cmocka_run_group_tests_name("mesh2sdf", tests, NULL, NULL);
 }

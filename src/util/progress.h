@@ -11,16 +11,20 @@ extern "C" {
 #endif
 
 typedef struct sdft_progress_bar {
-    int draw;  /* asked for, and stderr is a terminal */
-    int shown; /* the percent on screen, -1 for none; updated atomically */
+    int draw;          /* asked for, and stderr is a terminal */
+    int shown;         /* the percent on screen, -1 for none (its drawer's) */
+    int target;        /* the most asked for, -1 for none; atomic */
+    int busy;          /* a thread is drawing; atomic */
+    const char *label; /* the label of the latest rise; atomic */
 } sdft_progress_bar;
 
 /* A bar that draws when `enabled` and stderr is a terminal. */
 void sdft_progress_bar_init(sdft_progress_bar *bar, int enabled);
 
 /* Shows `percent` (clamped to 0..100) with a label of up to 24 characters,
- * if it is more than the bar shows. Safe from any thread: each percent is
- * drawn once, by whichever thread gets there first. */
+ * if it is more than the bar was asked for so far. Safe from any thread:
+ * one thread draws at a time, so the frames reach the terminal in order and
+ * the last one is the most asked for. */
 void sdft_progress_bar_show(sdft_progress_bar *bar, const char *label, int percent);
 
 /* Clears the bar's line, if anything was drawn. */
