@@ -593,6 +593,69 @@ static void test_far_bound_is_continuous(void **state)
     sdft_grid_free(g);
 }
 
+/* 1 when the eight voxels of p's trilinear cell all lie in leaves of g's
+ * tree (PNanoVDB's accessor, not the leaf directory), 0 when not, -1 when
+ * p lies within 1e-3 voxel of a cell face (float rounding may pick the
+ * neighbour). */
+static int cell_in_leaves(const sdft_grid *g, sdft_vec3 p)
+{
+    double x[3];
+    int32_t i0[3];
+    for (int k = 0; k < 3; k++) {
+        x[k] = (double)g->w2i[3 * k] * p.x + (double)g->w2i[3 * k + 1] * p.y + (double)g->w2i[3 * k + 2] * p.z +
+               (double)g->w2i_t[k];
+        i0[k] = (int32_t)floor(x[k]);
+        if (x[k] - i0[k] < 1e-3 || x[k] - i0[k] > 1.0 - 1e-3)
+            return -1;
+    }
+    pnanovdb_readaccessor_t acc;
+    pnanovdb_readaccessor_init(&acc, g->root);
+    for (int k = 0; k < 8; k++) {
+        pnanovdb_coord_t c = {i0[0] + (k & 1), i0[1] + (k >> 1 & 1), i0[2] + (k >> 2 & 1)};
+        uint32_t level;
+        pnanovdb_readaccessor_get_value_address_and_level(g->type, g->buf, &acc, &c, &level);
+        if (level != 0)
+            return 0;
+    }
+    return 1;
+}
+
+/* Inside leaves the default field is the trilinear value alone, the
+ * background included: where the eight voxels of a point's cell lie in
+ * leaves and the trilinear value there is the background, the FAR field
+ * returns that very value at level 0, without the far bound (which used
+ * to raise it in empty 4^3 cells of a leaf); outside leaves the far bound
+ * still raises the field. */
+static void test_far_bound_is_not_asked_in_leaves(void **state)
+{
+    (void)state;
+    sdft_field f = spheres_field();
+    sdft_grid *g = bake(&f, 128, 0, NULL);
+    sdft_scratch s;
+    sdft_field gf = sdft_grid_field(g);
+    sdft_scratch_init(&gf, &s);
+    const float bg = sdft_grid_background(g);
+    tu_rng r = tu_rng_seed(11);
+    int at_background = 0, raised = 0;
+    for (int i = 0; i < 200000; i++) {
+        sdft_vec3 p = sdft_v3(tu_uniform(&r, -1.8f, 1.8f), tu_uniform(&r, -1.8f, 1.8f), tu_uniform(&r, -1.8f, 1.8f));
+        int tree_level, far_level;
+        const float tree = sdft_grid_sample_with(g, SDFT_GRID_BOUND_TREE, &s, p, &tree_level);
+        const float far = sdft_grid_sample(g, &s, p, &far_level);
+        const int in_leaves = cell_in_leaves(g, p);
+        if (in_leaves == 1 && fabsf(tree) >= bg) {
+            at_background++;
+            if (far != tree || far_level != 0)
+                fail_msg("in leaves at (%g, %g, %g): FAR %g (level %d), trilinear %g", p.x, p.y, p.z, far,
+                         far_level, tree);
+        }
+        raised += in_leaves == 0 && far_level == 5 && fabsf(far) > fabsf(tree);
+    }
+    assert_true(at_background > 1000);
+    assert_true(raised > 1000);
+    sdft_grid_free(g);
+}
+
 /* A ray from outside box b towards a random point of its middle (within
  * `spread` of the box's size of the centre), in a random direction. */
 static sdft_ray ray_into(sdft_aabb b, float spread, tu_rng *r)
@@ -1604,6 +1667,7 @@ int main(void)
         cmocka_unit_test(test_tree_bound_on_a_scene),
         cmocka_unit_test(test_far_bound_never_exceeds_distance),
         cmocka_unit_test(test_far_bound_is_continuous),
+        cmocka_unit_test(test_far_bound_is_not_asked_in_leaves),
         cmocka_unit_test(test_far_cells_from_directory_match_tree),
         cmocka_unit_test(test_far_corner_distances_match_brute_force),
         cmocka_unit_test(test_grid_trace_is_safe),
