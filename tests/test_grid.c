@@ -563,6 +563,16 @@ static void test_far_corner_distances_match_brute_force(void **state)
         sdft_grid_free(grids[i]);
 }
 
+/* The spheres baked at res^3, and s prepared for its default field. */
+static sdft_grid *spheres_grid_with_scratch(int res, sdft_scratch *s)
+{
+    sdft_field f = spheres_field();
+    sdft_grid *g = bake(&f, res, 0, NULL);
+    sdft_field gf = sdft_grid_field(g);
+    sdft_scratch_init(&gf, s);
+    return g;
+}
+
 /* The far bound is continuous: points a hundredth of a voxel apart differ
  * by far less than a voxel (the tree bound jumps by the band at every tile
  * edge). The corner correction's square root is steep only right at cell
@@ -570,11 +580,8 @@ static void test_far_corner_distances_match_brute_force(void **state)
 static void test_far_bound_is_continuous(void **state)
 {
     (void)state;
-    sdft_field f = spheres_field();
-    sdft_grid *g = bake(&f, 128, 0, NULL);
     sdft_scratch s;
-    sdft_field gf = sdft_grid_field(g);
-    sdft_scratch_init(&gf, &s);
+    sdft_grid *g = spheres_grid_with_scratch(128, &s);
     const float h = sdft_grid_voxel_size(g).x, step = 0.01f * h;
     tu_rng r = tu_rng_seed(7);
     int pairs = 0;
@@ -629,11 +636,8 @@ static int cell_in_leaves(const sdft_grid *g, sdft_vec3 p)
 static void test_far_bound_is_not_asked_in_leaves(void **state)
 {
     (void)state;
-    sdft_field f = spheres_field();
-    sdft_grid *g = bake(&f, 128, 0, NULL);
     sdft_scratch s;
-    sdft_field gf = sdft_grid_field(g);
-    sdft_scratch_init(&gf, &s);
+    sdft_grid *g = spheres_grid_with_scratch(128, &s);
     const float bg = sdft_grid_background(g);
     tu_rng r = tu_rng_seed(11);
     int at_background = 0, raised = 0;
