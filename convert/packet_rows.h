@@ -116,7 +116,7 @@ inline double preparedDistance2(const PreparedTriangle &t, const double *p)
     return inside ? height * height : edges;
 }
 
-/// A node's per-axis terms for a packet (terms(), then reaches() per row): for
+/// A node's per-axis terms for a packet (terms(), then groupReaches() per group of rows): for
 /// axis k and coordinate index i, the squared gap to the node's box, the
 /// height above its disc's centre along the disc's normal, and the squared
 /// offset from that centre; with the disc's thickness and radius.
@@ -167,8 +167,9 @@ struct ScalarRows {
     }
 
     /// Bit l set for each centre (i, j, l) whose lower bound on the node is
-    /// below best[l] (nearest_triangle.cpp gives the bound).
-    static unsigned reaches(const RowTerms &n, RowRounding r, int i, int j, const double *best)
+    /// below best[l] (nearest_triangle.cpp gives the bound): the group of
+    /// kRows rows from (i, j) is this one row.
+    static unsigned groupReaches(const RowTerms &n, RowRounding r, int i, int j, const double *best)
     {
         const double gap = n.gap[0][i] + n.gap[1][j], height = n.height[0][i] + n.height[1][j];
         const double square = n.square[0][i] + n.square[1][j];
@@ -200,10 +201,6 @@ struct ScalarRows {
         distances(t, x, y[0], z, d2);
     }
     static unsigned lowerGroup(const double *d2, double *best) { return lower(d2, best); }
-    static unsigned groupReaches(const RowTerms &n, RowRounding r, int i, int j, const double *best)
-    {
-        return reaches(n, r, i, j, best);
-    }
 };
 
 #ifdef MESH2SDF_ROWS_AVX2
@@ -240,7 +237,8 @@ struct Avx2Rows {
         return mask;
     }
 
-    MESH2SDF_AVX2_INLINE static unsigned reaches(const RowTerms &n, RowRounding r, int i, int j, const double *best)
+    MESH2SDF_AVX2_INLINE static unsigned groupReaches(const RowTerms &n, RowRounding r, int i, int j,
+                                                      const double *best)
     {
         const __m256d gap = _mm256_add_pd(_mm256_set1_pd(n.gap[0][i] + n.gap[1][j]), _mm256_load_pd(n.gap[2]));
         const __m256d a = _mm256_add_pd(_mm256_set1_pd(n.height[0][i] + n.height[1][j]), _mm256_load_pd(n.height[2]));
@@ -291,11 +289,6 @@ struct Avx2Rows {
         distances(t, x, y[0], z, d2);
     }
     MESH2SDF_AVX2_INLINE static unsigned lowerGroup(const double *d2, double *best) { return lower(d2, best); }
-    MESH2SDF_AVX2_INLINE static unsigned groupReaches(const RowTerms &n, RowRounding r, int i, int j,
-                                                      const double *best)
-    {
-        return reaches(n, r, i, j, best);
-    }
 };
 #undef MESH2SDF_AVX2_INLINE
 
@@ -350,7 +343,7 @@ struct Avx512Rows : Avx2Rows {
         _mm512_storeu_pd(d2, _mm512_mask_blend_pd(inside, edges, _mm512_mul_pd(height, height)));
     }
 
-    /// Avx2Rows::reaches for rows (i, j) and (i, j + 1) at once: bit 4 r + l
+    /// Avx2Rows::groupReaches for rows (i, j) and (i, j + 1) at once: bit 4 r + l
     /// for centre (i, j + r, l).
     MESH2SDF_AVX512_INLINE static unsigned groupReaches(const RowTerms &n, RowRounding r, int i, int j,
                                                         const double *best)
