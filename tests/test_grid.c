@@ -919,6 +919,69 @@ static void test_exact_root_on_a_grid(void **state)
     sdft_grid_free(g);
 }
 
+/* ---- normals ---------------------------------------------------------------------- */
+
+/* A grid's normal is the gradient of the interpolant it traces, in the cell
+ * holding the point (OpenVDB's BoxStencil gradient), taken to world space by
+ * the transform: held to central differences of that interpolant in double,
+ * read voxel by voxel (exact up to rounding, as the interpolant is linear
+ * along each axis), on points of cells the surface crosses. */
+static void test_normal_is_the_interpolant_gradient(void **state)
+{
+    (void)state;
+    sdft_field f = spheres_field();
+    sdft_grid *g = bake(&f, 48, 0, NULL);
+    sdft_field gf = sdft_grid_field(g);
+    sdft_scratch s;
+    sdft_scratch_init(&gf, &s);
+    tu_rng r = tu_rng_seed(31);
+    int checked = 0;
+    double worst = 1.0;
+    for (int i = 0; i < 20000; i++) {
+        const sdft_vec3 p =
+            sdft_v3(tu_uniform(&r, -1.1f, 1.1f), tu_uniform(&r, -1.1f, 1.1f), tu_uniform(&r, -1.1f, 1.1f));
+        double x[3], u[3];
+        int32_t i0[3];
+        int inside = 1;
+        for (int k = 0; k < 3; k++) {
+            x[k] = (double)g->w2i[3 * k] * p.x + (double)g->w2i[3 * k + 1] * p.y + (double)g->w2i[3 * k + 2] * p.z +
+                   (double)g->w2i_t[k];
+            i0[k] = (int32_t)floor(x[k]);
+            u[k] = x[k] - i0[k];
+            inside &= u[k] > 0.01 && u[k] < 0.99; /* clear of the cell's faces, where float rounding could cross */
+        }
+        float v[8];
+        int negative = 0;
+        for (int k = 0; k < 8; k++) {
+            v[k] = sdft_grid_voxel(g, i0[0] + (k & 1), i0[1] + (k >> 1 & 1), i0[2] + (k >> 2 & 1), NULL);
+            negative += v[k] < 0.0f;
+        }
+        if (!inside || negative == 0 || negative == 8)
+            continue;
+        double grad[3], world[3], len = 0.0;
+        for (int k = 0; k < 3; k++) {
+            double a[3] = {u[0], u[1], u[2]}, b[3] = {u[0], u[1], u[2]};
+            a[k] += 1e-3, b[k] -= 1e-3;
+            grad[k] = (trilinear_d(v, a) - trilinear_d(v, b)) / 2e-3;
+        }
+        for (int k = 0; k < 3; k++) { /* d/dp f(W p + t) = W^T grad */
+            world[k] = g->w2i[k] * grad[0] + g->w2i[3 + k] * grad[1] + g->w2i[6 + k] * grad[2];
+            len += world[k] * world[k];
+        }
+        len = sqrt(len);
+        const sdft_vec3 n = sdft_field_normal(&gf, &s, p);
+        const double cosine = (n.x * world[0] + n.y * world[1] + n.z * world[2]) / len;
+        worst = fmin(worst, cosine);
+        if (!(cosine > 0.99999))
+            fail_msg("normal (%g, %g, %g) at (%g, %g, %g), the interpolant's gradient (%g, %g, %g)", n.x, n.y, n.z, p.x,
+                     p.y, p.z, world[0] / len, world[1] / len, world[2] / len);
+        checked++;
+    }
+    print_message("%d normals in cells the surface crosses, worst cosine %.8f\n", checked, worst);
+    assert_true(checked > 500);
+    sdft_grid_free(g);
+}
+
 /* ---- a grid renders like its scene ------------------------------------------------ */
 
 static void test_grid_render_matches_procedural(void **state)
@@ -1677,6 +1740,7 @@ int main(void)
         cmocka_unit_test(test_grid_trace_is_safe),
         cmocka_unit_test(test_cell_root_against_brute_force),
         cmocka_unit_test(test_exact_root_on_a_grid),
+        cmocka_unit_test(test_normal_is_the_interpolant_gradient),
         cmocka_unit_test(test_grid_render_matches_procedural),
         cmocka_unit_test(test_streamed_load_matches_nanovdb_converter),
         cmocka_unit_test(test_round_trip_vdb),

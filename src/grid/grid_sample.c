@@ -363,22 +363,39 @@ static const grid_distance_fn grid_distances[4][3] = {
     {distance_any_far, distance_any_tree, distance_any_none},
 };
 
-/* The gradient by tetrahedral differences in index space: four samples at
- * x + k_i, k_i the alternate corners (+-1, +-1, +-1) of the voxel cube
- * around x, whose outer products sum to 4 I, so sum f(x + k_i) k_i is 4
- * times the gradient of a linear field, exactly (central differences take
- * six samples for the same); taken to world space by the inverse
- * transform's transpose. */
+/* The normal at world point p: the gradient of the trilinear interpolant
+ * the tracer traces, in the cell holding p, the eight values a hit's last
+ * cell already read (so cached); taken to world space by the inverse
+ * transform's transpose. At a hit that is the exact normal of the traced
+ * surface, and vdb_render's too (OpenVDB's BoxStencil gradient). Where the
+ * interpolant is flat in that cell (p off the surface, in a tile or the
+ * background) it falls back to tetrahedral differences one voxel out:
+ * four samples at x + k_i, k_i alternate corners (+-1, +-1, +-1) of the
+ * voxel cube around x, whose outer products sum to 4 I, so sum f(x + k_i)
+ * k_i is 4 times the gradient of a linear field. */
 GRID_INLINE sdft_vec3 normal_of(const sdft_grid *g, pnanovdb_grid_type_t type, sdft_scratch *s, sdft_vec3 p)
 {
-    static const float k[4][3] = {{1, -1, -1}, {-1, -1, 1}, {-1, 1, -1}, {1, 1, 1}};
     pnanovdb_readaccessor_t *acc = accessor(s);
     float x[3], d[3] = {0, 0, 0};
     to_index(g, g->diagonal, p, x);
-    for (int i = 0; i < 4; i++) {
-        const float at[3] = {x[0] + k[i][0], x[1] + k[i][1], x[2] + k[i][2]};
-        const float f = sample_index(g, type, acc, at, NULL, 0);
-        d[0] += k[i][0] * f, d[1] += k[i][1] * f, d[2] += k[i][2] * f;
+    if (fabsf(x[0]) < 1e9f && fabsf(x[1]) < 1e9f && fabsf(x[2]) < 1e9f) {
+        const pnanovdb_coord_t i0 = {ifloor(x[0]), ifloor(x[1]), ifloor(x[2])};
+        const float tx = x[0] - (float)i0.x, ty = x[1] - (float)i0.y, tz = x[2] - (float)i0.z;
+        float v[8];
+        cell_values(g, type, acc, i0, v);
+        const float ux = 1.0f - tx, uy = 1.0f - ty, uz = 1.0f - tz;
+        d[0] = uy * uz * (v[1] - v[0]) + ty * uz * (v[3] - v[2]) + uy * tz * (v[5] - v[4]) + ty * tz * (v[7] - v[6]);
+        d[1] = ux * uz * (v[2] - v[0]) + tx * uz * (v[3] - v[1]) + ux * tz * (v[6] - v[4]) + tx * tz * (v[7] - v[5]);
+        d[2] = ux * uy * (v[4] - v[0]) + tx * uy * (v[5] - v[1]) + ux * ty * (v[6] - v[2]) + tx * ty * (v[7] - v[3]);
+    }
+    if (!(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 1e-12f * g->background * g->background)) {
+        static const float k[4][3] = {{1, -1, -1}, {-1, -1, 1}, {-1, 1, -1}, {1, 1, 1}};
+        d[0] = d[1] = d[2] = 0.0f;
+        for (int i = 0; i < 4; i++) {
+            const float at[3] = {x[0] + k[i][0], x[1] + k[i][1], x[2] + k[i][2]};
+            const float f = sample_index(g, type, acc, at, NULL, 0);
+            d[0] += k[i][0] * f, d[1] += k[i][1] * f, d[2] += k[i][2] * f;
+        }
     }
     const float *m = g->w2i;
     sdft_vec3 n = sdft_v3(m[0] * d[0] + m[3] * d[1] + m[6] * d[2], m[1] * d[0] + m[4] * d[1] + m[7] * d[2],
