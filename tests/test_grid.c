@@ -67,6 +67,25 @@ static sdft_grid *bake(const sdft_field *f, int res, int full, const char *path)
     return g;
 }
 
+/* The spheres baked at res^3, and s prepared for its default field. */
+static sdft_grid *spheres_grid_with_scratch(int res, sdft_scratch *s)
+{
+    sdft_field f = spheres_field();
+    sdft_grid *g = bake(&f, res, 0, NULL);
+    sdft_field gf = sdft_grid_field(g);
+    sdft_scratch_init(&gf, s);
+    return g;
+}
+
+/* The eight stored values of the cell whose lowest corner is i0, voxel by
+ * voxel through the public accessor (v[k]: corner i0 + (k & 1, k >> 1 & 1,
+ * k >> 2 & 1)). */
+static void cell_corners(const sdft_grid *g, const int32_t i0[3], float v[8])
+{
+    for (int k = 0; k < 8; k++)
+        v[k] = sdft_grid_voxel(g, i0[0] + (k & 1), i0[1] + (k >> 1 & 1), i0[2] + (k >> 2 & 1), NULL);
+}
+
 /* ---- trilinear sampling ----------------------------------------------------- */
 
 static void test_linear_field_is_exact(void **state)
@@ -100,11 +119,8 @@ static float lerpf(float a, float b, float t) { return a + (b - a) * t; }
 static void test_trilinear_matches_brute_force(void **state)
 {
     (void)state;
-    sdft_field f = spheres_field();
-    sdft_grid *g = bake(&f, 48, 0, NULL);
-    sdft_field gf = sdft_grid_field(g);
     sdft_scratch s;
-    sdft_scratch_init(&gf, &s);
+    sdft_grid *g = spheres_grid_with_scratch(48, &s);
     /* Index = (world - lo) / h - 1/2 for a bake (voxel centres at lo + (i + 1/2) h). */
     const float h = sdft_grid_voxel_size(g).x;
     tu_rng r = tu_rng_seed(2);
@@ -118,8 +134,7 @@ static void test_trilinear_matches_brute_force(void **state)
         float x[3] = {(p.x + 1.2f) / h - 0.5f, (p.y + 1.2f) / h - 0.5f, (p.z + 1.2f) / h - 0.5f};
         int32_t i0[3] = {(int32_t)floorf(x[0]), (int32_t)floorf(x[1]), (int32_t)floorf(x[2])};
         float c[8];
-        for (int k = 0; k < 8; k++)
-            c[k] = sdft_grid_voxel(g, i0[0] + (k & 1), i0[1] + (k >> 1 & 1), i0[2] + (k >> 2 & 1), NULL);
+        cell_corners(g, i0, c);
         float t[3] = {x[0] - i0[0], x[1] - i0[1], x[2] - i0[2]};
         float ref = lerpf(lerpf(lerpf(c[0], c[1], t[0]), lerpf(c[2], c[3], t[0]), t[1]),
                           lerpf(lerpf(c[4], c[5], t[0]), lerpf(c[6], c[7], t[0]), t[1]), t[2]);
@@ -563,16 +578,6 @@ static void test_far_corner_distances_match_brute_force(void **state)
         sdft_grid_free(grids[i]);
 }
 
-/* The spheres baked at res^3, and s prepared for its default field. */
-static sdft_grid *spheres_grid_with_scratch(int res, sdft_scratch *s)
-{
-    sdft_field f = spheres_field();
-    sdft_grid *g = bake(&f, res, 0, NULL);
-    sdft_field gf = sdft_grid_field(g);
-    sdft_scratch_init(&gf, s);
-    return g;
-}
-
 /* The far bound is continuous: points a hundredth of a voxel apart differ
  * by far less than a voxel (the tree bound jumps by the band at every tile
  * edge). The corner correction's square root is steep only right at cell
@@ -867,8 +872,7 @@ static double grid_interpolant(const sdft_grid *g, sdft_vec3 p)
                (double)g->w2i_t[k];
     const int32_t i0[3] = {(int32_t)floor(x[0]), (int32_t)floor(x[1]), (int32_t)floor(x[2])};
     float v[8];
-    for (int k = 0; k < 8; k++)
-        v[k] = sdft_grid_voxel(g, i0[0] + (k & 1), i0[1] + (k >> 1 & 1), i0[2] + (k >> 2 & 1), NULL);
+    cell_corners(g, i0, v);
     const double u[3] = {x[0] - i0[0], x[1] - i0[1], x[2] - i0[2]};
     return trilinear_d(v, u);
 }
@@ -929,11 +933,9 @@ static void test_exact_root_on_a_grid(void **state)
 static void test_normal_is_the_interpolant_gradient(void **state)
 {
     (void)state;
-    sdft_field f = spheres_field();
-    sdft_grid *g = bake(&f, 48, 0, NULL);
-    sdft_field gf = sdft_grid_field(g);
     sdft_scratch s;
-    sdft_scratch_init(&gf, &s);
+    sdft_grid *g = spheres_grid_with_scratch(48, &s);
+    const sdft_field gf = sdft_grid_field(g);
     tu_rng r = tu_rng_seed(31);
     int checked = 0;
     double worst = 1.0;
@@ -952,10 +954,9 @@ static void test_normal_is_the_interpolant_gradient(void **state)
         }
         float v[8];
         int negative = 0;
-        for (int k = 0; k < 8; k++) {
-            v[k] = sdft_grid_voxel(g, i0[0] + (k & 1), i0[1] + (k >> 1 & 1), i0[2] + (k >> 2 & 1), NULL);
+        cell_corners(g, i0, v);
+        for (int k = 0; k < 8; k++)
             negative += v[k] < 0.0f;
-        }
         if (!inside || negative == 0 || negative == 8)
             continue;
         double grad[3], world[3], len = 0.0;
