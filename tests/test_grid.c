@@ -86,6 +86,19 @@ static void cell_corners(const sdft_grid *g, const int32_t i0[3], float v[8])
         v[k] = sdft_grid_voxel(g, i0[0] + (k & 1), i0[1] + (k >> 1 & 1), i0[2] + (k >> 2 & 1), NULL);
 }
 
+/* The cell holding world point p, in double through the grid's transform:
+ * its lowest corner i0, p's coordinates u in it and its eight values. */
+static void cell_at(const sdft_grid *g, sdft_vec3 p, int32_t i0[3], double u[3], float v[8])
+{
+    for (int k = 0; k < 3; k++) {
+        const double x = (double)g->w2i[3 * k] * p.x + (double)g->w2i[3 * k + 1] * p.y +
+                         (double)g->w2i[3 * k + 2] * p.z + (double)g->w2i_t[k];
+        i0[k] = (int32_t)floor(x);
+        u[k] = x - i0[k];
+    }
+    cell_corners(g, i0, v);
+}
+
 /* ---- trilinear sampling ----------------------------------------------------- */
 
 static void test_linear_field_is_exact(void **state)
@@ -866,14 +879,10 @@ static void test_cell_root_against_brute_force(void **state)
  * fine sampling of the two voxels before it. */
 static double grid_interpolant(const sdft_grid *g, sdft_vec3 p)
 {
-    double x[3];
-    for (int k = 0; k < 3; k++)
-        x[k] = (double)g->w2i[3 * k] * p.x + (double)g->w2i[3 * k + 1] * p.y + (double)g->w2i[3 * k + 2] * p.z +
-               (double)g->w2i_t[k];
-    const int32_t i0[3] = {(int32_t)floor(x[0]), (int32_t)floor(x[1]), (int32_t)floor(x[2])};
+    int32_t i0[3];
+    double u[3];
     float v[8];
-    cell_corners(g, i0, v);
-    const double u[3] = {x[0] - i0[0], x[1] - i0[1], x[2] - i0[2]};
+    cell_at(g, p, i0, u, v);
     return trilinear_d(v, u);
 }
 
@@ -942,19 +951,13 @@ static void test_normal_is_the_interpolant_gradient(void **state)
     for (int i = 0; i < 20000; i++) {
         const sdft_vec3 p =
             sdft_v3(tu_uniform(&r, -1.1f, 1.1f), tu_uniform(&r, -1.1f, 1.1f), tu_uniform(&r, -1.1f, 1.1f));
-        double x[3], u[3];
         int32_t i0[3];
-        int inside = 1;
-        for (int k = 0; k < 3; k++) {
-            x[k] = (double)g->w2i[3 * k] * p.x + (double)g->w2i[3 * k + 1] * p.y + (double)g->w2i[3 * k + 2] * p.z +
-                   (double)g->w2i_t[k];
-            i0[k] = (int32_t)floor(x[k]);
-            u[k] = x[k] - i0[k];
-            inside &= u[k] > 0.01 && u[k] < 0.99; /* clear of the cell's faces, where float rounding could cross */
-        }
+        double u[3];
         float v[8];
-        int negative = 0;
-        cell_corners(g, i0, v);
+        cell_at(g, p, i0, u, v);
+        int inside = 1, negative = 0;
+        for (int k = 0; k < 3; k++) /* clear of the cell's faces, where float rounding could cross */
+            inside &= u[k] > 0.01 && u[k] < 0.99;
         for (int k = 0; k < 8; k++)
             negative += v[k] < 0.0f;
         if (!inside || negative == 0 || negative == 8)
