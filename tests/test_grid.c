@@ -668,8 +668,8 @@ static void test_far_bound_is_not_asked_in_leaves(void **state)
         if (in_leaves == 1 && fabsf(tree) >= bg) {
             at_background++;
             if (far != tree || far_level != 0)
-                fail_msg("in leaves at (%g, %g, %g): FAR %g (level %d), trilinear %g", p.x, p.y, p.z, far,
-                         far_level, tree);
+                fail_msg("in leaves at (%g, %g, %g): FAR %g (level %d), trilinear %g", p.x, p.y, p.z, far, far_level,
+                         tree);
         }
         raised += in_leaves == 0 && far_level == 5 && fabsf(far) > fabsf(tree);
     }
@@ -1025,6 +1025,128 @@ static void test_grid_render_matches_procedural(void **state)
     assert_true(one <= 0.005 * n);
     sdft_image_free(&a);
     sdft_image_free(&b);
+    sdft_grid_free(g);
+}
+
+/* ---- the hull ---------------------------------------------------------------------- */
+
+static int in_hull(const sdft_field *f, sdft_vec3 p)
+{
+    for (size_t i = 0; i < f->hull_count; i++) {
+        const sdft_aabb b = f->hull[i];
+        if (p.x >= b.lo.x && p.x <= b.hi.x && p.y >= b.lo.y && p.y <= b.hi.y && p.z >= b.lo.z && p.z <= b.hi.z)
+            return 1;
+    }
+    return 0;
+}
+
+/* Every ray's first root of the interpolant, found by brute-force marching
+ * in steps of a twentieth of a voxel from where the ray enters the grid's
+ * box, lies in a box of the grid's hull; and the hull is a thin shell,
+ * not the box. */
+static void test_hull_holds_every_first_root(void **state)
+{
+    (void)state;
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    sdft_grid *g = bake(&sc->field, 96, 0, NULL);
+    const float h = sdft_grid_voxel_size(g).x;
+    const sdft_field gf = sdft_grid_field(g);
+    assert_true(gf.hull_count > 100);
+    const sdft_aabb bounds = sdft_grid_world_bounds(g);
+    double hull_volume = 0.0;
+    for (size_t i = 0; i < gf.hull_count; i++) {
+        const sdft_vec3 e = sdft_sub(gf.hull[i].hi, gf.hull[i].lo);
+        hull_volume += (double)e.x * e.y * e.z;
+    }
+    const sdft_vec3 be = sdft_sub(bounds.hi, bounds.lo);
+    print_message("%zu hull boxes, %.1f%% of the box's volume\n", gf.hull_count,
+                  100.0 * hull_volume / ((double)be.x * be.y * be.z));
+    assert_true(hull_volume < 0.25 * (double)be.x * be.y * be.z);
+    sdft_scratch s;
+    sdft_scratch_init(&gf, &s);
+    tu_rng r = tu_rng_seed(41);
+    int roots = 0;
+    for (int i = 0; i < 600; i++) {
+        const sdft_ray ray = ray_into(bounds, 0.4f, &r);
+        float t0, t1;
+        if (!sdft_aabb_clip(bounds, ray.org, ray.dir, 0.0f, ray.tfar, &t0, &t1))
+            continue;
+        for (float t = t0; t <= t1; t += 0.05f * h) {
+            const sdft_vec3 p = sdft_madd(ray.org, ray.dir, t);
+            if (sdft_grid_sample_with(g, SDFT_GRID_BOUND_NONE, &s, p, NULL) <= 0.0f) {
+                if (!in_hull(&gf, p))
+                    fail_msg("ray %d: first root near t = %g, (%g, %g, %g), in no hull box", i, t, p.x, p.y, p.z);
+                roots++;
+                break;
+            }
+        }
+    }
+    print_message("%d first roots, all in the hull\n", roots);
+    assert_true(roots > 200);
+    sdft_grid_free(g);
+}
+
+/* The default render starts each primary ray at the hull: the same image
+ * as with every ray from the eye (cones off), exact roots included, for
+ * fewer evaluations; and with the eye inside the surface, where the hull
+ * promises nothing, the same image too (every ray hits at the eye). */
+static void test_render_from_the_hull(void **state)
+{
+    (void)state;
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    sdft_grid *g = bake(&sc->field, 128, 0, NULL);
+    sdft_field gf = sdft_grid_field(g);
+    const float h = sdft_grid_voxel_size(g).x;
+    sdft_render_params rp = sdft_render_defaults();
+    rp.width = 160, rp.height = 90;
+    rp.camera = sc->camera;
+    rp.shadows = 0, rp.depth_only = 1;
+    for (int inside = 0; inside < 2; inside++) {
+        if (inside) { /* a point of the figure's interior, found by the field itself */
+            sdft_scratch s;
+            sdft_scratch_init(&gf, &s);
+            tu_rng r = tu_rng_seed(43);
+            sdft_vec3 p;
+            do
+                p = sdft_v3(tu_uniform(&r, gf.bounds.lo.x, gf.bounds.hi.x),
+                            tu_uniform(&r, gf.bounds.lo.y, gf.bounds.hi.y),
+                            tu_uniform(&r, gf.bounds.lo.z, gf.bounds.hi.z));
+            while (!(sdft_field_distance(&gf, &s, p) < -2.0f * h));
+            rp.camera.from = p;
+        }
+        sdft_image a, b;
+        sdft_render_stats sa, sb;
+        char msg[256];
+        assert_int_equal(sdft_image_alloc(&a, rp.width, rp.height, NULL, 0), 0);
+        assert_int_equal(sdft_image_alloc(&b, rp.width, rp.height, NULL, 0), 0);
+        assert_int_equal(sdft_render(&gf, &rp, &a, &sa, msg, sizeof msg), 0);
+        sdft_render_params off = rp;
+        off.cones = 0;
+        assert_int_equal(sdft_render(&gf, &off, &b, &sb, msg, sizeof msg), 0);
+        int n = rp.width * rp.height, hits = 0, same = 0, differ = 0;
+        for (int i = 0; i < n; i++) {
+            if ((a.status[i] == SDFT_HIT) != (b.status[i] == SDFT_HIT)) {
+                differ++;
+                continue;
+            }
+            if (a.status[i] != SDFT_HIT)
+                continue;
+            hits++;
+            same += fabsf(a.depth[i] - b.depth[i]) <= 1e-3f * h;
+        }
+        print_message("eye %s: %d hits, %d at the same depth, %d hit in one only; evaluations %llu against %llu\n",
+                      inside ? "inside" : "outside", hits, same, differ, (unsigned long long)(sa.steps + sa.cone_steps),
+                      (unsigned long long)sb.steps);
+        assert_true(hits > n / (inside ? 1 : 10) - 1);
+        assert_true(same >= 0.995 * hits);
+        assert_true(differ <= n / 1000);
+        if (!inside)
+            assert_true(2 * (sa.steps + sa.cone_steps) < sb.steps);
+        sdft_image_free(&a);
+        sdft_image_free(&b);
+    }
     sdft_grid_free(g);
 }
 
@@ -1746,6 +1868,8 @@ int main(void)
         cmocka_unit_test(test_exact_root_on_a_grid),
         cmocka_unit_test(test_normal_is_the_interpolant_gradient),
         cmocka_unit_test(test_grid_render_matches_procedural),
+        cmocka_unit_test(test_hull_holds_every_first_root),
+        cmocka_unit_test(test_render_from_the_hull),
         cmocka_unit_test(test_streamed_load_matches_nanovdb_converter),
         cmocka_unit_test(test_round_trip_vdb),
         cmocka_unit_test(test_round_trip_nvdb),

@@ -14,6 +14,7 @@
 #ifndef SDFTRACE_FIELD_H
 #define SDFTRACE_FIELD_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "sdftrace/config.h"
@@ -91,6 +92,13 @@ typedef struct sdft_field {
      * hint, as a ray's next point mostly shares its last one's cache lines.
      * NULL: no hint. */
     void (*prefetch)(const void *ctx, sdft_vec3 p);
+    /* Optional: boxes (world units) whose union holds every place where a
+     * ray that starts where the field is positive can first reach 0 (a
+     * grid: its leaves' cells). A renderer may start each primary ray at its
+     * entry into the first of them and end it at its exit from the last.
+     * hull_count 0: none. */
+    const sdft_aabb *hull;
+    size_t hull_count;
 } sdft_field;
 
 /* Prepares s for field f on the calling thread: f's scratch_init, and s

@@ -22,40 +22,43 @@ typedef struct sdft_render_params {
     sdft_trace_params trace; /* used for primary and shadow rays alike */
     int width, height;       /* pixels, >= 1 */
     sdft_camera camera;
-    sdft_vec3 light;         /* point light, world units */
-    int shadows;             /* 1: trace a hard shadow ray per hit */
-    int screen_space;        /* 1: Keinert's criterion, pixel_radius from the camera */
-    int cones;               /* 1: primary rays first march together, per 16x16 tile and 4x4 block, as cones
-                              * (sdft_cone_march); each ray's trace starts where its block's cone stopped */
-    int depth_only;          /* 1: primary rays only, for depth, status and counts: no normal, shading or
-                              * shadow ray (rgb and normal planes 0) */
-    int threads;             /* 0: OpenMP's default */
+    sdft_vec3 light;  /* point light, world units */
+    int shadows;      /* 1: trace a hard shadow ray per hit */
+    int screen_space; /* 1: Keinert's criterion, pixel_radius from the camera */
+    int cones;        /* 1: primary rays skip the empty space together. A field with a hull (a
+                       * grid: sdft_field.hull) has each ray traced only over its span of the hull's
+                       * boxes, found by ray-box tests, no evaluation; any other field's rays first
+                       * march together, per 16x16 tile and 4x4 block, as cones (sdft_cone_march),
+                       * each ray's trace starting where its block's cone stopped */
+    int depth_only;   /* 1: primary rays only, for depth, status and counts: no normal, shading or
+                       * shadow ray (rgb and normal planes 0) */
+    int threads;      /* 0: OpenMP's default */
 } sdft_render_params;
 
 /* One image's planes, row-major, y down. The planes are owned by the image:
  * sdft_image_alloc allocates them, sdft_image_free releases them. */
 typedef struct sdft_image {
     int width, height;
-    float *rgb;          /* linear RGB, 3 floats per pixel */
-    float *depth;        /* Z: ray parameter t of the primary hit (distance from the eye); INFINITY where nothing is hit */
-    float *normal;       /* unit world-space normal, 3 floats per pixel; 0 where nothing is hit */
-    uint32_t *steps;     /* SDF evaluations, primary + shadow ray (not the shared cones') */
-    uint32_t *fallbacks; /* fallbacks, primary + shadow ray */
+    float *rgb;      /* linear RGB, 3 floats per pixel */
+    float *depth;    /* Z: ray parameter t of the primary hit (distance from the eye); INFINITY where nothing is hit */
+    float *normal;   /* unit world-space normal, 3 floats per pixel; 0 where nothing is hit */
+    uint32_t *steps; /* SDF evaluations, primary + shadow ray (not the shared cones') */
+    uint32_t *fallbacks;     /* fallbacks, primary + shadow ray */
     uint32_t *primary_steps; /* SDF evaluations of the primary ray alone (Bán–Valasek Fig. 2) */
-    uint8_t *status;     /* sdft_status of the primary ray (never SDFT_INVALID: sdft_render checks first) */
+    uint8_t *status;         /* sdft_status of the primary ray (never SDFT_INVALID: sdft_render checks first) */
 } sdft_image;
 
 typedef struct sdft_render_stats {
-    double ms;             /* wall time of the trace, milliseconds */
-    uint64_t rays;         /* primary + shadow rays */
-    uint64_t primary_rays; /* width * height */
-    uint64_t steps;        /* SDF evaluations over all rays (each ray's own trace) */
+    double ms;              /* wall time of the trace, milliseconds */
+    uint64_t rays;          /* primary + shadow rays */
+    uint64_t primary_rays;  /* width * height */
+    uint64_t steps;         /* SDF evaluations over all rays (each ray's own trace) */
     uint64_t primary_steps; /* of them, the primary rays'; steps - primary_steps: the shadow rays' */
-    uint64_t cone_steps;   /* SDF evaluations of the cones, shared by their rays (0 without cones) */
+    uint64_t cone_steps;    /* SDF evaluations of the cones, shared by their rays (0 without cones) */
     uint64_t fallbacks;
     uint64_t primary_fallbacks; /* of them, the primary rays' */
-    uint64_t hits;         /* primary rays that hit */
-    uint64_t nonconverged; /* primary rays that did not converge */
+    uint64_t hits;              /* primary rays that hit */
+    uint64_t nonconverged;      /* primary rays that did not converge */
 } sdft_render_stats;
 
 /* Defaults: sdft_trace_defaults(), 1280x720, a camera at (0, 1, 5) looking

@@ -16,7 +16,17 @@
  * (sdft_cone_march), then each BLOCK x BLOCK block's from there, and each
  * ray's own trace starts where its block's cone stopped: the empty space
  * in front of the surface is crossed once per bundle instead of once per
- * ray. Those shared evaluations are counted apart (cone_steps). */
+ * ray. Those shared evaluations are counted apart (cone_steps).
+ *
+ * A field with a hull (sdft_field.hull: a grid's boxes around the cells
+ * its surface crosses) takes the cones' place: the boxes are binned to the
+ * tiles their screen rectangles touch (hull_bin), and each pixel's ray is
+ * traced only over its span of the boxes it meets, from its entry into the
+ * first to its exit from the last (hull_spans: exact ray-box tests against
+ * the ray as traced, no evaluation), a ray that meets none being a miss
+ * untraced. The hull holds every first root of a ray that starts where the
+ * field is positive, so the picture is the same; the eye is checked
+ * (eye_outside), and where it is inside the surface the cones serve. */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -128,6 +138,14 @@ static int shadow_ray(sdft_vec3 p, sdft_vec3 n, float lift, sdft_vec3 light, sdf
     return 1;
 }
 
+/* The field's hull boxes (sdft_field.hull) that each tile's rays may
+ * meet: tile t's are box[first[t] .. first[t + 1]), each with its pixel
+ * rectangle rect[4 i .. 4 i + 3] (x0, y0, x1, y1, inclusive). */
+typedef struct hull_bins {
+    uint32_t *first, *box;
+    int32_t *rect;
+} hull_bins;
+
 /* What every pixel of one frame shares, set up once. */
 typedef struct frame {
     const sdft_field *f;
@@ -135,8 +153,9 @@ typedef struct frame {
     sdft_trace_params tp; /* with the screen-space pixel radius, if asked */
     float feature;        /* the field's feature size: the normal's step */
     sdft_view view;
-    float cone_tfar;  /* with cones: beyond it every primary ray has left the field's box */
-    float cone_tnear; /* the eye's distance to the field's box: no primary ray meets the surface before it */
+    float cone_tfar;       /* with cones: beyond it every primary ray has left the field's box */
+    float cone_tnear;      /* the eye's distance to the field's box: no primary ray meets the surface before it */
+    const hull_bins *bins; /* the field's hull boxes binned to tiles; NULL: not used */
 } frame;
 
 /* A pixel's colour and normal given its primary ray's hit, lit as if the
@@ -245,10 +264,12 @@ static float block_start(const frame *fr, sdft_scratch *s, int x0, int y0, int x
 }
 
 /* Pixels [x0, x1) x [y0, y1), at most BLOCK x BLOCK, primary rays from
- * tnear: their primary rays are traced as one stream (interleaved), then
- * each pixel shaded, then their shadow rays traced as one stream. */
-static void render_block(const frame *fr, sdft_scratch *s, int x0, int y0, int x1, int y1, float tnear, sdft_image *img,
-                         tile_stats *ts)
+ * tnear (or, with span, each on its own [span[0][i], span[1][i]], i its
+ * index in the tile of width tw at (tx, ty)): their primary rays are traced
+ * as one stream (interleaved), then each pixel shaded, then their shadow
+ * rays traced as one stream. */
+static void render_block(const frame *fr, sdft_scratch *s, int x0, int y0, int x1, int y1, float tnear,
+                         float (*span)[TILE * TILE], int tx, int ty, sdft_image *img, tile_stats *ts)
 {
     enum { MOST = BLOCK * BLOCK };
     sdft_ray rays[MOST], shadows[MOST];
@@ -260,6 +281,10 @@ static void render_block(const frame *fr, sdft_scratch *s, int x0, int y0, int x
         for (int x = x0; x < x1; x++, n++) {
             rays[n] = sdft_view_ray(&fr->view, (float)x + 0.5f, (float)y + 0.5f);
             rays[n].tnear = tnear;
+            if (span) {
+                const int i = (y - ty) * TILE + (x - tx);
+                rays[n].tnear = span[0][i], rays[n].tfar = span[1][i];
+            }
         }
     if (n == 0) /* never, as blocks are not empty; saying so spares GCC a false "may be uninitialized" */
         return;
@@ -330,6 +355,53 @@ static void miss_rect(const frame *fr, int x0, int y0, int x1, int y1, sdft_imag
     }
 }
 
+/* Each pixel's span of the hull: span[0][i], span[1][i] the entry into the
+ * first box of tile `tile`'s bin that pixel i's ray meets and the exit from
+ * the last, or both INFINITY when it meets none. Slab tests against the
+ * pixel's own ray, as traced. */
+static void hull_spans(const frame *fr, int tile, int x0, int y0, int x1, int y1, float (*span)[TILE * TILE])
+{
+    const hull_bins *hb = fr->bins;
+    const sdft_aabb *hull = fr->f->hull;
+    float inv[3][TILE * TILE];
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            const int i = (y - y0) * TILE + (x - x0);
+            const sdft_vec3 d = sdft_view_ray(&fr->view, (float)x + 0.5f, (float)y + 0.5f).dir;
+            const float dd[3] = {d.x, d.y, d.z};
+            for (int k = 0; k < 3; k++) /* a zero component: a huge slope of its sign, no 0 * inf */
+                inv[k][i] = 1.0f / (fabsf(dd[k]) > 1e-30f ? dd[k] : copysignf(1e-30f, dd[k]));
+            span[0][i] = INFINITY, span[1][i] = -INFINITY;
+        }
+    const sdft_vec3 o = fr->rp->camera.from;
+    for (uint32_t j = hb->first[tile]; j < hb->first[tile + 1]; j++) {
+        const uint32_t b = hb->box[j];
+        const int32_t *r = hb->rect + 4 * (size_t)b;
+        const int rx0 = r[0] > x0 ? r[0] : x0, rx1 = r[2] < x1 - 1 ? r[2] : x1 - 1;
+        const int ry0 = r[1] > y0 ? r[1] : y0, ry1 = r[3] < y1 - 1 ? r[3] : y1 - 1;
+        const float lo[3] = {hull[b].lo.x - o.x, hull[b].lo.y - o.y, hull[b].lo.z - o.z};
+        const float hi[3] = {hull[b].hi.x - o.x, hull[b].hi.y - o.y, hull[b].hi.z - o.z};
+        for (int y = ry0; y <= ry1; y++) {
+            const int row = (y - y0) * TILE - x0;
+            float *restrict in = span[0] + row, *restrict out = span[1] + row;
+            const float *restrict ix = inv[0] + row, *restrict iy = inv[1] + row, *restrict iz = inv[2] + row;
+            for (int x = rx0; x <= rx1; x++) { /* branch-free, so that it vectorizes */
+                const float ax = lo[0] * ix[x], bx = hi[0] * ix[x], ay = lo[1] * iy[x], by = hi[1] * iy[x];
+                const float az = lo[2] * iz[x], bz = hi[2] * iz[x];
+                const float a =
+                    sdft_maxf(sdft_maxf(sdft_minf(ax, bx), sdft_minf(ay, by)), sdft_maxf(sdft_minf(az, bz), 0.0f));
+                const float c = sdft_minf(sdft_minf(sdft_maxf(ax, bx), sdft_maxf(ay, by)), sdft_maxf(az, bz));
+                const int meets = a <= c;
+                in[x] = meets ? sdft_minf(in[x], a) : in[x];
+                out[x] = meets ? sdft_maxf(out[x], c) : out[x];
+            }
+        }
+    }
+    for (int i = 0; i < TILE * TILE; i++)
+        if (!(span[0][i] <= span[1][i]))
+            span[0][i] = span[1][i] = INFINITY;
+}
+
 static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *img, tile_stats *ts)
 {
     const sdft_render_params *rp = fr->rp;
@@ -346,13 +418,122 @@ static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *
     }
     /* The tile's bundle, then each BLOCK x BLOCK bundle from there, then
      * each ray from there (all start at 0 without cones). */
+    if (fr->bins) {
+        float span[2][TILE * TILE];
+        hull_spans(fr, tile, x0, y0, x1, y1, span);
+        for (int by = y0; by < y1; by += BLOCK)
+            for (int bx = x0; bx < x1; bx += BLOCK) {
+                const int bx1 = bx + BLOCK < x1 ? bx + BLOCK : x1, by1 = by + BLOCK < y1 ? by + BLOCK : y1;
+                render_block(fr, s, bx, by, bx1, by1, 0.0f, span, x0, y0, img, ts);
+            }
+        return;
+    }
     const float t_tile = block_start(fr, s, x0, y0, x1, y1, fr->cone_tnear, ts);
     for (int by = y0; by < y1; by += BLOCK)
         for (int bx = x0; bx < x1; bx += BLOCK) {
             const int bx1 = bx + BLOCK < x1 ? bx + BLOCK : x1, by1 = by + BLOCK < y1 ? by + BLOCK : y1;
             const float t_block = block_start(fr, s, bx, by, bx1, by1, t_tile, ts);
-            render_block(fr, s, bx, by, bx1, by1, t_block, img, ts);
+            render_block(fr, s, bx, by, bx1, by1, t_block, NULL, 0, 0, img, ts);
         }
+}
+
+/* The pixel rectangle (x0, y0, x1, y1, inclusive, clipped to the image)
+ * that holds every pixel whose ray may meet box b, grown by a pixel; 0 when
+ * it is empty (b wholly behind the eye or off the image). The projection of
+ * a box wholly in front of the eye lies in that of its corners' hull. */
+static int box_rect(const sdft_view *v, int width, int height, sdft_aabb b, int32_t r[4])
+{
+    const sdft_vec3 w =
+        sdft_madd(sdft_madd(v->top_left, v->right_per_px, 0.5f * (float)width), v->down_per_px, 0.5f * (float)height);
+    const float ra = sdft_dot(v->right_per_px, v->right_per_px), da = sdft_dot(v->down_per_px, v->down_per_px);
+    float px0 = INFINITY, px1 = -INFINITY, py0 = INFINITY, py1 = -INFINITY;
+    int behind = 0;
+    for (int k = 0; k < 8; k++) {
+        const sdft_vec3 q =
+            sdft_sub(sdft_v3((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z), v->from);
+        const float depth = sdft_dot(q, w);
+        if (!(depth > 1e-6f * sdft_length(q))) {
+            behind++;
+            continue;
+        }
+        const float px = sdft_dot(q, v->right_per_px) / (depth * ra), py = sdft_dot(q, v->down_per_px) / (depth * da);
+        px0 = sdft_minf(px0, px), px1 = sdft_maxf(px1, px);
+        py0 = sdft_minf(py0, py), py1 = sdft_maxf(py1, py);
+    }
+    if (behind == 8)
+        return 0;
+    float x0 = -1.0f, y0 = -1.0f, x1 = (float)width, y1 = (float)height;
+    if (!behind) { /* pixel x's centre is x + 1/2: x in [px0 - 1/2, px1 - 1/2], with a margin for rounding */
+        const float m = 0.01f;
+        x0 = sdft_maxf(x0, ceilf(px0 + 0.5f * (float)width - 0.5f - m)),
+        x1 = sdft_minf(x1, floorf(px1 + 0.5f * (float)width - 0.5f + m));
+        y0 = sdft_maxf(y0, ceilf(py0 + 0.5f * (float)height - 0.5f - m)),
+        y1 = sdft_minf(y1, floorf(py1 + 0.5f * (float)height - 0.5f + m));
+    }
+    r[0] = x0 < 0.0f ? 0 : (int32_t)x0, r[1] = y0 < 0.0f ? 0 : (int32_t)y0;
+    r[2] = x1 > (float)(width - 1) ? width - 1 : (int32_t)x1,
+    r[3] = y1 > (float)(height - 1) ? height - 1 : (int32_t)y1;
+    return r[0] <= r[2] && r[1] <= r[3];
+}
+
+/* 1 when the eye is where the field is positive, so that each primary
+ * ray's first root lies in the field's hull (field.h): outside the field's
+ * box (the hull's promise covers rays that enter it), or inside it where
+ * the field is > 0. */
+static int eye_outside(const sdft_field *f, sdft_vec3 eye)
+{
+    if (box_distance(f->bounds, eye) > 0.0f)
+        return 1;
+    sdft_scratch s;
+    sdft_scratch_init(f, &s);
+    return sdft_field_distance(f, &s, eye) > 0.0f;
+}
+
+/* Bins the field's hull boxes to the tiles they may cover. 0, or -1 out of memory. */
+static int hull_bin(const sdft_field *f, const sdft_view *v, int width, int height, int threads, hull_bins *hb)
+{
+    const int tiles_x = (width + TILE - 1) / TILE, tiles = tiles_x * ((height + TILE - 1) / TILE);
+    const size_t n = f->hull_count;
+    hb->first = calloc((size_t)tiles + 1, sizeof *hb->first);
+    hb->rect = malloc(4 * n * sizeof *hb->rect);
+    if (!hb->first || !hb->rect)
+        return -1;
+    uint64_t total = 0;
+#pragma omp parallel for schedule(static) reduction(+ : total) num_threads(threads)
+    for (size_t i = 0; i < n; i++) {
+        int32_t *r = hb->rect + 4 * i;
+        if (!box_rect(v, width, height, f->hull[i], r)) {
+            r[0] = 1, r[2] = 0;
+            continue;
+        }
+        for (int ty = r[1] / TILE; ty <= r[3] / TILE; ty++)
+            for (int tx = r[0] / TILE; tx <= r[2] / TILE; tx++) {
+                __atomic_fetch_add(&hb->first[ty * tiles_x + tx + 1], 1u, __ATOMIC_RELAXED);
+                total++;
+            }
+    }
+    if (total > UINT32_MAX)
+        return -1;
+    for (int t = 0; t < tiles; t++)
+        hb->first[t + 1] += hb->first[t];
+    hb->box = malloc((total ? total : 1) * sizeof *hb->box);
+    uint32_t *fill = malloc((size_t)tiles * sizeof *fill);
+    if (!hb->box || !fill) {
+        free(fill);
+        return -1;
+    }
+    memcpy(fill, hb->first, (size_t)tiles * sizeof *fill);
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (size_t i = 0; i < n; i++) {
+        const int32_t *r = hb->rect + 4 * i;
+        if (r[0] > r[2])
+            continue;
+        for (int ty = r[1] / TILE; ty <= r[3] / TILE; ty++)
+            for (int tx = r[0] / TILE; tx <= r[2] / TILE; tx++)
+                hb->box[__atomic_fetch_add(&fill[ty * tiles_x + tx], 1u, __ATOMIC_RELAXED)] = (uint32_t)i;
+    }
+    free(fill);
+    return 0;
 }
 
 static const char *render_params_problem(const sdft_field *f, const sdft_render_params *rp, const sdft_image *img)
@@ -397,16 +578,25 @@ sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sd
     tile_stats *per_tile = malloc((size_t)tiles * sizeof *per_tile);
     if (!per_tile)
         return sdft_fail(msg, msg_len, SDFT_ENOMEM, "out of memory for %d tiles", tiles);
-    const frame fr = {.f = f,
-                      .rp = params,
-                      .tp = tp,
-                      .feature = sdft_field_feature_size(f),
-                      .view = sdft_camera_view(&params->camera, params->width, params->height),
-                      .cone_tfar = farthest_corner(f->bounds, params->camera.from),
-                      .cone_tnear = box_distance(f->bounds, params->camera.from)};
+    const frame fr0 = {.f = f,
+                       .rp = params,
+                       .tp = tp,
+                       .feature = sdft_field_feature_size(f),
+                       .view = sdft_camera_view(&params->camera, params->width, params->height),
+                       .cone_tfar = farthest_corner(f->bounds, params->camera.from),
+                       .cone_tnear = box_distance(f->bounds, params->camera.from)};
     int threads = params->threads > 0 ? params->threads : omp_get_max_threads();
 
     double t0 = omp_get_wtime();
+    hull_bins bins = {0};
+    frame fr = fr0;
+    if (params->cones && f->hull_count && eye_outside(f, params->camera.from)) {
+        if (hull_bin(f, &fr.view, params->width, params->height, threads, &bins)) {
+            free(bins.first), free(bins.box), free(bins.rect), free(per_tile);
+            return sdft_fail(msg, msg_len, SDFT_ENOMEM, "out of memory for the hull's bins");
+        }
+        fr.bins = &bins;
+    }
 #pragma omp parallel num_threads(threads)
     {
         sdft_scratch scratch;
@@ -421,6 +611,7 @@ sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sd
         }
     }
     double t1 = omp_get_wtime();
+    free(bins.first), free(bins.box), free(bins.rect);
 
     sdft_render_stats st = {.ms = 1000.0 * (t1 - t0),
                             .primary_rays = (uint64_t)params->width * (uint64_t)params->height};

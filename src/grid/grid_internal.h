@@ -3,6 +3,8 @@
 #ifndef SDFTRACE_GRID_INTERNAL_H
 #define SDFTRACE_GRID_INTERNAL_H
 
+#include <math.h>
+
 #define PNANOVDB_C
 #include <nanovdb/PNanoVDB.h>
 
@@ -95,8 +97,25 @@ struct sdft_grid {
     grid_far far;           /* the far bound; built at load for level sets */
     grid_leaves leaves;     /* the leaf directory; built at load for float grids */
     grid_deferred deferred; /* leaves filled on first read; state NULL: all there */
+    sdft_aabb *hull;        /* the hull (grid_hull.c): world boxes of the leaves' cells; NULL: none */
+    size_t hull_count;
     char name[256];
 };
+
+/* The world box that holds the index box [lo, hi] under g's transform:
+ * its eight corners' hull. */
+static inline sdft_aabb grid_world_box(const sdft_grid *g, const float lo[3], const float hi[3])
+{
+    sdft_vec3 wlo = sdft_v3(INFINITY, INFINITY, INFINITY), whi = sdft_scale(wlo, -1.0f);
+    for (int c = 0; c < 8; c++) {
+        const float x[3] = {(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]};
+        const sdft_vec3 w = sdft_v3(g->i2w[0] * x[0] + g->i2w[1] * x[1] + g->i2w[2] * x[2] + g->i2w_t[0],
+                                    g->i2w[3] * x[0] + g->i2w[4] * x[1] + g->i2w[5] * x[2] + g->i2w_t[1],
+                                    g->i2w[6] * x[0] + g->i2w[7] * x[1] + g->i2w[8] * x[2] + g->i2w_t[2]);
+        wlo = sdft_min_v(wlo, w), whi = sdft_max_v(whi, w);
+    }
+    return (sdft_aabb){wlo, whi};
+}
 
 /* Decodes and checks a grid already copied into g->words / g->size. */
 sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len);
@@ -140,6 +159,11 @@ typedef int (*sdft_root_fn)(const void *ctx, sdft_scratch *s, sdft_vec3 org, sdf
                             float *t, uint32_t *reads);
 sdft_root_fn sdft_grid_root_for(const sdft_grid *g);
 int sdft_grid_cell_root(const float v[8], const double u0[3], const double du[3], double len, double *s);
+
+/* Builds / frees g->hull (grid_hull.c). Needs g fully decoded. SDFT_OK
+ * (also when the grid gets none) or SDFT_ENOMEM. */
+sdft_error sdft_grid_hull_build(sdft_grid *g);
+void sdft_grid_hull_free(sdft_grid *g);
 
 /* Memory for a big table (grid_memory.c): 64-byte aligned; free() releases
  * it. */

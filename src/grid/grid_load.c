@@ -194,18 +194,10 @@ sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len)
     g->ihi[0] = hi.x, g->ihi[1] = hi.y, g->ihi[2] = hi.z;
     if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z)
         return sdft_fail(msg, msg_len, SDFT_EEMPTY, "grid '%s' is empty: no active bounding box", g->name);
-    /* World box of the active cells [lo - 1/2, hi + 1/2]: the corners' hull. */
-    sdft_vec3 wlo = sdft_v3(INFINITY, INFINITY, INFINITY), whi = sdft_scale(wlo, -1.0f);
-    for (int c = 0; c < 8; c++) {
-        float x[3] = {(c & 1) ? hi.x + 0.5f : lo.x - 0.5f, (c & 2) ? hi.y + 0.5f : lo.y - 0.5f,
-                      (c & 4) ? hi.z + 0.5f : lo.z - 0.5f};
-        sdft_vec3 w;
-        w.x = g->i2w[0] * x[0] + g->i2w[1] * x[1] + g->i2w[2] * x[2] + g->i2w_t[0];
-        w.y = g->i2w[3] * x[0] + g->i2w[4] * x[1] + g->i2w[5] * x[2] + g->i2w_t[1];
-        w.z = g->i2w[6] * x[0] + g->i2w[7] * x[1] + g->i2w[8] * x[2] + g->i2w_t[2];
-        wlo = sdft_min_v(wlo, w), whi = sdft_max_v(whi, w);
-    }
-    g->bounds = (sdft_aabb){wlo, whi};
+    /* World box of the active cells [lo - 1/2, hi + 1/2]. */
+    const float cells_lo[3] = {lo.x - 0.5f, lo.y - 0.5f, lo.z - 0.5f},
+                cells_hi[3] = {hi.x + 0.5f, hi.y + 0.5f, hi.z + 0.5f};
+    g->bounds = grid_world_box(g, cells_lo, cells_hi);
     if (g->deferred.fill) {
         if (g->type != PNANOVDB_GRID_TYPE_FLOAT && g->type != PNANOVDB_GRID_TYPE_FP16)
             return sdft_fail(msg, msg_len, SDFT_EINVAL, "grid '%s' holds %s values: deferred leaves need float or fp16",
@@ -232,6 +224,8 @@ sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len)
         return sdft_fail(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its leaf directory", g->name);
     if (g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET && g->background > 0.0f && sdft_grid_far_build(g))
         return sdft_fail(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its far bound", g->name);
+    if (sdft_grid_hull_build(g))
+        return sdft_fail(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its hull", g->name);
     return SDFT_OK;
 }
 
@@ -276,6 +270,7 @@ static sdft_grid *grid_alloc(uint64_t size)
 void sdft_grid_free(sdft_grid *g)
 {
     if (g) {
+        sdft_grid_hull_free(g);
         sdft_grid_far_free(g);
         sdft_grid_leaves_free(g);
         sdft_grid_deferred_free(g);

@@ -448,6 +448,8 @@ sdft_field sdft_grid_field_with(const sdft_grid *g, sdft_grid_bound bound)
         .root = sdft_grid_root_for(g),
         .root_reach = GRID_ROOT_REACH * g->sigma_min,
         .prefetch = prefetches[kind],
+        .hull = g->hull,
+        .hull_count = g->hull_count,
     };
 }
 

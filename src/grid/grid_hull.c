@@ -1,0 +1,198 @@
+/* sdftrace — a grid's hull: world boxes that hold every trilinear cell
+ * where the field can first reach 0 along a ray (sdft_field.hull), so that
+ * a renderer can start each primary ray where it enters the first box and
+ * end it where it leaves the last, instead of marching the empty space and
+ * the band's far side (render.c).
+ *
+ * WHY IT HOLDS. Along a ray from a point where the interpolant is positive,
+ * the first point where it reaches 0 lies in a MIXED cell: one with a
+ * corner <= 0 and a corner > 0 (a cell whose corners are all > 0 is
+ * positive throughout). Under the level-set convention the far bound
+ * relies on too (grid_bound.c: every inactive voxel c has |s(c)| >= bg,
+ * with s's sign; active voxels lie in leaves and hold samples of s), a
+ * mixed cell has no inactive corner c when bg > sqrt(3) smax: its corners
+ * of opposite signs put a zero of s within a cell's diagonal, sqrt(3)
+ * index units, of c, so |s(c)| < bg. So every corner of a mixed cell is an
+ * active voxel in a leaf, in particular its lowest corner. Hence the boxes
+ * of the mixed cells whose lowest corner lies in each leaf's block, found
+ * from the leaf's 8^3 values and the one-voxel apron on its + sides (the
+ * next blocks' values, through the leaf directory), hold every first root.
+ * The one exception is the active box's low faces: a grid that cuts its
+ * surface (a baked scene's floor) holds active values <= 0 next to the
+ * inactive background outside, and the mixed cells between have their
+ * lowest corner outside; a leaf on such a face looks at those cells too,
+ * voxel by voxel. Each box is grown by half a voxel all round for rounding
+ * (the world transform, the renderer's ray-box tests). A leaf without a
+ * mixed cell gets no box.
+ *
+ * WHERE A RAY STARTS. That covers rays that start where the field is
+ * positive. A primary ray starts at the eye, or where it enters the grid's
+ * box; the renderer checks the eye, and sdft_grid_hull_build checks that
+ * the voxels just outside the active box are all positive (so a ray
+ * entering the box starts in a positive cell or a mixed one, which is in
+ * the hull), else it builds no hull.
+ *
+ * WHEN THERE IS NONE. Level sets with a band wider than sqrt(3) voxels,
+ * of a type with a leaf directory, loaded whole: a deferred grid's leaves
+ * are read only where a ray reaches them, and a hull would read them all
+ * (such grids keep the cones, render.c). */
+#include <math.h>
+#include <stdlib.h>
+
+#include "grid_cell.h"
+
+typedef struct hull_fill {
+    const sdft_grid *g;
+    sdft_aabb *box;
+    size_t most, count; /* count: atomic */
+} hull_fill;
+
+/* Bit z of row[x][y] (x, y, z in 0..8): voxel 8b + (x, y, z) is <= 0
+ * (neg) or > 0 (pos); a voxel the directory cannot place sets both. */
+typedef struct block_signs {
+    uint16_t neg[9][9], pos[9][9];
+} block_signs;
+
+/* The signs of the voxels of block b and of its apron: its own leaf's
+ * values (table word w), the next blocks' leaves or tiles through the
+ * directory, the accessor where the directory has no entry. */
+static void gather_signs(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const int32_t b[3], uint32_t w,
+                         block_signs *s)
+{
+    const int32_t c0[3] = {8 * b[0], 8 * b[1], 8 * b[2]};
+    uint32_t local = 0;
+    const uint32_t *e = directory_chunk(&g->leaves, c0, &local);
+    for (int x = 0; x < 9; x++)
+        for (int y = 0; y < 9; y++) {
+            uint16_t neg = 0, pos = 0;
+            for (int z = 0; z < 9; z++) {
+                const int ax = x == 8, ay = y == 8, az = z == 8;
+                float v;
+                uint32_t entry = w;
+                if (ax | ay | az) /* the apron: the chunk holds the next blocks too */
+                    entry = e ? e[local + (uint32_t)ax + GRID_CHUNK_SIDE * (uint32_t)ay +
+                                  GRID_CHUNK_SIDE * GRID_CHUNK_SIDE * (uint32_t)az]
+                              : 0u;
+                if (entry) {
+                    v = entry_value(g, g->type, entry,
+                                    64u * (uint32_t)(x & 7) + 8u * (uint32_t)(y & 7) + (uint32_t)(z & 7));
+                } else {
+                    uint32_t level;
+                    v = read_value(g, g->type, acc, (pnanovdb_coord_t){c0[0] + x, c0[1] + y, c0[2] + z}, &level);
+                }
+                neg |= (uint16_t)((v <= 0.0f) << z);
+                pos |= (uint16_t)((v > 0.0f || v != v) << z);
+                if (v != v)
+                    neg |= (uint16_t)(1u << z);
+            }
+            s->neg[x][y] = neg, s->pos[x][y] = pos;
+        }
+}
+
+static void add_leaf(void *ctx, const int32_t b[3], uint64_t at, uint32_t word)
+{
+    (void)at;
+    hull_fill *h = ctx;
+    const sdft_grid *g = h->g;
+    pnanovdb_readaccessor_t acc;
+    pnanovdb_readaccessor_init(&acc, g->root);
+    block_signs s;
+    gather_signs(g, &acc, b, word, &s);
+    /* Cell (x, y, z) is mixed unless its eight corners (rows x..x+1 by
+     * y..y+1, bits z..z+1) are all <= 0 or all > 0. */
+    int lo[3] = {8, 8, 8}, hi[3] = {-1, -1, -1};
+    for (int x = 0; x < 8; x++)
+        for (int y = 0; y < 8; y++) {
+            const unsigned all_neg = (unsigned)(s.neg[x][y] & s.neg[x + 1][y] & s.neg[x][y + 1] & s.neg[x + 1][y + 1]),
+                           all_pos = (unsigned)(s.pos[x][y] & s.pos[x + 1][y] & s.pos[x][y + 1] & s.pos[x + 1][y + 1]);
+            const unsigned mixed = ~((all_neg & all_neg >> 1) | (all_pos & all_pos >> 1)) & 0xFFu;
+            if (!mixed)
+                continue;
+            const int z0 = __builtin_ctz(mixed), z1 = 31 - __builtin_clz(mixed);
+            lo[0] = x < lo[0] ? x : lo[0], hi[0] = x > hi[0] ? x : hi[0];
+            lo[1] = y < lo[1] ? y : lo[1], hi[1] = y > hi[1] ? y : hi[1];
+            lo[2] = z0 < lo[2] ? z0 : lo[2], hi[2] = z1 > hi[2] ? z1 : hi[2];
+        }
+    /* The active box's low faces: cells with a corner just outside, whose
+     * lowest corner lies outside every block's own cells (see the header). */
+    for (int k = 0; k < 3; k++) {
+        if (g->ilo[k] >> 3 != b[k])
+            continue;
+        const int u = (k + 1) % 3, v = (k + 2) % 3;
+        for (int a = -1; a < 8; a++)
+            for (int c = -1; c < 8; c++) {
+                int32_t i0[3];
+                i0[k] = g->ilo[k] - 1 - 8 * b[k], i0[u] = a, i0[v] = c;
+                int neg = 0;
+                for (int q = 0; q < 8; q++) {
+                    uint32_t level;
+                    const float val =
+                        read_value(g, g->type, &acc,
+                                   (pnanovdb_coord_t){8 * b[0] + i0[0] + (q & 1), 8 * b[1] + i0[1] + (q >> 1 & 1),
+                                                      8 * b[2] + i0[2] + (q >> 2 & 1)},
+                                   &level);
+                    neg += !(val > 0.0f);
+                }
+                if (neg == 0 || neg == 8)
+                    continue;
+                for (int j = 0; j < 3; j++)
+                    lo[j] = i0[j] < lo[j] ? i0[j] : lo[j], hi[j] = i0[j] > hi[j] ? i0[j] : hi[j];
+            }
+    }
+    if (hi[0] < lo[0])
+        return;
+    /* Cells [lo, hi + 1] of the block, half a voxel more all round, to world. */
+    float box_lo[3], box_hi[3];
+    for (int k = 0; k < 3; k++)
+        box_lo[k] = (float)(8 * b[k] + lo[k]) - 0.5f, box_hi[k] = (float)(8 * b[k] + hi[k]) + 1.5f;
+    const size_t i = __atomic_fetch_add(&h->count, 1, __ATOMIC_RELAXED);
+    if (i < h->most)
+        h->box[i] = grid_world_box(g, box_lo, box_hi);
+}
+
+/* 1 when every voxel of the layer just outside the active box is > 0. */
+static int outside_positive(const sdft_grid *g)
+{
+    int ok = 1;
+    for (int k = 0; k < 3; k++) { /* the two faces across axis k */
+        const int u = (k + 1) % 3, v = (k + 2) % 3;
+#pragma omp parallel for schedule(dynamic, 16) reduction(& : ok)
+        for (int32_t a = g->ilo[u] - 1; a <= g->ihi[u] + 1; a++) {
+            pnanovdb_readaccessor_t acc;
+            pnanovdb_readaccessor_init(&acc, g->root);
+            for (int side = 0; side < 2 && ok; side++)
+                for (int32_t c = g->ilo[v] - 1; c <= g->ihi[v] + 1 && ok; c++) {
+                    int32_t p[3];
+                    p[k] = side ? g->ihi[k] + 1 : g->ilo[k] - 1, p[u] = a, p[v] = c;
+                    uint32_t level;
+                    ok &= read_value(g, g->type, &acc, (pnanovdb_coord_t){p[0], p[1], p[2]}, &level) > 0.0f;
+                }
+        }
+    }
+    return ok;
+}
+
+sdft_error sdft_grid_hull_build(sdft_grid *g)
+{
+    g->hull = NULL, g->hull_count = 0;
+    if (g->grid_class != PNANOVDB_GRID_CLASS_LEVEL_SET || !(g->background > 1.7320508f * g->sigma_max) ||
+        !g->leaves.top || g->deferred.state || !outside_positive(g))
+        return SDFT_OK;
+    pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
+    const uint64_t leaves = pnanovdb_tree_get_node_count_leaf(g->buf, tree);
+    if (leaves == 0 || leaves > SIZE_MAX / sizeof(sdft_aabb))
+        return SDFT_OK;
+    hull_fill h = {g, malloc((size_t)leaves * sizeof(sdft_aabb)), (size_t)leaves, 0};
+    if (!h.box)
+        return SDFT_ENOMEM;
+    sdft_grid_each_leaf(g, add_leaf, &h);
+    g->hull = h.box;
+    g->hull_count = h.count < h.most ? h.count : h.most;
+    return SDFT_OK;
+}
+
+void sdft_grid_hull_free(sdft_grid *g)
+{
+    free(g->hull);
+    g->hull = NULL, g->hull_count = 0;
+}
