@@ -591,11 +591,10 @@ sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sd
     hull_bins bins = {0};
     frame fr = fr0;
     if (params->cones && f->hull_count && eye_outside(f, params->camera.from)) {
-        if (hull_bin(f, &fr.view, params->width, params->height, threads, &bins)) {
-            free(bins.first), free(bins.box), free(bins.rect), free(per_tile);
-            return sdft_fail(msg, msg_len, SDFT_ENOMEM, "out of memory for the hull's bins");
-        }
-        fr.bins = &bins;
+        if (hull_bin(f, &fr.view, params->width, params->height, threads, &bins) == 0)
+            fr.bins = &bins;
+        else /* no memory for the bins: the cones serve, the same picture */
+            free(bins.first), free(bins.box), free(bins.rect), bins = (hull_bins){0};
     }
 #pragma omp parallel num_threads(threads)
     {
