@@ -16,6 +16,7 @@
 #include "sdftrace/grid.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
+#include "sdftrace/sdf.h"
 #include "sdftrace/vdb.h"
 #include "testutil.h"
 
@@ -1040,57 +1041,77 @@ static int in_hull(const sdft_field *f, sdft_vec3 p)
     return 0;
 }
 
+/* A slab 0.6 thick, much wider than its box, which cuts it on four sides:
+ * the grid holds values <= 0 (leaves and tiles) against the background
+ * outside. */
+static float cut_slab_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    (void)ctx, (void)s;
+    return sdft_sd_box(p, sdft_v3(2.0f, 0.3f, 2.0f));
+}
+
 /* Every ray's first root of the interpolant, found by brute-force marching
  * in steps of a twentieth of a voxel from where the ray enters the grid's
- * box, lies in a box of the grid's hull; and the hull is a thin shell,
- * not the box. */
+ * box, lies in a box of the grid's hull: on the figure, whose hull is a
+ * thin shell, not the box, and on a slab its box cuts, where the first
+ * roots of rays entering through the cut faces are their entry points. */
 static void test_hull_holds_every_first_root(void **state)
 {
     (void)state;
     const sdft_scene *sc = sdft_scene_find("figure");
     assert_non_null(sc);
-    sdft_grid *g = bake(&sc->field, 96, 0, NULL);
-    const float h = sdft_grid_voxel_size(g).x;
-    const sdft_field gf = sdft_grid_field(g);
-    assert_true(gf.hull_count > 100);
-    const sdft_aabb bounds = sdft_grid_world_bounds(g);
-    double hull_volume = 0.0;
-    for (size_t i = 0; i < gf.hull_count; i++) {
-        const sdft_vec3 e = sdft_sub(gf.hull[i].hi, gf.hull[i].lo);
-        hull_volume += (double)e.x * e.y * e.z;
-    }
-    const sdft_vec3 be = sdft_sub(bounds.hi, bounds.lo);
-    print_message("%zu hull boxes, %.1f%% of the box's volume\n", gf.hull_count,
-                  100.0 * hull_volume / ((double)be.x * be.y * be.z));
-    assert_true(hull_volume < 0.25 * (double)be.x * be.y * be.z);
-    sdft_scratch s;
-    sdft_scratch_init(&gf, &s);
-    tu_rng r = tu_rng_seed(41);
-    int roots = 0;
-    for (int i = 0; i < 600; i++) {
-        const sdft_ray ray = ray_into(bounds, 0.4f, &r);
-        float t0, t1;
-        if (!sdft_aabb_clip(bounds, ray.org, ray.dir, 0.0f, ray.tfar, &t0, &t1))
-            continue;
-        for (float t = t0; t <= t1; t += 0.05f * h) {
-            const sdft_vec3 p = sdft_madd(ray.org, ray.dir, t);
-            if (sdft_grid_sample_with(g, SDFT_GRID_BOUND_NONE, &s, p, NULL) <= 0.0f) {
-                if (!in_hull(&gf, p))
-                    fail_msg("ray %d: first root near t = %g, (%g, %g, %g), in no hull box", i, t, p.x, p.y, p.z);
-                roots++;
-                break;
+    const sdft_field slab = {.distance = cut_slab_distance, .bounds = {{-0.5f, -0.4f, -0.5f}, {0.5f, 0.4f, 0.5f}}};
+    sdft_grid *grids[2] = {bake(&sc->field, 96, 0, NULL), bake(&slab, 128, 0, NULL)};
+    for (int gi = 0; gi < 2; gi++) {
+        sdft_grid *g = grids[gi];
+        const float h = sdft_grid_voxel_size(g).x;
+        const sdft_field gf = sdft_grid_field(g);
+        assert_true(gf.hull_count > 100);
+        const sdft_aabb bounds = sdft_grid_world_bounds(g);
+        double hull_volume = 0.0;
+        for (size_t i = 0; i < gf.hull_count; i++) {
+            const sdft_vec3 e = sdft_sub(gf.hull[i].hi, gf.hull[i].lo);
+            hull_volume += (double)e.x * e.y * e.z;
+        }
+        const sdft_vec3 be = sdft_sub(bounds.hi, bounds.lo);
+        print_message("%s: %zu hull boxes, %.1f%% of the box's volume\n", gi ? "cut slab" : "figure", gf.hull_count,
+                      100.0 * hull_volume / ((double)be.x * be.y * be.z));
+        if (gi == 0)
+            assert_true(hull_volume < 0.25 * (double)be.x * be.y * be.z);
+        sdft_scratch s;
+        sdft_scratch_init(&gf, &s);
+        tu_rng r = tu_rng_seed(41);
+        int roots = 0, at_entry = 0;
+        for (int i = 0; i < 600; i++) {
+            const sdft_ray ray = ray_into(bounds, 0.4f, &r);
+            float t0, t1;
+            if (!sdft_aabb_clip(bounds, ray.org, ray.dir, 0.0f, ray.tfar, &t0, &t1))
+                continue;
+            for (float t = t0; t <= t1; t += 0.05f * h) {
+                const sdft_vec3 p = sdft_madd(ray.org, ray.dir, t);
+                if (sdft_grid_sample_with(g, SDFT_GRID_BOUND_NONE, &s, p, NULL) <= 0.0f) {
+                    if (!in_hull(&gf, p))
+                        fail_msg("ray %d: first root near t = %g, (%g, %g, %g), in no hull box", i, t, p.x, p.y, p.z);
+                    roots++;
+                    at_entry += t == t0;
+                    break;
+                }
             }
         }
+        print_message("%d first roots (%d where the ray enters the box), all in the hull\n", roots, at_entry);
+        assert_true(roots > 200);
+        if (gi == 1)
+            assert_true(at_entry > 50);
+        sdft_grid_free(g);
     }
-    print_message("%d first roots, all in the hull\n", roots);
-    assert_true(roots > 200);
-    sdft_grid_free(g);
 }
 
 /* The default render starts each primary ray at the hull: the same image
  * as with every ray from the eye (cones off), exact roots included, for
- * fewer evaluations; and with the eye inside the surface, where the hull
- * promises nothing, the same image too (every ray hits at the eye). */
+ * fewer evaluations; with the eye inside the surface, where the hull
+ * promises nothing, the same image too (every ray hits at the eye); and
+ * through a lens so narrow that every box projects billions of pixels off
+ * the image, nothing hit and nothing written outside the tiles' bins. */
 static void test_render_from_the_hull(void **state)
 {
     (void)state;
@@ -1103,7 +1124,15 @@ static void test_render_from_the_hull(void **state)
     rp.width = 160, rp.height = 90;
     rp.camera = sc->camera;
     rp.shadows = 0, rp.depth_only = 1;
-    for (int inside = 0; inside < 2; inside++) {
+    for (int view = 0; view < 3; view++) {
+        const int inside = view == 1;
+        if (view == 2) { /* 80 degrees to the left through a 1e-5-degree lens: every box in front, billions of
+                          * pixels to the right of the image */
+            const sdft_vec3 d = sdft_normalize(sdft_sub(sc->camera.at, sc->camera.from));
+            const sdft_vec3 left = sdft_normalize(sdft_cross(sc->camera.up, d));
+            rp.camera = sc->camera, rp.camera.fov_deg = 1e-5f;
+            rp.camera.at = sdft_add(rp.camera.from, sdft_add(sdft_scale(d, 0.17f), sdft_scale(left, 0.98f)));
+        }
         if (inside) { /* a point of the figure's interior, found by the field itself */
             sdft_scratch s;
             sdft_scratch_init(&gf, &s);
@@ -1136,13 +1165,15 @@ static void test_render_from_the_hull(void **state)
             hits++;
             same += fabsf(a.depth[i] - b.depth[i]) <= 1e-3f * h;
         }
-        print_message("eye %s: %d hits, %d at the same depth, %d hit in one only; evaluations %llu against %llu\n",
-                      inside ? "inside" : "outside", hits, same, differ, (unsigned long long)(sa.steps + sa.cone_steps),
-                      (unsigned long long)sb.steps);
-        assert_true(hits > n / (inside ? 1 : 10) - 1);
+        print_message("%s: %d hits, %d at the same depth, %d hit in one only; evaluations %llu against %llu\n",
+                      view == 0   ? "eye outside"
+                      : view == 1 ? "eye inside"
+                                  : "looking aside",
+                      hits, same, differ, (unsigned long long)(sa.steps + sa.cone_steps), (unsigned long long)sb.steps);
+        assert_true(view == 2 ? hits == 0 : hits > n / (inside ? 1 : 10) - 1);
         assert_true(same >= 0.995 * hits);
         assert_true(differ <= n / 1000);
-        if (!inside)
+        if (view == 0)
             assert_true(2 * (sa.steps + sa.cone_steps) < sb.steps);
         sdft_image_free(&a);
         sdft_image_free(&b);

@@ -265,7 +265,7 @@ static float block_start(const frame *fr, sdft_scratch *s, int x0, int y0, int x
 
 /* Pixels [x0, x1) x [y0, y1), at most BLOCK x BLOCK, primary rays from
  * tnear (or, with span, each on its own [span[0][i], span[1][i]], i its
- * index in the tile of width tw at (tx, ty)): their primary rays are traced
+ * index in the tile whose first pixel is (tx, ty)): their primary rays are traced
  * as one stream (interleaved), then each pixel shaded, then their shadow
  * rays traced as one stream. */
 static void render_block(const frame *fr, sdft_scratch *s, int x0, int y0, int x1, int y1, float tnear,
@@ -364,6 +364,8 @@ static void hull_spans(const frame *fr, int tile, int x0, int y0, int x1, int y1
     const hull_bins *hb = fr->bins;
     const sdft_aabb *hull = fr->f->hull;
     float inv[3][TILE * TILE];
+    for (int i = 0; i < TILE * TILE; i++)
+        span[0][i] = INFINITY, span[1][i] = -INFINITY;
     for (int y = y0; y < y1; y++)
         for (int x = x0; x < x1; x++) {
             const int i = (y - y0) * TILE + (x - x0);
@@ -371,7 +373,6 @@ static void hull_spans(const frame *fr, int tile, int x0, int y0, int x1, int y1
             const float dd[3] = {d.x, d.y, d.z};
             for (int k = 0; k < 3; k++) /* a zero component: a huge slope of its sign, no 0 * inf */
                 inv[k][i] = 1.0f / (fabsf(dd[k]) > 1e-30f ? dd[k] : copysignf(1e-30f, dd[k]));
-            span[0][i] = INFINITY, span[1][i] = -INFINITY;
         }
     const sdft_vec3 o = fr->rp->camera.from;
     for (uint32_t j = hb->first[tile]; j < hb->first[tile + 1]; j++) {
@@ -382,10 +383,10 @@ static void hull_spans(const frame *fr, int tile, int x0, int y0, int x1, int y1
         const float lo[3] = {hull[b].lo.x - o.x, hull[b].lo.y - o.y, hull[b].lo.z - o.z};
         const float hi[3] = {hull[b].hi.x - o.x, hull[b].hi.y - o.y, hull[b].hi.z - o.z};
         for (int y = ry0; y <= ry1; y++) {
-            const int row = (y - y0) * TILE - x0;
+            const int row = (y - y0) * TILE + (rx0 - x0); /* pixel rx0's index in the tile */
             float *restrict in = span[0] + row, *restrict out = span[1] + row;
             const float *restrict ix = inv[0] + row, *restrict iy = inv[1] + row, *restrict iz = inv[2] + row;
-            for (int x = rx0; x <= rx1; x++) { /* branch-free, so that it vectorizes */
+            for (int x = 0; x <= rx1 - rx0; x++) { /* branch-free, so that it vectorizes */
                 const float ax = lo[0] * ix[x], bx = hi[0] * ix[x], ay = lo[1] * iy[x], by = hi[1] * iy[x];
                 const float az = lo[2] * iz[x], bz = hi[2] * iz[x];
                 const float a =
@@ -470,6 +471,8 @@ static int box_rect(const sdft_view *v, int width, int height, sdft_aabb b, int3
         y0 = sdft_maxf(y0, ceilf(py0 + 0.5f * (float)height - 0.5f - m)),
         y1 = sdft_minf(y1, floorf(py1 + 0.5f * (float)height - 0.5f + m));
     }
+    if (!(x0 <= x1 && y0 <= y1 && x0 <= (float)(width - 1) && y0 <= (float)(height - 1) && x1 >= 0.0f && y1 >= 0.0f))
+        return 0; /* off the image (and no cast of a huge float below) */
     r[0] = x0 < 0.0f ? 0 : (int32_t)x0, r[1] = y0 < 0.0f ? 0 : (int32_t)y0;
     r[2] = x1 > (float)(width - 1) ? width - 1 : (int32_t)x1,
     r[3] = y1 > (float)(height - 1) ? height - 1 : (int32_t)y1;

@@ -17,20 +17,20 @@
  * of the mixed cells whose lowest corner lies in each leaf's block, found
  * from the leaf's 8^3 values and the one-voxel apron on its + sides (the
  * next blocks' values, through the leaf directory), hold every first root.
- * The one exception is the active box's low faces: a grid that cuts its
- * surface (a baked scene's floor) holds active values <= 0 next to the
- * inactive background outside, and the mixed cells between have their
- * lowest corner outside; a leaf on such a face looks at those cells too,
- * voxel by voxel. Each box is grown by half a voxel all round for rounding
- * (the world transform, the renderer's ray-box tests). A leaf without a
- * mixed cell gets no box.
+ * The one exception is the active box's faces: a grid that cuts its
+ * surface (a baked scene's floor, a clipped terrain) holds values <= 0,
+ * in leaves or in tiles, next to the inactive background outside, and the
+ * cells between may have both signs with an inactive corner; each patch of
+ * a face where that can happen gets its own box (scan_faces). Each box is
+ * grown by half a voxel all round for rounding (the world transform, the
+ * renderer's ray-box tests). A leaf without a mixed cell gets no box.
  *
  * WHERE A RAY STARTS. That covers rays that start where the field is
  * positive. A primary ray starts at the eye, or where it enters the grid's
- * box; the renderer checks the eye, and sdft_grid_hull_build checks that
- * the voxels just outside the active box are all positive (so a ray
- * entering the box starts in a positive cell or a mixed one, which is in
- * the hull), else it builds no hull.
+ * box; the renderer checks the eye, and scan_faces checks that the voxels
+ * just outside the active box are all positive (so a ray entering the box
+ * starts in a positive cell or in a face patch's box), else there is no
+ * hull.
  *
  * WHEN THERE IS NONE. Level sets with a band wider than sqrt(3) voxels,
  * of a type with a leaf directory, loaded whole: a deferred grid's leaves
@@ -48,7 +48,7 @@ typedef struct hull_fill {
 } hull_fill;
 
 /* Bit z of row[x][y] (x, y, z in 0..8): voxel 8b + (x, y, z) is <= 0
- * (neg) or > 0 (pos); a voxel the directory cannot place sets both. */
+ * (neg) or > 0 (pos); a NaN sets neither. */
 typedef struct block_signs {
     uint16_t neg[9][9], pos[9][9];
 } block_signs;
@@ -80,13 +80,23 @@ static void gather_signs(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const
                     uint32_t level;
                     v = read_value(g, g->type, acc, (pnanovdb_coord_t){c0[0] + x, c0[1] + y, c0[2] + z}, &level);
                 }
-                neg |= (uint16_t)((v <= 0.0f) << z);
-                pos |= (uint16_t)((v > 0.0f || v != v) << z);
-                if (v != v)
-                    neg |= (uint16_t)(1u << z);
+                neg |= (uint16_t)((v <= 0.0f) << z); /* NaN: neither, so its cells count as mixed */
+                pos |= (uint16_t)((v > 0.0f) << z);
             }
             s->neg[x][y] = neg, s->pos[x][y] = pos;
         }
+}
+
+/* A box for the cells whose lowest corners span [first, last]: those
+ * cells, half a voxel more all round, in world units. */
+static void add_cells(hull_fill *h, const int32_t first[3], const int32_t last[3])
+{
+    float lo[3], hi[3];
+    for (int k = 0; k < 3; k++)
+        lo[k] = (float)first[k] - 0.5f, hi[k] = (float)last[k] + 1.5f;
+    const size_t i = __atomic_fetch_add(&h->count, 1, __ATOMIC_RELAXED);
+    if (i < h->most)
+        h->box[i] = grid_world_box(h->g, lo, hi);
 }
 
 static void add_leaf(void *ctx, const int32_t b[3], uint64_t at, uint32_t word)
@@ -113,59 +123,61 @@ static void add_leaf(void *ctx, const int32_t b[3], uint64_t at, uint32_t word)
             lo[1] = y < lo[1] ? y : lo[1], hi[1] = y > hi[1] ? y : hi[1];
             lo[2] = z0 < lo[2] ? z0 : lo[2], hi[2] = z1 > hi[2] ? z1 : hi[2];
         }
-    /* The active box's low faces: cells with a corner just outside, whose
-     * lowest corner lies outside every block's own cells (see the header). */
-    for (int k = 0; k < 3; k++) {
-        if (g->ilo[k] >> 3 != b[k])
-            continue;
-        const int u = (k + 1) % 3, v = (k + 2) % 3;
-        for (int a = -1; a < 8; a++)
-            for (int c = -1; c < 8; c++) {
-                int32_t i0[3];
-                i0[k] = g->ilo[k] - 1 - 8 * b[k], i0[u] = a, i0[v] = c;
-                int neg = 0;
-                for (int q = 0; q < 8; q++) {
-                    uint32_t level;
-                    const float val =
-                        read_value(g, g->type, &acc,
-                                   (pnanovdb_coord_t){8 * b[0] + i0[0] + (q & 1), 8 * b[1] + i0[1] + (q >> 1 & 1),
-                                                      8 * b[2] + i0[2] + (q >> 2 & 1)},
-                                   &level);
-                    neg += !(val > 0.0f);
-                }
-                if (neg == 0 || neg == 8)
-                    continue;
-                for (int j = 0; j < 3; j++)
-                    lo[j] = i0[j] < lo[j] ? i0[j] : lo[j], hi[j] = i0[j] > hi[j] ? i0[j] : hi[j];
-            }
-    }
-    if (hi[0] < lo[0])
+    if (hi[0] < 0)
         return;
-    /* Cells [lo, hi + 1] of the block, half a voxel more all round, to world. */
-    float box_lo[3], box_hi[3];
+    int32_t first[3], last[3];
     for (int k = 0; k < 3; k++)
-        box_lo[k] = (float)(8 * b[k] + lo[k]) - 0.5f, box_hi[k] = (float)(8 * b[k] + hi[k]) + 1.5f;
-    const size_t i = __atomic_fetch_add(&h->count, 1, __ATOMIC_RELAXED);
-    if (i < h->most)
-        h->box[i] = grid_world_box(g, box_lo, box_hi);
+        first[k] = 8 * b[k] + lo[k], last[k] = 8 * b[k] + hi[k];
+    add_cells(h, first, last);
 }
 
-/* 1 when every voxel of the layer just outside the active box is > 0. */
-static int outside_positive(const sdft_grid *g)
+/* The active box's faces, by 8 x 8 patches of voxels aligned to blocks:
+ * for each face, the layer just outside the box (`at` = ilo - 1 or ihi + 1
+ * across axis k) must be all > 0, and each patch of the layer just inside
+ * (ilo or ihi) that holds a voxel <= 0 (or NaN) gets a box around the
+ * cells between the two layers there: the box cuts the surface, and those
+ * cells may have both signs with an inactive corner outside, which the
+ * leaves' boxes do not promise to hold (a leaf's or a tile's patch alike).
+ * A patch inside one tile is read once. Returns 0 when an outside voxel is
+ * <= 0 (or NaN): then no hull. With h NULL only the check. */
+static int scan_faces(const sdft_grid *g, hull_fill *h)
 {
     int ok = 1;
-    for (int k = 0; k < 3; k++) { /* the two faces across axis k */
-        const int u = (k + 1) % 3, v = (k + 2) % 3;
-#pragma omp parallel for schedule(dynamic, 16) reduction(& : ok)
-        for (int32_t a = g->ilo[u] - 1; a <= g->ihi[u] + 1; a++) {
+    for (int face = 0; face < 6; face++) {
+        const int k = face >> 1, high = face & 1, u = (k + 1) % 3, v = (k + 2) % 3;
+        const int32_t inner = high ? g->ihi[k] : g->ilo[k], outer = high ? inner + 1 : inner - 1;
+        const int32_t a0 = (g->ilo[u] - 1) >> 3, a1 = (g->ihi[u] + 1) >> 3;
+        const int32_t c0 = (g->ilo[v] - 1) >> 3, c1 = (g->ihi[v] + 1) >> 3;
+#pragma omp parallel for schedule(dynamic, 4) reduction(& : ok)
+        for (int32_t pa = a0; pa <= a1; pa++) {
             pnanovdb_readaccessor_t acc;
             pnanovdb_readaccessor_init(&acc, g->root);
-            for (int side = 0; side < 2 && ok; side++)
-                for (int32_t c = g->ilo[v] - 1; c <= g->ihi[v] + 1 && ok; c++) {
-                    int32_t p[3];
-                    p[k] = side ? g->ihi[k] + 1 : g->ilo[k] - 1, p[u] = a, p[v] = c;
-                    uint32_t level;
-                    ok &= read_value(g, g->type, &acc, (pnanovdb_coord_t){p[0], p[1], p[2]}, &level) > 0.0f;
+            for (int32_t pc = c0; pc <= c1 && ok; pc++)
+                for (int layer = 0; layer < 2; layer++) {
+                    const int32_t at = layer ? inner : outer;
+                    int any = 0;
+                    for (int q = 0; q < 64 && !any; q++) {
+                        int32_t p[3];
+                        p[k] = at, p[u] = 8 * pa + (q >> 3), p[v] = 8 * pc + (q & 7);
+                        uint32_t level;
+                        const float val = read_value(g, g->type, &acc, (pnanovdb_coord_t){p[0], p[1], p[2]}, &level);
+                        any = !(val > 0.0f);
+                        if (level > 0 && q == 0 && !any)
+                            break; /* the patch lies in one tile (or the background), all > 0 */
+                    }
+                    if (!any)
+                        continue;
+                    if (!layer) {
+                        ok = 0;
+                        break;
+                    }
+                    if (h) { /* cells with lowest corner between the layers, and a voxel round the patch */
+                        int32_t first[3], last[3];
+                        first[k] = last[k] = high ? inner : outer;
+                        first[u] = 8 * pa - 1, last[u] = 8 * pa + 7;
+                        first[v] = 8 * pc - 1, last[v] = 8 * pc + 7;
+                        add_cells(h, first, last);
+                    }
                 }
         }
     }
@@ -176,16 +188,23 @@ sdft_error sdft_grid_hull_build(sdft_grid *g)
 {
     g->hull = NULL, g->hull_count = 0;
     if (g->grid_class != PNANOVDB_GRID_CLASS_LEVEL_SET || !(g->background > 1.7320508f * g->sigma_max) ||
-        !g->leaves.top || g->deferred.state || !outside_positive(g))
+        !g->leaves.top || g->deferred.state || !scan_faces(g, NULL))
         return SDFT_OK;
     pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
     const uint64_t leaves = pnanovdb_tree_get_node_count_leaf(g->buf, tree);
-    if (leaves == 0 || leaves > SIZE_MAX / sizeof(sdft_aabb))
+    uint64_t most = leaves; /* a box per leaf and per face patch at most */
+    for (int k = 0; k < 3; k++) {
+        const int u = (k + 1) % 3, v = (k + 2) % 3;
+        most += 2 * (uint64_t)(((g->ihi[u] + 1) >> 3) - ((g->ilo[u] - 1) >> 3) + 1) *
+                (uint64_t)(((g->ihi[v] + 1) >> 3) - ((g->ilo[v] - 1) >> 3) + 1);
+    }
+    if (leaves == 0 || most > SIZE_MAX / sizeof(sdft_aabb))
         return SDFT_OK;
-    hull_fill h = {g, malloc((size_t)leaves * sizeof(sdft_aabb)), (size_t)leaves, 0};
+    hull_fill h = {g, malloc((size_t)most * sizeof(sdft_aabb)), (size_t)most, 0};
     if (!h.box)
         return SDFT_ENOMEM;
     sdft_grid_each_leaf(g, add_leaf, &h);
+    scan_faces(g, &h);
     g->hull = h.box;
     g->hull_count = h.count < h.most ? h.count : h.most;
     return SDFT_OK;
