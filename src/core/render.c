@@ -417,30 +417,26 @@ static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *
         miss_rect(fr, x0, y0, x1, y1, img);
         return;
     }
-    /* The tile's bundle, then each BLOCK x BLOCK bundle from there, then
-     * each ray from there (all start at 0 without cones). */
-    if (fr->bins) {
-        float span[2][TILE * TILE];
-        hull_spans(fr, tile, x0, y0, x1, y1, span);
-        for (int by = y0; by < y1; by += BLOCK)
-            for (int bx = x0; bx < x1; bx += BLOCK) {
-                const int bx1 = bx + BLOCK < x1 ? bx + BLOCK : x1, by1 = by + BLOCK < y1 ? by + BLOCK : y1;
-                render_block(fr, s, bx, by, bx1, by1, 0.0f, span, x0, y0, img, ts);
-            }
-        return;
-    }
-    const float t_tile = block_start(fr, s, x0, y0, x1, y1, fr->cone_tnear, ts);
+    /* With the hull, each ray on its own span of it; else the tile's
+     * bundle, then each BLOCK x BLOCK bundle from there, then each ray
+     * from there (all start at 0 without cones). */
+    float span[2][TILE * TILE], (*spans)[TILE * TILE] = NULL, t_tile = 0.0f;
+    if (fr->bins)
+        hull_spans(fr, tile, x0, y0, x1, y1, span), spans = span;
+    else
+        t_tile = block_start(fr, s, x0, y0, x1, y1, fr->cone_tnear, ts);
     for (int by = y0; by < y1; by += BLOCK)
         for (int bx = x0; bx < x1; bx += BLOCK) {
             const int bx1 = bx + BLOCK < x1 ? bx + BLOCK : x1, by1 = by + BLOCK < y1 ? by + BLOCK : y1;
-            const float t_block = block_start(fr, s, bx, by, bx1, by1, t_tile, ts);
-            render_block(fr, s, bx, by, bx1, by1, t_block, NULL, 0, 0, img, ts);
+            const float t_block = spans ? 0.0f : block_start(fr, s, bx, by, bx1, by1, t_tile, ts);
+            render_block(fr, s, bx, by, bx1, by1, t_block, spans, x0, y0, img, ts);
         }
 }
 
 /* The pixel rectangle (x0, y0, x1, y1, inclusive, clipped to the image)
- * that holds every pixel whose ray may meet box b, grown by a pixel; 0 when
- * it is empty (b wholly behind the eye or off the image). The projection of
+ * that holds every pixel whose ray may meet box b, with a hundredth of a
+ * pixel's margin for rounding; 0 when it is empty (b wholly behind the eye
+ * or off the image). The projection of
  * a box wholly in front of the eye lies in that of its corners' hull. */
 static int box_rect(const sdft_view *v, int width, int height, sdft_aabb b, int32_t r[4])
 {

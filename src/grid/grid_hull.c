@@ -131,6 +131,11 @@ static void add_leaf(void *ctx, const int32_t b[3], uint64_t at, uint32_t word)
     add_cells(h, first, last);
 }
 
+/* The blocks along axis k that a face's patches span: the active box and
+ * a voxel more on each side. */
+static int32_t first_patch(const sdft_grid *g, int k) { return (g->ilo[k] - 1) >> 3; }
+static int32_t last_patch(const sdft_grid *g, int k) { return (g->ihi[k] + 1) >> 3; }
+
 /* The active box's faces, by 8 x 8 patches of voxels aligned to blocks:
  * for each face, the layer just outside the box (`at` = ilo - 1 or ihi + 1
  * across axis k) must be all > 0, and each patch of the layer just inside
@@ -139,15 +144,14 @@ static void add_leaf(void *ctx, const int32_t b[3], uint64_t at, uint32_t word)
  * cells may have both signs with an inactive corner outside, which the
  * leaves' boxes do not promise to hold (a leaf's or a tile's patch alike).
  * A patch inside one tile is read once. Returns 0 when an outside voxel is
- * <= 0 (or NaN): then no hull. With h NULL only the check. */
+ * <= 0 (or NaN): then no hull. */
 static int scan_faces(const sdft_grid *g, hull_fill *h)
 {
     int ok = 1;
     for (int face = 0; face < 6; face++) {
         const int k = face >> 1, high = face & 1, u = (k + 1) % 3, v = (k + 2) % 3;
         const int32_t inner = high ? g->ihi[k] : g->ilo[k], outer = high ? inner + 1 : inner - 1;
-        const int32_t a0 = (g->ilo[u] - 1) >> 3, a1 = (g->ihi[u] + 1) >> 3;
-        const int32_t c0 = (g->ilo[v] - 1) >> 3, c1 = (g->ihi[v] + 1) >> 3;
+        const int32_t a0 = first_patch(g, u), a1 = last_patch(g, u), c0 = first_patch(g, v), c1 = last_patch(g, v);
 #pragma omp parallel for schedule(dynamic, 4) reduction(& : ok)
         for (int32_t pa = a0; pa <= a1; pa++) {
             pnanovdb_readaccessor_t acc;
@@ -171,13 +175,12 @@ static int scan_faces(const sdft_grid *g, hull_fill *h)
                         ok = 0;
                         break;
                     }
-                    if (h) { /* cells with lowest corner between the layers, and a voxel round the patch */
-                        int32_t first[3], last[3];
-                        first[k] = last[k] = high ? inner : outer;
-                        first[u] = 8 * pa - 1, last[u] = 8 * pa + 7;
-                        first[v] = 8 * pc - 1, last[v] = 8 * pc + 7;
-                        add_cells(h, first, last);
-                    }
+                    /* Cells with lowest corner between the layers, and a voxel round the patch. */
+                    int32_t first[3], last[3];
+                    first[k] = last[k] = high ? inner : outer;
+                    first[u] = 8 * pa - 1, last[u] = 8 * pa + 7;
+                    first[v] = 8 * pc - 1, last[v] = 8 * pc + 7;
+                    add_cells(h, first, last);
                 }
         }
     }
@@ -188,23 +191,26 @@ sdft_error sdft_grid_hull_build(sdft_grid *g)
 {
     g->hull = NULL, g->hull_count = 0;
     if (g->grid_class != PNANOVDB_GRID_CLASS_LEVEL_SET || !(g->background > 1.7320508f * g->sigma_max) ||
-        !g->leaves.top || g->deferred.state || !scan_faces(g, NULL))
+        !g->leaves.top || g->deferred.state)
         return SDFT_OK;
     pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
     const uint64_t leaves = pnanovdb_tree_get_node_count_leaf(g->buf, tree);
     uint64_t most = leaves; /* a box per leaf and per face patch at most */
     for (int k = 0; k < 3; k++) {
         const int u = (k + 1) % 3, v = (k + 2) % 3;
-        most += 2 * (uint64_t)(((g->ihi[u] + 1) >> 3) - ((g->ilo[u] - 1) >> 3) + 1) *
-                (uint64_t)(((g->ihi[v] + 1) >> 3) - ((g->ilo[v] - 1) >> 3) + 1);
+        most += 2 * (uint64_t)(last_patch(g, u) - first_patch(g, u) + 1) *
+                (uint64_t)(last_patch(g, v) - first_patch(g, v) + 1);
     }
     if (leaves == 0 || most > SIZE_MAX / sizeof(sdft_aabb))
         return SDFT_OK;
     hull_fill h = {g, malloc((size_t)most * sizeof(sdft_aabb)), (size_t)most, 0};
     if (!h.box)
         return SDFT_ENOMEM;
+    if (!scan_faces(g, &h)) { /* the box cuts the surface where outside is not positive: no hull */
+        free(h.box);
+        return SDFT_OK;
+    }
     sdft_grid_each_leaf(g, add_leaf, &h);
-    scan_faces(g, &h);
     g->hull = h.box;
     g->hull_count = h.count < h.most ? h.count : h.most;
     return SDFT_OK;
