@@ -403,6 +403,17 @@ static void hull_spans(const frame *fr, int tile, int x0, int y0, int x1, int y1
             span[0][i] = span[1][i] = INFINITY;
 }
 
+/* 1 when one of the tile's pixels [x0, x1) x [y0, y1) (tile coordinates)
+ * has a span of the hull: the others are misses that need no trace. */
+static int block_meets_hull(float (*span)[TILE * TILE], int x0, int y0, int x1, int y1)
+{
+    int meets = 0;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++)
+            meets |= span[0][y * TILE + x] < INFINITY;
+    return meets;
+}
+
 static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *img, tile_stats *ts)
 {
     const sdft_render_params *rp = fr->rp;
@@ -428,6 +439,11 @@ static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *
     for (int by = y0; by < y1; by += BLOCK)
         for (int bx = x0; bx < x1; bx += BLOCK) {
             const int bx1 = bx + BLOCK < x1 ? bx + BLOCK : x1, by1 = by + BLOCK < y1 ? by + BLOCK : y1;
+            if (spans && !block_meets_hull(spans, bx - x0, by - y0, bx1 - x0, by1 - y0)) {
+                ts->rays += (uint64_t)(bx1 - bx) * (uint64_t)(by1 - by);
+                miss_rect(fr, bx, by, bx1, by1, img);
+                continue;
+            }
             const float t_block = spans ? 0.0f : block_start(fr, s, bx, by, bx1, by1, t_tile, ts);
             render_block(fr, s, bx, by, bx1, by1, t_block, spans, x0, y0, img, ts);
         }

@@ -121,6 +121,19 @@ int sdft_grid_cell_root(const float v[8], const double u0[3], const double du[3]
 {
     double c[4], split[4];
     cell_cubic(v, u0, du, c);
+    /* The cubic's Bernstein coefficients on [0, len]: it is their convex
+     * combination there (so all > 0: no root), and it has no more roots in
+     * (0, len) than they have sign changes, with the same parity (so f(0) >
+     * 0 > f(len) with one change: exactly one root, bracketed by the whole
+     * segment). Either settles most cells without the derivative's roots. */
+    const double a1 = c[1] * len, a2 = c[2] * len * len, a3 = c[3] * len * len * len;
+    const double b0 = c[0], b1 = b0 + a1 / 3.0, b2 = b1 + (a1 + a2) / 3.0, b3 = b0 + a1 + a2 + a3;
+    if (b0 > 0.0 && b1 > 0.0 && b2 > 0.0 && b3 > 0.0)
+        return 0;
+    if (b0 > 0.0 && b3 < 0.0 && (b1 > 0.0 ? b2 != 0.0 : b1 < 0.0 && b2 < 0.0)) {
+        *s = bracketed_root(c, 0.0, b0, len, b3);
+        return 1;
+    }
     int pieces = 1 + quadratic_roots(c[1], 2.0 * c[2], 3.0 * c[3], len, split + 1);
     split[0] = 0.0, split[pieces] = len;
     double a = 0.0, fa = cubic(c, 0.0);
