@@ -8,11 +8,17 @@
  * factor is linear in s, so f(u(s)) is a cubic A + B s + C s^2 + D s^3
  * (Marmitt et al. 2004, "Fast and accurate ray-voxel intersection
  * techniques for iso-surface ray tracing"). Its first root on the segment
- * [0, len] the ray spends in the cell is found with a guarantee: the roots
- * of the derivative (a quadratic) cut the segment into at most three
- * pieces on which the cubic is monotone; the first piece whose far end is
- * <= 0 brackets the root (its near end is > 0, or the root is its near end),
- * and safeguarded Newton steps close the bracket to 2^-40 of a cell. Everything is in
+ * [0, len] the ray spends in the cell is found with a guarantee. Most
+ * cells are settled by the cubic's four Bernstein coefficients on the
+ * segment (Farin, "Curves and Surfaces for CAGD", ch. 4: the cubic is
+ * their convex combination, and has at most as many roots in the segment
+ * as they have sign changes, with the same parity): all > 0, no root;
+ * one sign change from > 0 to < 0, one root, bracketed by the segment.
+ * Otherwise the roots of the derivative (a quadratic) cut the segment into
+ * at most three pieces on which the cubic is monotone, and the first piece
+ * whose far end is <= 0 brackets the root (its near end is > 0, or the
+ * root is its near end). Safeguarded Newton steps close the bracket to
+ * 2^-40 of a cell. Everything is in
  * double precision from the float values, so a grazing ray, whose cubic is
  * nearly flat, still gets its root to well under 1e-3 voxel.
  *
@@ -121,15 +127,13 @@ int sdft_grid_cell_root(const float v[8], const double u0[3], const double du[3]
 {
     double c[4], split[4];
     cell_cubic(v, u0, du, c);
-    /* The cubic's Bernstein coefficients on [0, len]: it is their convex
-     * combination there (so all > 0: no root), and it has no more roots in
-     * (0, len) than they have sign changes, with the same parity (so f(0) >
-     * 0 > f(len) with one change: exactly one root, bracketed by the whole
-     * segment). Either settles most cells without the derivative's roots. */
+    /* The Bernstein coefficients b0..b3 on [0, len] (the header). */
     const double a1 = c[1] * len, a2 = c[2] * len * len, a3 = c[3] * len * len * len;
     const double b0 = c[0], b1 = b0 + a1 / 3.0, b2 = b1 + (a1 + a2) / 3.0, b3 = b0 + a1 + a2 + a3;
     if (b0 > 0.0 && b1 > 0.0 && b2 > 0.0 && b3 > 0.0)
         return 0;
+    /* Signs + + + -, + + - - or + - - -: one change (a zero coefficient
+     * goes the general way). */
     if (b0 > 0.0 && b3 < 0.0 && (b1 > 0.0 ? b2 != 0.0 : b1 < 0.0 && b2 < 0.0)) {
         *s = bracketed_root(c, 0.0, b0, len, b3);
         return 1;
