@@ -491,17 +491,17 @@ static int box_rect(const sdft_view *v, int width, int height, sdft_aabb b, int3
     return r[0] <= r[2] && r[1] <= r[3];
 }
 
-/* 1 when the eye is where the field is positive, so that each primary
- * ray's first root lies in the field's hull (field.h): outside the field's
- * box (the hull's promise covers rays that enter it), or inside it where
- * the field is > 0. */
-static int eye_outside(const sdft_field *f, sdft_vec3 eye)
+/* 1 when the frame's eye is where the field is positive, so that each
+ * primary ray's first root lies in the field's hull (field.h): outside the
+ * field's box (cone_tnear > 0; the hull's promise covers rays that enter
+ * it), or inside it where the field is > 0. */
+static int eye_outside(const frame *fr)
 {
-    if (box_distance(f->bounds, eye) > 0.0f)
+    if (fr->cone_tnear > 0.0f)
         return 1;
     sdft_scratch s;
-    sdft_scratch_init(f, &s);
-    return sdft_field_distance(f, &s, eye) > 0.0f;
+    sdft_scratch_init(fr->f, &s);
+    return sdft_field_distance(fr->f, &s, fr->rp->camera.from) > 0.0f;
 }
 
 /* Bins the field's hull boxes to the tiles they may cover. 0, or -1 out of memory. */
@@ -593,19 +593,18 @@ sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sd
     tile_stats *per_tile = malloc((size_t)tiles * sizeof *per_tile);
     if (!per_tile)
         return sdft_fail(msg, msg_len, SDFT_ENOMEM, "out of memory for %d tiles", tiles);
-    const frame fr0 = {.f = f,
-                       .rp = params,
-                       .tp = tp,
-                       .feature = sdft_field_feature_size(f),
-                       .view = sdft_camera_view(&params->camera, params->width, params->height),
-                       .cone_tfar = farthest_corner(f->bounds, params->camera.from),
-                       .cone_tnear = box_distance(f->bounds, params->camera.from)};
+    frame fr = {.f = f,
+                .rp = params,
+                .tp = tp,
+                .feature = sdft_field_feature_size(f),
+                .view = sdft_camera_view(&params->camera, params->width, params->height),
+                .cone_tfar = farthest_corner(f->bounds, params->camera.from),
+                .cone_tnear = box_distance(f->bounds, params->camera.from)};
     int threads = params->threads > 0 ? params->threads : omp_get_max_threads();
 
     double t0 = omp_get_wtime();
     hull_bins bins = {0};
-    frame fr = fr0;
-    if (params->cones && f->hull_count && eye_outside(f, params->camera.from)) {
+    if (params->cones && f->hull_count && eye_outside(&fr)) {
         if (hull_bin(f, &fr.view, params->width, params->height, threads, &bins) == 0)
             fr.bins = &bins;
         else /* no memory for the bins: the cones serve, the same picture */
