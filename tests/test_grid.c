@@ -1181,6 +1181,87 @@ static void test_render_from_the_hull(void **state)
     sdft_grid_free(g);
 }
 
+/* The points sdft_render hinted at (sdft_field.prefetch), one thread. */
+enum { MOST_HINTS = 1 << 16 };
+static sdft_vec3 hints[MOST_HINTS];
+static int hint_count;
+
+static void record_hint(const void *ctx, sdft_vec3 p)
+{
+    (void)ctx;
+    if (hint_count < MOST_HINTS)
+        hints[hint_count] = p;
+    hint_count++;
+}
+
+/* The distance from p to the nearest face of a hull box that holds it
+ * (INFINITY when none does). */
+static float hull_face_distance(const sdft_field *f, sdft_vec3 p)
+{
+    float best = INFINITY;
+    for (size_t i = 0; i < f->hull_count; i++) {
+        const sdft_aabb b = f->hull[i];
+        const sdft_vec3 in = sdft_min_v(sdft_sub(p, b.lo), sdft_sub(b.hi, p));
+        const float depth = sdft_minf(in.x, sdft_minf(in.y, in.z));
+        if (depth >= -1e-5f)
+            best = sdft_minf(best, fabsf(depth));
+    }
+    return best;
+}
+
+/* With the hull, the render hints the field at each traced ray's entry
+ * into it: every hit pixel's ray has a hinted point on it, on a hull box's
+ * face, before its hit; and the image is the one rendered without hints. */
+static void test_render_hints_hull_entries(void **state)
+{
+    (void)state;
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    sdft_grid *g = bake(&sc->field, 128, 0, NULL);
+    const sdft_field gf = sdft_grid_field(g);
+    sdft_field hinted = gf, plain = gf;
+    hinted.prefetch = record_hint, plain.prefetch = NULL;
+    const float h = sdft_grid_voxel_size(g).x;
+    sdft_render_params rp = sdft_render_defaults();
+    rp.width = 96, rp.height = 54, rp.threads = 1;
+    rp.camera = sc->camera;
+    rp.shadows = 0;
+    sdft_image a, b;
+    char msg[256];
+    assert_int_equal(sdft_image_alloc(&a, rp.width, rp.height, NULL, 0), 0);
+    assert_int_equal(sdft_image_alloc(&b, rp.width, rp.height, NULL, 0), 0);
+    hint_count = 0;
+    assert_int_equal(sdft_render(&hinted, &rp, &a, NULL, msg, sizeof msg), 0);
+    assert_int_equal(sdft_render(&plain, &rp, &b, NULL, msg, sizeof msg), 0);
+    assert_true(hint_count > 0 && hint_count <= MOST_HINTS);
+    const int n = rp.width * rp.height;
+    assert_memory_equal(a.rgb, b.rgb, 3 * (size_t)n * sizeof *a.rgb);
+    assert_memory_equal(a.depth, b.depth, (size_t)n * sizeof *a.depth);
+    int hits = 0;
+    for (int i = 0; i < n; i++) {
+        if (a.status[i] != SDFT_HIT)
+            continue;
+        hits++;
+        const sdft_ray ray = sdft_camera_ray(&rp.camera, rp.width, rp.height, (float)(i % rp.width) + 0.5f,
+                                             (float)(i / rp.width) + 0.5f);
+        int found = 0;
+        for (int k = 0; k < hint_count && !found; k++) {
+            const sdft_vec3 q = sdft_sub(hints[k], ray.org);
+            const float t = sdft_dot(q, ray.dir);
+            found = sdft_length(sdft_cross(q, ray.dir)) <= 1e-4f * h && t <= a.depth[i] &&
+                    hull_face_distance(&gf, hints[k]) <= 1e-3f * h;
+        }
+        if (!found)
+            fail_msg("pixel %d: no hint at its ray's entry into the hull", i);
+    }
+    print_message("%d hints, %d hit pixels, each hinted at its entry\n", hint_count, hits);
+    assert_true(hits > n / 10);
+    assert_true(hint_count < 2 * n);
+    sdft_image_free(&a);
+    sdft_image_free(&b);
+    sdft_grid_free(g);
+}
+
 /* ---- round trips ------------------------------------------------------------------- */
 
 static void same_voxels(const sdft_grid *a, const sdft_grid *b)
@@ -1901,6 +1982,7 @@ int main(void)
         cmocka_unit_test(test_grid_render_matches_procedural),
         cmocka_unit_test(test_hull_holds_every_first_root),
         cmocka_unit_test(test_render_from_the_hull),
+        cmocka_unit_test(test_render_hints_hull_entries),
         cmocka_unit_test(test_streamed_load_matches_nanovdb_converter),
         cmocka_unit_test(test_round_trip_vdb),
         cmocka_unit_test(test_round_trip_nvdb),

@@ -88,9 +88,11 @@ typedef struct sdft_field {
      * directory's entry and the cell's voxel rows) and must not change any
      * result. For callers that evaluate many scattered points (a grid's
      * random band points: 1.26x a dense array's time with hints a few
-     * points ahead, 1.76x without; bench/sample_bench); the tracer does not
-     * hint, as a ray's next point mostly shares its last one's cache lines.
-     * NULL: no hint. */
+     * points ahead, 1.76x without; bench/sample_bench), and for a renderer
+     * that knows where rays will start: sdft_render hints each primary ray's
+     * entry into the hull a block of rays ahead. The tracer does not hint
+     * its steps, as a ray's next point mostly shares its last one's cache
+     * lines. NULL: no hint. */
     void (*prefetch)(const void *ctx, sdft_vec3 p);
     /* Optional: boxes (world units) whose union holds every place where a
      * ray that starts where the field is positive can first reach 0 (a

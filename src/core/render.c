@@ -26,7 +26,10 @@
  * the ray as traced, no evaluation), a ray that meets none being a miss
  * untraced. The hull holds every first root of a ray that starts where the
  * field is positive, so the picture is the same; the eye is checked
- * (eye_outside), and where it is inside the surface the cones serve. */
+ * (eye_outside), and where it is inside the surface the cones serve. Each
+ * ray's entry into the hull is its first evaluation, at memory no earlier
+ * ray of the tile touched: the field is told of it (sdft_field.prefetch) a
+ * block ahead, so that those loads overlap the block traced in between. */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -158,6 +161,39 @@ typedef struct frame {
     const hull_bins *bins; /* the field's hull boxes binned to tiles; NULL: not used */
 } frame;
 
+/* The unit directions of the primary rays through a tile's pixels, one
+ * array per axis, pixel (x, y) of the tile whose first pixel is (tx, ty)
+ * at (y - ty) * TILE + (x - tx): computed once per tile for the hull's
+ * slab tests, the traces and the sky. */
+typedef struct tile_dirs {
+    float d[3][TILE * TILE];
+} tile_dirs;
+
+/* The directions of the tile whose first pixel is (x0, y0) into td, all
+ * TILE x TILE of them (a tile at the image's edge has some that are never
+ * read): sdft_view_ray's, the same operations in the same order (so the
+ * same floats), as a loop the compiler vectorizes. */
+static void primary_dirs(const sdft_view *v, int x0, int y0, tile_dirs *td)
+{
+    const int x1 = x0 + TILE, y1 = y0 + TILE;
+    const float tl[3] = {v->top_left.x, v->top_left.y, v->top_left.z};
+    const float r[3] = {v->right_per_px.x, v->right_per_px.y, v->right_per_px.z};
+    const float dn[3] = {v->down_per_px.x, v->down_per_px.y, v->down_per_px.z};
+    for (int y = y0; y < y1; y++) {
+        const float py = (float)y + 0.5f;
+        float *restrict dx = td->d[0] + (y - y0) * TILE, *restrict dy = td->d[1] + (y - y0) * TILE,
+                        *restrict dz = td->d[2] + (y - y0) * TILE;
+        for (int i = 0; i < x1 - x0; i++) {
+            const float px = (float)(x0 + i) + 0.5f;
+            const float ax = tl[0] + r[0] * px + dn[0] * py, ay = tl[1] + r[1] * px + dn[1] * py,
+                        az = tl[2] + r[2] * px + dn[2] * py;
+            const float len = sqrtf(ax * ax + ay * ay + az * az);
+            const float inv = 1.0f / len, s = len > 0.0f ? inv : 1.0f; /* sdft_normalize; no branch */
+            dx[i] = ax * s, dy[i] = ay * s, dz[i] = az * s;
+        }
+    }
+}
+
 /* A pixel's colour and normal given its primary ray's hit, lit as if the
  * light were visible; 1 when that takes a shadow ray, put in *shadow (its
  * hit then goes to shadow_pixel). */
@@ -269,7 +305,8 @@ static float block_start(const frame *fr, sdft_scratch *s, int x0, int y0, int x
  * as one stream (interleaved), then each pixel shaded, then their shadow
  * rays traced as one stream. */
 static void render_block(const frame *fr, sdft_scratch *s, int x0, int y0, int x1, int y1, float tnear,
-                         float (*span)[TILE * TILE], int tx, int ty, sdft_image *img, tile_stats *ts)
+                         const tile_dirs *td, float (*span)[TILE * TILE], int tx, int ty, sdft_image *img,
+                         tile_stats *ts)
 {
     enum { MOST = BLOCK * BLOCK };
     sdft_ray rays[MOST], shadows[MOST];
@@ -279,12 +316,11 @@ static void render_block(const frame *fr, sdft_scratch *s, int x0, int y0, int x
     size_t n = 0, m = 0;
     for (int y = y0; y < y1; y++)
         for (int x = x0; x < x1; x++, n++) {
-            rays[n] = sdft_view_ray(&fr->view, (float)x + 0.5f, (float)y + 0.5f);
-            rays[n].tnear = tnear;
-            if (span) {
-                const int i = (y - ty) * TILE + (x - tx);
-                rays[n].tnear = span[0][i], rays[n].tfar = span[1][i];
-            }
+            const int i = (y - ty) * TILE + (x - tx);
+            rays[n] = (sdft_ray){.org = fr->view.from,
+                                 .tnear = span ? span[0][i] : tnear,
+                                 .dir = sdft_v3(td->d[0][i], td->d[1][i], td->d[2][i]),
+                                 .tfar = span ? span[1][i] : INFINITY};
         }
     if (n == 0) /* never, as blocks are not empty; saying so spares GCC a false "may be uninitialized" */
         return;
@@ -330,21 +366,27 @@ static int rect_sees_box(const sdft_view *v, float x0, float y0, float x1, float
     return 1;
 }
 
-/* Pixels [x0, x1) x [y0, y1) whose rays all miss the field's box: what a
- * trace gives them, without one (sky, or black for depth alone). */
-static void miss_rect(const frame *fr, int x0, int y0, int x1, int y1, sdft_image *img)
+/* Pixels [x0, x1) x [y0, y1) of the tile whose first pixel is (tx, ty),
+ * directions td, whose rays all miss the field's box: what a trace gives
+ * them, without one (sky, or black for depth alone). */
+static void miss_rect(const frame *fr, const tile_dirs *td, int tx, int ty, int x0, int y0, int x1, int y1,
+                      sdft_image *img)
 {
     const int w = fr->rp->width;
     const size_t n = (size_t)(x1 - x0);
+    const float on = fr->rp->depth_only ? 0.0f : 1.0f;
+    const float h[3] = {on * SKY_HORIZON.x, on * SKY_HORIZON.y, on * SKY_HORIZON.z};
+    const float z[3] = {on * SKY_ZENITH.x, on * SKY_ZENITH.y, on * SKY_ZENITH.z};
     for (int y = y0; y < y1; y++) {
         const size_t row = (size_t)y * (size_t)w + (size_t)x0;
-        for (int x = x0; x < x1; x++) {
-            const size_t i = row + (size_t)(x - x0);
-            const sdft_vec3 rgb = fr->rp->depth_only
-                                      ? sdft_v3(0, 0, 0)
-                                      : sky(sdft_view_ray(&fr->view, (float)x + 0.5f, (float)y + 0.5f).dir);
-            img->rgb[3 * i] = rgb.x, img->rgb[3 * i + 1] = rgb.y, img->rgb[3 * i + 2] = rgb.z;
-            img->depth[i] = INFINITY;
+        const float *restrict dy = td->d[1] + (y - ty) * TILE + (x0 - tx);
+        float *restrict rgb = img->rgb + 3 * row, *restrict depth = img->depth + row;
+        for (size_t i = 0; i < n; i++) { /* sky(), or 0 for depth alone */
+            const float k = sdft_minf(sdft_maxf(dy[i], 0.0f), 1.0f);
+            rgb[3 * i] = h[0] * (1.0f - k) + z[0] * k;
+            rgb[3 * i + 1] = h[1] * (1.0f - k) + z[1] * k;
+            rgb[3 * i + 2] = h[2] * (1.0f - k) + z[2] * k;
+            depth[i] = INFINITY;
         }
         /* The planes that are zero on a miss, a row at a time. */
         memset(img->normal + 3 * row, 0, 3 * n * sizeof *img->normal);
@@ -359,20 +401,18 @@ static void miss_rect(const frame *fr, int x0, int y0, int x1, int y1, sdft_imag
  * first box of tile `tile`'s bin that pixel i's ray meets and the exit from
  * the last, or both INFINITY when it meets none. Slab tests against the
  * pixel's own ray, as traced. */
-static void hull_spans(const frame *fr, int tile, int x0, int y0, int x1, int y1, float (*span)[TILE * TILE])
+static void hull_spans(const frame *fr, int tile, const tile_dirs *td, int x0, int y0, int x1, int y1,
+                       float (*span)[TILE * TILE])
 {
     const hull_bins *hb = fr->bins;
     const sdft_aabb *hull = fr->f->hull;
     float inv[3][TILE * TILE];
     for (int i = 0; i < TILE * TILE; i++)
         span[0][i] = INFINITY, span[1][i] = -INFINITY;
-    for (int y = y0; y < y1; y++)
-        for (int x = x0; x < x1; x++) {
-            const int i = (y - y0) * TILE + (x - x0);
-            const sdft_vec3 d = sdft_view_ray(&fr->view, (float)x + 0.5f, (float)y + 0.5f).dir;
-            const float dd[3] = {d.x, d.y, d.z};
-            for (int k = 0; k < 3; k++) /* a zero component: a huge slope of its sign, no 0 * inf */
-                inv[k][i] = 1.0f / (fabsf(dd[k]) > 1e-30f ? dd[k] : copysignf(1e-30f, dd[k]));
+    for (int k = 0; k < 3; k++) /* a zero component: a huge slope of its sign, no 0 * inf */
+        for (int i = 0; i < TILE * TILE; i++) {
+            const float d = td->d[k][i];
+            inv[k][i] = 1.0f / (fabsf(d) > 1e-30f ? d : copysignf(1e-30f, d));
         }
     const sdft_vec3 o = fr->rp->camera.from;
     for (uint32_t j = hb->first[tile]; j < hb->first[tile + 1]; j++) {
@@ -386,15 +426,17 @@ static void hull_spans(const frame *fr, int tile, int x0, int y0, int x1, int y1
             const int row = (y - y0) * TILE + (rx0 - x0); /* pixel rx0's index in the tile */
             float *restrict in = span[0] + row, *restrict out = span[1] + row;
             const float *restrict ix = inv[0] + row, *restrict iy = inv[1] + row, *restrict iz = inv[2] + row;
-            for (int x = 0; x <= rx1 - rx0; x++) { /* branch-free, so that it vectorizes */
+            for (int x = 0; x <= rx1 - rx0; x++) { /* selects, not branches, so that it vectorizes */
                 const float ax = lo[0] * ix[x], bx = hi[0] * ix[x], ay = lo[1] * iy[x], by = hi[1] * iy[x];
                 const float az = lo[2] * iz[x], bz = hi[2] * iz[x];
                 const float a =
                     sdft_maxf(sdft_maxf(sdft_minf(ax, bx), sdft_minf(ay, by)), sdft_maxf(sdft_minf(az, bz), 0.0f));
                 const float c = sdft_minf(sdft_minf(sdft_maxf(ax, bx), sdft_maxf(ay, by)), sdft_maxf(az, bz));
-                const int meets = a <= c;
-                in[x] = meets ? sdft_minf(in[x], a) : in[x];
-                out[x] = meets ? sdft_maxf(out[x], c) : out[x];
+                /* a <= c: the ray meets the box; one it misses widens nothing. (Two
+                 * selects first, then min and max: GCC 12 vectorizes this form.) */
+                const float enter = a <= c ? a : INFINITY, leave = a <= c ? c : -INFINITY;
+                in[x] = sdft_minf(in[x], enter);
+                out[x] = sdft_maxf(out[x], leave);
             }
         }
     }
@@ -414,6 +456,23 @@ static int block_meets_hull(float (*span)[TILE * TILE], int x0, int y0, int x1, 
     return meets;
 }
 
+/* Hints the field (sdft_field.prefetch) at where each ray of the tile's
+ * pixels [x0, x1) x [y0, y1) (tile coordinates) enters the hull: its first
+ * evaluation, a point no earlier ray of the tile is near, so its memory is
+ * mostly far away. Given a block ahead of its trace, the loads overlap the
+ * block traced in between. */
+static void prefetch_entries(const frame *fr, const tile_dirs *td, float (*span)[TILE * TILE], int x0, int y0, int x1,
+                             int y1)
+{
+    const sdft_vec3 o = fr->view.from;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            const int i = y * TILE + x;
+            if (span[0][i] < INFINITY)
+                fr->f->prefetch(fr->f->ctx, sdft_madd(o, sdft_v3(td->d[0][i], td->d[1][i], td->d[2][i]), span[0][i]));
+        }
+}
+
 static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *img, tile_stats *ts)
 {
     const sdft_render_params *rp = fr->rp;
@@ -422,10 +481,12 @@ static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *
     int x1 = x0 + TILE < rp->width ? x0 + TILE : rp->width;
     int y1 = y0 + TILE < rp->height ? y0 + TILE : rp->height;
     *ts = (tile_stats){0};
+    tile_dirs td;
+    primary_dirs(&fr->view, x0, y0, &td);
     /* A tile whose rays all pass the field's box by: nothing to trace. */
     if (!rect_sees_box(&fr->view, (float)x0, (float)y0, (float)x1, (float)y1, fr->f->bounds)) {
         ts->rays = (uint64_t)(x1 - x0) * (uint64_t)(y1 - y0);
-        miss_rect(fr, x0, y0, x1, y1, img);
+        miss_rect(fr, &td, x0, y0, x0, y0, x1, y1, img);
         return;
     }
     /* With the hull, each ray on its own span of it; else the tile's
@@ -433,19 +494,28 @@ static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *
      * from there (all start at 0 without cones). */
     float span[2][TILE * TILE], (*spans)[TILE * TILE] = NULL, t_tile = 0.0f;
     if (fr->bins)
-        hull_spans(fr, tile, x0, y0, x1, y1, span), spans = span;
+        hull_spans(fr, tile, &td, x0, y0, x1, y1, span), spans = span;
     else
         t_tile = block_start(fr, s, x0, y0, x1, y1, fr->cone_tnear, ts);
+    const int hint = spans && fr->f->prefetch;
+    if (hint)
+        prefetch_entries(fr, &td, spans, 0, 0, BLOCK < x1 - x0 ? BLOCK : x1 - x0, BLOCK < y1 - y0 ? BLOCK : y1 - y0);
     for (int by = y0; by < y1; by += BLOCK)
         for (int bx = x0; bx < x1; bx += BLOCK) {
             const int bx1 = bx + BLOCK < x1 ? bx + BLOCK : x1, by1 = by + BLOCK < y1 ? by + BLOCK : y1;
+            if (hint) { /* the next block's */
+                const int nx = bx1 < x1 ? bx1 : x0, ny = bx1 < x1 ? by : by1;
+                if (ny < y1)
+                    prefetch_entries(fr, &td, spans, nx - x0, ny - y0, (nx + BLOCK < x1 ? nx + BLOCK : x1) - x0,
+                                     (ny + BLOCK < y1 ? ny + BLOCK : y1) - y0);
+            }
             if (spans && !block_meets_hull(spans, bx - x0, by - y0, bx1 - x0, by1 - y0)) {
                 ts->rays += (uint64_t)(bx1 - bx) * (uint64_t)(by1 - by);
-                miss_rect(fr, bx, by, bx1, by1, img);
+                miss_rect(fr, &td, x0, y0, bx, by, bx1, by1, img);
                 continue;
             }
             const float t_block = spans ? 0.0f : block_start(fr, s, bx, by, bx1, by1, t_tile, ts);
-            render_block(fr, s, bx, by, bx1, by1, t_block, spans, x0, y0, img, ts);
+            render_block(fr, s, bx, by, bx1, by1, t_block, &td, spans, x0, y0, img, ts);
         }
 }
 
