@@ -29,7 +29,9 @@
  * (eye_outside), and where it is inside the surface the cones serve. Each
  * ray's entry into the hull is its first evaluation, at memory no earlier
  * ray of the tile touched: the field is told of it (sdft_field.prefetch) a
- * block ahead, so that those loads overlap the block traced in between. */
+ * block ahead, so that those loads overlap the block traced in between;
+ * and the tile's pixels in the image are fetched for writing when the tile
+ * begins, so that its stores do not wait on memory one by one. */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -473,6 +475,29 @@ static void prefetch_entries(const frame *fr, const tile_dirs *td, float (*span)
         }
 }
 
+/* Starts fetching, for writing, the cache lines of pixels [x0, x1) x [y0,
+ * y1) in each plane of img: a tile's stores then find their lines there
+ * rather than each waiting for its own. */
+static void prefetch_pixels(const sdft_image *img, int x0, int y0, int x1, int y1)
+{
+    const size_t w = (size_t)img->width, n = (size_t)(x1 - x0);
+    for (int y = y0; y < y1; y++) {
+        const size_t i = (size_t)y * w + (size_t)x0;
+        const char *const from[] = {(const char *)(img->rgb + 3 * i),   (const char *)(img->normal + 3 * i),
+                                    (const char *)(img->depth + i),     (const char *)(img->steps + i),
+                                    (const char *)(img->fallbacks + i), (const char *)(img->primary_steps + i),
+                                    (const char *)(img->status + i)};
+        const size_t bytes[] = {3 * n * sizeof *img->rgb, 3 * n * sizeof *img->normal, n * sizeof *img->depth,
+                                n * sizeof *img->steps,   n * sizeof *img->fallbacks,  n * sizeof *img->primary_steps,
+                                n * sizeof *img->status};
+        for (int p = 0; p < 7; p++) {
+            const uintptr_t first = (uintptr_t)from[p] & ~(uintptr_t)63, last = (uintptr_t)from[p] + bytes[p] - 1;
+            for (uintptr_t a = first; a <= last; a += 64)
+                __builtin_prefetch((const void *)a, 1);
+        }
+    }
+}
+
 static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *img, tile_stats *ts)
 {
     const sdft_render_params *rp = fr->rp;
@@ -481,6 +506,7 @@ static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *
     int x1 = x0 + TILE < rp->width ? x0 + TILE : rp->width;
     int y1 = y0 + TILE < rp->height ? y0 + TILE : rp->height;
     *ts = (tile_stats){0};
+    prefetch_pixels(img, x0, y0, x1, y1);
     tile_dirs td;
     primary_dirs(&fr->view, x0, y0, &td);
     /* A tile whose rays all pass the field's box by: nothing to trace. */
