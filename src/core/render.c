@@ -223,7 +223,7 @@ static int shade_pixel(const frame *fr, sdft_scratch *s, sdft_ray ray, sdft_hit 
         return 0;
     sdft_vec3 p = sdft_madd(ray.org, ray.dir, h.t);
     sdft_vec3 n = sdft_field_normal(f, s, p);
-    if (!sdft_isfinite3(n) || !(sdft_length(n) > 0.5f))
+    if (!sdft_isfinite3(n) || !(sdft_dot(n, n) > 0.25f)) /* not finite, or no unit vector */
         n = sdft_scale(ray.dir, -1.0f);
     out->normal = n;
 
@@ -509,8 +509,10 @@ static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *
     prefetch_pixels(img, x0, y0, x1, y1);
     tile_dirs td;
     primary_dirs(&fr->view, x0, y0, &td);
-    /* A tile whose rays all pass the field's box by: nothing to trace. */
-    if (!rect_sees_box(&fr->view, (float)x0, (float)y0, (float)x1, (float)y1, fr->f->bounds)) {
+    /* A tile whose rays all pass the field's box by, or that no hull box
+     * may cover: nothing to trace. */
+    if ((fr->bins && fr->bins->first[tile] == fr->bins->first[tile + 1]) ||
+        !rect_sees_box(&fr->view, (float)x0, (float)y0, (float)x1, (float)y1, fr->f->bounds)) {
         ts->rays = (uint64_t)(x1 - x0) * (uint64_t)(y1 - y0);
         miss_rect(fr, &td, x0, y0, x0, y0, x1, y1, img);
         return;

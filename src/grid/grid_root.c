@@ -173,11 +173,12 @@ static inline __attribute__((always_inline)) int walk(const sdft_grid *g, pnanov
             *t_out = t0;
             return 0;
         }
-        cell[k] = (int32_t)floor(x0[k]);
+        cell[k] = (int32_t)x0[k] - (x0[k] < (double)(int32_t)x0[k]); /* floor, |x0| < 1e9 */
         step[k] = xd[k] > 0.0 ? 1 : -1;
         const double boundary = xd[k] > 0.0 ? (double)cell[k] + 1.0 : (double)cell[k];
-        t_next[k] = xd[k] != 0.0 ? (double)t0 + (boundary - x0[k]) / xd[k] : INFINITY;
-        t_delta[k] = xd[k] != 0.0 ? 1.0 / fabs(xd[k]) : INFINITY;
+        const double per_index = 1.0 / xd[k]; /* one division per axis */
+        t_next[k] = xd[k] != 0.0 ? (double)t0 + (boundary - x0[k]) * per_index : INFINITY;
+        t_delta[k] = xd[k] != 0.0 ? fabs(per_index) : INFINITY;
     }
     double ta = t0;
     for (int n = 0; n < MAX_CELLS; n++) {
