@@ -195,6 +195,53 @@ static void test_specialised_fields_agree(void **state)
     sdft_grid_free(g);
 }
 
+/* A writer that inverts a diagonal map as a general matrix can leave
+ * rounding noise off the inverse's diagonal: the loader drops noise that
+ * small (the grid keeps the diagonal specialisation and samples as the clean
+ * grid does, bit for bit), but keeps an entry that is not noise. */
+static void test_inverse_map_noise_is_dropped(void **state)
+{
+    (void)state;
+    sdft_field f = spheres_field();
+    sdft_grid *clean = bake(&f, 40, 0, NULL);
+    assert_true(clean->diagonal);
+    size_t size;
+    const void *data = sdft_grid_data(clean, &size);
+    void *copy = malloc(size);
+    assert_non_null(copy);
+    const double scale = (double)clean->w2i[0];
+    for (int noisy = 0; noisy < 2; noisy++) {
+        memcpy(copy, data, size);
+        /* the inverse map's entry (2, 1), in double (what the loader reads) and in float */
+        const double off = noisy ? 1e-13 * scale : 1e-3 * scale;
+        unsigned char *map = (unsigned char *)copy + PNANOVDB_GRID_OFF_MAP;
+        memcpy(map + PNANOVDB_MAP_OFF_INVMATD + 8 * 7, &off, sizeof off);
+        const float offf = (float)off;
+        memcpy(map + PNANOVDB_MAP_OFF_INVMATF + 4 * 7, &offf, sizeof offf);
+        sdft_grid *g;
+        char msg[256];
+        assert_int_equal(sdft_grid_from_buffer(copy, size, NULL, &g, msg, sizeof msg), 0);
+        assert_int_equal(g->diagonal, noisy);
+        assert_true(noisy ? g->w2i[7] == 0.0f : g->w2i[7] != 0.0f);
+        if (noisy) {
+            sdft_scratch s, sc;
+            const sdft_field gf = sdft_grid_field(g), cf = sdft_grid_field(clean);
+            assert_ptr_equal(gf.distance, cf.distance);
+            sdft_scratch_init(&gf, &s);
+            sdft_scratch_init(&cf, &sc);
+            tu_rng r = tu_rng_seed(17);
+            for (int i = 0; i < 2000; i++) {
+                const sdft_vec3 p =
+                    sdft_v3(tu_uniform(&r, -1.2f, 1.2f), tu_uniform(&r, -1.2f, 1.2f), tu_uniform(&r, -1.2f, 1.2f));
+                assert_true(gf.distance(gf.ctx, &s, p) == cf.distance(cf.ctx, &sc, p));
+            }
+        }
+        sdft_grid_free(g);
+    }
+    free(copy);
+    sdft_grid_free(clean);
+}
+
 /* The field read through the leaf directory is the accessor's, bit for
  * bit: at random points of box b, the values (unbounded and with the tree
  * bound) and normals of g equal those of g with its directory taken away.
@@ -1966,6 +2013,7 @@ int main(void)
         cmocka_unit_test(test_linear_field_is_exact),
         cmocka_unit_test(test_trilinear_matches_brute_force),
         cmocka_unit_test(test_specialised_fields_agree),
+        cmocka_unit_test(test_inverse_map_noise_is_dropped),
         cmocka_unit_test(test_leaf_directory_matches_accessor),
         cmocka_unit_test(test_quantized_grids),
         cmocka_unit_test(test_tree_bound_never_exceeds_distance),
