@@ -427,6 +427,34 @@ static void test_defaults_and_the_papers_counting(void **state)
     assert_true(p.trace.method == sdft_trace_defaults().method && p.width == 1280);
 }
 
+/* An image of `width` x p.height, every plane first filled with 0xff
+ * bytes (NaNs, huge counts), rendered by a camera that sees nothing of f:
+ * every plane holds a miss's values. */
+static void culled_planes_written(const sdft_field *f, sdft_render_params p, int width)
+{
+    p.width = width;
+    sdft_image a;
+    sdft_render_stats sa;
+    assert_int_equal(sdft_image_alloc(&a, p.width, p.height, NULL, 0), 0);
+    const size_t n = (size_t)p.width * p.height;
+    memset(a.steps, 0xff, n * sizeof *a.steps);
+    memset(a.primary_steps, 0xff, n * sizeof *a.primary_steps);
+    memset(a.fallbacks, 0xff, n * sizeof *a.fallbacks);
+    memset(a.rgb, 0xff, 3 * n * sizeof *a.rgb);
+    memset(a.normal, 0xff, 3 * n * sizeof *a.normal);
+    memset(a.depth, 0xff, n * sizeof *a.depth);
+    memset(a.status, 0xff, n * sizeof *a.status);
+    assert_int_equal(sdft_render(f, &p, &a, &sa, NULL, 0), 0);
+    assert_true(sa.hits == 0 && sa.steps == 0 && sa.cone_steps == 0 && sa.rays == n);
+    for (size_t i = 0; i < n; i++) {
+        assert_true(a.status[i] == SDFT_MISS && isinf(a.depth[i]) && a.depth[i] > 0.0f);
+        assert_true(a.rgb[3 * i] > 0.25f && a.rgb[3 * i + 1] > 0.45f && a.rgb[3 * i + 2] > 0.8f); /* sky */
+        assert_true(a.normal[3 * i] == 0.0f && a.normal[3 * i + 1] == 0.0f && a.normal[3 * i + 2] == 0.0f);
+        assert_true(a.steps[i] == 0 && a.primary_steps[i] == 0 && a.fallbacks[i] == 0);
+    }
+    sdft_image_free(&a);
+}
+
 /* Tiles whose rays all pass the field's box by are filled without a trace
  * (render.c): the picture is the one tracing every ray gives. A small
  * sphere off to one side of a wide view, with its own box, against the
@@ -464,18 +492,13 @@ static void test_culled_tiles_match_traced_ones(void **state)
     assert_true(sa.steps + sa.cone_steps < sb.steps + sb.cone_steps);
     p.camera.at = sdft_add(p.camera.from, sdft_sub(p.camera.from, p.camera.at)); /* turned around */
     /* Every plane of a culled tile is written, the counts too: an image
-     * reused from an earlier frame keeps nothing of it. */
-    memset(a.steps, 0xff, n * sizeof *a.steps);
-    memset(a.primary_steps, 0xff, n * sizeof *a.primary_steps);
-    memset(a.fallbacks, 0xff, n * sizeof *a.fallbacks);
-    assert_int_equal(sdft_render(&small, &p, &a, &sa, NULL, 0), 0);
-    assert_true(sa.hits == 0 && sa.steps == 0 && sa.cone_steps == 0 && sa.rays == n);
-    for (size_t i = 0; i < n; i++) {
-        assert_true(a.status[i] == SDFT_MISS && isinf(a.depth[i]) && a.rgb[3 * i + 2] > 0.5f);
-        assert_true(a.steps[i] == 0 && a.primary_steps[i] == 0 && a.fallbacks[i] == 0);
-    }
+     * reused from an earlier frame keeps nothing of it. At 160 pixels across
+     * each tile's rows are written whole (render.c: non-temporal stores); at
+     * 150 the last tile's rows of 6 are written word by word. */
     sdft_image_free(&a);
     sdft_image_free(&b);
+    for (int wide_image = 1; wide_image >= 0; wide_image--)
+        culled_planes_written(&small, p, wide_image ? 160 : 150);
 }
 
 static void test_bad_params(void **state)

@@ -30,13 +30,19 @@
  * ray's entry into the hull is its first evaluation, at memory no earlier
  * ray of the tile touched: the field is told of it (sdft_field.prefetch) a
  * block ahead, so that those loads overlap the block traced in between;
- * and the tile's pixels in the image are fetched for writing when the tile
- * begins, so that its stores do not wait on memory one by one. */
+ * a traced tile's pixels in the image are fetched for writing when it
+ * begins, so that its stores do not wait on memory one by one; and a miss's
+ * planes, written once and not read while the frame renders, bypass the
+ * cache (stream_words), so that memory is not first read to be
+ * overwritten. */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "fail.h"
 #include "sdftrace/render.h"
@@ -368,6 +374,42 @@ static int rect_sees_box(const sdft_view *v, float x0, float y0, float x1, float
     return 1;
 }
 
+/* Writes n 32-bit words from src to dst, or n copies of *src when `fill`,
+ * bypassing the cache where it can (SSE2's non-temporal stores, dst
+ * 16-byte aligned, n a multiple of 4): a miss's planes are written once and
+ * not read again while the frame renders, and a plain store would first
+ * read each line from memory. The caller fences (stream_fence) before
+ * another thread may read them. */
+static void stream_words(void *dst, const void *src, size_t n, int fill)
+{
+    uint32_t w;
+    memcpy(&w, src, sizeof w);
+#if defined(__SSE2__)
+    if (((uintptr_t)dst & 15u) == 0 && (n & 3u) == 0) {
+        __m128i *d = dst;
+        const __m128i copies = _mm_set1_epi32((int32_t)w);
+        for (size_t i = 0; i < n / 4; i++)
+            _mm_stream_si128(d + i, fill ? copies : _mm_loadu_si128((const __m128i *)src + i));
+        return;
+    }
+#endif
+    if (!fill) {
+        memcpy(dst, src, 4 * n);
+        return;
+    }
+    unsigned char *d = dst;
+    for (size_t i = 0; i < n; i++)
+        memcpy(d + 4 * i, &w, sizeof w);
+}
+
+/* Orders this thread's non-temporal stores before what follows. */
+static void stream_fence(void)
+{
+#if defined(__SSE2__)
+    _mm_sfence();
+#endif
+}
+
 /* Pixels [x0, x1) x [y0, y1) of the tile whose first pixel is (tx, ty),
  * directions td, whose rays all miss the field's box: what a trace gives
  * them, without one (sky, or black for depth alone). */
@@ -379,22 +421,23 @@ static void miss_rect(const frame *fr, const tile_dirs *td, int tx, int ty, int 
     const float on = fr->rp->depth_only ? 0.0f : 1.0f;
     const float h[3] = {on * SKY_HORIZON.x, on * SKY_HORIZON.y, on * SKY_HORIZON.z};
     const float z[3] = {on * SKY_ZENITH.x, on * SKY_ZENITH.y, on * SKY_ZENITH.z};
+    const float inf = INFINITY, zero = 0.0f;
     for (int y = y0; y < y1; y++) {
         const size_t row = (size_t)y * (size_t)w + (size_t)x0;
         const float *restrict dy = td->d[1] + (y - ty) * TILE + (x0 - tx);
-        float *restrict rgb = img->rgb + 3 * row, *restrict depth = img->depth + row;
+        float rgb[3 * TILE];
         for (size_t i = 0; i < n; i++) { /* sky(), or 0 for depth alone */
             const float k = sdft_minf(sdft_maxf(dy[i], 0.0f), 1.0f);
             rgb[3 * i] = h[0] * (1.0f - k) + z[0] * k;
             rgb[3 * i + 1] = h[1] * (1.0f - k) + z[1] * k;
             rgb[3 * i + 2] = h[2] * (1.0f - k) + z[2] * k;
-            depth[i] = INFINITY;
         }
-        /* The planes that are zero on a miss, a row at a time. */
-        memset(img->normal + 3 * row, 0, 3 * n * sizeof *img->normal);
-        memset(img->steps + row, 0, n * sizeof *img->steps);
-        memset(img->fallbacks + row, 0, n * sizeof *img->fallbacks);
-        memset(img->primary_steps + row, 0, n * sizeof *img->primary_steps);
+        stream_words(img->rgb + 3 * row, rgb, 3 * n, 0);
+        stream_words(img->depth + row, &inf, n, 1);
+        stream_words(img->normal + 3 * row, &zero, 3 * n, 1);
+        stream_words(img->steps + row, &zero, n, 1);
+        stream_words(img->fallbacks + row, &zero, n, 1);
+        stream_words(img->primary_steps + row, &zero, n, 1);
         memset(img->status + row, SDFT_MISS, n * sizeof *img->status);
     }
 }
@@ -506,7 +549,6 @@ static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *
     int x1 = x0 + TILE < rp->width ? x0 + TILE : rp->width;
     int y1 = y0 + TILE < rp->height ? y0 + TILE : rp->height;
     *ts = (tile_stats){0};
-    prefetch_pixels(img, x0, y0, x1, y1);
     tile_dirs td;
     primary_dirs(&fr->view, x0, y0, &td);
     /* A tile whose rays all pass the field's box by, or that no hull box
@@ -517,6 +559,7 @@ static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *
         miss_rect(fr, &td, x0, y0, x0, y0, x1, y1, img);
         return;
     }
+    prefetch_pixels(img, x0, y0, x1, y1);
     /* With the hull, each ray on its own span of it; else the tile's
      * bundle, then each BLOCK x BLOCK bundle from there, then each ray
      * from there (all start at 0 without cones). */
@@ -720,6 +763,7 @@ sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sd
             render_tile(&fr, &scratch, tile, img, &ts);
             per_tile[tile] = ts;
         }
+        stream_fence();
     }
     double t1 = omp_get_wtime();
     free(bins.first), free(bins.box), free(bins.rect);
