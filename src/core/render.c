@@ -118,9 +118,13 @@ void sdft_image_free(sdft_image *img)
     memset(img, 0, sizeof *img);
 }
 
-static sdft_vec3 sky(sdft_vec3 dir)
+/* What a ray that hits nothing shows: the sky at its direction's height
+ * `up` (the unit direction's y), or black for depth alone. */
+static sdft_vec3 miss_colour(const sdft_render_params *rp, float up)
 {
-    float k = sdft_minf(sdft_maxf(dir.y, 0.0f), 1.0f);
+    if (rp->depth_only)
+        return sdft_v3(0, 0, 0);
+    float k = sdft_minf(sdft_maxf(up, 0.0f), 1.0f);
     return sdft_add(sdft_scale(SKY_HORIZON, 1.0f - k), sdft_scale(SKY_ZENITH, k));
 }
 
@@ -221,7 +225,7 @@ static int shade_pixel(const frame *fr, sdft_scratch *s, sdft_ray ray, sdft_hit 
      * criterion, whose best candidate is meant to be used (Keinert §3.2). */
     int surface = h.status == SDFT_HIT || (h.status == SDFT_NOT_CONVERGED && tp->pixel_radius > 0.0f);
     if (!surface) {
-        out->rgb = rp->depth_only ? sdft_v3(0, 0, 0) : sky(ray.dir);
+        out->rgb = miss_colour(rp, ray.dir.y);
         return 0;
     }
     out->depth = h.t;
@@ -418,19 +422,14 @@ static void miss_rect(const frame *fr, const tile_dirs *td, int tx, int ty, int 
 {
     const int w = fr->rp->width;
     const size_t n = (size_t)(x1 - x0);
-    const float on = fr->rp->depth_only ? 0.0f : 1.0f;
-    const float h[3] = {on * SKY_HORIZON.x, on * SKY_HORIZON.y, on * SKY_HORIZON.z};
-    const float z[3] = {on * SKY_ZENITH.x, on * SKY_ZENITH.y, on * SKY_ZENITH.z};
     const float inf = INFINITY, zero = 0.0f;
     for (int y = y0; y < y1; y++) {
         const size_t row = (size_t)y * (size_t)w + (size_t)x0;
         const float *restrict dy = td->d[1] + (y - ty) * TILE + (x0 - tx);
         float rgb[3 * TILE];
-        for (size_t i = 0; i < n; i++) { /* sky(), or 0 for depth alone */
-            const float k = sdft_minf(sdft_maxf(dy[i], 0.0f), 1.0f);
-            rgb[3 * i] = h[0] * (1.0f - k) + z[0] * k;
-            rgb[3 * i + 1] = h[1] * (1.0f - k) + z[1] * k;
-            rgb[3 * i + 2] = h[2] * (1.0f - k) + z[2] * k;
+        for (size_t i = 0; i < n; i++) {
+            const sdft_vec3 c = miss_colour(fr->rp, dy[i]);
+            rgb[3 * i] = c.x, rgb[3 * i + 1] = c.y, rgb[3 * i + 2] = c.z;
         }
         stream_words(img->rgb + 3 * row, rgb, 3 * n, 0);
         stream_words(img->depth + row, &inf, n, 1);
