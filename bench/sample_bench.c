@@ -7,11 +7,11 @@
  *   band  random points in random leaves, kept where they lie in the band.
  * Each is timed twice: `indep` (the points are independent, so loads
  * overlap: throughput) and `chained` (each point waits for the value before
- * it, as one ray's steps do: latency). `sdftrace-stream` is the field
- * evaluating independent points with each point's memory hinted
- * (sdft_field.prefetch) a few points ahead, as a caller with scattered
- * points would (the tracer does not hint: along rays it cost more than it
- * saved). Samplers are interleaved, each timed REPEAT times (default 7),
+ * it, as one ray's steps do: latency). `sdftrace-batch` is the field's
+ * batch call (sdft_field_distances), which hints each point's memory
+ * (sdft_field.prefetch) a few points ahead, the way to evaluate many
+ * scattered points (the tracer does not hint its steps: along rays it
+ * cost more than it saved). Samplers are interleaved, each timed REPEAT times (default 7),
  * the median reported.
  *
  * usage: sample_bench GRID.vdb|GRID.nvdb [POINTS]   (default 2000000) */
@@ -173,24 +173,27 @@ static double run_field(const void *ctx, const float *xyz, size_t n, int chained
     return sum;
 }
 
-/* sdftrace's field with hints: the field's prefetch hint for a point
- * STREAM_AHEAD points before its evaluation. A chain has nothing to hint
- * ahead: it runs as run_field. */
-enum { STREAM_AHEAD = 16 };
-static double run_stream(const void *ctx, const float *xyz, size_t n, int chained)
+/* sdftrace's field through its batch call (sdft_field_distances: each
+ * point's memory hinted a few points ahead), a block of points at a time.
+ * A chain has nothing to hint ahead: it runs as run_field. */
+enum { BATCH = 4096 };
+_Static_assert(sizeof(sdft_vec3) == 3 * sizeof(float), "points are packed x y z");
+static double run_batch(const void *ctx, const float *xyz, size_t n, int chained)
 {
     const sdft_field *f = ctx;
-    if (chained || !f->prefetch)
+    if (chained)
         return run_field(ctx, xyz, n, chained);
     sdft_scratch s;
     sdft_scratch_init(f, &s);
+    /* xyz holds n sdft_vec3 (three floats, no padding), x y z each. */
+    const sdft_vec3 *p = (const sdft_vec3 *)(const void *)xyz;
+    float d[BATCH];
     double sum = 0.0;
-    for (size_t i = 0; i < n; i++) {
-        if (i + STREAM_AHEAD < n) {
-            const float *a = xyz + 3 * (i + STREAM_AHEAD);
-            f->prefetch(f->ctx, sdft_v3(a[0], a[1], a[2]));
-        }
-        sum += f->distance(f->ctx, &s, sdft_v3(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]));
+    for (size_t i = 0; i < n; i += BATCH) {
+        const size_t m = n - i < BATCH ? n - i : BATCH;
+        sdft_field_distances(f, &s, p + i, m, d);
+        for (size_t k = 0; k < m; k++)
+            sum += d[k];
     }
     return sum;
 }
@@ -405,7 +408,7 @@ int main(int argc, char **argv)
     const sampler s[] = {
         {"dense-array", run_dense, &dense, 0},      {"nanovdb-accessor", run_nano, g->words, 1},
         {"sdftrace-sampler", run_field, &plain, 1}, {"sdftrace-field", run_field, &far, 1},
-        {"sdftrace-stream", run_stream, &far, 1},   {"bricks-9^3", run_bricks, &brick, 0},
+        {"sdftrace-batch", run_batch, &far, 1},     {"bricks-9^3", run_bricks, &brick, 0},
     };
     const int count = (int)(sizeof s / sizeof s[0]);
     printf("grid %s: %llu leaves, index box %d x %d x %d; dense array %.0f MiB; median of %d, 1 thread\n",

@@ -1309,6 +1309,88 @@ static void test_render_hints_hull_entries(void **state)
     sdft_grid_free(g);
 }
 
+/* The batch call (sdft_field_distances) on a grid: every point is hinted
+ * before its evaluation, in order; the values are the ones sdft_field_distance
+ * gives one call at a time, bit for bit (NaN and far points included), and
+ * without the bound they are the trilinear interpolant of the stored voxels
+ * (brute force through the public accessor). On a field without hints, the
+ * analytic distances. */
+static sdft_field batch_inner;
+static size_t batch_evaluated, batch_hinted_then[1100];
+
+static float batch_logging_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    if (batch_evaluated < 1100)
+        batch_hinted_then[batch_evaluated] = (size_t)hint_count;
+    batch_evaluated++;
+    return batch_inner.distance(ctx, s, p);
+}
+
+static void test_field_distances_batch(void **state)
+{
+    (void)state;
+    sdft_scratch s;
+    sdft_grid *g = spheres_grid_with_scratch(48, &s);
+    enum { N = 1100 };
+    static sdft_vec3 p[N];
+    static float batch[N], one[N];
+    tu_rng r = tu_rng_seed(31);
+    for (int i = 0; i < N; i++) /* the box and beyond it */
+        p[i] = sdft_v3(tu_uniform(&r, -1.6f, 1.6f), tu_uniform(&r, -1.6f, 1.6f), tu_uniform(&r, -1.6f, 1.6f));
+    p[7] = sdft_v3(NAN, 0.0f, 0.0f), p[8] = sdft_v3(1e30f, -1e30f, 0.0f);
+    static const size_t counts[] = {0, 1, SDFT_FIELD_DISTANCES_AHEAD, SDFT_FIELD_DISTANCES_AHEAD + 1, N};
+    for (int bound = 0; bound < 2; bound++) {
+        const sdft_field gf = bound ? sdft_grid_field(g) : sdft_grid_field_without_bound(g);
+        assert_non_null(gf.prefetch);
+        sdft_field logged = gf;
+        batch_inner = gf;
+        logged.distance = batch_logging_distance, logged.prefetch = record_hint;
+        for (size_t c = 0; c < sizeof counts / sizeof counts[0]; c++) {
+            const size_t n = counts[c];
+            hint_count = 0, batch_evaluated = 0;
+            memset(batch, 0xff, sizeof batch);
+            sdft_field_distances(&logged, &s, p, n, batch);
+            assert_int_equal(batch_evaluated, n);
+            assert_int_equal(hint_count, n);
+            for (size_t i = 0; i < n; i++) {
+                assert_memory_equal(&hints[i], &p[i], sizeof p[i]);
+                assert_true(batch_hinted_then[i] > i); /* p[i] hinted before its evaluation */
+                one[i] = sdft_field_distance(&gf, &s, p[i]);
+            }
+            assert_memory_equal(batch, one, n * sizeof *batch);
+            if (c == 4 || bound)
+                continue;
+            int inside = 0;
+            for (size_t i = 0; i < n; i++) {
+                int32_t i0[3];
+                double u[3];
+                float v[8];
+                if (!(fabsf(p[i].x) <= 1.1f && fabsf(p[i].y) <= 1.1f && fabsf(p[i].z) <= 1.1f))
+                    continue;
+                cell_at(g, p[i], i0, u, v);
+                const double x00 = v[0] + (v[1] - v[0]) * u[0], x10 = v[2] + (v[3] - v[2]) * u[0];
+                const double x01 = v[4] + (v[5] - v[4]) * u[0], x11 = v[6] + (v[7] - v[6]) * u[0];
+                const double y0 = x00 + (x10 - x00) * u[1], y1 = x01 + (x11 - x01) * u[1];
+                assert_float_equal(batch[i], y0 + (y1 - y0) * u[2], 2e-6);
+                inside++;
+            }
+            assert_true(n < 100 || inside > (int)n / 4);
+        }
+    }
+    /* A field without hints: the analytic distance of the union of spheres. */
+    const sdft_field sf = spheres_field();
+    sdft_field_distances(&sf, &s, p, N, batch);
+    for (int i = 9; i < N; i++) {
+        double d = INFINITY;
+        for (int k = 0; k < 4; k++) {
+            const double dx = p[i].x - spheres[k][0], dy = p[i].y - spheres[k][1], dz = p[i].z - spheres[k][2];
+            d = fmin(d, sqrt(dx * dx + dy * dy + dz * dz) - spheres[k][3]);
+        }
+        assert_float_equal(batch[i], d, 1e-5);
+    }
+    sdft_grid_free(g);
+}
+
 /* ---- round trips ------------------------------------------------------------------- */
 
 static void same_voxels(const sdft_grid *a, const sdft_grid *b)
@@ -2031,6 +2113,7 @@ int main(void)
         cmocka_unit_test(test_hull_holds_every_first_root),
         cmocka_unit_test(test_render_from_the_hull),
         cmocka_unit_test(test_render_hints_hull_entries),
+        cmocka_unit_test(test_field_distances_batch),
         cmocka_unit_test(test_streamed_load_matches_nanovdb_converter),
         cmocka_unit_test(test_round_trip_vdb),
         cmocka_unit_test(test_round_trip_nvdb),

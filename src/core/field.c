@@ -21,6 +21,22 @@ sdft_vec3 sdft_field_normal(const sdft_field *f, sdft_scratch *s, sdft_vec3 p)
     return sdft_normalize(g);
 }
 
+void sdft_field_distances(const sdft_field *f, sdft_scratch *s, const sdft_vec3 *p, size_t n, float *d)
+{
+    const size_t ahead = SDFT_FIELD_DISTANCES_AHEAD;
+    size_t i = 0;
+    if (f->prefetch) {
+        for (size_t k = 0; k < n && k < ahead; k++)
+            f->prefetch(f->ctx, p[k]);
+        for (; i + ahead < n; i++) {
+            f->prefetch(f->ctx, p[i + ahead]);
+            d[i] = f->distance(f->ctx, s, p[i]);
+        }
+    }
+    for (; i < n; i++)
+        d[i] = f->distance(f->ctx, s, p[i]);
+}
+
 int sdft_aabb_clip(sdft_aabb box, sdft_vec3 org, sdft_vec3 dir, float tnear, float tfar, float *t0, float *t1)
 {
     const float o[3] = {org.x, org.y, org.z}, d[3] = {dir.x, dir.y, dir.z};
