@@ -921,6 +921,49 @@ static void test_cell_root_against_brute_force(void **state)
     assert_true(grazing > 500);
 }
 
+/* Cells whose values are a plane's, to within eta (0 to 1e-6): the
+ * interpolant along a ray is a line plus at most eta, so the solver may
+ * take the chord's root (grid_root.c) where that is provably within
+ * 2^-30 of the segment, and must step on where it is not. Roots agree
+ * with brute force to 1e-9 of a voxel. */
+static void test_cell_root_on_near_planar_cells(void **state)
+{
+    (void)state;
+    tu_rng r = tu_rng_seed(23);
+    static const double etas[4] = {0.0, 1e-12, 1e-9, 1e-6};
+    int roots = 0;
+    for (int i = 0; i < 4000; i++) {
+        const double eta = etas[i % 4];
+        const double n[3] = {tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1)};
+        const double q[3] = {tu_uniform(&r, 0.1f, 0.9f), tu_uniform(&r, 0.1f, 0.9f), tu_uniform(&r, 0.1f, 0.9f)};
+        float v[8];
+        for (int k = 0; k < 8; k++) { /* the plane through q with normal n, plus up to eta */
+            const double c[3] = {k & 1, k >> 1 & 1, k >> 2 & 1};
+            v[k] = (float)(n[0] * (c[0] - q[0]) + n[1] * (c[1] - q[1]) + n[2] * (c[2] - q[2]) +
+                           eta * tu_uniform(&r, -1, 1));
+        }
+        double du[3] = {tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1)};
+        const double len = sqrt(du[0] * du[0] + du[1] * du[1] + du[2] * du[2]);
+        if (!(len > 1e-3))
+            continue;
+        for (int k = 0; k < 3; k++)
+            du[k] /= len;
+        const double back = to_boundary(q, du, -1.0), across = back + to_boundary(q, du, 1.0);
+        const double u0[3] = {q[0] - back * du[0], q[1] - back * du[1], q[2] - back * du[2]};
+        double s;
+        const int found = sdft_grid_cell_root(v, u0, du, across, &s);
+        const double want = brute_root(v, u0, du, across);
+        if (want > 0.0) {
+            if (!found || fabs(s - want) > 1e-9)
+                fail_msg("cell %d (eta %g): root %s%.12g, brute force %.12g", i, eta, found ? "" : "none, ",
+                         found ? s : 0.0, want);
+            roots++;
+        }
+    }
+    print_message("%d near-planar cells with a root\n", roots);
+    assert_true(roots > 1000);
+}
+
 /* A grid's ray hits the first root of its interpolant exactly: the
  * interpolant, in double from the stored voxels, changes sign within 1e-3
  * of a voxel around the hit (or touches 0 there), and is positive on a
@@ -2107,6 +2150,7 @@ int main(void)
         cmocka_unit_test(test_far_corner_distances_match_brute_force),
         cmocka_unit_test(test_grid_trace_is_safe),
         cmocka_unit_test(test_cell_root_against_brute_force),
+        cmocka_unit_test(test_cell_root_on_near_planar_cells),
         cmocka_unit_test(test_exact_root_on_a_grid),
         cmocka_unit_test(test_normal_is_the_interpolant_gradient),
         cmocka_unit_test(test_grid_render_matches_procedural),

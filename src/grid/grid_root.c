@@ -13,7 +13,9 @@
  * segment (Farin, "Curves and Surfaces for CAGD", ch. 4: the cubic is
  * their convex combination, and has at most as many roots in the segment
  * as they have sign changes, with the same parity): all > 0, no root;
- * one sign change from > 0 to < 0, one root, bracketed by the segment.
+ * one sign change from > 0 to < 0, one root, bracketed by the segment;
+ * where the cubic is a line to within rounding (a plane's interpolant;
+ * the argument at THE CHORD, below) the line's root is taken as it is.
  * Otherwise the roots of the derivative (a quadratic) cut the segment into
  * at most three pieces on which the cubic is monotone, and the first piece
  * whose far end is <= 0 brackets the root (its near end is > 0, or the
@@ -135,7 +137,16 @@ int sdft_grid_cell_root(const float v[8], const double u0[3], const double du[3]
     /* Signs + + + -, + + - - or + - - -: one change (a zero coefficient
      * goes the general way). */
     if (b0 > 0.0 && b3 < 0.0 && (b1 > 0.0 ? b2 != 0.0 : b1 < 0.0 && b2 < 0.0)) {
-        *s = bracketed_root(c, 0.0, b0, len, b3);
+        /* THE CHORD. The line from (0, b0) to (len, b3) has the Bernstein
+         * coefficients b0, (2 b0 + b3) / 3, (b0 + 2 b3) / 3, b3; the cubic
+         * minus the line has the differences, so |cubic - line| <= delta,
+         * the larger of the middle two, on all of [0, len]. The root, where
+         * the cubic is 0, is where the line lies in [-delta, delta]: within
+         * delta len / (b0 - b3) of the line's own root, the secant point.
+         * When that is below 2^-30 of the segment (a plane's interpolant is
+         * linear, so delta is rounding), the secant point is the root. */
+        const double delta = fmax(fabs(b1 - (2.0 * b0 + b3) / 3.0), fabs(b2 - (b0 + 2.0 * b3) / 3.0));
+        *s = delta <= 0x1p-30 * (b0 - b3) ? len * b0 / (b0 - b3) : bracketed_root(c, 0.0, b0, len, b3);
         return 1;
     }
     int pieces = 1 + quadratic_roots(c[1], 2.0 * c[2], 3.0 * c[3], len, split + 1);
