@@ -839,6 +839,25 @@ static double to_boundary(const double u[3], const double du[3], double sign)
     return best;
 }
 
+/* The solver and brute force on the ray along du (normalised here) across
+ * the whole cell through q, from where it enters: the solver's answer
+ * (*s when 1), brute force's root in *want (-1: none); -1 for a du too
+ * short to aim with. u0 gets the entry point (cell-local). */
+static int cell_root_across(const float v[8], const double q[3], double du[3], double shortest, double u0[3], double *s,
+                            double *want)
+{
+    const double len = sqrt(du[0] * du[0] + du[1] * du[1] + du[2] * du[2]);
+    if (!(len > shortest))
+        return -1;
+    for (int k = 0; k < 3; k++)
+        du[k] /= len;
+    const double back = to_boundary(q, du, -1.0), across = back + to_boundary(q, du, 1.0);
+    for (int k = 0; k < 3; k++)
+        u0[k] = q[k] - back * du[k];
+    *want = brute_root(v, u0, du, across);
+    return sdft_grid_cell_root(v, u0, du, across, s);
+}
+
 /* sdft_grid_cell_root against brute force on random cells and rays across
  * them: half aimed through a point of the surface along its tangent
  * plane (grazing, tilted by at most 3 degrees), the rest in random
@@ -895,17 +914,10 @@ static void test_cell_root_against_brute_force(void **state)
                 du[k] = tg[k] / tl + tilt * n[k] / nn;
             grazing++;
         }
-        const double len = sqrt(du[0] * du[0] + du[1] * du[1] + du[2] * du[2]);
-        if (!(len > 1e-9))
+        double u0[3], s, want;
+        const int found = cell_root_across(v, q, du, 1e-9, u0, &s, &want);
+        if (found < 0)
             continue;
-        for (int k = 0; k < 3; k++)
-            du[k] /= len;
-        /* The ray across the whole cell through q: from where it enters. */
-        const double back = to_boundary(q, du, -1.0), across = back + to_boundary(q, du, 1.0);
-        const double u0[3] = {q[0] - back * du[0], q[1] - back * du[1], q[2] - back * du[2]};
-        double s;
-        const int found = sdft_grid_cell_root(v, u0, du, across, &s);
-        const double want = brute_root(v, u0, du, across);
         if (want >= 0.0) {
             if (!found || fabs(s - want) > 1e-3)
                 fail_msg("cell %d: root %s%g, brute force %g", i, found ? "" : "none, ", found ? s : 0.0, want);
@@ -943,16 +955,10 @@ static void test_cell_root_on_near_planar_cells(void **state)
                            eta * tu_uniform(&r, -1, 1));
         }
         double du[3] = {tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1)};
-        const double len = sqrt(du[0] * du[0] + du[1] * du[1] + du[2] * du[2]);
-        if (!(len > 1e-3))
+        double u0[3], s, want;
+        const int found = cell_root_across(v, q, du, 1e-3, u0, &s, &want);
+        if (found < 0)
             continue;
-        for (int k = 0; k < 3; k++)
-            du[k] /= len;
-        const double back = to_boundary(q, du, -1.0), across = back + to_boundary(q, du, 1.0);
-        const double u0[3] = {q[0] - back * du[0], q[1] - back * du[1], q[2] - back * du[2]};
-        double s;
-        const int found = sdft_grid_cell_root(v, u0, du, across, &s);
-        const double want = brute_root(v, u0, du, across);
         if (want > 0.0) {
             if (!found || fabs(s - want) > 1e-9)
                 fail_msg("cell %d (eta %g): root %s%.12g, brute force %.12g", i, eta, found ? "" : "none, ",
