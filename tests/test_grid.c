@@ -1127,14 +1127,75 @@ static void test_grid_render_matches_procedural(void **state)
 
 /* ---- the hull ---------------------------------------------------------------------- */
 
+/* p in hull box i and, where the field gives slabs, in slab i. */
+static int in_hull_part(const sdft_field *f, size_t i, sdft_vec3 p)
+{
+    const sdft_aabb b = f->hull[i];
+    if (!(p.x >= b.lo.x && p.x <= b.hi.x && p.y >= b.lo.y && p.y <= b.hi.y && p.z >= b.lo.z && p.z <= b.hi.z))
+        return 0;
+    if (!f->hull_slabs)
+        return 1;
+    const sdft_slab sl = f->hull_slabs[i];
+    const float d = sdft_dot(sl.n, p);
+    return d >= sl.lo && d <= sl.hi;
+}
+
 static int in_hull(const sdft_field *f, sdft_vec3 p)
 {
-    for (size_t i = 0; i < f->hull_count; i++) {
-        const sdft_aabb b = f->hull[i];
-        if (p.x >= b.lo.x && p.x <= b.hi.x && p.y >= b.lo.y && p.y <= b.hi.y && p.z >= b.lo.z && p.z <= b.hi.z)
+    for (size_t i = 0; i < f->hull_count; i++)
+        if (in_hull_part(f, i, p))
             return 1;
-    }
     return 0;
+}
+
+/* Cells with corners of both signs, at random in g's active box: all
+ * eight corners of each lie in one box of the hull and its slab. The
+ * slabs' mean thickness, in voxels. */
+static double mixed_cells_in_hull(const sdft_grid *g, const sdft_field *f, int tries, int *mixed)
+{
+    int32_t lo[3], hi[3];
+    sdft_grid_index_bounds(g, lo, hi);
+    tu_rng r = tu_rng_seed(43);
+    *mixed = 0;
+    for (int i = 0; i < tries; i++) {
+        int32_t c[3];
+        for (int k = 0; k < 3; k++)
+            c[k] = lo[k] + (int32_t)(tu_uniform(&r, 0.0f, 0.999f) * (float)(hi[k] - lo[k]));
+        float v[8];
+        cell_corners(g, c, v);
+        int neg = 0;
+        for (int k = 0; k < 8; k++)
+            neg += v[k] <= 0.0f;
+        if (neg == 0 || neg == 8)
+            continue;
+        (*mixed)++;
+        sdft_vec3 w[8];
+        for (int k = 0; k < 8; k++) {
+            const float x[3] = {(float)(c[0] + (k & 1)), (float)(c[1] + (k >> 1 & 1)), (float)(c[2] + (k >> 2 & 1))};
+            const float *m = g->i2w;
+            w[k] = sdft_v3(m[0] * x[0] + m[1] * x[1] + m[2] * x[2] + g->i2w_t[0],
+                           m[3] * x[0] + m[4] * x[1] + m[5] * x[2] + g->i2w_t[1],
+                           m[6] * x[0] + m[7] * x[1] + m[8] * x[2] + g->i2w_t[2]);
+        }
+        int held = 0;
+        for (size_t b = 0; b < f->hull_count && !held; b++) {
+            held = 1;
+            for (int k = 0; k < 8 && held; k++)
+                held = in_hull_part(f, b, w[k]);
+        }
+        if (!held)
+            fail_msg("mixed cell (%d, %d, %d) lies in no hull box and its slab", c[0], c[1], c[2]);
+    }
+    double thick = 0.0;
+    size_t slabs = 0;
+    const float h = sdft_grid_voxel_size(g).x;
+    for (size_t b = 0; b < f->hull_count; b++) {
+        const sdft_slab sl = f->hull_slabs[b];
+        const float n = sdft_length(sl.n);
+        if (n > 0.0f && isfinite(sl.hi - sl.lo))
+            thick += (sl.hi - sl.lo) / n / h, slabs++;
+    }
+    return slabs ? thick / (double)slabs : INFINITY;
 }
 
 /* A slab 0.6 thick, much wider than its box, which cuts it on four sides:
@@ -1172,8 +1233,16 @@ static void test_hull_holds_every_first_root(void **state)
         const sdft_vec3 be = sdft_sub(bounds.hi, bounds.lo);
         print_message("%s: %zu hull boxes, %.1f%% of the box's volume\n", gi ? "cut slab" : "figure", gf.hull_count,
                       100.0 * hull_volume / ((double)be.x * be.y * be.z));
-        if (gi == 0)
+        if (gi == 0) {
             assert_true(hull_volume < 0.25 * (double)be.x * be.y * be.z);
+            assert_non_null(gf.hull_slabs);
+            int mixed;
+            const double thick = mixed_cells_in_hull(g, &gf, 200000, &mixed);
+            print_message("%d mixed cells, each in a hull box and its slab; slabs %.2f voxels thick on average\n",
+                          mixed, thick);
+            assert_true(mixed > 1000);
+            assert_true(thick < 5.0);
+        }
         sdft_scratch s;
         sdft_scratch_init(&gf, &s);
         tu_rng r = tu_rng_seed(41);
@@ -1290,15 +1359,20 @@ static void record_hint(const void *ctx, sdft_vec3 p)
     hint_count++;
 }
 
-/* The distance from p to the nearest face of a hull box that holds it
- * (INFINITY when none does). */
+/* The distance from p to the nearest face of a hull box's part (the box
+ * and its slab) that holds it (INFINITY when none does). */
 static float hull_face_distance(const sdft_field *f, sdft_vec3 p)
 {
     float best = INFINITY;
     for (size_t i = 0; i < f->hull_count; i++) {
         const sdft_aabb b = f->hull[i];
         const sdft_vec3 in = sdft_min_v(sdft_sub(p, b.lo), sdft_sub(b.hi, p));
-        const float depth = sdft_minf(in.x, sdft_minf(in.y, in.z));
+        float depth = sdft_minf(in.x, sdft_minf(in.y, in.z));
+        if (f->hull_slabs && sdft_length(f->hull_slabs[i].n) > 0.0f) {
+            const sdft_slab sl = f->hull_slabs[i];
+            const float d = sdft_dot(sl.n, p), n = sdft_length(sl.n);
+            depth = sdft_minf(depth, sdft_minf(d - sl.lo, sl.hi - d) / n);
+        }
         if (depth >= -1e-5f)
             best = sdft_minf(best, fabsf(depth));
     }

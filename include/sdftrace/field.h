@@ -29,6 +29,13 @@ typedef struct sdft_aabb {
     sdft_vec3 lo, hi;
 } sdft_aabb;
 
+/* The points p with lo <= n . p <= hi, between two parallel planes (n need
+ * not be unit length; n = 0 with lo <= 0 <= hi: everywhere). */
+typedef struct sdft_slab {
+    sdft_vec3 n;
+    float lo, hi;
+} sdft_slab;
+
 /* Per-thread mutable state of a field (its sampler: a grid keeps its NanoVDB
  * read accessor here). Plain bytes, so it lives on a thread's stack;
  * SDFT_SCRATCH_BYTES bounds every field's need, and a field's scratch_init
@@ -100,6 +107,12 @@ typedef struct sdft_field {
      * hull_count 0: none. */
     const sdft_aabb *hull;
     size_t hull_count;
+    /* Optional, with hull: hull_count slabs, the ith holding all of the
+     * ith box's share of those places too, so a ray's part in box i is
+     * where it is also in slab i (a grid: the slab along its leaf's
+     * surface normal that holds the leaf's surface cells, thinner than
+     * their box where the surface runs aslant). NULL: the boxes alone. */
+    const sdft_slab *hull_slabs;
 } sdft_field;
 
 /* Prepares s for field f on the calling thread: f's scratch_init, and s

@@ -19,12 +19,13 @@
  * ray. Those shared evaluations are counted apart (cone_steps).
  *
  * A field with a hull (sdft_field.hull: a grid's boxes around the cells
- * its surface crosses) takes the cones' place: the boxes are binned to the
- * tiles their screen rectangles touch (hull_bin), and each pixel's ray is
- * traced only over its span of the boxes it meets, from its entry into the
- * first to its exit from the last (hull_spans: exact ray-box tests against
- * the ray as traced, no evaluation), a ray that meets none being a miss
- * untraced. The hull holds every first root of a ray that starts where the
+ * its surface crosses, each cut to a slab along the surface where the
+ * field gives hull_slabs) takes the cones' place: the boxes are binned to
+ * the tiles their screen rectangles touch (hull_bin), and each pixel's ray
+ * is traced only over its span of the boxes it meets, from its entry into
+ * the first to its exit from the last (hull_spans: exact ray-box and
+ * ray-slab tests against the ray as traced, no evaluation), a ray that
+ * meets none being a miss untraced. The hull holds every first root of a ray that starts where the
  * field is positive, so the picture is the same; the eye is checked
  * (eye_outside), and where it is inside the surface the cones serve. Each
  * ray's entry into the hull is its first evaluation, at memory no earlier
@@ -443,13 +444,15 @@ static void miss_rect(const frame *fr, const tile_dirs *td, int tx, int ty, int 
 
 /* Each pixel's span of the hull: span[0][i], span[1][i] the entry into the
  * first box of tile `tile`'s bin that pixel i's ray meets and the exit from
- * the last, or both INFINITY when it meets none. Slab tests against the
- * pixel's own ray, as traced. */
+ * the last, or both INFINITY when it meets none; where the field gives
+ * slabs (hull_slabs), the part of the ray in a box is the part also in its
+ * slab. Slab tests against the pixel's own ray, as traced. */
 static void hull_spans(const frame *fr, int tile, const tile_dirs *td, int x0, int y0, int x1, int y1,
                        float (*span)[TILE * TILE])
 {
     const hull_bins *hb = fr->bins;
     const sdft_aabb *hull = fr->f->hull;
+    const sdft_slab *slabs = fr->f->hull_slabs, everywhere = {{0.0f, 0.0f, 0.0f}, -INFINITY, INFINITY};
     float inv[3][TILE * TILE];
     for (int i = 0; i < TILE * TILE; i++)
         span[0][i] = INFINITY, span[1][i] = -INFINITY;
@@ -466,16 +469,24 @@ static void hull_spans(const frame *fr, int tile, const tile_dirs *td, int x0, i
         const int ry0 = r[1] > y0 ? r[1] : y0, ry1 = r[3] < y1 - 1 ? r[3] : y1 - 1;
         const float lo[3] = {hull[b].lo.x - o.x, hull[b].lo.y - o.y, hull[b].lo.z - o.z};
         const float hi[3] = {hull[b].hi.x - o.x, hull[b].hi.y - o.y, hull[b].hi.z - o.z};
+        const sdft_slab sl = slabs ? slabs[b] : everywhere;
+        const float on = sdft_dot(sl.n, o), slo = sl.lo - on, shi = sl.hi - on; /* the slab from the eye */
         for (int y = ry0; y <= ry1; y++) {
             const int row = (y - y0) * TILE + (rx0 - x0); /* pixel rx0's index in the tile */
             float *restrict in = span[0] + row, *restrict out = span[1] + row;
             const float *restrict ix = inv[0] + row, *restrict iy = inv[1] + row, *restrict iz = inv[2] + row;
+            const float *restrict dx = td->d[0] + row, *restrict dy = td->d[1] + row, *restrict dz = td->d[2] + row;
             for (int x = 0; x <= rx1 - rx0; x++) { /* selects, not branches, so that it vectorizes */
                 const float ax = lo[0] * ix[x], bx = hi[0] * ix[x], ay = lo[1] * iy[x], by = hi[1] * iy[x];
                 const float az = lo[2] * iz[x], bz = hi[2] * iz[x];
-                const float a =
-                    sdft_maxf(sdft_maxf(sdft_minf(ax, bx), sdft_minf(ay, by)), sdft_maxf(sdft_minf(az, bz), 0.0f));
-                const float c = sdft_minf(sdft_minf(sdft_maxf(ax, bx), sdft_maxf(ay, by)), sdft_maxf(az, bz));
+                const float nd = sl.n.x * dx[x] + sl.n.y * dy[x] + sl.n.z * dz[x];
+                const float is = 1.0f / (fabsf(nd) > 1e-30f ? nd : copysignf(1e-30f, nd));
+                const float as = slo * is, bs = shi * is;
+                const float a = sdft_maxf(
+                    sdft_maxf(sdft_maxf(sdft_minf(ax, bx), sdft_minf(ay, by)), sdft_maxf(sdft_minf(az, bz), 0.0f)),
+                    sdft_minf(as, bs));
+                const float c = sdft_minf(sdft_minf(sdft_minf(sdft_maxf(ax, bx), sdft_maxf(ay, by)), sdft_maxf(az, bz)),
+                                          sdft_maxf(as, bs));
                 /* a <= c: the ray meets the box; one it misses widens nothing. (Two
                  * selects first, then min and max: GCC 12 vectorizes this form.) */
                 const float enter = a <= c ? a : INFINITY, leave = a <= c ? c : -INFINITY;

@@ -44,6 +44,7 @@
 typedef struct hull_fill {
     const sdft_grid *g;
     sdft_aabb *box;
+    sdft_slab *slab;    /* with each box */
     size_t most, count; /* count: atomic */
 } hull_fill;
 
@@ -51,6 +52,7 @@ typedef struct hull_fill {
  * (neg) or > 0 (pos); a NaN sets neither. */
 typedef struct block_signs {
     uint16_t neg[9][9], pos[9][9];
+    double slope[3]; /* sum of v (x - 4, y - 4, z - 4) over the 9^3 finite values: along the gradient */
 } block_signs;
 
 /* The signs of the voxels of block b and of its apron: its own leaf's
@@ -62,6 +64,7 @@ static void gather_signs(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const
     const int32_t c0[3] = {8 * b[0], 8 * b[1], 8 * b[2]};
     uint32_t local = 0;
     const uint32_t *e = directory_chunk(&g->leaves, c0, &local);
+    s->slope[0] = s->slope[1] = s->slope[2] = 0.0;
     for (int x = 0; x < 9; x++)
         for (int y = 0; y < 9; y++) {
             uint16_t neg = 0, pos = 0;
@@ -82,21 +85,44 @@ static void gather_signs(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const
                 }
                 neg |= (uint16_t)((v <= 0.0f) << z); /* NaN: neither, so its cells count as mixed */
                 pos |= (uint16_t)((v > 0.0f) << z);
+                if (isfinite(v))
+                    s->slope[0] += v * (x - 4), s->slope[1] += v * (y - 4), s->slope[2] += v * (z - 4);
             }
             s->neg[x][y] = neg, s->pos[x][y] = pos;
         }
 }
 
 /* A box for the cells whose lowest corners span [first, last]: those
- * cells, half a voxel more all round, in world units. */
-static void add_cells(hull_fill *h, const int32_t first[3], const int32_t last[3])
+ * cells, half a voxel more all round, in world units; with the slab
+ * {x : lo <= n . x <= hi} of index space in world units (n . x = n . (A w
+ * + t) = (A^T n) . w + n . t for the world-to-index map x = A w + t), or
+ * with the slab that is everywhere (n NULL). */
+static void add_cells(hull_fill *h, const int32_t first[3], const int32_t last[3], const double *n, double lo_n,
+                      double hi_n)
 {
     float lo[3], hi[3];
     for (int k = 0; k < 3; k++)
         lo[k] = (float)first[k] - 0.5f, hi[k] = (float)last[k] + 1.5f;
+    sdft_slab slab = {{0.0f, 0.0f, 0.0f}, -INFINITY, INFINITY};
+    if (n) {
+        const float *a = h->g->w2i, *t = h->g->w2i_t;
+        double w[3], nt = 0.0;
+        for (int c = 0; c < 3; c++)
+            w[c] = n[0] * a[c] + n[1] * a[3 + c] + n[2] * a[6 + c], nt += n[c] * t[c];
+        slab = (sdft_slab){{(float)w[0], (float)w[1], (float)w[2]}, (float)(lo_n - nt), (float)(hi_n - nt)};
+    }
     const size_t i = __atomic_fetch_add(&h->count, 1, __ATOMIC_RELAXED);
     if (i < h->most)
-        h->box[i] = grid_world_box(h->g, lo, hi);
+        h->box[i] = grid_world_box(h->g, lo, hi), h->slab[i] = slab;
+}
+
+/* Bit z: cell (x, y, z) of the block is mixed, its eight corners (rows
+ * x..x+1 by y..y+1, bits z..z+1) neither all <= 0 nor all > 0. */
+static unsigned mixed_cells(const block_signs *s, int x, int y)
+{
+    const unsigned all_neg = (unsigned)(s->neg[x][y] & s->neg[x + 1][y] & s->neg[x][y + 1] & s->neg[x + 1][y + 1]),
+                   all_pos = (unsigned)(s->pos[x][y] & s->pos[x + 1][y] & s->pos[x][y + 1] & s->pos[x + 1][y + 1]);
+    return ~((all_neg & all_neg >> 1) | (all_pos & all_pos >> 1)) & 0xFFu;
 }
 
 static void add_leaf(void *ctx, const int32_t b[3], uint64_t at, uint32_t word)
@@ -108,27 +134,42 @@ static void add_leaf(void *ctx, const int32_t b[3], uint64_t at, uint32_t word)
     pnanovdb_readaccessor_init(&acc, g->root);
     block_signs s;
     gather_signs(g, &acc, b, word, &s);
-    /* Cell (x, y, z) is mixed unless its eight corners (rows x..x+1 by
-     * y..y+1, bits z..z+1) are all <= 0 or all > 0. */
+    /* THE SLAB. With n the unit vector along the block's values' slope (the
+     * least-squares gradient of a linear field over the 9^3 voxels), cell
+     * (x, y, z) spans n . (x, y, z) + [sum of n's negative components, sum
+     * of its positive ones] along n; over the mixed cells, and half a voxel
+     * more each way for rounding, as the box. The slab holds every mixed
+     * cell whatever n is; n along the surface makes it thinner than the
+     * box where the surface runs aslant of the axes. No slope (all values
+     * equal, or not finite): the box alone. */
+    const double len = sqrt(s.slope[0] * s.slope[0] + s.slope[1] * s.slope[1] + s.slope[2] * s.slope[2]);
+    const int sloped = len > 0.0 && isfinite(len);
+    const double n[3] = {sloped ? s.slope[0] / len : 0.0, sloped ? s.slope[1] / len : 0.0,
+                         sloped ? s.slope[2] / len : 0.0};
     int lo[3] = {8, 8, 8}, hi[3] = {-1, -1, -1};
+    double p_lo = INFINITY, p_hi = -INFINITY;
     for (int x = 0; x < 8; x++)
         for (int y = 0; y < 8; y++) {
-            const unsigned all_neg = (unsigned)(s.neg[x][y] & s.neg[x + 1][y] & s.neg[x][y + 1] & s.neg[x + 1][y + 1]),
-                           all_pos = (unsigned)(s.pos[x][y] & s.pos[x + 1][y] & s.pos[x][y + 1] & s.pos[x + 1][y + 1]);
-            const unsigned mixed = ~((all_neg & all_neg >> 1) | (all_pos & all_pos >> 1)) & 0xFFu;
+            const unsigned mixed = mixed_cells(&s, x, y);
             if (!mixed)
                 continue;
             const int z0 = __builtin_ctz(mixed), z1 = 31 - __builtin_clz(mixed);
             lo[0] = x < lo[0] ? x : lo[0], hi[0] = x > hi[0] ? x : hi[0];
             lo[1] = y < lo[1] ? y : lo[1], hi[1] = y > hi[1] ? y : hi[1];
             lo[2] = z0 < lo[2] ? z0 : lo[2], hi[2] = z1 > hi[2] ? z1 : hi[2];
+            const double at = n[0] * x + n[1] * y, a0 = at + n[2] * z0, a1 = at + n[2] * z1;
+            p_lo = fmin(p_lo, fmin(a0, a1)), p_hi = fmax(p_hi, fmax(a0, a1));
         }
     if (hi[0] < 0)
         return;
     int32_t first[3], last[3];
     for (int k = 0; k < 3; k++)
         first[k] = 8 * b[k] + lo[k], last[k] = 8 * b[k] + hi[k];
-    add_cells(h, first, last);
+    double reach_lo = 0.0, reach_hi = 0.0;
+    for (int k = 0; k < 3; k++)
+        reach_lo += n[k] < 0.0 ? n[k] : 0.0, reach_hi += n[k] > 0.0 ? n[k] : 0.0;
+    const double origin = n[0] * (8.0 * b[0]) + n[1] * (8.0 * b[1]) + n[2] * (8.0 * b[2]);
+    add_cells(h, first, last, sloped ? n : NULL, origin + p_lo + reach_lo - 0.5, origin + p_hi + reach_hi + 0.5);
 }
 
 /* The blocks along axis k that a face's patches span: the active box and
@@ -180,7 +221,7 @@ static int scan_faces(const sdft_grid *g, hull_fill *h)
                     first[k] = last[k] = high ? inner : outer;
                     first[u] = 8 * pa - 1, last[u] = 8 * pa + 7;
                     first[v] = 8 * pc - 1, last[v] = 8 * pc + 7;
-                    add_cells(h, first, last);
+                    add_cells(h, first, last, NULL, 0.0, 0.0);
                 }
         }
     }
@@ -189,7 +230,7 @@ static int scan_faces(const sdft_grid *g, hull_fill *h)
 
 sdft_error sdft_grid_hull_build(sdft_grid *g)
 {
-    g->hull = NULL, g->hull_count = 0;
+    g->hull = NULL, g->hull_slab = NULL, g->hull_count = 0;
     if (g->grid_class != PNANOVDB_GRID_CLASS_LEVEL_SET || !(g->background > 1.7320508f * g->sigma_max) ||
         !g->leaves.top || g->deferred.state)
         return SDFT_OK;
@@ -203,21 +244,24 @@ sdft_error sdft_grid_hull_build(sdft_grid *g)
     }
     if (leaves == 0 || most > SIZE_MAX / sizeof(sdft_aabb))
         return SDFT_OK;
-    hull_fill h = {g, malloc((size_t)most * sizeof(sdft_aabb)), (size_t)most, 0};
-    if (!h.box)
+    hull_fill h = {g, malloc((size_t)most * sizeof(sdft_aabb)), malloc((size_t)most * sizeof(sdft_slab)), (size_t)most,
+                   0};
+    if (!h.box || !h.slab) {
+        free(h.box), free(h.slab);
         return SDFT_ENOMEM;
+    }
     if (!scan_faces(g, &h)) { /* the box cuts the surface where outside is not positive: no hull */
-        free(h.box);
+        free(h.box), free(h.slab);
         return SDFT_OK;
     }
     sdft_grid_each_leaf(g, add_leaf, &h);
-    g->hull = h.box;
+    g->hull = h.box, g->hull_slab = h.slab;
     g->hull_count = h.count < h.most ? h.count : h.most;
     return SDFT_OK;
 }
 
 void sdft_grid_hull_free(sdft_grid *g)
 {
-    free(g->hull);
-    g->hull = NULL, g->hull_count = 0;
+    free(g->hull), free(g->hull_slab);
+    g->hull = NULL, g->hull_slab = NULL, g->hull_count = 0;
 }

@@ -98,6 +98,7 @@ struct sdft_grid {
     grid_leaves leaves;     /* the leaf directory; built at load for float grids */
     grid_deferred deferred; /* leaves filled on first read; state NULL: all there */
     sdft_aabb *hull;        /* the hull (grid_hull.c): world boxes of the leaves' cells; NULL: none */
+    sdft_slab *hull_slab;   /* with each box, a world slab that holds its cells too */
     size_t hull_count;
     char name[256];
 };

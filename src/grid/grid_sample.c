@@ -450,6 +450,7 @@ sdft_field sdft_grid_field_with(const sdft_grid *g, sdft_grid_bound bound)
         .prefetch = prefetches[kind],
         .hull = g->hull,
         .hull_count = g->hull_count,
+        .hull_slabs = g->hull_slab,
     };
 }
 
