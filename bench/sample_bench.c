@@ -95,6 +95,7 @@ static points traced_points(const sdft_grid *g, size_t want, int band_only)
     /* Every callback of a wrapped field takes the wrapper's ctx. */
     f.distance = logging_distance, f.scratch_init = logging_scratch_init, f.normal = NULL, f.ctx = &l;
     f.root = l.inner.root ? logging_root : NULL;
+    f.prefetch = NULL; /* the grid's hint would take the wrapper's ctx for a grid (it crashed one run in three) */
     sdft_render_params rp = sdft_render_defaults();
     rp.camera = sdft_camera_front(f.bounds, rp.width, rp.height, 40.0f);
     rp.shadows = 0, rp.depth_only = 1, rp.threads = 1;
