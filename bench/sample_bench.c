@@ -11,8 +11,8 @@
  * batch call (sdft_field_distances), which hints each point's memory
  * (sdft_field.prefetch) a few points ahead, the way to evaluate many
  * scattered points (the tracer does not hint its steps: along rays it
- * cost more than it saved). Samplers are interleaved, each timed REPEAT times (default 7),
- * the median reported.
+ * cost more than it saved). Samplers are interleaved, each timed REPEAT
+ * times (default 7), the median reported.
  *
  * usage: sample_bench GRID.vdb|GRID.nvdb [POINTS]   (default 2000000) */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
@@ -144,10 +144,7 @@ static points band_points(const sdft_grid *g, size_t want)
         const pnanovdb_coord_t o = pnanovdb_leaf_get_bbox_min(g->buf, leaf);
         const float x[3] = {(float)(o.x & ~7) + 8.0f * rng_unit(&r), (float)(o.y & ~7) + 8.0f * rng_unit(&r),
                             (float)(o.z & ~7) + 8.0f * rng_unit(&r)};
-        const float *m = g->i2w;
-        const sdft_vec3 p = sdft_v3(m[0] * x[0] + m[1] * x[1] + m[2] * x[2] + g->i2w_t[0],
-                                    m[3] * x[0] + m[4] * x[1] + m[5] * x[2] + g->i2w_t[1],
-                                    m[6] * x[0] + m[7] * x[1] + m[8] * x[2] + g->i2w_t[2]);
+        const sdft_vec3 p = grid_index_to_world(g, x);
         if (in_band(g, &s, p))
             push(&kept, p);
     }

@@ -1172,10 +1172,7 @@ static double mixed_cells_in_hull(const sdft_grid *g, const sdft_field *f, int t
         sdft_vec3 w[8];
         for (int k = 0; k < 8; k++) {
             const float x[3] = {(float)(c[0] + (k & 1)), (float)(c[1] + (k >> 1 & 1)), (float)(c[2] + (k >> 2 & 1))};
-            const float *m = g->i2w;
-            w[k] = sdft_v3(m[0] * x[0] + m[1] * x[1] + m[2] * x[2] + g->i2w_t[0],
-                           m[3] * x[0] + m[4] * x[1] + m[5] * x[2] + g->i2w_t[1],
-                           m[6] * x[0] + m[7] * x[1] + m[8] * x[2] + g->i2w_t[2]);
+            w[k] = grid_index_to_world(g, x);
         }
         int held = 0;
         for (size_t b = 0; b < f->hull_count && !held; b++) {

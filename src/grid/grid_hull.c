@@ -24,6 +24,9 @@
  * a face where that can happen gets its own box (scan_faces). Each box is
  * grown by half a voxel all round for rounding (the world transform, the
  * renderer's ray-box tests). A leaf without a mixed cell gets no box.
+ * Each leaf's box comes with a slab along the surface that holds the same
+ * cells (THE SLAB, add_leaf), so a ray's part in both is all it needs;
+ * a face patch's slab is everywhere.
  *
  * WHERE A RAY STARTS. That covers rays that start where the field is
  * positive. A primary ray starts at the eye, or where it enters the grid's
@@ -55,9 +58,10 @@ typedef struct block_signs {
     double slope[3]; /* sum of v (x - 4, y - 4, z - 4) over the 9^3 finite values: along the gradient */
 } block_signs;
 
-/* The signs of the voxels of block b and of its apron: its own leaf's
- * values (table word w), the next blocks' leaves or tiles through the
- * directory, the accessor where the directory has no entry. */
+/* The signs of the voxels of block b and of its apron, and their values'
+ * slope: its own leaf's values (table word w), the next blocks' leaves or
+ * tiles through the directory, the accessor where the directory has no
+ * entry. */
 static void gather_signs(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const int32_t b[3], uint32_t w,
                          block_signs *s)
 {

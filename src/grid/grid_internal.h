@@ -103,6 +103,15 @@ struct sdft_grid {
     char name[256];
 };
 
+/* The world point of index point x under g's transform. */
+static inline sdft_vec3 grid_index_to_world(const sdft_grid *g, const float x[3])
+{
+    const float *m = g->i2w;
+    return sdft_v3(m[0] * x[0] + m[1] * x[1] + m[2] * x[2] + g->i2w_t[0],
+                   m[3] * x[0] + m[4] * x[1] + m[5] * x[2] + g->i2w_t[1],
+                   m[6] * x[0] + m[7] * x[1] + m[8] * x[2] + g->i2w_t[2]);
+}
+
 /* The world box that holds the index box [lo, hi] under g's transform:
  * its eight corners' hull. */
 static inline sdft_aabb grid_world_box(const sdft_grid *g, const float lo[3], const float hi[3])
@@ -110,9 +119,7 @@ static inline sdft_aabb grid_world_box(const sdft_grid *g, const float lo[3], co
     sdft_vec3 wlo = sdft_v3(INFINITY, INFINITY, INFINITY), whi = sdft_scale(wlo, -1.0f);
     for (int c = 0; c < 8; c++) {
         const float x[3] = {(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]};
-        const sdft_vec3 w = sdft_v3(g->i2w[0] * x[0] + g->i2w[1] * x[1] + g->i2w[2] * x[2] + g->i2w_t[0],
-                                    g->i2w[3] * x[0] + g->i2w[4] * x[1] + g->i2w[5] * x[2] + g->i2w_t[1],
-                                    g->i2w[6] * x[0] + g->i2w[7] * x[1] + g->i2w[8] * x[2] + g->i2w_t[2]);
+        const sdft_vec3 w = grid_index_to_world(g, x);
         wlo = sdft_min_v(wlo, w), whi = sdft_max_v(whi, w);
     }
     return (sdft_aabb){wlo, whi};
