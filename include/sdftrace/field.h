@@ -113,6 +113,16 @@ typedef struct sdft_field {
      * surface normal that holds the leaf's surface cells, thinner than
      * their box where the surface runs aslant). NULL: the boxes alone. */
     const sdft_slab *hull_slabs;
+    /* Optional, with hull: hull_count boxes of gradients (world units),
+     * the ith holding the field's gradient wherever the ith box's share of
+     * those places lies. Along a ray with direction d the field changes at
+     * the rate d . grad, and it can first reach 0 only where that is <= 0;
+     * so where d . g > 0 for every g in the ith gradient box, the ray
+     * cannot first reach 0 in box i, and a renderer may leave that box out
+     * of the ray's span (a grid: bounds from its leaf's surface cells,
+     * narrow where the surface is smooth, so the boxes on the far side of
+     * an object drop out of a view). NULL: no such bounds. */
+    const sdft_aabb *hull_gradients;
 } sdft_field;
 
 /* Prepares s for field f on the calling thread: f's scratch_init, and s

@@ -642,6 +642,28 @@ static int box_rect(const sdft_view *v, int width, int height, sdft_aabb b, int3
     return r[0] <= r[2] && r[1] <= r[3];
 }
 
+/* 1 when no ray from the eye e can first reach 0 in box b, given that
+ * the field's gradient there lies in the box g (sdft_field.hull_gradients):
+ * every ray that meets b does so at points p = e + t d, t > 0, and the
+ * field rises along it there when d . grad > 0, that is (p - e) . grad >
+ * 0. Over p in b and grad in g that product is, axis by axis, a product
+ * of two intervals, whose least value is the least of its four corners';
+ * the sum of those is a lower bound of (p - e) . grad. It must exceed its
+ * rounding (each product's relative error 2^-24, the sum's a few times
+ * that, of the terms' magnitude) with room to spare. An unbounded g gives
+ * -inf or NaN terms: never away. */
+static int faces_away(sdft_vec3 e, sdft_aabb b, sdft_aabb g)
+{
+    const float p0[3] = {b.lo.x - e.x, b.lo.y - e.y, b.lo.z - e.z}, p1[3] = {b.hi.x - e.x, b.hi.y - e.y, b.hi.z - e.z};
+    const float g0[3] = {g.lo.x, g.lo.y, g.lo.z}, g1[3] = {g.hi.x, g.hi.y, g.hi.z};
+    float least = 0.0f, size = 0.0f;
+    for (int k = 0; k < 3; k++) {
+        const float m = sdft_minf(sdft_minf(p0[k] * g0[k], p0[k] * g1[k]), sdft_minf(p1[k] * g0[k], p1[k] * g1[k]));
+        least += m, size += fabsf(m);
+    }
+    return least > 1e-5f * size;
+}
+
 /* 1 when the frame's eye is where the field is positive, so that each
  * primary ray's first root lies in the field's hull (field.h): outside the
  * field's box (cone_tnear > 0; the hull's promise covers rays that enter
@@ -655,7 +677,9 @@ static int eye_outside(const frame *fr)
     return sdft_field_distance(fr->f, &s, fr->rp->camera.from) > 0.0f;
 }
 
-/* Bins the field's hull boxes to the tiles they may cover. 0, or -1 out of memory. */
+/* Bins the field's hull boxes to the tiles they may cover, leaving out
+ * those whose gradient bounds face away from the eye (faces_away). 0, or
+ * -1 out of memory. */
 static int hull_bin(const sdft_field *f, const sdft_view *v, int width, int height, int threads, hull_bins *hb)
 {
     const int tiles_x = (width + TILE - 1) / TILE, tiles = tiles_x * ((height + TILE - 1) / TILE);
@@ -668,7 +692,8 @@ static int hull_bin(const sdft_field *f, const sdft_view *v, int width, int heig
 #pragma omp parallel for schedule(static) reduction(+ : total) num_threads(threads)
     for (size_t i = 0; i < n; i++) {
         int32_t *r = hb->rect + 4 * i;
-        if (!box_rect(v, width, height, f->hull[i], r)) {
+        if ((f->hull_gradients && faces_away(v->from, f->hull[i], f->hull_gradients[i])) ||
+            !box_rect(v, width, height, f->hull[i], r)) {
             r[0] = 1, r[2] = 0;
             continue;
         }

@@ -47,14 +47,16 @@
 typedef struct hull_fill {
     const sdft_grid *g;
     sdft_aabb *box;
-    sdft_slab *slab;    /* with each box */
-    size_t most, count; /* count: atomic */
+    sdft_slab *slab;     /* with each box */
+    sdft_aabb *gradient; /* with each box */
+    size_t most, count;  /* count: atomic */
 } hull_fill;
 
 /* Bit z of row[x][y] (x, y, z in 0..8): voxel 8b + (x, y, z) is <= 0
  * (neg) or > 0 (pos); a NaN sets neither. */
 typedef struct block_signs {
     uint16_t neg[9][9], pos[9][9];
+    float value[9][9][9];
     double slope[3]; /* sum of v (x - 4, y - 4, z - 4) over the 9^3 finite values: along the gradient */
 } block_signs;
 
@@ -87,6 +89,7 @@ static void gather_signs(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const
                     uint32_t level;
                     v = read_value(g, g->type, acc, (pnanovdb_coord_t){c0[0] + x, c0[1] + y, c0[2] + z}, &level);
                 }
+                s->value[x][y][z] = v;
                 neg |= (uint16_t)((v <= 0.0f) << z); /* NaN: neither, so its cells count as mixed */
                 pos |= (uint16_t)((v > 0.0f) << z);
                 if (isfinite(v))
@@ -100,24 +103,65 @@ static void gather_signs(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const
  * cells, half a voxel more all round, in world units; with the slab
  * {x : lo <= n . x <= hi} of index space in world units (n . x = n . (A w
  * + t) = (A^T n) . w + n . t for the world-to-index map x = A w + t), or
- * with the slab that is everywhere (n NULL). */
+ * with the slab that is everywhere (n NULL); and with the box of index
+ * gradients [g_lo, g_hi] in world units (a world gradient is A^T times the
+ * index one: the box's centre maps to the centre, its half-widths through
+ * |A^T|, widened by a millionth for rounding), or every gradient (g_lo
+ * NULL, or a bound that is not finite). */
 static void add_cells(hull_fill *h, const int32_t first[3], const int32_t last[3], const double *n, double lo_n,
-                      double hi_n)
+                      double hi_n, const double *g_lo, const double *g_hi)
 {
     float lo[3], hi[3];
     for (int k = 0; k < 3; k++)
         lo[k] = (float)first[k] - 0.5f, hi[k] = (float)last[k] + 1.5f;
+    const float *a = h->g->w2i, *t = h->g->w2i_t;
     sdft_slab slab = {{0.0f, 0.0f, 0.0f}, -INFINITY, INFINITY};
     if (n) {
-        const float *a = h->g->w2i, *t = h->g->w2i_t;
         double w[3], nt = 0.0;
         for (int c = 0; c < 3; c++)
             w[c] = n[0] * a[c] + n[1] * a[3 + c] + n[2] * a[6 + c], nt += n[c] * t[c];
         slab = (sdft_slab){{(float)w[0], (float)w[1], (float)w[2]}, (float)(lo_n - nt), (float)(hi_n - nt)};
     }
+    sdft_aabb gradient = {{-INFINITY, -INFINITY, -INFINITY}, {INFINITY, INFINITY, INFINITY}};
+    int bounded = g_lo != NULL;
+    for (int k = 0; k < 3 && bounded; k++)
+        bounded = isfinite(g_lo[k]) && isfinite(g_hi[k]);
+    if (bounded) {
+        float glo[3], ghi[3];
+        for (int c = 0; c < 3; c++) {
+            double centre = 0.0, half = 0.0;
+            for (int k = 0; k < 3; k++)
+                centre += a[3 * k + c] * 0.5 * (g_lo[k] + g_hi[k]),
+                    half += fabs(a[3 * k + c]) * 0.5 * (g_hi[k] - g_lo[k]);
+            half += 1e-6 * (fabs(centre) + half);
+            glo[c] = (float)(centre - half), ghi[c] = (float)(centre + half);
+        }
+        gradient = (sdft_aabb){{glo[0], glo[1], glo[2]}, {ghi[0], ghi[1], ghi[2]}};
+    }
     const size_t i = __atomic_fetch_add(&h->count, 1, __ATOMIC_RELAXED);
     if (i < h->most)
-        h->box[i] = grid_world_box(h->g, lo, hi), h->slab[i] = slab;
+        h->box[i] = grid_world_box(h->g, lo, hi), h->slab[i] = slab, h->gradient[i] = gradient;
+}
+
+/* THE GRADIENT. In cell (x, y, z) the interpolant's derivative along index
+ * axis k is the bilinear blend, over the cell's other two coordinates, of
+ * its four k edges' differences (v at the edge's far end less v at its
+ * near end), so at every point of the closed cell it lies between the
+ * least and the greatest of the four. Widens [lo, hi] to hold them, on
+ * each axis; a NaN value leaves the axis unbounded. */
+static void widen_gradient(const block_signs *s, int x, int y, int z, double lo[3], double hi[3])
+{
+    for (int k = 0; k < 3; k++)
+        for (int e = 0; e < 4; e++) {
+            int p[3] = {x, y, z};
+            p[(k + 1) % 3] += e & 1, p[(k + 2) % 3] += e >> 1;
+            const float near = s->value[p[0]][p[1]][p[2]];
+            p[k]++;
+            const double d = (double)s->value[p[0]][p[1]][p[2]] - (double)near;
+            if (d != d)
+                lo[k] = -INFINITY, hi[k] = INFINITY;
+            lo[k] = d < lo[k] ? d : lo[k], hi[k] = d > hi[k] ? d : hi[k];
+        }
 }
 
 /* Bit z: cell (x, y, z) of the block is mixed, its eight corners (rows
@@ -151,7 +195,8 @@ static void add_leaf(void *ctx, const int32_t b[3], uint64_t at, uint32_t word)
     const double n[3] = {sloped ? s.slope[0] / len : 0.0, sloped ? s.slope[1] / len : 0.0,
                          sloped ? s.slope[2] / len : 0.0};
     int lo[3] = {8, 8, 8}, hi[3] = {-1, -1, -1};
-    double p_lo = INFINITY, p_hi = -INFINITY;
+    double p_lo = INFINITY, p_hi = -INFINITY, g_lo[3] = {INFINITY, INFINITY, INFINITY},
+           g_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (int x = 0; x < 8; x++)
         for (int y = 0; y < 8; y++) {
             const unsigned mixed = mixed_cells(&s, x, y);
@@ -163,6 +208,8 @@ static void add_leaf(void *ctx, const int32_t b[3], uint64_t at, uint32_t word)
             lo[2] = z0 < lo[2] ? z0 : lo[2], hi[2] = z1 > hi[2] ? z1 : hi[2];
             const double at = n[0] * x + n[1] * y, a0 = at + n[2] * z0, a1 = at + n[2] * z1;
             p_lo = fmin(p_lo, fmin(a0, a1)), p_hi = fmax(p_hi, fmax(a0, a1));
+            for (unsigned m = mixed; m; m &= m - 1)
+                widen_gradient(&s, x, y, __builtin_ctz(m), g_lo, g_hi);
         }
     if (hi[0] < 0)
         return;
@@ -173,7 +220,8 @@ static void add_leaf(void *ctx, const int32_t b[3], uint64_t at, uint32_t word)
     for (int k = 0; k < 3; k++)
         reach_lo += n[k] < 0.0 ? n[k] : 0.0, reach_hi += n[k] > 0.0 ? n[k] : 0.0;
     const double origin = n[0] * (8.0 * b[0]) + n[1] * (8.0 * b[1]) + n[2] * (8.0 * b[2]);
-    add_cells(h, first, last, sloped ? n : NULL, origin + p_lo + reach_lo - 0.5, origin + p_hi + reach_hi + 0.5);
+    add_cells(h, first, last, sloped ? n : NULL, origin + p_lo + reach_lo - 0.5, origin + p_hi + reach_hi + 0.5, g_lo,
+              g_hi);
 }
 
 /* The blocks along axis k that a face's patches span: the active box and
@@ -225,7 +273,7 @@ static int scan_faces(const sdft_grid *g, hull_fill *h)
                     first[k] = last[k] = high ? inner : outer;
                     first[u] = 8 * pa - 1, last[u] = 8 * pa + 7;
                     first[v] = 8 * pc - 1, last[v] = 8 * pc + 7;
-                    add_cells(h, first, last, NULL, 0.0, 0.0);
+                    add_cells(h, first, last, NULL, 0.0, 0.0, NULL, NULL);
                 }
         }
     }
@@ -234,7 +282,7 @@ static int scan_faces(const sdft_grid *g, hull_fill *h)
 
 sdft_error sdft_grid_hull_build(sdft_grid *g)
 {
-    g->hull = NULL, g->hull_slab = NULL, g->hull_count = 0;
+    g->hull = NULL, g->hull_slab = NULL, g->hull_gradient = NULL, g->hull_count = 0;
     if (g->grid_class != PNANOVDB_GRID_CLASS_LEVEL_SET || !(g->background > 1.7320508f * g->sigma_max) ||
         !g->leaves.top || g->deferred.state)
         return SDFT_OK;
@@ -248,24 +296,28 @@ sdft_error sdft_grid_hull_build(sdft_grid *g)
     }
     if (leaves == 0 || most > SIZE_MAX / sizeof(sdft_aabb))
         return SDFT_OK;
-    hull_fill h = {g, malloc((size_t)most * sizeof(sdft_aabb)), malloc((size_t)most * sizeof(sdft_slab)), (size_t)most,
+    hull_fill h = {g,
+                   malloc((size_t)most * sizeof(sdft_aabb)),
+                   malloc((size_t)most * sizeof(sdft_slab)),
+                   malloc((size_t)most * sizeof(sdft_aabb)),
+                   (size_t)most,
                    0};
-    if (!h.box || !h.slab) {
-        free(h.box), free(h.slab);
+    if (!h.box || !h.slab || !h.gradient) {
+        free(h.box), free(h.slab), free(h.gradient);
         return SDFT_ENOMEM;
     }
     if (!scan_faces(g, &h)) { /* the box cuts the surface where outside is not positive: no hull */
-        free(h.box), free(h.slab);
+        free(h.box), free(h.slab), free(h.gradient);
         return SDFT_OK;
     }
     sdft_grid_each_leaf(g, add_leaf, &h);
-    g->hull = h.box, g->hull_slab = h.slab;
+    g->hull = h.box, g->hull_slab = h.slab, g->hull_gradient = h.gradient;
     g->hull_count = h.count < h.most ? h.count : h.most;
     return SDFT_OK;
 }
 
 void sdft_grid_hull_free(sdft_grid *g)
 {
-    free(g->hull), free(g->hull_slab);
-    g->hull = NULL, g->hull_slab = NULL, g->hull_count = 0;
+    free(g->hull), free(g->hull_slab), free(g->hull_gradient);
+    g->hull = NULL, g->hull_slab = NULL, g->hull_gradient = NULL, g->hull_count = 0;
 }

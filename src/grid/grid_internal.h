@@ -92,13 +92,14 @@ struct sdft_grid {
     float sigma_min, sigma_max; /* world length of a unit index step: bounds on i2w's singular values */
     float background;           /* world units */
     sdft_vec3 voxel_size;
-    int32_t ilo[3], ihi[3]; /* active voxels' index box, inclusive */
-    sdft_aabb bounds;       /* world box of those voxels' cells */
-    grid_far far;           /* the far bound; built at load for level sets */
-    grid_leaves leaves;     /* the leaf directory; built at load for float grids */
-    grid_deferred deferred; /* leaves filled on first read; state NULL: all there */
-    sdft_aabb *hull;        /* the hull (grid_hull.c): world boxes of the leaves' cells; NULL: none */
-    sdft_slab *hull_slab;   /* with each box, a world slab that holds its cells too */
+    int32_t ilo[3], ihi[3];   /* active voxels' index box, inclusive */
+    sdft_aabb bounds;         /* world box of those voxels' cells */
+    grid_far far;             /* the far bound; built at load for level sets */
+    grid_leaves leaves;       /* the leaf directory; built at load for float grids */
+    grid_deferred deferred;   /* leaves filled on first read; state NULL: all there */
+    sdft_aabb *hull;          /* the hull (grid_hull.c): world boxes of the leaves' cells; NULL: none */
+    sdft_slab *hull_slab;     /* with each box, a world slab that holds its cells too */
+    sdft_aabb *hull_gradient; /* with each box, world bounds on its cells' gradients */
     size_t hull_count;
     char name[256];
 };

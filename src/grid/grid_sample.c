@@ -451,6 +451,7 @@ sdft_field sdft_grid_field_with(const sdft_grid *g, sdft_grid_bound bound)
         .hull = g->hull,
         .hull_count = g->hull_count,
         .hull_slabs = g->hull_slab,
+        .hull_gradients = g->hull_gradient,
     };
 }
 
