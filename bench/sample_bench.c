@@ -73,10 +73,10 @@ static float logging_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
 }
 
 static int logging_root(const void *ctx, sdft_scratch *s, sdft_vec3 org, sdft_vec3 dir, float t0, float t1, float *t,
-                        uint32_t *reads)
+                        sdft_vec3 *normal, uint32_t *reads)
 {
     const logging *l = ctx;
-    return l->inner.root(l->inner.ctx, s, org, dir, t0, t1, t, reads);
+    return l->inner.root(l->inner.ctx, s, org, dir, t0, t1, t, normal, reads);
 }
 
 static void logging_scratch_init(const void *ctx, sdft_scratch *s)

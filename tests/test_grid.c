@@ -973,7 +973,10 @@ static void test_cell_root_on_near_planar_cells(void **state)
 /* A grid's ray hits the first root of its interpolant exactly: the
  * interpolant, in double from the stored voxels, changes sign within 1e-3
  * of a voxel around the hit (or touches 0 there), and is positive on a
- * fine sampling of the two voxels before it. */
+ * fine sampling of the two voxels before it; and the hit's normal is the
+ * interpolant's gradient there, in the cell the ray reaches it from
+ * (central differences in double, taken to world space), where the hit
+ * is an exact root, and none where it is not. */
 static double grid_interpolant(const sdft_grid *g, sdft_vec3 p)
 {
     int32_t i0[3];
@@ -1006,9 +1009,36 @@ static void test_exact_root_on_a_grid(void **state)
             if (hit.status != SDFT_HIT)
                 continue;
             hits++;
-            if (hit.distance != 0.0f)
-                continue; /* the root walk gave up (none within its cells): refined as before */
+            if (hit.distance != 0.0f) { /* the root walk gave up (none within its cells): refined as before */
+                assert_true(hit.normal.x == 0.0f && hit.normal.y == 0.0f && hit.normal.z == 0.0f);
+                continue;
+            }
             exact++;
+            int32_t i0[3];
+            double u[3], grad[3], world[3], len = 0.0;
+            float v[8];
+            cell_at(g, sdft_madd(ray.org, ray.dir, hit.t - 1e-3f * h), i0, u, v);
+            const sdft_vec3 p = sdft_madd(ray.org, ray.dir, hit.t);
+            for (int k = 0; k < 3; k++) { /* the hit's coordinates in that cell */
+                const double x = (double)g->w2i[3 * k] * p.x + (double)g->w2i[3 * k + 1] * p.y +
+                                 (double)g->w2i[3 * k + 2] * p.z + (double)g->w2i_t[k];
+                u[k] = x - i0[k];
+            }
+            for (int k = 0; k < 3; k++) {
+                double a[3] = {u[0], u[1], u[2]}, b[3] = {u[0], u[1], u[2]};
+                a[k] += 1e-3, b[k] -= 1e-3;
+                grad[k] = (trilinear_d(v, a) - trilinear_d(v, b)) / 2e-3;
+            }
+            for (int k = 0; k < 3; k++) {
+                world[k] = g->w2i[k] * grad[0] + g->w2i[3 + k] * grad[1] + g->w2i[6 + k] * grad[2];
+                len += world[k] * world[k];
+            }
+            len = sqrt(len);
+            const double cosine = (hit.normal.x * world[0] + hit.normal.y * world[1] + hit.normal.z * world[2]) / len;
+            if (!(cosine > 0.9999 && fabsf(sdft_length(hit.normal) - 1.0f) < 1e-5f))
+                fail_msg("%s: ray %d, normal (%g, %g, %g) at its exact hit, the interpolant's gradient (%g, %g, %g)",
+                         sdft_method_name(tp.method), i, hit.normal.x, hit.normal.y, hit.normal.z, world[0] / len,
+                         world[1] / len, world[2] / len);
             const double before = grid_interpolant(g, sdft_madd(ray.org, ray.dir, hit.t - 1e-3f * h));
             const double after = grid_interpolant(g, sdft_madd(ray.org, ray.dir, hit.t + 1e-3f * h));
             const double at = grid_interpolant(g, sdft_madd(ray.org, ray.dir, hit.t));
@@ -1026,6 +1056,57 @@ static void test_exact_root_on_a_grid(void **state)
     print_message("%d hits, %d of them exact roots\n", hits, exact);
     assert_true(exact > 300);
     assert_true(exact > hits * 9 / 10);
+    sdft_grid_free(g);
+}
+
+/* A ray that passes within eps of a grid's surface without meeting it:
+ * stepping to eps calls it a hit (the papers' rule), the exact root does
+ * not, having walked the cells to the ray's end, and brute-force sampling
+ * of the interpolant finds no root on it; a ray that does cross the
+ * surface hits at the root either way. Rays passing the spheres' largest
+ * at 0.2 to 1.6 voxels from it, and a few through it, with eps two voxels, so that the march
+ * lands within eps before the exact root is due (on the interpolant alone,
+ * whose values outside the band are the background's three voxels). */
+static void test_exact_root_passes_a_near_miss(void **state)
+{
+    (void)state;
+    sdft_scratch s;
+    sdft_grid *g = spheres_grid_with_scratch(48, &s);
+    const sdft_field gf = sdft_grid_field_without_bound(g); /* the interpolant alone: the far bound's values
+                                                             * can be below two voxels */
+    sdft_scratch_init(&gf, &s);
+    const float h = sdft_grid_voxel_size(g).x;
+    int passed = 0, papers_hit = 0, crossed = 0;
+    for (int i = 0; i < 40; i++) {
+        /* Towards -x, at height y above the sphere of radius 0.6 round the
+         * origin, in the plane z = -0.2 (clear of the other spheres). */
+        const float z = -0.2f, miss = (i < 35 ? 0.2f + 0.04f * (float)i : -0.5f - 0.1f * (float)(i - 35)) * h;
+        const float y = sqrtf((0.6f + miss) * (0.6f + miss) - z * z);
+        const sdft_ray ray = {.org = {1.3f, y, z}, .tnear = 0.0f, .dir = {-1.0f, 0.0f, 0.0f}, .tfar = 1.3f};
+        sdft_trace_params tp = sdft_trace_defaults();
+        tp.eps = 2.0f * h;
+        const sdft_hit exact = sdft_trace(&gf, &s, &ray, &tp);
+        tp.exact_root = 0;
+        const sdft_hit stepped = sdft_trace(&gf, &s, &ray, &tp);
+        float root = INFINITY;
+        for (float t = 0.0f; t <= ray.tfar && root == INFINITY; t += 0.01f * h)
+            if (grid_interpolant(g, sdft_madd(ray.org, ray.dir, t)) <= 0.0)
+                root = t;
+        if (root == INFINITY) {
+            if (exact.status != SDFT_MISS)
+                fail_msg("ray %d passes %g voxels from the sphere: status %d at t = %g with the exact root", i,
+                         miss / h, exact.status, exact.t);
+            passed++;
+            papers_hit += stepped.status == SDFT_HIT;
+        } else {
+            assert_int_equal(exact.status, SDFT_HIT);
+            assert_true(fabsf(exact.t - root) <= 0.02f * h);
+            crossed++;
+        }
+    }
+    print_message("%d rays pass the sphere by (%d of them hits when stepping to eps), %d cross it\n", passed,
+                  papers_hit, crossed);
+    assert_true(passed >= 30 && papers_hit >= 20 && crossed >= 3);
     sdft_grid_free(g);
 }
 
@@ -2299,6 +2380,7 @@ int main(void)
         cmocka_unit_test(test_cell_root_against_brute_force),
         cmocka_unit_test(test_cell_root_on_near_planar_cells),
         cmocka_unit_test(test_exact_root_on_a_grid),
+        cmocka_unit_test(test_exact_root_passes_a_near_miss),
         cmocka_unit_test(test_normal_is_the_interpolant_gradient),
         cmocka_unit_test(test_grid_render_matches_procedural),
         cmocka_unit_test(test_hull_holds_every_first_root),

@@ -83,12 +83,14 @@ typedef struct sdft_field {
      * own form (a grid: the trilinear interpolant, a cubic along the ray in
      * each voxel cell). The tracer asks once f(org + t0 dir) lies in (0,
      * root_reach): it looks along [t0, t1] and returns 1 with *t the first t
-     * where f reaches 0, or 0 with *t the t up to which it proved there is
-     * none (t0 <= *t <= t1; the tracer marches on from there). It adds to
-     * *reads the evaluations' worth of data it read (a grid: one per cell).
-     * NULL: not provided; the tracer steps to eps, as the papers do. */
+     * where f reaches 0 and *normal the unit outward normal there (f's
+     * gradient, normalized; a grid: its interpolant's, in the root's cell;
+     * (0, 0, 0) where it has none), or 0 with *t the t up to which it proved
+     * there is none (t0 <= *t <= t1; the tracer marches on from there). It
+     * adds to *reads the evaluations' worth of data it read (a grid: one per
+     * cell). NULL: not provided; the tracer steps to eps, as the papers do. */
     int (*root)(const void *ctx, sdft_scratch *scratch, sdft_vec3 org, sdft_vec3 dir, float t0, float t1, float *t,
-                uint32_t *reads);
+                sdft_vec3 *normal, uint32_t *reads);
     float root_reach; /* world units; with root */
     /* Optional: a hint that distance(p) will be asked soon. The field may
      * start loading the memory that call will read (a grid: its leaf

@@ -76,6 +76,9 @@ typedef struct sdft_hit {
     sdft_status status;
     uint32_t steps;      /* SDF evaluations, refinement included */
     uint32_t fallbacks;  /* relaxed steps rejected: consecutive unbounding spheres disjoint */
+    sdft_vec3 normal;    /* hit at the field's exact root (exact_root, sdft_field.root): the unit outward
+                          * normal there, as the root gives it; otherwise (0, 0, 0), and
+                          * sdft_field_normal gives one at the hit point */
 } sdft_hit;
 
 /* The defaults of the papers' measurements: auto, beta 0.3, eps 1e-4, 1000

@@ -49,10 +49,19 @@ sdft_hit sdft_march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray 
          * point known outside (a step may have landed inside). */
         const float from = r > 0.0f ? t : t0;
         float at;
-        if (p->exact_root && f->root && (r > 0.0f || (r0 > 0.0f && t0 < t)) &&
-            f->root(f->ctx, s, ray->org, ray->dir, from, ray->tfar, &at, &hit.steps)) {
-            hit.t = at, hit.distance = 0.0f;
-            return hit;
+        if (p->exact_root && f->root && (r > 0.0f || (r0 > 0.0f && t0 < t))) {
+            if (f->root(f->ctx, s, ray->org, ray->dir, from, ray->tfar, &at, &hit.normal, &hit.steps)) {
+                hit.t = at, hit.distance = 0.0f;
+                return hit;
+            }
+            /* Within eps of the surface, but it proved there is no root
+             * before the ray's end: the ray passes the surface by (whether
+             * a march lands within eps of it there depends on where the
+             * march started; the root does not). */
+            if (at >= ray->tfar) {
+                hit.status = SDFT_MISS;
+                return hit;
+            }
         }
         refine(f, s, ray, p, t0, r0, &hit.t, &hit.distance, &hit.steps);
     } else if (t + r >= ray->tfar || !isfinite(r)) {

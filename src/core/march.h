@@ -110,21 +110,24 @@ static inline int march_root_due(const sdft_field *f, const sdft_trace_params *p
     return p->exact_root && f->root && m->r < f->root_reach && m->t > m->root_t;
 }
 
-/* Asks the field; 1 when it found the root (*t_out: where), else 0 with
- * *t_out where marching resumes (m->t when the field could not go on). */
-static inline int march_root(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, march_state *m, float *t_out)
+/* Asks the field; 1 when it found the root (*t_out: where, *normal: the
+ * normal there), else 0 with *t_out where marching resumes (m->t when the
+ * field could not go on). */
+static inline int march_root(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, march_state *m, float *t_out,
+                             sdft_vec3 *normal)
 {
     float t = m->t;
-    const int found = f->root(f->ctx, s, ray->org, ray->dir, m->t, ray->tfar, &t, &m->i);
+    const int found = f->root(f->ctx, s, ray->org, ray->dir, m->t, ray->tfar, &t, normal, &m->i);
     m->root_t = found ? m->root_t : sdft_maxf(t, m->t);
     *t_out = found ? t : sdft_maxf(t, m->t);
     return found;
 }
 
-/* The hit at the field's exact root t. */
-static inline sdft_hit march_exact_hit(const march_state *m, float t)
+/* The hit at the field's exact root t, with the normal n the field gave there. */
+static inline sdft_hit march_exact_hit(const march_state *m, float t, sdft_vec3 n)
 {
-    return (sdft_hit){.t = t, .distance = 0.0f, .status = SDFT_HIT, .steps = m->i, .fallbacks = m->fallbacks};
+    return (sdft_hit){
+        .t = t, .distance = 0.0f, .status = SDFT_HIT, .steps = m->i, .fallbacks = m->fallbacks, .normal = n};
 }
 
 #if defined(__GNUC__)
@@ -146,9 +149,10 @@ MARCH_INLINE sdft_hit march_one(const sdft_field *f, sdft_scratch *s, const sdft
     start(&m, p);
     while (march_on(p, ray, m.t, m.r, m.i)) {
         float at;
+        sdft_vec3 n;
         if (march_root_due(f, p, &m)) {
-            if (march_root(f, s, ray, &m, &at))
-                return march_exact_hit(&m, at);
+            if (march_root(f, s, ray, &m, &at, &n))
+                return march_exact_hit(&m, at, n);
             if (at > m.t) {
                 march_restart(&m, p, at, march_eval(f, s, ray, at));
                 start(&m, p);
@@ -237,16 +241,17 @@ MARCH_INLINE void march_many(const sdft_field *f, sdft_scratch *s, const sdft_ra
             }
             if (march_on(p, &l->ray, l->m.t, l->m.r, l->m.i)) {
                 float at;
+                sdft_vec3 n;
                 if (!march_root_due(f, p, &l->m)) {
                     l->T = l->m.t + l->m.z;
                     continue;
                 }
-                if (!march_root(f, s, &l->ray, &l->m, &at)) {
+                if (!march_root(f, s, &l->ray, &l->m, &at, &n)) {
                     l->next = at > l->m.t ? LANE_RESTART : LANE_STEP;
                     l->T = at > l->m.t ? at : l->m.t + l->m.z;
                     continue;
                 }
-                hits[l->index] = march_exact_hit(&l->m, at);
+                hits[l->index] = march_exact_hit(&l->m, at, n);
             } else {
                 hits[l->index] = march_end(f, s, &l->ray, p, &l->m);
             }

@@ -233,7 +233,8 @@ static int shade_pixel(const frame *fr, sdft_scratch *s, sdft_ray ray, sdft_hit 
     if (rp->depth_only)
         return 0;
     sdft_vec3 p = sdft_madd(ray.org, ray.dir, h.t);
-    sdft_vec3 n = sdft_field_normal(f, s, p);
+    /* The exact root's own normal where the trace has one (sdft_hit.normal). */
+    sdft_vec3 n = sdft_dot(h.normal, h.normal) > 0.25f ? h.normal : sdft_field_normal(f, s, p);
     if (!sdft_isfinite3(n) || !(sdft_dot(n, n) > 0.25f)) /* not finite, or no unit vector */
         n = sdft_scale(ray.dir, -1.0f);
     out->normal = n;

@@ -233,6 +233,42 @@ GRID_INLINE int cell_values(const sdft_grid *g, pnanovdb_grid_type_t type, pnano
     return leaves;
 }
 
+/* The gradient, in index space, of the trilinear interpolant of cell
+ * values v along the line u0 + s du (cell-local coordinates), as a
+ * quadratic in s: component k is q[0][k] + s q[1][k] + s^2 q[2][k]. Along
+ * axis k the derivative is the bilinear blend, over the other two
+ * coordinates P and Q, of the axis's four edge differences e_PQ (v at the
+ * edge's far end less v at its near end): e00 + P a + Q b + P Q c with a =
+ * e10 - e00, b = e01 - e00, c = e00 - e10 - e01 + e11; with P = p0 + s dp
+ * and Q = q0 + s dq that is the quadratic. At s = 0 it is the gradient at
+ * u0; given ahead of the root s, the gradient there is two steps away. */
+static inline void cell_gradient_along(const float v[8], const double u0[3], const double du[3], double q[3][3])
+{
+    static const int stride[3] = {1, 2, 4}; /* v's index step along x, y and z */
+    for (int k = 0; k < 3; k++) {
+        const int p = k == 0 ? 1 : 0, r = k == 2 ? 1 : 2; /* the other two axes, in order */
+        double e[4];                                      /* e[P + 2 Q] */
+        for (int i = 0; i < 4; i++) {
+            const int near = (i & 1) * stride[p] + (i >> 1) * stride[r];
+            e[i] = (double)v[near + stride[k]] - (double)v[near];
+        }
+        const double a = e[1] - e[0], b = e[2] - e[0], c = e[0] - e[1] - e[2] + e[3];
+        q[0][k] = e[0] + u0[p] * a + u0[r] * b + u0[p] * u0[r] * c;
+        q[1][k] = du[p] * a + du[r] * b + c * (u0[p] * du[r] + u0[r] * du[p]);
+        q[2][k] = c * du[p] * du[r];
+    }
+}
+
+/* The unit world normal along index-space gradient d: d taken to world
+ * space by the world-to-index map's transpose (the gradient of f(A w + t)
+ * is A^T times f's), normalized (sdft_normalize: (0, 0, 0) stays). */
+static inline sdft_vec3 world_normal(const sdft_grid *g, const float d[3])
+{
+    const float *m = g->w2i;
+    return sdft_normalize(sdft_v3(m[0] * d[0] + m[3] * d[1] + m[6] * d[2], m[1] * d[0] + m[4] * d[1] + m[7] * d[2],
+                                  m[2] * d[0] + m[5] * d[1] + m[8] * d[2]));
+}
+
 static inline float trilerp(const float v[8], float tx, float ty, float tz)
 {
     float x00 = lerp(v[0], v[1], tx), x10 = lerp(v[2], v[3], tx);

@@ -165,7 +165,7 @@ size_t sdft_grid_leaves_bytes(const sdft_grid *g); /* its tables' size */
  * trilinear interpolant of cell values v (v[k] at corner (k & 1, k >> 1 & 1,
  * k >> 2 & 1)) along u0 + s du in cell-local coordinates: 1 and *s, or 0. */
 typedef int (*sdft_root_fn)(const void *ctx, sdft_scratch *s, sdft_vec3 org, sdft_vec3 dir, float t0, float t1,
-                            float *t, uint32_t *reads);
+                            float *t, sdft_vec3 *normal, uint32_t *reads);
 sdft_root_fn sdft_grid_root_for(const sdft_grid *g);
 int sdft_grid_cell_root(const float v[8], const double u0[3], const double du[3], double len, double *s);
 

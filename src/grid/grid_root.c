@@ -129,9 +129,11 @@ int sdft_grid_cell_root(const float v[8], const double u0[3], const double du[3]
 {
     double c[4], split[4];
     cell_cubic(v, u0, du, c);
-    /* The Bernstein coefficients b0..b3 on [0, len] (the header). */
+    /* The Bernstein coefficients b0..b3 on [0, len] (the header), times 3
+     * (so no division; the signs are b's): b0 = c0, b1 = b0 + a1 / 3, b2 =
+     * b1 + (a1 + a2) / 3, b3 = b0 + a1 + a2 + a3, with a_k = c_k len^k. */
     const double a1 = c[1] * len, a2 = c[2] * len * len, a3 = c[3] * len * len * len;
-    const double b0 = c[0], b1 = b0 + a1 / 3.0, b2 = b1 + (a1 + a2) / 3.0, b3 = b0 + a1 + a2 + a3;
+    const double b0 = 3.0 * c[0], b1 = b0 + a1, b2 = b1 + a1 + a2, b3 = b0 + 3.0 * (a1 + a2 + a3);
     if (b0 > 0.0 && b1 > 0.0 && b2 > 0.0 && b3 > 0.0)
         return 0;
     /* Signs + + + -, + + - - or + - - -: one change (a zero coefficient
@@ -144,9 +146,13 @@ int sdft_grid_cell_root(const float v[8], const double u0[3], const double du[3]
          * the cubic is 0, is where the line lies in [-delta, delta]: within
          * delta len / (b0 - b3) of the line's own root, the secant point.
          * When that is below 2^-30 of the segment (a plane's interpolant is
-         * linear, so delta is rounding), the secant point is the root. */
-        const double delta = fmax(fabs(b1 - (2.0 * b0 + b3) / 3.0), fabs(b2 - (b0 + 2.0 * b3) / 3.0));
-        *s = delta <= 0x1p-30 * (b0 - b3) ? len * b0 / (b0 - b3) : bracketed_root(c, 0.0, b0, len, b3);
+         * linear, so delta is rounding), the secant point is the root.
+         * With the b here three times those, 9 delta is the larger of
+         * |3 b1 - 2 b0 - b3| and |3 b2 - b0 - 2 b3|, and 9 (b0 - b3) is
+         * 3 (b0 - b3). */
+        const double d1 = fabs(3.0 * b1 - 2.0 * b0 - b3), d2 = fabs(3.0 * b2 - b0 - 2.0 * b3);
+        *s = (d1 > d2 ? d1 : d2) <= 0x1p-30 * 3.0 * (b0 - b3) ? len * b0 / (b0 - b3)
+                                                              : bracketed_root(c, 0.0, c[0], len, c[0] + a1 + a2 + a3);
         return 1;
     }
     int pieces = 1 + quadratic_roots(c[1], 2.0 * c[2], 3.0 * c[3], len, split + 1);
@@ -170,7 +176,8 @@ int sdft_grid_cell_root(const float v[8], const double u0[3], const double du[3]
 /* The walk of the header, for grids of `type`. */
 static inline __attribute__((always_inline)) int walk(const sdft_grid *g, pnanovdb_grid_type_t type,
                                                       pnanovdb_readaccessor_t *acc, sdft_vec3 org, sdft_vec3 dir,
-                                                      float t0, float t1, float *t_out, uint32_t *reads)
+                                                      float t0, float t1, float *t_out, sdft_vec3 *normal,
+                                                      uint32_t *reads)
 {
     const float *m = g->w2i;
     const double o[3] = {org.x, org.y, org.z}, d[3] = {dir.x, dir.y, dir.z};
@@ -208,28 +215,42 @@ static inline __attribute__((always_inline)) int walk(const sdft_grid *g, pnanov
             goto next;
         for (int k = 0; k < 3; k++)
             u0[k] = x0[k] + (ta - (double)t0) * xd[k] - (double)cell[k];
+        /* The gradient along the segment, ready before its root (so the
+         * normal there is not a long chain after it). */
+        double q[3][3];
+        cell_gradient_along(v, u0, xd, q);
         if (sdft_grid_cell_root(v, u0, xd, tb - ta, &s)) {
             *t_out = (float)(ta + s);
+            /* The normal: the gradient at the root, in the cell; none where
+             * it is as flat as normal_of finds too flat (grid_sample.c),
+             * which then decides. */
+            float d[3];
+            for (int k = 0; k < 3; k++)
+                d[k] = (float)(q[0][k] + s * (q[1][k] + s * q[2][k]));
+            const int flat = !(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 1e-12f * g->background * g->background);
+            *normal = flat ? sdft_v3(0.0f, 0.0f, 0.0f) : world_normal(g, d);
             return 1;
         }
     next:
         ta = tb;
-        if (tb >= (double)t1)
-            break;
+        if (tb >= (double)t1) { /* none up to the end */
+            *t_out = t1;
+            return 0;
+        }
         cell[k] += step[k];
         t_next[k] += t_delta[k];
     }
-    /* Free up to ta; rounded down, so that marching resumes on the near side. */
+    /* Free up to ta, short of t1; rounded down, so that marching resumes on the near side. */
     *t_out = sdft_maxf(t0, nextafterf((float)ta, -INFINITY));
     return 0;
 }
 
 #define GRID_ROOT(name, type)                                                                                          \
     static int name(const void *ctx, sdft_scratch *s, sdft_vec3 org, sdft_vec3 dir, float t0, float t1, float *t,      \
-                    uint32_t *reads)                                                                                   \
+                    sdft_vec3 *normal, uint32_t *reads)                                                                \
     {                                                                                                                  \
         const sdft_grid *g = ctx;                                                                                      \
-        return walk(g, type, accessor(s), org, dir, t0, t1, t, reads);                                                 \
+        return walk(g, type, accessor(s), org, dir, t0, t1, t, normal, reads);                                         \
     }
 GRID_ROOT(grid_root_float, PNANOVDB_GRID_TYPE_FLOAT)
 GRID_ROOT(grid_root_fp16, PNANOVDB_GRID_TYPE_FP16)

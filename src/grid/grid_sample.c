@@ -382,11 +382,10 @@ GRID_INLINE sdft_vec3 normal_of(const sdft_grid *g, pnanovdb_grid_type_t type, s
         const pnanovdb_coord_t i0 = {ifloor(x[0]), ifloor(x[1]), ifloor(x[2])};
         const float tx = x[0] - (float)i0.x, ty = x[1] - (float)i0.y, tz = x[2] - (float)i0.z;
         float v[8];
+        double q[3][3];
         cell_values(g, type, acc, i0, v);
-        const float ux = 1.0f - tx, uy = 1.0f - ty, uz = 1.0f - tz;
-        d[0] = uy * uz * (v[1] - v[0]) + ty * uz * (v[3] - v[2]) + uy * tz * (v[5] - v[4]) + ty * tz * (v[7] - v[6]);
-        d[1] = ux * uz * (v[2] - v[0]) + tx * uz * (v[3] - v[1]) + ux * tz * (v[6] - v[4]) + tx * tz * (v[7] - v[5]);
-        d[2] = ux * uy * (v[4] - v[0]) + tx * uy * (v[5] - v[1]) + ux * ty * (v[6] - v[2]) + tx * ty * (v[7] - v[3]);
+        cell_gradient_along(v, (const double[3]){tx, ty, tz}, (const double[3]){0.0, 0.0, 0.0}, q);
+        d[0] = (float)q[0][0], d[1] = (float)q[0][1], d[2] = (float)q[0][2];
     }
     if (!(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 1e-12f * g->background * g->background)) {
         static const float k[4][3] = {{1, -1, -1}, {-1, -1, 1}, {-1, 1, -1}, {1, 1, 1}};
@@ -397,10 +396,7 @@ GRID_INLINE sdft_vec3 normal_of(const sdft_grid *g, pnanovdb_grid_type_t type, s
             d[0] += k[i][0] * f, d[1] += k[i][1] * f, d[2] += k[i][2] * f;
         }
     }
-    const float *m = g->w2i;
-    sdft_vec3 n = sdft_v3(m[0] * d[0] + m[3] * d[1] + m[6] * d[2], m[1] * d[0] + m[4] * d[1] + m[7] * d[2],
-                          m[2] * d[0] + m[5] * d[1] + m[8] * d[2]);
-    return sdft_normalize(n);
+    return world_normal(g, d);
 }
 
 static sdft_vec3 normal_float(const void *ctx, sdft_scratch *s, sdft_vec3 p)
