@@ -378,6 +378,60 @@ static void test_ray_missing_bounds_costs_nothing(void **state)
     assert_int_equal(*counter(&s), 0);
 }
 
+/* sdft_aabb_clip (and the tracer's own clip, the same code) against brute
+ * force: 2000 points along each ray, those clear of the box's faces by
+ * more than rounding lie in the box exactly when their t is within the
+ * clipped span. Rays whose direction has components exactly 0 or -0, and
+ * whose origins lie on the box's planes (a ray in a face's plane is in
+ * the closed box), in it, or outside it. */
+static void test_aabb_clip_against_points(void **state)
+{
+    (void)state;
+    const sdft_aabb b = {{-0.7f, -0.3f, 0.2f}, {0.9f, 0.5f, 1.4f}};
+    const float lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
+    tu_rng r = tu_rng_seed(5);
+    int met = 0, flat = 0;
+    for (int i = 0; i < 3000; i++) {
+        float o[3], d[3];
+        for (int k = 0; k < 3; k++) {
+            const int kind = (int)tu_uniform(&r, 0.0f, 5.99f); /* 0 lo, 1 hi, 2-5 anywhere near */
+            o[k] = kind == 0 ? lo[k] : kind == 1 ? hi[k] : tu_uniform(&r, lo[k] - 0.3f, hi[k] + 0.3f);
+            const int zero = (int)tu_uniform(&r, 0.0f, 3.99f); /* 0 +0, 1 -0, else any */
+            d[k] = zero == 0 ? 0.0f : zero == 1 ? -0.0f : tu_uniform(&r, -1.0f, 1.0f);
+        }
+        if (d[0] == 0.0f && d[1] == 0.0f && d[2] == 0.0f)
+            continue;
+        flat += d[0] == 0.0f || d[1] == 0.0f || d[2] == 0.0f;
+        const sdft_vec3 org = sdft_v3(o[0], o[1], o[2]), dir = sdft_v3(d[0], d[1], d[2]);
+        const float tnear = tu_uniform(&r, -1.0f, 0.5f), tfar = tnear + tu_uniform(&r, 0.1f, 6.0f);
+        float t0 = NAN, t1 = NAN;
+        const int in = sdft_aabb_clip(b, org, dir, tnear, tfar, &t0, &t1);
+        met += in;
+        for (int j = 0; j <= 2000; j++) {
+            const float t = tnear + (tfar - tnear) * (float)j / 2000.0f;
+            float clear = INFINITY; /* signed distance inside the box, per axis the least */
+            for (int k = 0; k < 3; k++) {
+                const float x = o[k] + t * d[k];
+                if (d[k] == 0.0f) /* exact: in the closed slab or not */
+                    clear = o[k] >= lo[k] && o[k] <= hi[k] ? clear : -INFINITY;
+                else
+                    clear = fminf(clear, fminf(x - lo[k], hi[k] - x));
+            }
+            if (fabsf(clear) <= 1e-5f)
+                continue; /* on a face the ray crosses, to rounding */
+            const int within = in && t >= t0 - 1e-5f && t <= t1 + 1e-5f;
+            const int strictly = in && t > t0 + 1e-5f && t < t1 - 1e-5f;
+            if ((clear > 0.0f && !within) || (clear < 0.0f && strictly))
+                fail_msg("ray %d (o %a %a %a, d %a %a %a): t = %g is %s the box, clip %s [%g, %g]", i, o[0], o[1], o[2],
+                         d[0], d[1], d[2], t, clear > 0.0f ? "in" : "outside", in ? "gives" : "refuses, not", t0, t1);
+        }
+        if (in)
+            assert_true(t0 >= tnear && t1 <= tfar && t0 <= t1);
+    }
+    print_message("%d rays meet the box, %d of them with a direction component 0\n", met, flat);
+    assert_true(met > 500 && flat > 1000);
+}
+
 /* With the screen-space criterion a ray that runs out of steps returns the
  * point of smallest r / t along its way (Keinert §3.2), not the last one. */
 static void test_screen_space_candidate(void **state)
@@ -531,6 +585,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_scratch_belongs_to_its_field),
         cmocka_unit_test(test_hits_sphere),
+        cmocka_unit_test(test_aabb_clip_against_points),
         cmocka_unit_test(test_hits_box),
         cmocka_unit_test(test_hits_plane),
         cmocka_unit_test(test_steps_count_evaluations),
