@@ -233,25 +233,44 @@ GRID_INLINE int cell_values(const sdft_grid *g, pnanovdb_grid_type_t type, pnano
     return leaves;
 }
 
+/* The four differences of cell values v along index axis k, each edge's
+ * far end less its near end, in double (exact for the floats of a band):
+ * e[P + 2 Q] for the edge at P, Q in {0, 1} on the other two axes, in
+ * order. Along axis k the interpolant's derivative is their bilinear
+ * blend over P and Q. */
+static inline void cell_edges(const float v[8], int k, double e[4])
+{
+    static const int stride[3] = {1, 2, 4}; /* v's index step along x, y and z */
+    const int p = k == 0 ? 1 : 0, r = k == 2 ? 1 : 2;
+    for (int i = 0; i < 4; i++) {
+        const int near = (i & 1) * stride[p] + (i >> 1) * stride[r];
+        e[i] = (double)v[near + stride[k]] - (double)v[near];
+    }
+}
+
+/* Whether index-space gradient d is too flat to give a normal: below a
+ * millionth of the band's half-width per voxel (off the surface, in a
+ * tile or the background). */
+static inline int gradient_is_flat(const sdft_grid *g, const float d[3])
+{
+    return !(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 1e-12f * g->background * g->background);
+}
+
 /* The gradient, in index space, of the trilinear interpolant of cell
  * values v along the line u0 + s du (cell-local coordinates), as a
  * quadratic in s: component k is q[0][k] + s q[1][k] + s^2 q[2][k]. Along
  * axis k the derivative is the bilinear blend, over the other two
- * coordinates P and Q, of the axis's four edge differences e_PQ (v at the
- * edge's far end less v at its near end): e00 + P a + Q b + P Q c with a =
+ * coordinates P and Q, of the axis's four edge differences e_PQ
+ * (cell_edges): e00 + P a + Q b + P Q c with a =
  * e10 - e00, b = e01 - e00, c = e00 - e10 - e01 + e11; with P = p0 + s dp
  * and Q = q0 + s dq that is the quadratic. At s = 0 it is the gradient at
  * u0; given ahead of the root s, the gradient there is two steps away. */
 static inline void cell_gradient_along(const float v[8], const double u0[3], const double du[3], double q[3][3])
 {
-    static const int stride[3] = {1, 2, 4}; /* v's index step along x, y and z */
     for (int k = 0; k < 3; k++) {
         const int p = k == 0 ? 1 : 0, r = k == 2 ? 1 : 2; /* the other two axes, in order */
         double e[4];                                      /* e[P + 2 Q] */
-        for (int i = 0; i < 4; i++) {
-            const int near = (i & 1) * stride[p] + (i >> 1) * stride[r];
-            e[i] = (double)v[near + stride[k]] - (double)v[near];
-        }
+        cell_edges(v, k, e);
         const double a = e[1] - e[0], b = e[2] - e[0], c = e[0] - e[1] - e[2] + e[3];
         q[0][k] = e[0] + u0[p] * a + u0[r] * b + u0[p] * u0[r] * c;
         q[1][k] = du[p] * a + du[r] * b + c * (u0[p] * du[r] + u0[r] * du[p]);

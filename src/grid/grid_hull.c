@@ -145,23 +145,24 @@ static void add_cells(hull_fill *h, const int32_t first[3], const int32_t last[3
 
 /* THE GRADIENT. In cell (x, y, z) the interpolant's derivative along index
  * axis k is the bilinear blend, over the cell's other two coordinates, of
- * its four k edges' differences (v at the edge's far end less v at its
- * near end), so at every point of the closed cell it lies between the
- * least and the greatest of the four. Widens [lo, hi] to hold them, on
- * each axis; a NaN value leaves the axis unbounded. */
+ * its four k edges' differences (cell_edges), so at every point of the
+ * closed cell it lies between the least and the greatest of the four.
+ * Widens [lo, hi] to hold them, on each axis; a NaN value leaves the axis
+ * unbounded. */
 static void widen_gradient(const block_signs *s, int x, int y, int z, double lo[3], double hi[3])
 {
-    for (int k = 0; k < 3; k++)
-        for (int e = 0; e < 4; e++) {
-            int p[3] = {x, y, z};
-            p[(k + 1) % 3] += e & 1, p[(k + 2) % 3] += e >> 1;
-            const float near = s->value[p[0]][p[1]][p[2]];
-            p[k]++;
-            const double d = (double)s->value[p[0]][p[1]][p[2]] - (double)near;
-            if (d != d)
+    float v[8];
+    for (int c = 0; c < 8; c++)
+        v[c] = s->value[x + (c & 1)][y + (c >> 1 & 1)][z + (c >> 2 & 1)];
+    for (int k = 0; k < 3; k++) {
+        double e[4];
+        cell_edges(v, k, e);
+        for (int i = 0; i < 4; i++) {
+            if (e[i] != e[i])
                 lo[k] = -INFINITY, hi[k] = INFINITY;
-            lo[k] = d < lo[k] ? d : lo[k], hi[k] = d > hi[k] ? d : hi[k];
+            lo[k] = e[i] < lo[k] ? e[i] : lo[k], hi[k] = e[i] > hi[k] ? e[i] : hi[k];
         }
+    }
 }
 
 /* Bit z: cell (x, y, z) of the block is mixed, its eight corners (rows

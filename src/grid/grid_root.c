@@ -222,13 +222,12 @@ static inline __attribute__((always_inline)) int walk(const sdft_grid *g, pnanov
         if (sdft_grid_cell_root(v, u0, xd, tb - ta, &s)) {
             *t_out = (float)(ta + s);
             /* The normal: the gradient at the root, in the cell; none where
-             * it is as flat as normal_of finds too flat (grid_sample.c),
-             * which then decides. */
+             * it is too flat (gradient_is_flat), and normal_of, which falls
+             * back to differences there, decides. */
             float d[3];
             for (int k = 0; k < 3; k++)
                 d[k] = (float)(q[0][k] + s * (q[1][k] + s * q[2][k]));
-            const int flat = !(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 1e-12f * g->background * g->background);
-            *normal = flat ? sdft_v3(0.0f, 0.0f, 0.0f) : world_normal(g, d);
+            *normal = gradient_is_flat(g, d) ? sdft_v3(0.0f, 0.0f, 0.0f) : world_normal(g, d);
             return 1;
         }
     next:

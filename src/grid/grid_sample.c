@@ -387,7 +387,7 @@ GRID_INLINE sdft_vec3 normal_of(const sdft_grid *g, pnanovdb_grid_type_t type, s
         cell_gradient_along(v, (const double[3]){tx, ty, tz}, (const double[3]){0.0, 0.0, 0.0}, q);
         d[0] = (float)q[0][0], d[1] = (float)q[0][1], d[2] = (float)q[0][2];
     }
-    if (!(d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 1e-12f * g->background * g->background)) {
+    if (gradient_is_flat(g, d)) {
         static const float k[4][3] = {{1, -1, -1}, {-1, -1, 1}, {-1, 1, -1}, {1, 1, 1}};
         d[0] = d[1] = d[2] = 0.0f;
         for (int i = 0; i < 4; i++) {
