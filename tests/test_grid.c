@@ -87,15 +87,30 @@ static void cell_corners(const sdft_grid *g, const int32_t i0[3], float v[8])
         v[k] = sdft_grid_voxel(g, i0[0] + (k & 1), i0[1] + (k >> 1 & 1), i0[2] + (k >> 2 & 1), NULL);
 }
 
+/* World point p in index space, in double through the grid's transform. */
+static void index_point(const sdft_grid *g, sdft_vec3 p, double x[3])
+{
+    for (int k = 0; k < 3; k++)
+        x[k] = (double)g->w2i[3 * k] * p.x + (double)g->w2i[3 * k + 1] * p.y + (double)g->w2i[3 * k + 2] * p.z +
+               (double)g->w2i_t[k];
+}
+
+/* The world gradient of index gradient x: W^T x (d/dp f(W p + t)). */
+static void world_of_index_gradient(const sdft_grid *g, const double x[3], double w[3])
+{
+    for (int k = 0; k < 3; k++)
+        w[k] = g->w2i[k] * x[0] + g->w2i[3 + k] * x[1] + g->w2i[6 + k] * x[2];
+}
+
 /* The cell holding world point p, in double through the grid's transform:
  * its lowest corner i0, p's coordinates u in it and its eight values. */
 static void cell_at(const sdft_grid *g, sdft_vec3 p, int32_t i0[3], double u[3], float v[8])
 {
+    double x[3];
+    index_point(g, p, x);
     for (int k = 0; k < 3; k++) {
-        const double x = (double)g->w2i[3 * k] * p.x + (double)g->w2i[3 * k + 1] * p.y +
-                         (double)g->w2i[3 * k + 2] * p.z + (double)g->w2i_t[k];
-        i0[k] = (int32_t)floor(x);
-        u[k] = x - i0[k];
+        i0[k] = (int32_t)floor(x[k]);
+        u[k] = x[k] - i0[k];
     }
     cell_corners(g, i0, v);
 }
@@ -797,6 +812,22 @@ static double trilinear_d(const float v[8], const double u[3])
     return f;
 }
 
+/* The world gradient of the interpolant of cell values v at cell-local u
+ * (which may lie a little outside the cell: the cell's own polynomial), by
+ * central differences in double, exact up to rounding as the interpolant
+ * is linear along each axis; returns its length. */
+static double interpolant_gradient(const sdft_grid *g, const float v[8], const double u[3], double world[3])
+{
+    double grad[3];
+    for (int k = 0; k < 3; k++) {
+        double a[3] = {u[0], u[1], u[2]}, b[3] = {u[0], u[1], u[2]};
+        a[k] += 1e-3, b[k] -= 1e-3;
+        grad[k] = (trilinear_d(v, a) - trilinear_d(v, b)) / 2e-3;
+    }
+    world_of_index_gradient(g, grad, world);
+    return sqrt(world[0] * world[0] + world[1] * world[1] + world[2] * world[2]);
+}
+
 /* Brute force: the first s in [0, len] where f(u0 + s du) <= 0, by samples
  * 1/20000 of the way apart and bisection between the last two; -1 if none. */
 static double brute_root(const float v[8], const double u0[3], const double du[3], double len)
@@ -1015,25 +1046,13 @@ static void test_exact_root_on_a_grid(void **state)
             }
             exact++;
             int32_t i0[3];
-            double u[3], grad[3], world[3], len = 0.0;
+            double u[3], x[3], world[3];
             float v[8];
             cell_at(g, sdft_madd(ray.org, ray.dir, hit.t - 1e-3f * h), i0, u, v);
-            const sdft_vec3 p = sdft_madd(ray.org, ray.dir, hit.t);
-            for (int k = 0; k < 3; k++) { /* the hit's coordinates in that cell */
-                const double x = (double)g->w2i[3 * k] * p.x + (double)g->w2i[3 * k + 1] * p.y +
-                                 (double)g->w2i[3 * k + 2] * p.z + (double)g->w2i_t[k];
-                u[k] = x - i0[k];
-            }
-            for (int k = 0; k < 3; k++) {
-                double a[3] = {u[0], u[1], u[2]}, b[3] = {u[0], u[1], u[2]};
-                a[k] += 1e-3, b[k] -= 1e-3;
-                grad[k] = (trilinear_d(v, a) - trilinear_d(v, b)) / 2e-3;
-            }
-            for (int k = 0; k < 3; k++) {
-                world[k] = g->w2i[k] * grad[0] + g->w2i[3 + k] * grad[1] + g->w2i[6 + k] * grad[2];
-                len += world[k] * world[k];
-            }
-            len = sqrt(len);
+            index_point(g, sdft_madd(ray.org, ray.dir, hit.t), x);
+            for (int k = 0; k < 3; k++) /* the hit's coordinates in that cell */
+                u[k] = x[k] - i0[k];
+            const double len = interpolant_gradient(g, v, u, world);
             const double cosine = (hit.normal.x * world[0] + hit.normal.y * world[1] + hit.normal.z * world[2]) / len;
             if (!(cosine > 0.9999 && fabsf(sdft_length(hit.normal) - 1.0f) < 1e-5f))
                 fail_msg("%s: ray %d, normal (%g, %g, %g) at its exact hit, the interpolant's gradient (%g, %g, %g)",
@@ -1140,17 +1159,8 @@ static void test_normal_is_the_interpolant_gradient(void **state)
             negative += v[k] < 0.0f;
         if (!inside || negative == 0 || negative == 8)
             continue;
-        double grad[3], world[3], len = 0.0;
-        for (int k = 0; k < 3; k++) {
-            double a[3] = {u[0], u[1], u[2]}, b[3] = {u[0], u[1], u[2]};
-            a[k] += 1e-3, b[k] -= 1e-3;
-            grad[k] = (trilinear_d(v, a) - trilinear_d(v, b)) / 2e-3;
-        }
-        for (int k = 0; k < 3; k++) { /* d/dp f(W p + t) = W^T grad */
-            world[k] = g->w2i[k] * grad[0] + g->w2i[3 + k] * grad[1] + g->w2i[6 + k] * grad[2];
-            len += world[k] * world[k];
-        }
-        len = sqrt(len);
+        double world[3];
+        const double len = interpolant_gradient(g, v, u, world);
         const sdft_vec3 n = sdft_field_normal(&gf, &s, p);
         const double cosine = (n.x * world[0] + n.y * world[1] + n.z * world[2]) / len;
         worst = fmin(worst, cosine);
@@ -1246,10 +1256,11 @@ static int in_gradient_bounds(const sdft_grid *g, const sdft_field *f, size_t i,
 {
     const sdft_aabb gb = f->hull_gradients[i];
     const float lo[3] = {gb.lo.x, gb.lo.y, gb.lo.z}, hi[3] = {gb.hi.x, gb.hi.y, gb.hi.z};
+    double w[3];
+    world_of_index_gradient(g, x, w);
     for (int k = 0; k < 3; k++) {
-        const double w = g->w2i[k] * x[0] + g->w2i[3 + k] * x[1] + g->w2i[6 + k] * x[2];
         const double slack = 1e-6 * (fabs(lo[k]) + fabs(hi[k]));
-        if (!(w >= lo[k] - slack && w <= hi[k] + slack))
+        if (!(w[k] >= lo[k] - slack && w[k] <= hi[k] + slack))
             return 0;
     }
     return 1;
