@@ -62,7 +62,7 @@ bool checkSign(const TriangleMesh& mesh, const std::vector<std::string>& grids, 
         const openvdb::FloatGrid& grid = *loaded[g];
         openvdb::FloatGrid::ConstAccessor acc = grid.getConstAccessor();
         const double voxel = grid.voxelSize()[0];
-        size_t clear = 0, wrong = 0;
+        size_t clear = 0, wrong = 0, wrongFar = 0;
         for (size_t i = 0; i < points.size(); ++i) {
             // Points within a voxel of the surface may round to a voxel
             // across it: that is resolution, not sign, so they are skipped.
@@ -72,11 +72,13 @@ bool checkSign(const TriangleMesh& mesh, const std::vector<std::string>& grids, 
             const openvdb::Coord ijk =
                 grid.transform().worldToIndexCellCentered(openvdb::Vec3d(points[i][0], points[i][1], points[i][2]));
             const bool inside = acc.getValue(ijk) < 0.0f;
-            if (inside != (w[i] > 0.75))
+            if (inside != (w[i] > 0.75)) {
                 ++wrong;
+                wrongFar += dist[i] >= 3 * voxel;
+            }
         }
-        std::printf("%s clear=%zu wrong=%zu wrong_fraction=%.6f\n", grids[g].c_str(), clear, wrong,
-                    clear ? double(wrong) / double(clear) : 0.0);
+        std::printf("%s clear=%zu wrong=%zu wrong_fraction=%.6f wrong_far=%zu\n", grids[g].c_str(), clear, wrong,
+                    clear ? double(wrong) / double(clear) : 0.0, wrongFar);
     }
     return true;
 }

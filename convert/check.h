@@ -14,7 +14,8 @@ namespace mesh2sdf {
 /// grown by 5% per side, keeps those whose exact winding number is > 0.75
 /// (inside) or < 0.25 (outside) and that lie at least one voxel from the
 /// surface (nearer, the nearest voxel may lie across it), and prints for each grid one line:
-///   GRID  clear=N wrong=K wrong_fraction=F
+///   GRID  clear=N wrong=K wrong_fraction=F wrong_far=J
+/// (J: the wrong ones 3 or more voxels from the surface)
 /// A grid is read from its first float grid; its value at the nearest voxel
 /// (active or not) < 0 means inside. Returns false with one line in `error`
 /// if a grid cannot be read.

@@ -459,6 +459,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
         if (winding) {
             progress.stage("sign off the band", bandEnd, signEnd);
             signTiles(grid->tree(), *sign, progress);
+            stats.ambiguousVoxels = sign->ambiguousVoxels();
         }
         stats.windingSeconds = seconds(t0);
     }

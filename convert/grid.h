@@ -34,6 +34,7 @@ bool planBox(const TriangleMesh &mesh, const Options &opt, BoxGeometry &box, std
 
 struct BuildStats {
     double windingSeconds = 0; // exact band distances and winding sign (not flood)
+    uint64_t ambiguousVoxels = 0; // voxels signed from a winding number in (0.25, 0.75)
 };
 
 /// The signed (or, with SignMethod::None, unsigned) distance grid in world

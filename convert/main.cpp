@@ -6,9 +6,11 @@
 #include "grid.h"
 #include "mesh.h"
 #include "options.h"
+#include "orient.h"
 #include "output.h"
 #include "progress.h"
 
+#include <openvdb/tools/Count.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
@@ -20,6 +22,7 @@
 #include <sys/resource.h>
 
 #include "sdftrace/error.h"
+#include "util/json.h"
 
 using namespace mesh2sdf;
 
@@ -48,12 +51,59 @@ double peakRssMiB()
     return double(ru.ru_maxrss) / 1024.0; // ru_maxrss is in KiB on Linux
 }
 
-void printHealth(const std::string& path, const MeshHealth& h)
+void printHealth(const std::string& path, const MeshHealth& h, const OrientCounts* o)
 {
     std::printf("mesh %s: %zu vertices, %zu faces (%zu triangles), %zu boundary edges, %zu non-manifold edges, "
-                "%zu degenerate faces skipped\n",
+                "%zu degenerate faces skipped",
                 path.c_str(), h.vertices, h.faces, h.triangles, h.boundaryEdges, h.nonManifoldEdges,
                 h.degenerateFaces);
+    if (o) {
+        std::printf("; %zu vertices welded, %zu duplicate faces dropped, %zu patches, %zu faces reoriented, %zu "
+                    "patches turned outward",
+                    o->weldedVertices, o->duplicateFaces, o->patches, o->reorientedFaces, o->outwardPatches);
+        if (o->cavityPatches)
+            std::printf(", %zu inward patches kept as cavity walls", o->cavityPatches);
+        if (o->ambiguousPatches)
+            std::printf(", %zu open patches with no clear outside", o->ambiguousPatches);
+        if (o->nonOrientablePatches)
+            std::printf(", %zu non-orientable patches", o->nonOrientablePatches);
+    }
+    std::printf("\n");
+}
+
+// Whether some active voxel is inside, by more than rounding (a voxel on a
+// face may come out -1e-17): a grid without one has no zero crossing to trace.
+bool hasSurface(const openvdb::FloatGrid& grid)
+{
+    return grid.activeVoxelCount() > 0 &&
+           openvdb::tools::minMax(grid.tree()).min() < -0.01 * float(grid.voxelSize()[0]);
+}
+
+// The --json object: the mesh's health, what orienting did, the grid.
+void printJson(const Options& opt, const MeshHealth& h, const OrientCounts* o, const BoxGeometry& box,
+               const openvdb::FloatGrid& grid, const BuildStats& stats, double seconds)
+{
+    std::printf("{\"mesh\": ");
+    sdft_json_put_string(stdout, opt.input.c_str());
+    std::printf(", \"output\": ");
+    sdft_json_put_string(stdout, opt.output.c_str());
+    std::printf(", \"vertices\": %zu, \"faces\": %zu, \"triangles\": %zu, \"degenerate_faces\": %zu, "
+                "\"boundary_edges\": %zu, \"non_manifold_edges\": %zu, \"orient\": \"%s\"",
+                h.vertices, h.faces, h.triangles, h.degenerateFaces, h.boundaryEdges, h.nonManifoldEdges,
+                o ? "outward" : "none");
+    if (o)
+        std::printf(", \"welded_vertices\": %zu, \"duplicate_faces\": %zu, \"patches\": %zu, "
+                    "\"reoriented_faces\": %zu, \"outward_patches\": %zu, \"cavity_patches\": %zu, "
+                    "\"ambiguous_patches\": %zu, \"non_orientable_patches\": %zu",
+                    o->weldedVertices, o->duplicateFaces, o->patches, o->reorientedFaces, o->outwardPatches,
+                    o->cavityPatches, o->ambiguousPatches, o->nonOrientablePatches);
+    std::printf(", \"dims\": [%d, %d, %d], \"voxel_size\": %.9g, \"active_voxels\": %llu, \"sign\": \"%s\", "
+                "\"ambiguous_voxels\": %llu, \"surface\": %s, \"winding_seconds\": %.6f, "
+                "\"seconds\": %.6f, \"peak_mib\": %.1f}\n",
+                box.dims[0], box.dims[1], box.dims[2], box.voxelSize,
+                static_cast<unsigned long long>(grid.activeVoxelCount()), signMethodName(opt.sign),
+                static_cast<unsigned long long>(stats.ambiguousVoxels),
+                hasSurface(grid) ? "true" : "false", stats.windingSeconds, seconds, peakRssMiB());
 }
 
 } // namespace
@@ -113,15 +163,21 @@ int main(int argc, char** argv)
     BoxGeometry box;
     if (!loadMesh(opt.input, mesh, error) || !planBox(mesh, opt, box, error))
         return fail(error, pending);
-    if (!opt.quiet)
-        printHealth(opt.input, mesh.health);
+    OrientCounts orientCounts;
+    const OrientCounts* oriented = nullptr;
+    if (opt.orient == OrientMethod::Outward) {
+        orientCounts = orientMesh(mesh, opt.simd);
+        oriented = &orientCounts;
+    }
+    if (!opt.quiet && !opt.json)
+        printHealth(opt.input, mesh.health, oriented);
     if (!mesh.health.closed() && opt.sign == SignMethod::Flood)
         std::fprintf(stderr,
                      "mesh2sdf: warning: the mesh is not closed (%zu boundary, %zu non-manifold edges) and --sign "
                      "flood assumes it is: inside and outside may be wrong; --sign winding handles open meshes\n",
                      mesh.health.boundaryEdges, mesh.health.nonManifoldEdges);
 
-    Progress progress(!opt.quiet);
+    Progress progress(!opt.quiet && !opt.json);
     BuildStats stats;
     openvdb::FloatGrid::Ptr grid;
     try {
@@ -172,16 +228,30 @@ int main(int argc, char** argv)
     progress.report(100);
     progress.finish();
 
-    if (!opt.quiet) {
-        const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (opt.json) {
+        printJson(opt, mesh.health, oriented, box, *grid, stats, secs);
+    } else if (!opt.quiet) {
         std::printf("wrote %s: %dx%dx%d box, voxel size %.6g, %llu active voxels, grid %.1f MiB, peak memory "
                     "%.1f MiB, %.2f s, sign %s",
                     opt.output.c_str(), box.dims[0], box.dims[1], box.dims[2], box.voxelSize,
                     static_cast<unsigned long long>(grid->activeVoxelCount()),
                     double(grid->memUsage()) / (1024.0 * 1024.0), peakRssMiB(), secs, signMethodName(opt.sign));
         if (opt.sign == SignMethod::Winding)
-            std::printf(" (%.2f s)", stats.windingSeconds);
+            std::printf(" (%.2f s), %llu voxels signed from an ambiguous winding number", stats.windingSeconds,
+                        static_cast<unsigned long long>(stats.ambiguousVoxels));
         std::printf("\n");
+    }
+    // Uncertain answers are said, not written silently.
+    if (opt.sign == SignMethod::Winding) {
+        if (oriented && oriented->ambiguousPatches)
+            std::fprintf(stderr,
+                         "mesh2sdf: warning: %zu open patches have no clear outside and keep the file's "
+                         "orientation; %llu voxels were signed from a winding number between 0.25 and 0.75\n",
+                         oriented->ambiguousPatches, static_cast<unsigned long long>(stats.ambiguousVoxels));
+        if (!hasSurface(*grid))
+            std::fprintf(stderr, "mesh2sdf: warning: no voxel of the band is inside the mesh, so the grid has no "
+                                 "surface (an open sheet, or a mesh whose inside could not be told)\n");
     }
     return 0;
 }

@@ -6,7 +6,9 @@
 // headers, silenced for this file only.
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
+#include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/IO/importer/ImporterT.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 
@@ -48,6 +50,100 @@ double doubleArea2(const std::array<float, 3> &a, const std::array<float, 3> &b,
     return x * x + y * y + z * z;
 }
 
+// OpenMesh's readers parse the file; this importer keeps what they read,
+// every vertex and every face as the file gives them. OpenMesh's own
+// half-edge mesh cannot hold a face whose edge is already used in the same
+// direction (a face flipped against its neighbour, a face used twice): its
+// importer gives such a face copies of its vertices, which would split the
+// mesh along every flipped face. The faces are recorded here before that,
+// on the file's vertex numbers; the half-edge mesh is still built (the
+// readers ask it for handles) but never read. Readers that rebuild a mesh
+// from stored half-edges (.om with topology) add no face through
+// add_face(VHandles): for those the half-edge mesh's faces are read.
+struct Polygons {
+    std::vector<uint32_t> corners; // every face's corners, face after face
+    std::vector<size_t> ends;      // where each face's corners end
+};
+
+class FaceRecorder : public OpenMesh::IO::ImporterT<PolyMesh>
+{
+  public:
+    explicit FaceRecorder(PolyMesh &mesh) : ImporterT<PolyMesh>(mesh), mMesh(mesh) {}
+
+    OpenMesh::VertexHandle add_vertex(const OpenMesh::Vec3f &p) override { return note(ImporterT::add_vertex(p)); }
+    OpenMesh::VertexHandle add_vertex(const OpenMesh::Vec3d &p) override { return note(ImporterT::add_vertex(p)); }
+    OpenMesh::VertexHandle add_vertex() override { return note(ImporterT::add_vertex()); }
+
+    OpenMesh::FaceHandle add_face(const OpenMesh::IO::BaseImporter::VHandles &corners) override
+    {
+        // The faces ImporterT takes: at least three corners, all valid and
+        // distinct (it refuses the others).
+        bool valid = corners.size() > 2;
+        for (size_t i = 0; valid && i < corners.size(); ++i) {
+            valid = mMesh.is_valid_handle(corners[i]) && fileVertex(corners[i]) != kNotFromFile;
+            for (size_t j = i + 1; valid && j < corners.size(); ++j)
+                valid = corners[i] != corners[j];
+        }
+        if (valid) {
+            for (const auto vh : corners)
+                mFaces.corners.push_back(fileVertex(vh));
+            mFaces.ends.push_back(mFaces.corners.size());
+        }
+        return ImporterT::add_face(corners);
+    }
+
+    /// The file's vertices, in its order, at their final positions.
+    std::vector<std::array<float, 3>> points() const
+    {
+        std::vector<std::array<float, 3>> out(mFileHandles.size());
+        for (size_t v = 0; v < mFileHandles.size(); ++v) {
+            const auto &p = mMesh.point(mFileHandles[v]);
+            out[v] = {p[0], p[1], p[2]};
+        }
+        return out;
+    }
+
+    /// The file's faces on points()'s numbering; for a reader that added
+    /// none through add_face(VHandles), the half-edge mesh's.
+    const Polygons &faces()
+    {
+        if (mFaces.ends.empty())
+            for (const auto fh : mMesh.faces()) {
+                const size_t begin = mFaces.corners.size();
+                for (const auto vh : mMesh.fv_range(fh))
+                    mFaces.corners.push_back(fileVertex(vh));
+                if (std::find(mFaces.corners.begin() + begin, mFaces.corners.end(), kNotFromFile) ==
+                    mFaces.corners.end())
+                    mFaces.ends.push_back(mFaces.corners.size());
+                else
+                    mFaces.corners.resize(begin);
+            }
+        return mFaces;
+    }
+
+  private:
+    static constexpr uint32_t kNotFromFile = UINT32_MAX;
+
+    uint32_t fileVertex(OpenMesh::VertexHandle vh) const
+    {
+        return vh.idx() >= 0 && size_t(vh.idx()) < mFileVertex.size() ? mFileVertex[vh.idx()] : kNotFromFile;
+    }
+
+    OpenMesh::VertexHandle note(OpenMesh::VertexHandle vh)
+    {
+        if (size_t(vh.idx()) >= mFileVertex.size())
+            mFileVertex.resize(size_t(vh.idx()) + 1, kNotFromFile);
+        mFileVertex[vh.idx()] = uint32_t(mFileHandles.size());
+        mFileHandles.push_back(vh);
+        return vh;
+    }
+
+    PolyMesh &mMesh;
+    std::vector<OpenMesh::VertexHandle> mFileHandles; // the file's vertices, in order
+    std::vector<uint32_t> mFileVertex;                 // handle -> file vertex; kNotFromFile: a copy
+    Polygons mFaces;
+};
+
 // TriangleMesh::welded for `points`.
 std::vector<uint32_t> weldByPosition(const std::vector<std::array<float, 3>> &points)
 {
@@ -72,27 +168,6 @@ std::vector<uint32_t> weldByPosition(const std::vector<std::array<float, 3>> &po
         welded[i] = first.emplace(Key{p[0] + 0.0f, p[1] + 0.0f, p[2] + 0.0f}, uint32_t(i)).first->second;
     }
     return welded;
-}
-
-// Boundary and non-manifold edge counts on the welded vertices.
-void countEdges(TriangleMesh &mesh)
-{
-    const std::vector<uint32_t> &id = mesh.welded;
-    std::unordered_map<uint64_t, uint32_t> uses;
-    uses.reserve(mesh.triangles.size() * 2);
-    for (const auto &t : mesh.triangles)
-        for (int k = 0; k < 3; ++k) {
-            uint64_t a = id[t[k]], b = id[t[(k + 1) % 3]];
-            if (a > b)
-                std::swap(a, b);
-            ++uses[(a << 32) | b];
-        }
-    for (const auto &e : uses) {
-        if (e.second == 1)
-            ++mesh.health.boundaryEdges;
-        else if (e.second > 2)
-            ++mesh.health.nonManifoldEdges;
-    }
 }
 
 // `word` as a number, the way strtod reads it: true, with *value, when
@@ -245,33 +320,31 @@ bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
     omout().disable();
 
     PolyMesh poly;
+    FaceRecorder recorder(poly);
     OpenMesh::IO::Options options;
-    if (!OpenMesh::IO::read_mesh(poly, path, options)) {
+    if (!OpenMesh::IO::IOManager().read(path, recorder, options)) {
         error = "cannot read mesh (not a valid " + lowerExtension(path) + " file?): " + path;
         return false;
     }
     mesh = TriangleMesh{};
-    mesh.health.vertices = poly.n_vertices();
-    mesh.health.faces = poly.n_faces();
-    if (poly.n_faces() == 0) {
+    const Polygons &faces = recorder.faces();
+    mesh.points = recorder.points();
+    mesh.health.vertices = mesh.points.size();
+    mesh.health.faces = faces.ends.size();
+    if (faces.ends.empty()) {
         error = "mesh has no faces: " + path;
         return false;
     }
-    mesh.points.resize(poly.n_vertices());
-    for (const auto vh : poly.vertices()) {
-        const auto &p = poly.point(vh);
+    for (size_t v = 0; v < mesh.points.size(); ++v) {
+        const auto &p = mesh.points[v];
         if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-            error = "mesh has a non-finite coordinate (vertex " + std::to_string(vh.idx()) + "): " + path;
+            error = "mesh has a non-finite coordinate (vertex " + std::to_string(v) + "): " + path;
             return false;
         }
-        mesh.points[vh.idx()] = {p[0], p[1], p[2]};
     }
-    std::vector<uint32_t> corners;
-    for (const auto fh : poly.faces()) {
-        corners.clear();
-        for (const auto vh : poly.fv_range(fh))
-            corners.push_back(uint32_t(vh.idx()));
-        for (size_t k = 1; k + 1 < corners.size(); ++k) {
+    for (size_t f = 0, begin = 0; f < faces.ends.size(); begin = faces.ends[f++]) {
+        const uint32_t *corners = faces.corners.data() + begin;
+        for (size_t k = 1; k + 1 < faces.ends[f] - begin; ++k) {
             const std::array<uint32_t, 3> t{corners[0], corners[k], corners[k + 1]};
             if (doubleArea2(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]) <= 0.0) {
                 ++mesh.health.degenerateFaces;
@@ -299,8 +372,46 @@ bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
         return false;
     }
     mesh.welded = weldByPosition(mesh.points);
-    countEdges(mesh);
+    std::vector<char> used(mesh.points.size(), 0);
+    for (const auto &t : mesh.triangles)
+        for (uint32_t v : t)
+            used[v] = 1;
+    for (size_t v = 0; v < mesh.points.size(); ++v)
+        mesh.health.weldedVertices += used[v] && mesh.welded[v] != v;
+    countEdges(mesh, edgeUses(mesh));
     return true;
+}
+
+std::vector<EdgeUse> edgeUses(const TriangleMesh &mesh)
+{
+    const size_t n = mesh.triangles.size() * 3;
+    // Counting sort on the smaller endpoint, then each run of one smaller
+    // endpoint by the larger (runs are a vertex's few edges), stably.
+    std::vector<uint32_t> start(mesh.points.size() + 1, 0);
+    for (uint32_t h = 0; h < n; ++h)
+        ++start[std::min(edgeFrom(mesh, h), edgeTo(mesh, h)) + 1];
+    for (size_t v = 1; v < start.size(); ++v)
+        start[v] += start[v - 1];
+    std::vector<EdgeUse> edges(n);
+    for (uint32_t h = 0; h < n; ++h) {
+        const uint32_t a = edgeFrom(mesh, h), b = edgeTo(mesh, h);
+        edges[start[std::min(a, b)]++] = {(uint64_t(std::min(a, b)) << 32) | std::max(a, b), h};
+    }
+    for (size_t v = 0, begin = 0; v + 1 < start.size(); begin = start[v++])
+        std::stable_sort(edges.begin() + begin, edges.begin() + start[v],
+                         [](const EdgeUse &x, const EdgeUse &y) { return x.key < y.key; });
+    return edges;
+}
+
+void countEdges(TriangleMesh &mesh, const std::vector<EdgeUse> &edges)
+{
+    mesh.health.boundaryEdges = mesh.health.nonManifoldEdges = 0;
+    for (size_t i = 0, j; i < edges.size(); i = j) {
+        for (j = i + 1; j < edges.size() && edges[j].key == edges[i].key;)
+            ++j;
+        mesh.health.boundaryEdges += j - i == 1;
+        mesh.health.nonManifoldEdges += j - i > 2;
+    }
 }
 
 } // namespace mesh2sdf

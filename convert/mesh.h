@@ -18,6 +18,7 @@ struct MeshHealth {
     size_t boundaryEdges = 0;    // edges used by one triangle
     size_t nonManifoldEdges = 0; // edges used by three or more triangles
     size_t degenerateFaces = 0;  // zero-area triangles (skipped)
+    size_t weldedVertices = 0;   // used vertices at the position of an earlier one
     bool closed() const { return boundaryEdges == 0 && nonManifoldEdges == 0; }
 };
 
@@ -32,13 +33,42 @@ struct TriangleMesh {
     std::vector<uint32_t> welded;
 };
 
-/// Reads `path` (.obj .ply .off .stl .om) through OpenMesh, triangulates its
-/// polygons (fans), drops zero-area triangles and computes the health counts
-/// (edges are matched on vertices welded by exact position, so a seam of
-/// duplicated vertices counts as closed). Returns false and sets `error` to
-/// one line on a missing or unreadable file, an unknown extension, no faces,
-/// non-finite coordinates or a zero-size bounding box.
+/// Reads `path` (.obj .ply .off .stl .om) through OpenMesh's readers,
+/// keeping every face the file has on the file's vertices, whatever their
+/// orientation; triangulates its polygons (fans), drops zero-area triangles,
+/// welds the vertices by position and computes the health counts (edges are
+/// matched on the welded vertices, so a seam of duplicated vertices counts
+/// as closed). Returns false and sets `error` to one line on a missing or
+/// unreadable file, an unknown extension, no faces, non-finite coordinates
+/// or a zero-size bounding box.
 bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error);
+
+/// One triangle edge: corner `halfEdge % 3` of triangle `halfEdge / 3` to
+/// the next corner, keyed by its welded endpoints (smaller in the high
+/// half).
+struct EdgeUse {
+    uint64_t key;
+    uint32_t halfEdge;
+};
+
+/// Every triangle's three edges sorted by key (a counting sort on the
+/// smaller endpoint), so that the triangles sharing an edge stand in one run;
+/// within a run, in triangle order.
+std::vector<EdgeUse> edgeUses(const TriangleMesh &mesh);
+
+/// The welded vertex a half-edge starts from and the one it ends at.
+inline uint32_t edgeFrom(const TriangleMesh &mesh, uint32_t halfEdge)
+{
+    return mesh.welded[mesh.triangles[halfEdge / 3][halfEdge % 3]];
+}
+inline uint32_t edgeTo(const TriangleMesh &mesh, uint32_t halfEdge)
+{
+    return mesh.welded[mesh.triangles[halfEdge / 3][(halfEdge % 3 + 1) % 3]];
+}
+
+/// Sets health.boundaryEdges and health.nonManifoldEdges from `edges`
+/// (edgeUses(mesh)): runs of one use and of three or more.
+void countEdges(TriangleMesh &mesh, const std::vector<EdgeUse> &edges);
 
 /// True if `path` ends in an extension loadMesh reads (case-insensitive).
 bool isMeshExtension(const std::string &path);

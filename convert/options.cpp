@@ -62,10 +62,17 @@ void printHelp()
         "  --sign METHOD          winding: generalized winding number > 0.5 is inside,\n"
         "                         right on open meshes (default); flood: OpenVDB's\n"
         "                         flood fill, needs a closed mesh; none: unsigned\n"
+        "  --orient METHOD        outward: weld the vertices by position, drop duplicate\n"
+        "                         faces, orient each edge-connected patch consistently\n"
+        "                         and turn it to face outward, so that inside-out,\n"
+        "                         flipped and unwelded meshes sign right (default);\n"
+        "                         none: the faces as the file orients them\n"
         "  --fp16                 NanoVDB values as Fp16 (default: float)\n"
         "  --name NAME            grid name (default: the mesh's file name stem)\n"
         "  --threads N            worker threads, 0 = all cores (default: 0)\n"
         "  --quiet                no health line, progress bar or summary\n"
+        "  --json                 the health counts and the summary as one JSON object\n"
+        "                         on stdout, instead of the text lines\n"
         "  --simd LEVEL           vector instructions, chosen at run time: auto (the\n"
         "                         widest the processor has: AVX-512 for the dense\n"
         "                         search, else AVX2; default), avx2 (no AVX-512) or\n"
@@ -160,6 +167,19 @@ bool parseOptions(int argc, char** argv, Options& opt, std::string& error)
                 error = std::string("--sign must be winding, flood or none, got '") + v + "'";
                 return false;
             }
+        } else if (!std::strcmp(a, "--orient")) {
+            if (!value(v))
+                return false;
+            if (!std::strcmp(v, "outward"))
+                opt.orient = OrientMethod::Outward;
+            else if (!std::strcmp(v, "none"))
+                opt.orient = OrientMethod::None;
+            else {
+                error = std::string("--orient must be outward or none, got '") + v + "'";
+                return false;
+            }
+        } else if (!std::strcmp(a, "--json")) {
+            opt.json = true;
         } else if (!std::strcmp(a, "--name")) {
             if (!value(v))
                 return false;

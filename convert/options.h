@@ -10,6 +10,10 @@ namespace mesh2sdf {
 enum class SignMethod { Winding, Flood, None };
 const char* signMethodName(SignMethod m);
 
+/// --orient: outward (each patch consistent and facing outward, orient.h)
+/// or none (the faces as the file has them).
+enum class OrientMethod { Outward, None };
+
 /// Largest grid side in voxels (--res, or the side --voxel-size implies).
 constexpr int kMaxResolution = 4096;
 /// Largest dense output (--full, --npy) in voxels: 2^31 (8 GiB of float32).
@@ -25,6 +29,8 @@ struct Options {
     bool full = false;        // a distance in every voxel of the padded box
     double padding = -1.0;    // voxels around the mesh bounds; < 0: band + 1
     SignMethod sign = SignMethod::Winding;
+    OrientMethod orient = OrientMethod::Outward;
+    bool json = false;        // one JSON object of counts on stdout instead of the text lines
     bool fp16 = false;        // NanoVDB output as Fp16
     std::string name;         // grid name; empty: the mesh's file stem
     int threads = 0;          // 0: all cores

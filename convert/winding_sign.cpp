@@ -110,6 +110,11 @@ constexpr double kNearVoxels = 12;
 
 // What a decision keeps for FastWinding's error (see the top of the file).
 constexpr double kMargin = 0.1;
+// A winding number within this of 1/2 signs its voxels, but says little:
+// WindingSign::ambiguousVoxels counts them.
+constexpr double kAmbiguous = 0.25;
+
+bool ambiguous(double w) { return std::abs(w - 0.5) < kAmbiguous; }
 
 // Bound on the field of one edge of length `length` carrying current 1, at
 // distance d from it (infinite on it).
@@ -491,7 +496,7 @@ class BlockGradientBound
 // allows.
 template <typename Winding>
 bool signByComponents(float *distance, const float *reach, const BlockGradientBound &gradient, const double lo[3],
-                      double voxelSize, double clearance, Winding &&windingAt)
+                      double voxelSize, double clearance, Winding &&windingAt, uint64_t &ambiguousVoxels)
 {
     bool anyBand = false;
     for (int v = 0; v < kBlockSize; ++v)
@@ -526,6 +531,8 @@ bool signByComponents(float *distance, const float *reach, const BlockGradientBo
             return false;
         if (w > 0.5)
             inside = inside | component;
+        if (ambiguous(w))
+            component.forEach([&](int) { ++ambiguousVoxels; });
         remaining = remaining.without(component);
     }
     for (int v = 0; v < kBlockSize; ++v)
@@ -566,6 +573,8 @@ int WindingSign::cubeSide(const std::array<int, 3> &origin, int size) const
     // A margin for rounding in the bound, as in signBlock.
     if (!(std::abs(w - 0.5) > rho * gradient * (1 + 1e-6) + kMargin))
         return 0;
+    if (ambiguous(w))
+        countAmbiguous(uint64_t(size) * uint64_t(size) * uint64_t(size));
     return w > 0.5 ? -1 : 1;
 }
 
@@ -643,8 +652,11 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
             evaluated[v] = windingAt(v);
         return evaluated[v];
     };
-    if (signByComponents(distance, reach, gradient, lo, h, clearance, windingOnce))
+    uint64_t uncertain = 0;
+    if (signByComponents(distance, reach, gradient, lo, h, clearance, windingOnce, uncertain)) {
+        countAmbiguous(uncertain);
         return;
+    }
     // The near edges' field at each voxel (computed when first needed): the
     // exact field B, and over every point within sqrt(3)/2 voxel of the
     // voxel, the edge by edge bound G on |B| and the bound K on the second
@@ -815,9 +827,13 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
         });
     }
     // Negate only now: the walk reads the unsigned distances.
-    for (int v = 0; v < kBlockSize; ++v)
+    uncertain = 0;
+    for (int v = 0; v < kBlockSize; ++v) {
         if (anchorW[v] > 0.5)
             distance[v] = -distance[v];
+        uncertain += ambiguous(anchorW[v]);
+    }
+    countAmbiguous(uncertain);
 }
 
 } // namespace mesh2sdf

@@ -9,6 +9,7 @@
 #include "winding.h"
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -95,7 +96,19 @@ class WindingSign
     /// the cube). Thread-safe (read-only).
     int cubeSide(const std::array<int, 3> &origin, int size) const;
 
+    /// How many voxels signBlock and cubeSide have signed from a winding
+    /// number between 1/2 - kAmbiguous and 1/2 + kAmbiguous (0.25 to 0.75):
+    /// near holes, or where a patch has no clear outside.
+    uint64_t ambiguousVoxels() const { return mAmbiguous.load(); }
+
   private:
+    void countAmbiguous(uint64_t voxels) const
+    {
+        if (voxels)
+            mAmbiguous.fetch_add(voxels, std::memory_order_relaxed);
+    }
+
+    mutable std::atomic<uint64_t> mAmbiguous{0};
     const FastWinding &mWinding;
     std::array<double, 3> mOrigin;
     double mVoxelSize;
