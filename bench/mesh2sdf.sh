@@ -29,6 +29,7 @@
 # usage: bench/mesh2sdf.sh [RES...]   (narrow band; default: 256 512 1024)
 # env:   BUILD=build  MESHES="spot ..."  SAMPLES=10000  THREADS=0  REPEAT=3
 #        DENSE="128 256" (dense resolutions; empty: none)  NARROW=0 (no narrow-band table)
+#        ORIENT=128 (the orientation table's resolution; empty: no such table)
 # Prints the tables on stdout; grids go to $BUILD/bench-mesh2sdf/.
 set -euo pipefail
 export LC_ALL=C # bash's EPOCHREALTIME and awk: a decimal point, not a comma
@@ -39,6 +40,7 @@ MESHES=${MESHES:-"stanford-bunny spot teapot suzanne fandisk"}
 SAMPLES=${SAMPLES:-10000}
 THREADS=${THREADS:-0}
 DENSE=${DENSE-"128 256"}
+ORIENT=${ORIENT-128}
 NARROW=${NARROW:-1}
 REPEAT=${REPEAT:-3}
 [[ $REPEAT =~ ^[1-9][0-9]*$ ]] || { echo "bench/mesh2sdf.sh: REPEAT must be a positive integer" >&2; exit 1; }
@@ -111,7 +113,7 @@ for name in $MESHES; do
         grids+=(--check-sign "$OUT/$name-$n-vdbtool.vdb" --check-sign "$OUT/$name-$n-winding.vdb" --check-sign "$OUT/$name-$n-flood.vdb")
     done
     declare -A W=()
-    while read -r grid _ _ frac; do
+    while read -r grid _ _ frac _; do
         W[$grid]=${frac#wrong_fraction=}
     done < <("$M2S" "$mesh" "${grids[@]}" --samples "$SAMPLES")
     for n in "${RESOLUTIONS[@]}"; do
@@ -122,6 +124,55 @@ done
 echo
 }
 [ "$NARROW" = 0 ] || narrow_table
+
+# The orientation table: each mesh as it is, inside out, with half its
+# faces reversed and as a soup of unwelded triangles (bench/mesh_variant.awk),
+# converted by vdb_tool and by mesh2sdf at the same voxel size, each judged
+# against the ORIGINAL mesh's brute-force winding number (--check-sign): the
+# share of clear points with the wrong sign, and how many of them lie 3 or
+# more voxels from the surface. "× as is" is mesh2sdf's time over its time
+# on the mesh as it is; "× none" its time over --orient none on the same
+# file (what orienting costs).
+orient_table() {
+local n=$ORIENT
+echo "Orientation ($n voxels along the longest side), against vdb_tool -mesh2ls, judged by the original mesh:"
+echo
+echo "| mesh | faces | vdb_tool s | wrong sign | 3+ voxels off | mesh2sdf s | wrong sign | 3+ voxels off | × as is | × none |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
+for name in $MESHES; do
+    mesh=$MESH_DIR/$name.obj
+    side=$(longest_side "$mesh")
+    h=$(awk -v s="$side" -v n="$n" 'BEGIN { printf "%.9g", s / n }')
+    declare -A T=() W=() F=()
+    grids=()
+    for kind in as-is inside-out reversed soup; do
+        file=$OUT/$name-$kind.obj
+        if [ $kind = as-is ]; then cp "$mesh" "$file"; else awk -v kind=$kind -v share=0.5 -v seed=1 -f bench/mesh_variant.awk "$mesh" >"$file"; fi
+        vdb="" wind="" none=""
+        for ((r = 0; r < REPEAT; r++)); do
+            faster "$vdb" vdb_tool -read "$file" -mesh2ls voxel="$h" width=3 -write "$OUT/$name-$kind-vdbtool.vdb" >"$OUT/best.txt"
+            vdb=$(<"$OUT/best.txt")
+            faster "$wind" "$M2S" "$file" -o "$OUT/$name-$kind-winding.vdb" --voxel-size "$h" --threads "$THREADS" --quiet >"$OUT/best.txt"
+            wind=$(<"$OUT/best.txt")
+            faster "$none" "$M2S" "$file" -o "$OUT/$name-$kind-none.vdb" --voxel-size "$h" --orient none --threads "$THREADS" --quiet >"$OUT/best.txt"
+            none=$(<"$OUT/best.txt")
+        done
+        T[vdb$kind]=${vdb%% *} T[wind$kind]=${wind%% *} T[none$kind]=${none%% *}
+        grids+=(--check-sign "$OUT/$name-$kind-vdbtool.vdb" --check-sign "$OUT/$name-$kind-winding.vdb")
+    done
+    while read -r grid _ _ frac far; do
+        W[$grid]=${frac#wrong_fraction=} F[$grid]=${far#wrong_far=}
+    done < <("$M2S" "$mesh" "${grids[@]}" --samples "$SAMPLES")
+    faces=$(grep -c '^f ' "$mesh")
+    for kind in as-is inside-out reversed soup; do
+        v=$OUT/$name-$kind-vdbtool.vdb m=$OUT/$name-$kind-winding.vdb
+        echo "| $name $kind | $faces | ${T[vdb$kind]} | ${W[$v]} | ${F[$v]} | ${T[wind$kind]} | ${W[$m]} | ${F[$m]} | $(ratio "${T[wind$kind]}" "${T[windas-is]}") | $(ratio "${T[wind$kind]}" "${T[none$kind]}") |"
+    done
+    unset T W F
+done
+echo
+}
+[ -z "$ORIENT" ] || orient_table
 
 [ -n "$DENSE" ] || exit 0
 echo "Dense (--full), against the per-point query on the same voxels:"

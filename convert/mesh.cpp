@@ -293,6 +293,51 @@ bool checkTextCoordinates(const std::string &path, const std::string &ext, std::
     return true;
 }
 
+// The element counts of a PLY or OFF header, checked against the file's
+// length before OpenMesh reserves room for them: its readers allocate what
+// a header claims (2^40 vertices: killed for memory, or std::bad_alloc).
+// Every element takes at least one byte of the file, in any encoding.
+bool checkHeaderCounts(const std::string &path, const std::string &ext, std::string &error)
+{
+    if (ext != "ply" && ext != "off")
+        return true;
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    const double length = double(in.tellg());
+    in.seekg(0);
+    std::string line, word;
+    double claimed = 0;
+    if (ext == "ply") {
+        for (int n = 0; n < 10000 && std::getline(in, line) && line.compare(0, 10, "end_header") != 0; ++n) {
+            LineWords words(line.data(), line.data() + line.size());
+            double count;
+            if (words.next(word) && word == "element" && words.next(word) && words.next(word) &&
+                wholeNumber(word, &count))
+                claimed += count;
+        }
+    } else {
+        // The keyword line (OFF, COFF, NOFF, ... or "OFF nv nf ne"), comments,
+        // then the counts: the first line with three numbers.
+        for (int n = 0; n < 10000 && std::getline(in, line); ++n) {
+            const size_t hash = line.find('#');
+            LineWords words(line.data(), line.data() + (hash == std::string::npos ? line.size() : hash));
+            double v, f;
+            if (words.next(word) && word.find("OFF") != std::string::npos && !words.next(word))
+                continue;
+            if (wholeNumber(word, &v) && words.next(word) && wholeNumber(word, &f)) {
+                claimed = v + f;
+                break;
+            }
+        }
+    }
+    if (claimed > length) {
+        error = "mesh header claims " + std::to_string(static_cast<unsigned long long>(std::min(claimed, 1e19))) +
+                " elements, more than the file's " + std::to_string(static_cast<long long>(length)) +
+                " bytes hold: " + path;
+        return false;
+    }
+    return true;
+}
+
 } // namespace
 
 bool isMeshExtension(const std::string &path)
@@ -311,7 +356,7 @@ bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
         error = "cannot open mesh: " + path;
         return false;
     }
-    if (!checkTextCoordinates(path, lowerExtension(path), error))
+    if (!checkTextCoordinates(path, lowerExtension(path), error) || !checkHeaderCounts(path, lowerExtension(path), error))
         return false;
     // OpenMesh reports complex edges and parse problems on its own streams;
     // the health line below says what matters, once.
@@ -322,7 +367,14 @@ bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
     PolyMesh poly;
     FaceRecorder recorder(poly);
     OpenMesh::IO::Options options;
-    if (!OpenMesh::IO::IOManager().read(path, recorder, options)) {
+    bool read = false;
+    try {
+        read = OpenMesh::IO::IOManager().read(path, recorder, options);
+    } catch (const std::bad_alloc &) {
+        error = "mesh is larger than memory allows: " + path;
+        return false;
+    }
+    if (!read) {
         error = "cannot read mesh (not a valid " + lowerExtension(path) + " file?): " + path;
         return false;
     }

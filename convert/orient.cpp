@@ -257,8 +257,8 @@ int outwardSide(const TriangleMesh &mesh, const Patches &p, uint32_t id, const s
 // Step 4: whether reversing the inward-facing patch `id` makes the whole
 // mesh's winding number (`winding`, as oriented now) look more like a solid's
 // just off the patch: 0 in front of each face and 1 behind it. Reversing the
-// patch subtracts twice its own winding number (summed here over its
-// triangles) and swaps front and back; the squared misfits of both choices
+// patch subtracts twice its own winding number and swaps front and back;
+// the squared misfits of both choices
 // are summed over up to kProbes of its triangles, chosen along its
 // cumulative area.
 bool turnsOutward(const TriangleMesh &mesh, const Patches &p, uint32_t id, const std::vector<Vec> &areaVec,
@@ -286,17 +286,32 @@ bool turnsOutward(const TriangleMesh &mesh, const Patches &p, uint32_t id, const
         probes.push_back(front);
         probes.push_back(back);
     }
-    std::vector<double> own(probes.size(), 0.0); // the patch's own winding number, as oriented now
-    for (uint32_t i = first; i < last; ++i) {
-        const uint32_t t = p.order[i];
+    // The patch's own winding number as oriented now, summed by brute force
+    // over the patch, or, when the patch is most of the mesh, as the whole
+    // mesh's less the rest's (the fewer triangles either way).
+    const bool most = 2 * size_t(last - first) > mesh.triangles.size();
+    std::vector<double> whole(probes.size()), own(probes.size(), 0.0);
+    for (size_t q = 0; q < probes.size(); ++q)
+        whole[q] = winding(probes[q]);
+    auto add = [&](uint32_t t) {
         const Vec a = corner(mesh, t, 0), b = corner(mesh, t, p.reversed[t] ? 2 : 1),
                   c = corner(mesh, t, p.reversed[t] ? 1 : 2);
         for (size_t q = 0; q < probes.size(); ++q)
             own[q] += triangleWinding(a, b, c, probes[q]);
+    };
+    if (!most)
+        for (uint32_t i = first; i < last; ++i)
+            add(p.order[i]);
+    else {
+        for (uint32_t t = 0; t < mesh.triangles.size(); ++t)
+            if (p.of[t] != id)
+                add(t);
+        for (size_t q = 0; q < probes.size(); ++q)
+            own[q] = whole[q] - own[q];
     }
     double keep = 0, turn = 0;
     for (size_t q = 0; q < probes.size(); q += 2) {
-        const double front = winding(probes[q]), back = winding(probes[q + 1]);
+        const double front = whole[q], back = whole[q + 1];
         keep += front * front + (back - 1) * (back - 1);
         // Reversed: the back is the new front, and the front the new back.
         const double newFront = back - 2 * own[q + 1], newBack = front - 2 * own[q];

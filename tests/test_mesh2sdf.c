@@ -1055,6 +1055,15 @@ static void test_bad_input(void **state)
 
     /* every triangle degenerate / zero-size bounding box */
     expect_text_failure("point.obj", "v 1 1 1\nv 1 1 1\nv 1 1 1\nf 1 2 3\n", "no non-degenerate triangles", out_vdb);
+    /* Headers claiming 2^40 vertices: refused before anything is allocated
+     * (OpenMesh's readers reserve what a header says). */
+    expect_text_failure("huge.ply",
+                        "ply\nformat ascii 1.0\nelement vertex 1099511627776\nproperty float x\nproperty float y\n"
+                        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                        "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                        "mesh header claims 1099511627777 elements", out_vdb);
+    expect_text_failure("huge.off", "OFF\n1099511627776 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                        "mesh header claims 1099511627777 elements", out_vdb);
 
     /* --res out of range, too small for the padding; --voxel-size <= 0, NaN */
     const char *bad_flags[][2] = {{"--res 0", "--res must be"},
