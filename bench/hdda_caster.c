@@ -233,7 +233,7 @@ static float *vdb_render_depth(const char *path, const sdft_grid *g, sdft_vec3 e
     float *rgb[3];
     int ew, eh;
     char msg[512];
-    if (sdft_read_exr_floats(path, 3, names, rgb, &ew, &eh, msg, sizeof msg) || ew != w || eh != h) {
+    if (io_read_exr_floats(path, 3, names, rgb, &ew, &eh, msg, sizeof msg) || ew != w || eh != h) {
         fprintf(stderr, "hdda_caster: %s\n", ew != w || eh != h ? "vdb_render's image has another size" : msg);
         return NULL;
     }

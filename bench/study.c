@@ -36,7 +36,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "atomic_file.h" /* src/util: sdft_check_writable */
+#include "atomic_file.h" /* src/util: atomic_file_check_writable */
 #include "parse.h"       /* src/util: sdft_parse_integer, sdft_parse_number */
 #include "sdftrace/grid.h"
 #include "sdftrace/render.h"
@@ -261,7 +261,7 @@ static int check_out_dir(const char *dir)
         fail("--out: path too long");
         return -1;
     }
-    if (sdft_check_writable(probe, msg, sizeof msg)) {
+    if (atomic_file_check_writable(probe, msg, sizeof msg)) {
         fail("--out %s: %s", dir, msg);
         return -1;
     }

@@ -557,14 +557,14 @@ static void test_far_cells_from_directory_match_tree(void **state)
     for (int i = 0; i < 2; i++)
         for (size_t most = 1u << 24; most >= 128; most /= 16) { /* 4-voxel cells, then 8, 16 */
             sdft_grid *g = grids[i];
-            sdft_grid_far_free(g);
-            assert_int_equal(sdft_grid_far_build_cells(g, most), 0);
+            grid_far_free(g);
+            assert_int_equal(grid_far_build_cells(g, most), 0);
             const grid_far a = g->far;
             const size_t corners = (size_t)(a.n[0] + 1) * (a.n[1] + 1) * (a.n[2] + 1);
             g->far.corner = NULL;
             const grid_leaves directory = g->leaves;
             g->leaves.top = NULL; /* the tree walk */
-            assert_int_equal(sdft_grid_far_build_cells(g, most), 0);
+            assert_int_equal(grid_far_build_cells(g, most), 0);
             g->leaves = directory;
             assert_int_equal(g->far.cell, a.cell);
             assert_memory_equal(g->far.corner, a.corner, corners * sizeof *a.corner);
@@ -594,8 +594,8 @@ static void test_far_corner_distances_match_brute_force(void **state)
     for (int i = 0; i < 2; i++)
         for (size_t most = 1u << 24; most >= 1u << 12; most >>= 12) {
             sdft_grid *g = grids[i];
-            sdft_grid_far_free(g);
-            assert_int_equal(sdft_grid_far_build_cells(g, most), 0);
+            grid_far_free(g);
+            assert_int_equal(grid_far_build_cells(g, most), 0);
             const grid_far *f = &g->far;
             const int nv[3] = {f->n[0] + 1, f->n[1] + 1, f->n[2] + 1};
             const size_t corners = (size_t)nv[0] * nv[1] * nv[2];
@@ -886,10 +886,10 @@ static int cell_root_across(const float v[8], const double q[3], double du[3], d
     for (int k = 0; k < 3; k++)
         u0[k] = q[k] - back * du[k];
     *want = brute_root(v, u0, du, across);
-    return sdft_grid_cell_root(v, u0, du, across, s);
+    return grid_cell_root(v, u0, du, across, s);
 }
 
-/* sdft_grid_cell_root against brute force on random cells and rays across
+/* grid_cell_root against brute force on random cells and rays across
  * them: half aimed through a point of the surface along its tangent
  * plane (grazing, tilted by at most 3 degrees), the rest in random
  * directions. Roots agree to 1e-3 of a voxel; where brute force sees none,

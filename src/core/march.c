@@ -38,7 +38,7 @@ static void refine(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, co
     }
 }
 
-sdft_hit sdft_march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p,
+sdft_hit march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p,
                            float t0, float r0, float t, float r, uint32_t steps, uint32_t fallbacks,
                            march_candidate best)
 {

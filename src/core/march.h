@@ -39,7 +39,7 @@ static inline void march_offer(march_candidate *c, const sdft_trace_params *p, f
 /* Turns the final state of a march into a hit: classifies it, refines a hit
  * onto the surface from the last two accepted samples (t0, r0), (t, r), and
  * on non-convergence with the screen-space criterion returns the candidate. */
-sdft_hit sdft_march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p,
+sdft_hit march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p,
                            float t0, float r0, float t, float r, uint32_t steps, uint32_t fallbacks,
                            march_candidate best);
 
@@ -93,7 +93,7 @@ static inline void march_accept(march_state *m, const sdft_trace_params *p, floa
 static inline sdft_hit march_end(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p,
                                  const march_state *m)
 {
-    return sdft_march_finish(f, s, ray, p, m->t0, m->r0, m->t, m->r, m->i, m->fallbacks, m->best);
+    return march_finish(f, s, ray, p, m->t0, m->r0, m->t, m->r, m->i, m->fallbacks, m->best);
 }
 
 /* THE EXACT LAST CELL. A field that knows its own form near the surface
@@ -266,13 +266,13 @@ MARCH_INLINE void march_many(const sdft_field *f, sdft_scratch *s, const sdft_ra
 }
 
 /* Each variant's stream entry (march_many with its start and step). */
-void sdft_march_stream_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+void march_stream_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
                               const sdft_trace_params *p);
-void sdft_march_stream_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+void march_stream_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
                                const sdft_trace_params *p);
-void sdft_march_stream_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+void march_stream_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
                                 const sdft_trace_params *p);
-void sdft_march_stream_auto(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+void march_stream_auto(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
                             const sdft_trace_params *p);
 
 #endif

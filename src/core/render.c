@@ -82,12 +82,12 @@ void sdft_render_papers(sdft_render_params *p)
 sdft_error sdft_image_alloc(sdft_image *img, int width, int height, char *msg, size_t msg_len)
 {
     if (!img)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no image (NULL)");
+        return fail_with(msg, msg_len, SDFT_EINVAL, "no image (NULL)");
     memset(img, 0, sizeof *img);
     if (width < 1 || height < 1)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "image size %dx%d: both must be at least 1", width, height);
+        return fail_with(msg, msg_len, SDFT_EINVAL, "image size %dx%d: both must be at least 1", width, height);
     if ((size_t)width > SIZE_MAX / 16 / (size_t)height)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "image size %dx%d is too large", width, height);
+        return fail_with(msg, msg_len, SDFT_EINVAL, "image size %dx%d is too large", width, height);
     size_t n = (size_t)width * (size_t)height;
     img->width = width, img->height = height;
     img->rgb = malloc(3 * n * sizeof *img->rgb);
@@ -100,7 +100,7 @@ sdft_error sdft_image_alloc(sdft_image *img, int width, int height, char *msg, s
     if (!img->rgb || !img->depth || !img->normal || !img->steps || !img->fallbacks || !img->primary_steps ||
         !img->status) {
         sdft_image_free(img);
-        return sdft_fail(msg, msg_len, SDFT_ENOMEM, "out of memory for a %dx%d image", width, height);
+        return fail_with(msg, msg_len, SDFT_ENOMEM, "out of memory for a %dx%d image", width, height);
     }
     return SDFT_OK;
 }
@@ -757,7 +757,7 @@ sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sd
 {
     const char *why = render_params_problem(f, params, img);
     if (why)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "%s", why);
+        return fail_with(msg, msg_len, SDFT_EINVAL, "%s", why);
     sdft_trace_params tp = params->trace;
     if (params->screen_space)
         tp.pixel_radius = sdft_camera_pixel_radius(&params->camera, params->height);
@@ -769,7 +769,7 @@ sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sd
     int tiles = tiles_x * tiles_y;
     tile_stats *per_tile = malloc((size_t)tiles * sizeof *per_tile);
     if (!per_tile)
-        return sdft_fail(msg, msg_len, SDFT_ENOMEM, "out of memory for %d tiles", tiles);
+        return fail_with(msg, msg_len, SDFT_ENOMEM, "out of memory for %d tiles", tiles);
     frame fr = {.f = f,
                 .rp = params,
                 .tp = tp,

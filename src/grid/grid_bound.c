@@ -460,7 +460,7 @@ static int classify_from_directory(const sdft_grid *g, grid_far *far, int8_t *si
     return 0;
 }
 
-sdft_error sdft_grid_far_build(sdft_grid *g) { return sdft_grid_far_build_cells(g, MAX_CELLS); }
+sdft_error grid_far_build(sdft_grid *g) { return grid_far_build_cells(g, MAX_CELLS); }
 
 /* S, the voxels per cell edge for at most most_cells cells over the
  * active box: 4, doubled until they fit; n and c0 the cells per axis and
@@ -479,14 +479,14 @@ static int far_cells(const sdft_grid *g, size_t most_cells, int n[3], int32_t c0
     }
 }
 
-int sdft_grid_far_cell(const sdft_grid *g)
+int grid_far_cell(const sdft_grid *g)
 {
     int n[3];
     int32_t c0[3];
     return far_cells(g, MAX_CELLS, n, c0);
 }
 
-sdft_error sdft_grid_far_build_cells(sdft_grid *g, size_t most_cells)
+sdft_error grid_far_build_cells(sdft_grid *g, size_t most_cells)
 {
     grid_far *far = &g->far;
     memset(far, 0, sizeof *far);
@@ -498,7 +498,7 @@ sdft_error sdft_grid_far_build_cells(sdft_grid *g, size_t most_cells)
     const size_t ncell = (size_t)n[0] * n[1] * n[2], nvert = (size_t)nv[0] * nv[1] * nv[2];
     int8_t *sign = malloc(ncell);
     float *d2 = malloc(sizeof(float) * nvert);
-    uint16_t *corner = sdft_grid_table_alloc(sizeof(uint16_t) * nvert);
+    uint16_t *corner = grid_table_alloc(sizeof(uint16_t) * nvert);
     if (!sign || !d2 || !corner) {
         free(sign), free(d2), free(corner);
         return SDFT_ENOMEM;
@@ -570,7 +570,7 @@ sdft_error sdft_grid_far_build_cells(sdft_grid *g, size_t most_cells)
     return SDFT_OK;
 }
 
-void sdft_grid_far_free(sdft_grid *g)
+void grid_far_free(sdft_grid *g)
 {
     free(g->far.corner);
     g->far.corner = NULL;

@@ -415,7 +415,7 @@ static sdft_vec3 normal_any(const void *ctx, sdft_scratch *s, sdft_vec3 p)
     return normal_of(g, g->type, s, p);
 }
 
-typedef sdft_vec3 (*sdft_normal_fn)(const void *ctx, sdft_scratch *s, sdft_vec3 p);
+typedef sdft_vec3 (*grid_normal_fn)(const void *ctx, sdft_scratch *s, sdft_vec3 p);
 
 static inline int is_float(const sdft_grid *g) { return g->type == PNANOVDB_GRID_TYPE_FLOAT; }
 
@@ -430,7 +430,7 @@ sdft_field sdft_grid_field_with(const sdft_grid *g, sdft_grid_bound bound)
         return (sdft_field){0};
     sdft_vec3 vs = g->voxel_size;
     const int kind = is_float(g) ? (g->diagonal ? 0 : 1) : g->type == PNANOVDB_GRID_TYPE_FP16 ? 2 : 3;
-    static const sdft_normal_fn normals[4] = {normal_float, normal_float, normal_fp16, normal_any};
+    static const grid_normal_fn normals[4] = {normal_float, normal_float, normal_fp16, normal_any};
     static void (*const prefetches[4])(const void *, sdft_vec3) = {prefetch_float_diag, prefetch_float_full,
                                                                    prefetch_fp16_any, prefetch_any};
     const int b = bound == SDFT_GRID_BOUND_TREE ? 1 : bound == SDFT_GRID_BOUND_NONE ? 2 : 0;
@@ -441,7 +441,7 @@ sdft_field sdft_grid_field_with(const sdft_grid *g, sdft_grid_bound bound)
         .ctx = g,
         .bounds = g->bounds,
         .feature_size = sdft_minf(vs.x, sdft_minf(vs.y, vs.z)),
-        .root = sdft_grid_root_for(g),
+        .root = grid_root_for(g),
         .root_reach = GRID_ROOT_REACH * g->sigma_min,
         .prefetch = prefetches[kind],
         .hull = g->hull,

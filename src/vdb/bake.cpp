@@ -101,16 +101,16 @@ struct Baker {
 // The output file: its temporary file is made before any work, so that an
 // unwritable destination fails at once; removed unless committed.
 struct Output {
-    sdft_atomic_file af;
+    atomic_file af;
     bool open = false;
     ~Output()
     {
         if (open)
-            sdft_atomic_abort(&af);
+            atomic_file_abort(&af);
     }
     sdft_error begin(const char *path, char *msg, size_t msg_len)
     {
-        const sdft_error rc = sdft_atomic_begin(&af, path, msg, msg_len);
+        const sdft_error rc = atomic_file_begin(&af, path, msg, msg_len);
         open = rc == SDFT_OK;
         return rc;
     }
@@ -124,7 +124,7 @@ struct Output {
                                                  af.path, msg, msg_len))
             return rc;
         open = false;
-        return sdft_atomic_commit(&af, msg, msg_len);
+        return atomic_file_commit(&af, msg, msg_len);
     }
 };
 
@@ -132,24 +132,24 @@ struct Output {
 sdft_error check(const sdft_field *f, const sdft_bake_params *p, const char *path, char *msg, size_t msg_len)
 {
     if (!f || !f->distance)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no field, or a field without a distance function");
+        return fail_with(msg, msg_len, SDFT_EINVAL, "no field, or a field without a distance function");
     if (!p)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no bake parameters (NULL)");
+        return fail_with(msg, msg_len, SDFT_EINVAL, "no bake parameters (NULL)");
     if (p->res < 1 || p->res > SDFT_BAKE_MAX_RES)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "resolution must be in 1..%d, got %d", SDFT_BAKE_MAX_RES, p->res);
+        return fail_with(msg, msg_len, SDFT_EINVAL, "resolution must be in 1..%d, got %d", SDFT_BAKE_MAX_RES, p->res);
     if (!p->full && !(p->band > 0.0f && p->band <= 1000.0f))
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "band must be a number of voxels in (0, 1000]");
+        return fail_with(msg, msg_len, SDFT_EINVAL, "band must be a number of voxels in (0, 1000]");
     if (p->threads < 0)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "threads must be >= 0, got %d", p->threads);
+        return fail_with(msg, msg_len, SDFT_EINVAL, "threads must be >= 0, got %d", p->threads);
     if (path) {
         const char *dot = std::strrchr(path, '.');
         if (!dot || (std::strcmp(dot, ".vdb") != 0 && std::strcmp(dot, ".nvdb") != 0))
-            return sdft_fail(msg, msg_len, SDFT_EINVAL, "%s: output must end in .vdb or .nvdb", path);
+            return fail_with(msg, msg_len, SDFT_EINVAL, "%s: output must end in .vdb or .nvdb", path);
     }
     const sdft_vec3 ext = sdft_sub(f->bounds.hi, f->bounds.lo);
     if (!sdft_isfinite3(ext) || !sdft_isfinite3(f->bounds.lo) || !(sdft_minf(ext.x, sdft_minf(ext.y, ext.z)) >= 0.0f) ||
         !(sdft_maxcomp(ext) > 0.0f))
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "the field's bounding box is empty or infinite");
+        return fail_with(msg, msg_len, SDFT_EINVAL, "the field's bounding box is empty or infinite");
     return SDFT_OK;
 }
 
@@ -251,7 +251,7 @@ sdft_error bake(const sdft_field *f, const sdft_bake_params *p, const char *path
                           });
     });
     if (progress.stop)
-        return sdft_fail(msg, msg_len, SDFT_ECANCELED, "bake stopped by its progress callback");
+        return fail_with(msg, msg_len, SDFT_ECANCELED, "bake stopped by its progress callback");
 
     // 3. The tree: inside tiles, then the leaves (the tree takes them).
     openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(bk.band);
@@ -280,7 +280,7 @@ sdft_error bake(const sdft_field *f, const sdft_bake_params *p, const char *path
         stats->voxel_size = bk.h;
     }
     if (tree.activeVoxelCount() == 0)
-        return sdft_fail(msg, msg_len, SDFT_EEMPTY, "the bake holds no surface: no voxel within the band");
+        return fail_with(msg, msg_len, SDFT_EEMPTY, "the bake holds no surface: no voxel within the band");
     if (path)
         if (sdft_error rc = out.write(*grid, p->fp16 != 0, msg, msg_len))
             return rc;
