@@ -9,7 +9,7 @@
  * overlap: throughput) and `chained` (each point waits for the value before
  * it, as one ray's steps do: latency). `sdftrace-batch` is the field's
  * batch call (sdft_field_distances), which hints each point's memory
- * (sdft_field.prefetch) a few points ahead, the way to evaluate many
+ * (sdft_field_accel.prefetch) a few points ahead, the way to evaluate many
  * scattered points (the tracer does not hint its steps: along rays it
  * cost more than it saved). Samplers are interleaved, each timed REPEAT
  * times (default 7), the median reported.
@@ -72,13 +72,6 @@ static float logging_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
     return l->inner.distance(l->inner.ctx, s, p);
 }
 
-static int logging_root(const void *ctx, sdft_scratch *s, sdft_vec3 org, sdft_vec3 dir, float t0, float t1, float *t,
-                        sdft_vec3 *normal, uint32_t *reads)
-{
-    const logging *l = ctx;
-    return l->inner.root(l->inner.ctx, s, org, dir, t0, t1, t, normal, reads);
-}
-
 static void logging_scratch_init(const void *ctx, sdft_scratch *s)
 {
     const logging *l = ctx;
@@ -92,10 +85,10 @@ static points traced_points(const sdft_grid *g, size_t want, int band_only)
     points all = {0}, kept = {0};
     logging l = {sdft_grid_field(g), &all};
     sdft_field f = l.inner;
-    /* Every callback of a wrapped field takes the wrapper's ctx. */
+    /* Every callback of a wrapped field takes the wrapper's ctx; the
+     * grid's accel (its exact root, hints and hull) keeps its own and is
+     * kept as it is, as the distance is the grid's. */
     f.distance = logging_distance, f.scratch_init = logging_scratch_init, f.normal = NULL, f.ctx = &l;
-    f.root = l.inner.root ? logging_root : NULL;
-    f.prefetch = NULL; /* the grid's hint would take the wrapper's ctx for a grid (it crashed one run in three) */
     sdft_render_params rp = sdft_render_defaults();
     rp.camera = sdft_camera_front(f.bounds, rp.width, rp.height, 40.0f);
     rp.shadows = 0, rp.depth_only = 1, rp.threads = 1;

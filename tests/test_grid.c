@@ -1025,7 +1025,7 @@ static void test_exact_root_on_a_grid(void **state)
     sdft_grid *g = bake(&sc->field, 96, 0, NULL);
     const float h = sdft_grid_voxel_size(g).x;
     sdft_field gf = sdft_grid_field(g);
-    assert_non_null(gf.root);
+    assert_non_null(gf.accel->root);
     sdft_scratch s;
     sdft_scratch_init(&gf, &s);
     tu_rng r = tu_rng_seed(22);
@@ -1221,12 +1221,12 @@ static void test_grid_render_matches_procedural(void **state)
 /* p in hull box i and, where the field gives slabs, in slab i. */
 static int in_hull_part(const sdft_field *f, size_t i, sdft_vec3 p)
 {
-    const sdft_aabb b = f->hull[i];
+    const sdft_aabb b = f->accel->hull[i];
     if (!(p.x >= b.lo.x && p.x <= b.hi.x && p.y >= b.lo.y && p.y <= b.hi.y && p.z >= b.lo.z && p.z <= b.hi.z))
         return 0;
-    if (!f->hull_slabs)
+    if (!f->accel->hull_slabs)
         return 1;
-    const sdft_slab sl = f->hull_slabs[i];
+    const sdft_slab sl = f->accel->hull_slabs[i];
     const float d = sdft_dot(sl.n, p);
     return d >= sl.lo && d <= sl.hi;
 }
@@ -1235,7 +1235,7 @@ static int in_hull_part(const sdft_field *f, size_t i, sdft_vec3 p)
  * ray along d rises wherever it crosses the box's cells. */
 static float least_slope(const sdft_field *f, size_t i, sdft_vec3 d)
 {
-    const sdft_aabb gb = f->hull_gradients[i];
+    const sdft_aabb gb = f->accel->hull_gradients[i];
     return fminf(d.x * gb.lo.x, d.x * gb.hi.x) + fminf(d.y * gb.lo.y, d.y * gb.hi.y) +
            fminf(d.z * gb.lo.z, d.z * gb.hi.z);
 }
@@ -1244,7 +1244,7 @@ static float least_slope(const sdft_field *f, size_t i, sdft_vec3 d)
  * reach 0: one whose gradient bounds do not rise along d. */
 static int in_hull(const sdft_field *f, sdft_vec3 p, sdft_vec3 d)
 {
-    for (size_t i = 0; i < f->hull_count; i++)
+    for (size_t i = 0; i < f->accel->hull_count; i++)
         if (in_hull_part(f, i, p) && !(least_slope(f, i, d) > 0.0f))
             return 1;
     return 0;
@@ -1254,7 +1254,7 @@ static int in_hull(const sdft_field *f, sdft_vec3 p, sdft_vec3 d)
  * in hull box i's gradient bounds, to a millionth of their size. */
 static int in_gradient_bounds(const sdft_grid *g, const sdft_field *f, size_t i, const double x[3])
 {
-    const sdft_aabb gb = f->hull_gradients[i];
+    const sdft_aabb gb = f->accel->hull_gradients[i];
     const float lo[3] = {gb.lo.x, gb.lo.y, gb.lo.z}, hi[3] = {gb.hi.x, gb.hi.y, gb.hi.z};
     double w[3];
     world_of_index_gradient(g, x, w);
@@ -1307,7 +1307,7 @@ static double mixed_cells_in_hull(const sdft_grid *g, const sdft_field *f, int t
                 lo[a] = fmin(lo[a], e), hi[a] = fmax(hi[a], e);
             }
         int held = 0;
-        for (size_t b = 0; b < f->hull_count && !held; b++) {
+        for (size_t b = 0; b < f->accel->hull_count && !held; b++) {
             held = 1;
             for (int k = 0; k < 8 && held; k++)
                 held = in_hull_part(f, b, w[k]);
@@ -1320,17 +1320,17 @@ static double mixed_cells_in_hull(const sdft_grid *g, const sdft_field *f, int t
             fail_msg("mixed cell (%d, %d, %d) lies in no hull box and its slab with its gradients", c[0], c[1], c[2]);
     }
     size_t without_zero = 0;
-    for (size_t b = 0; b < f->hull_count; b++) {
-        const sdft_aabb gb = f->hull_gradients[b];
+    for (size_t b = 0; b < f->accel->hull_count; b++) {
+        const sdft_aabb gb = f->accel->hull_gradients[b];
         without_zero +=
             gb.lo.x > 0.0f || gb.hi.x < 0.0f || gb.lo.y > 0.0f || gb.hi.y < 0.0f || gb.lo.z > 0.0f || gb.hi.z < 0.0f;
     }
-    *narrow = (double)without_zero / (double)f->hull_count;
+    *narrow = (double)without_zero / (double)f->accel->hull_count;
     double thick = 0.0;
     size_t slabs = 0;
     const float h = sdft_grid_voxel_size(g).x;
-    for (size_t b = 0; b < f->hull_count; b++) {
-        const sdft_slab sl = f->hull_slabs[b];
+    for (size_t b = 0; b < f->accel->hull_count; b++) {
+        const sdft_slab sl = f->accel->hull_slabs[b];
         const float n = sdft_length(sl.n);
         if (n > 0.0f && isfinite(sl.hi - sl.lo))
             thick += (sl.hi - sl.lo) / n / h, slabs++;
@@ -1363,20 +1363,20 @@ static void test_hull_holds_every_first_root(void **state)
         sdft_grid *g = grids[gi];
         const float h = sdft_grid_voxel_size(g).x;
         const sdft_field gf = sdft_grid_field(g);
-        assert_true(gf.hull_count > 100);
+        assert_true(gf.accel->hull_count > 100);
         const sdft_aabb bounds = sdft_grid_world_bounds(g);
         double hull_volume = 0.0;
-        for (size_t i = 0; i < gf.hull_count; i++) {
-            const sdft_vec3 e = sdft_sub(gf.hull[i].hi, gf.hull[i].lo);
+        for (size_t i = 0; i < gf.accel->hull_count; i++) {
+            const sdft_vec3 e = sdft_sub(gf.accel->hull[i].hi, gf.accel->hull[i].lo);
             hull_volume += (double)e.x * e.y * e.z;
         }
         const sdft_vec3 be = sdft_sub(bounds.hi, bounds.lo);
-        print_message("%s: %zu hull boxes, %.1f%% of the box's volume\n", gi ? "cut slab" : "figure", gf.hull_count,
+        print_message("%s: %zu hull boxes, %.1f%% of the box's volume\n", gi ? "cut slab" : "figure", gf.accel->hull_count,
                       100.0 * hull_volume / ((double)be.x * be.y * be.z));
         if (gi == 0) {
             assert_true(hull_volume < 0.25 * (double)be.x * be.y * be.z);
-            assert_non_null(gf.hull_slabs);
-            assert_non_null(gf.hull_gradients);
+            assert_non_null(gf.accel->hull_slabs);
+            assert_non_null(gf.accel->hull_gradients);
             int mixed;
             double narrow;
             const double thick = mixed_cells_in_hull(g, &gf, 200000, &mixed, &narrow);
@@ -1489,7 +1489,9 @@ static void test_render_from_the_hull(void **state)
             /* Without the gradient bounds every box of the hull counts, the
              * far side's too: the same image, no fewer evaluations. */
             sdft_field all_boxes = gf;
-            all_boxes.hull_gradients = NULL;
+            sdft_field_accel no_gradients = *gf.accel;
+            no_gradients.hull_gradients = NULL;
+            all_boxes.accel = &no_gradients;
             assert_int_equal(sdft_render(&all_boxes, &rp, &b, &sb, msg, sizeof msg), 0);
             int changed = 0;
             for (int i = 0; i < n; i++)
@@ -1505,7 +1507,7 @@ static void test_render_from_the_hull(void **state)
     sdft_grid_free(g);
 }
 
-/* The points sdft_render hinted at (sdft_field.prefetch), one thread. */
+/* The points sdft_render hinted at (sdft_field_accel.prefetch), one thread. */
 enum { MOST_HINTS = 1 << 16 };
 static sdft_vec3 hints[MOST_HINTS];
 static int hint_count;
@@ -1523,12 +1525,12 @@ static void record_hint(const void *ctx, sdft_vec3 p)
 static float hull_face_distance(const sdft_field *f, sdft_vec3 p)
 {
     float best = INFINITY;
-    for (size_t i = 0; i < f->hull_count; i++) {
-        const sdft_aabb b = f->hull[i];
+    for (size_t i = 0; i < f->accel->hull_count; i++) {
+        const sdft_aabb b = f->accel->hull[i];
         const sdft_vec3 in = sdft_min_v(sdft_sub(p, b.lo), sdft_sub(b.hi, p));
         float depth = sdft_minf(in.x, sdft_minf(in.y, in.z));
-        if (f->hull_slabs && sdft_length(f->hull_slabs[i].n) > 0.0f) {
-            const sdft_slab sl = f->hull_slabs[i];
+        if (f->accel->hull_slabs && sdft_length(f->accel->hull_slabs[i].n) > 0.0f) {
+            const sdft_slab sl = f->accel->hull_slabs[i];
             const float d = sdft_dot(sl.n, p), n = sdft_length(sl.n);
             depth = sdft_minf(depth, sdft_minf(d - sl.lo, sl.hi - d) / n);
         }
@@ -1549,7 +1551,9 @@ static void test_render_hints_hull_entries(void **state)
     sdft_grid *g = bake(&sc->field, 128, 0, NULL);
     const sdft_field gf = sdft_grid_field(g);
     sdft_field hinted = gf, plain = gf;
-    hinted.prefetch = record_hint, plain.prefetch = NULL;
+    sdft_field_accel hinting = *gf.accel, silent = *gf.accel;
+    hinting.prefetch = record_hint, silent.prefetch = NULL;
+    hinted.accel = &hinting, plain.accel = &silent;
     const float h = sdft_grid_voxel_size(g).x;
     sdft_render_params rp = sdft_render_defaults();
     rp.width = 96, rp.height = 54, rp.threads = 1;
@@ -1623,10 +1627,12 @@ static void test_field_distances_batch(void **state)
     static const size_t counts[] = {0, 1, SDFT_FIELD_DISTANCES_AHEAD, SDFT_FIELD_DISTANCES_AHEAD + 1, N};
     for (int bound = 0; bound < 2; bound++) {
         const sdft_field gf = bound ? sdft_grid_field(g) : sdft_grid_field_without_bound(g);
-        assert_non_null(gf.prefetch);
+        assert_non_null(gf.accel->prefetch);
         sdft_field logged = gf;
+        sdft_field_accel hinting = *gf.accel;
+        hinting.prefetch = record_hint;
         batch_inner = gf;
-        logged.distance = batch_logging_distance, logged.prefetch = record_hint;
+        logged.distance = batch_logging_distance, logged.accel = &hinting;
         for (size_t c = 0; c < sizeof counts / sizeof counts[0]; c++) {
             const size_t n = counts[c];
             hint_count = 0, batch_evaluated = 0;

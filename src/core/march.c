@@ -49,8 +49,9 @@ sdft_hit march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray,
          * point known outside (a step may have landed inside). */
         const float from = r > 0.0f ? t : t0;
         float at;
-        if (p->exact_root && f->root && (r > 0.0f || (r0 > 0.0f && t0 < t))) {
-            if (f->root(f->ctx, s, ray->org, ray->dir, from, ray->tfar, &at, &hit.normal, &hit.steps)) {
+        const sdft_field_accel *a = f->accel;
+        if (p->exact_root && a && a->root && (r > 0.0f || (r0 > 0.0f && t0 < t))) {
+            if (a->root(a->ctx, s, ray->org, ray->dir, from, ray->tfar, &at, &hit.normal, &hit.steps)) {
                 hit.t = at, hit.distance = 0.0f;
                 return hit;
             }

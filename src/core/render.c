@@ -18,7 +18,7 @@
  * in front of the surface is crossed once per bundle instead of once per
  * ray. Those shared evaluations are counted apart (cone_steps).
  *
- * A field with a hull (sdft_field.hull: a grid's boxes around the cells
+ * A field with a hull (sdft_field_accel.hull: a grid's boxes around the cells
  * its surface crosses, each cut to a slab along the surface where the
  * field gives hull_slabs) takes the cones' place: the boxes are binned to
  * the tiles their screen rectangles touch (hull_bin), and each pixel's ray
@@ -29,7 +29,7 @@
  * field is positive, so the picture is the same; the eye is checked
  * (eye_outside), and where it is inside the surface the cones serve. Each
  * ray's entry into the hull is its first evaluation, at memory no earlier
- * ray of the tile touched: the field is told of it (sdft_field.prefetch) a
+ * ray of the tile touched: the field is told of it (sdft_field_accel.prefetch) a
  * block ahead, so that those loads overlap the block traced in between;
  * a traced tile's pixels in the image are fetched for writing when it
  * begins, so that its stores do not wait on memory one by one; and a miss's
@@ -154,7 +154,7 @@ static int shadow_ray(sdft_vec3 p, sdft_vec3 n, float lift, sdft_vec3 light, sdf
     return 1;
 }
 
-/* The field's hull boxes (sdft_field.hull) that each tile's rays may
+/* The field's hull boxes (sdft_field_accel.hull) that each tile's rays may
  * meet: tile t's are box[first[t] .. first[t + 1]), each with its pixel
  * rectangle rect[4 i .. 4 i + 3] (x0, y0, x1, y1, inclusive). */
 typedef struct hull_bins {
@@ -452,8 +452,8 @@ static void hull_spans(const frame *fr, int tile, const tile_dirs *td, int x0, i
                        float (*span)[TILE * TILE])
 {
     const hull_bins *hb = fr->bins;
-    const sdft_aabb *hull = fr->f->hull;
-    const sdft_slab *slabs = fr->f->hull_slabs, everywhere = {{0.0f, 0.0f, 0.0f}, -INFINITY, INFINITY};
+    const sdft_aabb *hull = fr->f->accel->hull;
+    const sdft_slab *slabs = fr->f->accel->hull_slabs, everywhere = {{0.0f, 0.0f, 0.0f}, -INFINITY, INFINITY};
     float inv[3][TILE * TILE];
     for (int i = 0; i < TILE * TILE; i++)
         span[0][i] = INFINITY, span[1][i] = -INFINITY;
@@ -512,7 +512,7 @@ static int block_meets_hull(float (*span)[TILE * TILE], int x0, int y0, int x1, 
     return meets;
 }
 
-/* Hints the field (sdft_field.prefetch) at where each ray of the tile's
+/* Hints the field (sdft_field_accel.prefetch) at where each ray of the tile's
  * pixels [x0, x1) x [y0, y1) (tile coordinates) enters the hull: its first
  * evaluation, a point no earlier ray of the tile is near, so its memory is
  * mostly far away. Given a block ahead of its trace, the loads overlap the
@@ -521,11 +521,12 @@ static void prefetch_entries(const frame *fr, const tile_dirs *td, float (*span)
                              int y1)
 {
     const sdft_vec3 o = fr->view.from;
+    const sdft_field_accel *a = fr->f->accel;
     for (int y = y0; y < y1; y++)
         for (int x = x0; x < x1; x++) {
             const int i = y * TILE + x;
             if (span[0][i] < INFINITY)
-                fr->f->prefetch(fr->f->ctx, sdft_madd(o, sdft_v3(td->d[0][i], td->d[1][i], td->d[2][i]), span[0][i]));
+                a->prefetch(a->ctx, sdft_madd(o, sdft_v3(td->d[0][i], td->d[1][i], td->d[2][i]), span[0][i]));
         }
 }
 
@@ -579,7 +580,7 @@ static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *
         hull_spans(fr, tile, &td, x0, y0, x1, y1, span), spans = span;
     else
         t_tile = block_start(fr, s, x0, y0, x1, y1, fr->cone_tnear, ts);
-    const int hint = spans && fr->f->prefetch;
+    const int hint = spans && fr->f->accel->prefetch;
     if (hint)
         prefetch_entries(fr, &td, spans, 0, 0, BLOCK < x1 - x0 ? BLOCK : x1 - x0, BLOCK < y1 - y0 ? BLOCK : y1 - y0);
     for (int by = y0; by < y1; by += BLOCK)
@@ -644,7 +645,7 @@ static int box_rect(const sdft_view *v, int width, int height, sdft_aabb b, int3
 }
 
 /* 1 when no ray from the eye e can first reach 0 in box b, given that
- * the field's gradient there lies in the box g (sdft_field.hull_gradients):
+ * the field's gradient there lies in the box g (sdft_field_accel.hull_gradients):
  * every ray that meets b does so at points p = e + t d, t > 0, and the
  * field rises along it there when d . grad > 0, that is (p - e) . grad >
  * 0. Over p in b and grad in g that product is, axis by axis, a product
@@ -684,7 +685,8 @@ static int eye_outside(const frame *fr)
 static int hull_bin(const sdft_field *f, const sdft_view *v, int width, int height, int threads, hull_bins *hb)
 {
     const int tiles_x = (width + TILE - 1) / TILE, tiles = tiles_x * ((height + TILE - 1) / TILE);
-    const size_t n = f->hull_count;
+    const sdft_field_accel *a = f->accel;
+    const size_t n = a->hull_count;
     hb->first = calloc((size_t)tiles + 1, sizeof *hb->first);
     hb->rect = malloc(4 * n * sizeof *hb->rect);
     if (!hb->first || !hb->rect)
@@ -693,8 +695,8 @@ static int hull_bin(const sdft_field *f, const sdft_view *v, int width, int heig
 #pragma omp parallel for schedule(static) reduction(+ : total) num_threads(threads)
     for (size_t i = 0; i < n; i++) {
         int32_t *r = hb->rect + 4 * i;
-        if ((f->hull_gradients && faces_away(v->from, f->hull[i], f->hull_gradients[i])) ||
-            !box_rect(v, width, height, f->hull[i], r)) {
+        if ((a->hull_gradients && faces_away(v->from, a->hull[i], a->hull_gradients[i])) ||
+            !box_rect(v, width, height, a->hull[i], r)) {
             r[0] = 1, r[2] = 0;
             continue;
         }
@@ -781,7 +783,7 @@ sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sd
 
     double t0 = omp_get_wtime();
     hull_bins bins = {0};
-    if (params->cones && f->hull_count && eye_outside(&fr)) {
+    if (params->cones && f->accel && f->accel->hull_count && eye_outside(&fr)) {
         if (hull_bin(f, &fr.view, params->width, params->height, threads, &bins) == 0)
             fr.bins = &bins;
         else /* no memory for the bins: the cones serve, the same picture */

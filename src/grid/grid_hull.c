@@ -1,5 +1,5 @@
 /* sdftrace — a grid's hull: world boxes that hold every trilinear cell
- * where the field can first reach 0 along a ray (sdft_field.hull), so that
+ * where the field can first reach 0 along a ray (sdft_field_accel.hull), so that
  * a renderer can start each primary ray where it enters the first box and
  * end it where it leaves the last, instead of marching the empty space and
  * the band's far side (render.c).

@@ -101,6 +101,7 @@ struct sdft_grid {
     sdft_slab *hull_slab;     /* with each box, a world slab that holds its cells too */
     sdft_aabb *hull_gradient; /* with each box, world bounds on its cells' gradients */
     size_t hull_count;
+    sdft_field_accel accel; /* what its fields point to (grid_accel_init) */
     char name[256];
 };
 
@@ -160,7 +161,7 @@ uint64_t grid_deferred_fill_now(sdft_grid *g);
 void grid_leaves_free(sdft_grid *g);
 size_t grid_leaves_bytes(const sdft_grid *g); /* its tables' size */
 
-/* The exact last-cell root (grid_root.c): the grid field's sdft_field.root,
+/* The exact last-cell root (grid_root.c): the grid's sdft_field_accel.root,
  * specialised for g's type; and its core, the first root in [0, len] of the
  * trilinear interpolant of cell values v (v[k] at corner (k & 1, k >> 1 & 1,
  * k >> 2 & 1)) along u0 + s du in cell-local coordinates: 1 and *s, or 0. */
@@ -173,6 +174,10 @@ int grid_cell_root(const float v[8], const double u0[3], const double du[3], dou
  * (also when the grid gets none) or SDFT_ENOMEM. */
 sdft_error grid_hull_build(sdft_grid *g);
 void grid_hull_free(sdft_grid *g);
+
+/* Fills g->accel, which every field of g points to: its exact root,
+ * prefetch hints and hull (grid_sample.c). Last at load, after the hull. */
+void grid_accel_init(sdft_grid *g);
 
 /* Memory for a big table (grid_memory.c): 64-byte aligned; free() releases
  * it. */

@@ -235,6 +235,7 @@ sdft_error grid_init(sdft_grid *g, char *msg, size_t msg_len)
         return fail_with(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its far bound", g->name);
     if (grid_hull_build(g))
         return fail_with(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its hull", g->name);
+    grid_accel_init(g);
     return SDFT_OK;
 }
 

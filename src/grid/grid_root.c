@@ -1,5 +1,5 @@
 /* sdftrace — the exact first root of a grid's field along a ray, near the
- * surface: the grid's sdft_field.root (field.h, march.h).
+ * surface: the grid's sdft_field_accel.root (field.h, march.h).
  *
  * THE CUBIC. In the voxel cell with lowest corner i0 (corners at integer
  * index points, values v_abc) the field is the trilinear interpolant

@@ -25,7 +25,9 @@ int main(int argc, char **argv)
     char msg[256];
     sdft_error err = SDFT_OK;
     if (argc == 3) {
-        sdft_field sphere = {.distance = ball, .bounds = {{-1.1f, -1.1f, -1.1f}, {1.1f, 1.1f, 1.1f}}};
+        sdft_field sphere = sdft_field_defaults();
+        sphere.distance = ball;
+        sphere.bounds = (sdft_aabb){{-1.1f, -1.1f, -1.1f}, {1.1f, 1.1f, 1.1f}};
         sdft_bake_params bake = sdft_bake_defaults();
         bake.res = 32;
         err = sdft_bake(&sphere, &bake, path, NULL, NULL, msg, sizeof msg);
