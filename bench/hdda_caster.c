@@ -376,7 +376,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "hdda_caster: bad size\n");
         return 2;
     }
-    if (sdft_grid_open(argv[1], NULL, &g, msg, sizeof msg)) {
+    sdft_grid_options go = sdft_grid_options_defaults();
+    go.path = argv[1];
+    if (sdft_vdb_open(&go, &g, msg, sizeof msg)) {
         fprintf(stderr, "hdda_caster: %s\n", msg);
         return 1;
     }
@@ -407,7 +409,7 @@ int main(int argc, char **argv)
         best = fmin(best, cast(&c, &cam, w, h, 0, hdda));
         best_refined = fmin(best_refined, cast(&c, &cam, w, h, 1, refined));
         for (int k = 0; k < configs; k++) {
-            const sdft_field f = sdft_grid_field_with(g, cf[k].bound);
+            const sdft_field f = sdft_grid_field(g, cf[k].bound);
             if (sdft_render(&f, &cf[k].rp, &img, &cf[k].st, msg, sizeof msg)) {
                 fprintf(stderr, "hdda_caster: %s\n", msg);
                 return 1;

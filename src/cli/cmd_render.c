@@ -295,17 +295,18 @@ static int open_grid(const render_opts *o, render_source *src, char *msg, size_t
     }
     sdft_progress_bar bar;
     sdft_progress_bar_init(&bar, !o->quiet);
-    sdft_vdb_options vo = sdft_vdb_options_defaults();
+    sdft_grid_options vo = sdft_grid_options_defaults();
+    vo.path = o->grid, vo.name = o->grid_name;
     vo.quant = o->fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE;
     vo.progress = show_loading;
-    vo.defer = 1; /* leaves read as rays reach them: the first image sooner, memory for what it shows */
+    vo.defer = SDFT_DEFER_WHERE_EXACT; /* .vdb: leaves read as rays reach them: the first image sooner, memory for what
+                                          it shows */
     vo.progress_user = &bar;
-    const sdft_error rc = vdb ? sdft_vdb_open(o->grid, o->grid_name, &vo, &g, msg, len)
-                              : sdft_grid_open(o->grid, o->grid_name, &g, msg, len);
+    const sdft_error rc = sdft_vdb_open(&vo, &g, msg, len);
     sdft_progress_bar_clear(&bar);
     if (rc)
         return -1;
-    *src = (render_source){.field = sdft_grid_field(g), .name = sdft_grid_name(g), .grid = g};
+    *src = (render_source){.field = sdft_grid_field(g, SDFT_GRID_BOUND_FAR), .name = sdft_grid_name(g), .grid = g};
     if (scene) {
         src->camera = scene->camera, src->light = scene->light;
         return 0;

@@ -1,5 +1,5 @@
 /* sdftrace — deferred leaves: a grid laid out in full whose leaves are
- * filled the first time anything reads them (sdft_grid_adopt_deferred).
+ * filled the first time anything reads them (sdft_grid_options.fill).
  *
  * WHY. A renderer that opens a big .vdb wants its first image, not the whole
  * grid: OpenVDB's vdb_render reads a leaf's values from the file only when a

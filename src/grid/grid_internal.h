@@ -77,8 +77,8 @@ static inline uint64_t deferred_leaf_index(const grid_deferred *d, uint64_t at)
  * decoded once from the grid's header. Immutable after loading. */
 struct sdft_grid {
     uint32_t *words;         /* the grid's bytes, 64-byte aligned when owned */
-    int owned;               /* 1: words is ours to free; 0: borrowed (sdft_grid_borrow_buffer) */
-    void (*release)(void *); /* adopted (sdft_grid_adopt_buffer): release(release_data) when freed */
+    int owned;               /* 1: words is ours to free; 0: borrowed or adopted (SDFT_GRID_BORROW, _ADOPT) */
+    void (*release)(void *); /* adopted (SDFT_GRID_ADOPT): release(release_data) when freed */
     void *release_data;
     size_t size; /* bytes */
     pnanovdb_buf_t buf;
@@ -133,7 +133,7 @@ sdft_error grid_init(sdft_grid *g, char *msg, size_t msg_len);
 /* Builds / frees g->far (grid_bound.c). Needs g fully decoded, its
  * directory included. SDFT_OK or SDFT_ENOMEM. */
 sdft_error grid_far_build(sdft_grid *g);
-int grid_far_cell(const sdft_grid *g); /* the S grid_far_build picks: voxels per cell edge */
+int grid_far_cell(const sdft_grid *g);                            /* the S grid_far_build picks: voxels per cell edge */
 sdft_error grid_far_build_cells(sdft_grid *g, size_t most_cells); /* cells of 4 * 2^k voxels, at most most_cells */
 void grid_far_free(sdft_grid *g);
 

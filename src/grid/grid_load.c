@@ -120,7 +120,9 @@ static float spectral_bound(const double a[9])
     return (float)sqrt(worst);
 }
 
-sdft_error grid_init(sdft_grid *g, char *msg, size_t msg_len)
+/* The header, checked: magic, version, size, a scalar type, a tree whose
+ * nodes lie inside the grid, some active voxels. */
+static sdft_error decode_header(sdft_grid *g, char *msg, size_t msg_len)
 {
     g->buf = pnanovdb_make_buf(g->words, g->size / 4);
     g->grid.address.byte_offset = 0;
@@ -156,8 +158,12 @@ sdft_error grid_init(sdft_grid *g, char *msg, size_t msg_len)
         return rc;
     if (pnanovdb_tree_get_voxel_count(g->buf, tree) == 0)
         return fail_with(msg, msg_len, SDFT_EEMPTY, "grid '%s' is empty: no active voxels", g->name);
+    return SDFT_OK;
+}
 
-    /* The transform, in floats for the sampler. */
+/* The transform, in floats for the sampler, and the voxel size. */
+static sdft_error decode_map(sdft_grid *g, char *msg, size_t msg_len)
+{
     pnanovdb_map_handle_t map = pnanovdb_grid_get_map(g->buf, g->grid);
     double mat[9], inv[9];
     for (int i = 0; i < 9; i++) {
@@ -192,7 +198,12 @@ sdft_error grid_init(sdft_grid *g, char *msg, size_t msg_len)
     g->voxel_size = sdft_v3((float)pnanovdb_grid_get_voxel_size(g->buf, g->grid, 0),
                             (float)pnanovdb_grid_get_voxel_size(g->buf, g->grid, 1),
                             (float)pnanovdb_grid_get_voxel_size(g->buf, g->grid, 2));
+    return SDFT_OK;
+}
 
+/* The background and the active box, in index and world units. */
+static sdft_error decode_box(sdft_grid *g, char *msg, size_t msg_len)
+{
     pnanovdb_address_t bg =
         pnanovdb_address_offset(g->root.address, PNANOVDB_GRID_TYPE_GET(g->type, root_off_background));
     g->background = g->type == PNANOVDB_GRID_TYPE_DOUBLE ? (float)pnanovdb_read_double(g->buf, bg)
@@ -207,6 +218,15 @@ sdft_error grid_init(sdft_grid *g, char *msg, size_t msg_len)
     const float cells_lo[3] = {lo.x - 0.5f, lo.y - 0.5f, lo.z - 0.5f},
                 cells_hi[3] = {hi.x + 0.5f, hi.y + 0.5f, hi.z + 0.5f};
     g->bounds = grid_world_box(g, cells_lo, cells_hi);
+    return SDFT_OK;
+}
+
+/* What the sampler and the renderer read besides the grid's bytes: a
+ * deferred grid's leaf states (or its leaves, filled now where deferring
+ * would loosen the far bound), the leaf directory, the far bound, the hull,
+ * and the accel that points to them. */
+static sdft_error build_tables(sdft_grid *g, char *msg, size_t msg_len)
+{
     if (g->deferred.fill) {
         if (g->type != PNANOVDB_GRID_TYPE_FLOAT && g->type != PNANOVDB_GRID_TYPE_FP16)
             return fail_with(msg, msg_len, SDFT_EINVAL, "grid '%s' holds %s values: deferred leaves need float or fp16",
@@ -239,6 +259,16 @@ sdft_error grid_init(sdft_grid *g, char *msg, size_t msg_len)
     return SDFT_OK;
 }
 
+sdft_error grid_init(sdft_grid *g, char *msg, size_t msg_len)
+{
+    sdft_error rc = decode_header(g, msg, msg_len);
+    if (!rc)
+        rc = decode_map(g, msg, msg_len);
+    if (!rc)
+        rc = decode_box(g, msg, msg_len);
+    return rc ? rc : build_tables(g, msg, msg_len);
+}
+
 /* ---- choosing a grid --------------------------------------------------- */
 
 typedef struct grid_entry {
@@ -254,9 +284,9 @@ static sdft_error choose(const grid_entry *e, size_t n, const char *name, const 
     grid_candidate seen[64];
     for (size_t i = 0; i < n && i < 64; i++)
         seen[i] = (grid_candidate){.name = e[i].name,
-                                    .type = type_name(e[i].type),
-                                    .scalar = type_is_scalar(e[i].type),
-                                    .level_set = e[i].grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET};
+                                   .type = type_name(e[i].type),
+                                   .scalar = type_is_scalar(e[i].type),
+                                   .level_set = e[i].grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET};
     return grid_choose(seen, n, name, what, pick, msg, msg_len);
 }
 
@@ -375,68 +405,6 @@ static sdft_error grid_of_buffer(const void *data, size_t size, const char *name
     return finish(g, out, msg, msg_len);
 }
 
-sdft_error sdft_grid_from_buffer(const void *data, size_t size, const char *name, sdft_grid **out, char *msg,
-                                 size_t msg_len)
-{
-    return grid_of_buffer(data, size, name, 0, NULL, out, msg, msg_len);
-}
-
-sdft_error sdft_grid_borrow_buffer(const void *data, size_t size, const char *name, sdft_grid **out, char *msg,
-                                   size_t msg_len)
-{
-    return grid_of_buffer(data, size, name, 1, NULL, out, msg, msg_len);
-}
-
-/* grid_of_buffer in place on a buffer the grid adopts: release(data) on
- * failure, or by the grid once it is freed. */
-static sdft_error adopt(void *data, size_t size, const char *name, void (*release)(void *data),
-                        const grid_deferred *deferred, sdft_grid **out, char *msg, size_t msg_len)
-{
-    const sdft_error rc = grid_of_buffer(data, size, name, 1, deferred, out, msg, msg_len);
-    if (rc) {
-        if (data)
-            release(data);
-        return rc;
-    }
-    (*out)->release = release;
-    (*out)->release_data = data;
-    return SDFT_OK;
-}
-
-sdft_error sdft_grid_adopt_buffer(void *data, size_t size, const char *name, void (*release)(void *data),
-                                  sdft_grid **out, char *msg, size_t msg_len)
-{
-    if (!release)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "no release function (NULL): borrow the buffer instead");
-    return adopt(data, size, name, release, NULL, out, msg, msg_len);
-}
-
-sdft_error sdft_grid_adopt_deferred(void *data, size_t size, const char *name, void (*release)(void *data),
-                                    sdft_leaf_fill_fn fill, void *user, void (*release_user)(void *user),
-                                    sdft_defer how, sdft_grid **out, char *msg, size_t msg_len)
-{
-    if (!release || !fill || (unsigned)how > SDFT_DEFER_ALWAYS) {
-        if (out)
-            *out = NULL;
-        if (release_user)
-            release_user(user);
-        if (release && data)
-            release(data);
-        return (unsigned)how > SDFT_DEFER_ALWAYS
-                   ? fail_with(msg, msg_len, SDFT_EINVAL, "unknown way to defer %d", (int)how)
-                   : fail_with(msg, msg_len, SDFT_EINVAL, "no %s function (NULL)", release ? "fill" : "release");
-    }
-    const grid_deferred d = {.fill = fill, .user = user, .how = how}; /* release_user once the grid is made */
-    const sdft_error rc = adopt(data, size, name, release, &d, out, msg, msg_len);
-    if (rc) {
-        if (release_user)
-            release_user(user);
-        return rc;
-    }
-    (*out)->deferred.release_user = release_user;
-    return SDFT_OK;
-}
-
 /* ---- .nvdb files --------------------------------------------------------
  * As nanovdb/util/IO.h writes them: one or more segments, each
  *   header   magic u64, version u32, grid count u16, codec u16   (16 bytes)
@@ -447,13 +415,68 @@ enum { NVDB_HEADER = 16, NVDB_META = 176 };
 
 static int read_exact(FILE *f, void *dst, size_t n) { return fread(dst, 1, n, f) == n; }
 
-sdft_error sdft_grid_load_nvdb(const char *path, const char *name, sdft_grid **out, char *msg, size_t msg_len)
+/* The segment of a .nvdb file at byte *at (f positioned there): its
+ * header, and each grid's metadata into entries[*n], (*n)++, with the
+ * offset of its bytes in the file; then *at and f past the segment. `end`:
+ * the file's size. */
+static sdft_error read_segment(FILE *f, const char *path, uint64_t end, grid_entry *entries, size_t *n, uint64_t *at,
+                               char *msg, size_t msg_len)
 {
-    if (!out)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "no place for the grid (out is NULL)");
-    *out = NULL;
-    if (!path)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "no path (NULL)");
+    unsigned char head[NVDB_HEADER];
+    uint64_t magic;
+    uint32_t version;
+    uint16_t count, codec;
+    if (!read_exact(f, head, sizeof head))
+        return fail_with(msg, msg_len, SDFT_EFORMAT, "%s is truncated: incomplete segment header", path);
+    memcpy(&magic, head, 8), memcpy(&version, head + 8, 4), memcpy(&count, head + 12, 2), memcpy(&codec, head + 14, 2);
+    if (magic != PNANOVDB_MAGIC_NUMBER)
+        return fail_with(msg, msg_len, SDFT_EFORMAT, "%s is not a NanoVDB file (bad magic number)", path);
+    if (version >> 21u != PNANOVDB_MAJOR_VERSION_NUMBER)
+        return fail_with(msg, msg_len, SDFT_EFORMAT, "%s is NanoVDB version %u; this build reads %u", path,
+                         version >> 21u, PNANOVDB_MAJOR_VERSION_NUMBER);
+    if (codec != 0)
+        return fail_with(msg, msg_len, SDFT_EFORMAT, "%s is compressed (codec %u); write it uncompressed", path, codec);
+    *at += NVDB_HEADER;
+    const size_t first = *n;
+    for (uint16_t i = 0; i < count; i++) {
+        unsigned char meta[NVDB_META];
+        uint32_t name_size;
+        if (*n == 64)
+            return fail_with(msg, msg_len, SDFT_EFORMAT, "%s holds more than 64 grids", path);
+        if (!read_exact(f, meta, sizeof meta))
+            return fail_with(msg, msg_len, SDFT_EFORMAT, "%s is truncated: incomplete grid metadata", path);
+        grid_entry *e = &entries[*n];
+        memset(e, 0, sizeof *e);
+        uint64_t file_size;
+        memcpy(&e->size, meta, 8), memcpy(&file_size, meta + 8, 8);
+        memcpy(&e->type, meta + 32, 4), memcpy(&e->grid_class, meta + 36, 4);
+        memcpy(&name_size, meta + 136, 4);
+        if (file_size != e->size || name_size == 0 || name_size > 1u << 20)
+            return fail_with(msg, msg_len, SDFT_EFORMAT, "%s is corrupt: bad sizes in grid metadata", path);
+        char tmp[256];
+        size_t keep = name_size < sizeof tmp ? name_size : sizeof tmp;
+        if (!read_exact(f, tmp, keep) || fseek(f, (long)(name_size - keep), SEEK_CUR) != 0)
+            return fail_with(msg, msg_len, SDFT_EFORMAT, "%s is truncated: incomplete grid name", path);
+        tmp[keep - 1] = '\0';
+        memcpy(e->name, tmp, keep);
+        *at += NVDB_META + name_size;
+        (*n)++;
+    }
+    for (size_t i = first; i < *n; i++) {
+        entries[i].offset = *at;
+        if (entries[i].size > end - *at)
+            return fail_with(msg, msg_len, SDFT_EFORMAT, "%s is truncated: grid '%s' needs %llu bytes, %llu left", path,
+                             entries[i].name, (unsigned long long)entries[i].size, (unsigned long long)(end - *at));
+        *at += entries[i].size;
+    }
+    if (fseek(f, (long)*at, SEEK_SET) != 0)
+        return fail_with(msg, msg_len, SDFT_EIO, "cannot seek in %s", path);
+    return SDFT_OK;
+}
+
+/* The grid `name` (chosen as grid.h says) of the .nvdb file at path. */
+static sdft_error load_nvdb(const char *path, const char *name, sdft_grid **out, char *msg, size_t msg_len)
+{
     FILE *f = fopen(path, "rb");
     if (!f)
         return fail_with(msg, msg_len, SDFT_EIO, "cannot open %s: %s", path, strerror(errno));
@@ -467,77 +490,8 @@ sdft_error sdft_grid_load_nvdb(const char *path, const char *name, sdft_grid **o
     grid_entry entries[64];
     size_t n = 0;
     sdft_error rc = SDFT_OK;
-    uint64_t at = 0;
-    while (at < (uint64_t)end && !rc) {
-        unsigned char head[NVDB_HEADER];
-        uint64_t magic;
-        uint32_t version;
-        uint16_t count, codec;
-        if (!read_exact(f, head, sizeof head)) {
-            rc = fail_with(msg, msg_len, SDFT_EFORMAT, "%s is truncated: incomplete segment header", path);
-            break;
-        }
-        memcpy(&magic, head, 8), memcpy(&version, head + 8, 4), memcpy(&count, head + 12, 2),
-            memcpy(&codec, head + 14, 2);
-        if (magic != PNANOVDB_MAGIC_NUMBER) {
-            rc = fail_with(msg, msg_len, SDFT_EFORMAT, "%s is not a NanoVDB file (bad magic number)", path);
-            break;
-        }
-        if (version >> 21u != PNANOVDB_MAJOR_VERSION_NUMBER) {
-            rc = fail_with(msg, msg_len, SDFT_EFORMAT, "%s is NanoVDB version %u; this build reads %u", path,
-                           version >> 21u, PNANOVDB_MAJOR_VERSION_NUMBER);
-            break;
-        }
-        if (codec != 0) {
-            rc = fail_with(msg, msg_len, SDFT_EFORMAT, "%s is compressed (codec %u); write it uncompressed", path,
-                           codec);
-            break;
-        }
-        at += NVDB_HEADER;
-        size_t first = n;
-        for (uint16_t i = 0; i < count && !rc; i++) {
-            unsigned char meta[NVDB_META];
-            uint32_t name_size;
-            if (n == 64) {
-                rc = fail_with(msg, msg_len, SDFT_EFORMAT, "%s holds more than 64 grids", path);
-                break;
-            }
-            if (!read_exact(f, meta, sizeof meta)) {
-                rc = fail_with(msg, msg_len, SDFT_EFORMAT, "%s is truncated: incomplete grid metadata", path);
-                break;
-            }
-            grid_entry *e = &entries[n];
-            memset(e, 0, sizeof *e);
-            uint64_t file_size;
-            memcpy(&e->size, meta, 8), memcpy(&file_size, meta + 8, 8);
-            memcpy(&e->type, meta + 32, 4), memcpy(&e->grid_class, meta + 36, 4);
-            memcpy(&name_size, meta + 136, 4);
-            if (file_size != e->size || name_size == 0 || name_size > 1u << 20) {
-                rc = fail_with(msg, msg_len, SDFT_EFORMAT, "%s is corrupt: bad sizes in grid metadata", path);
-                break;
-            }
-            char tmp[256];
-            size_t keep = name_size < sizeof tmp ? name_size : sizeof tmp;
-            if (!read_exact(f, tmp, keep) || fseek(f, (long)(name_size - keep), SEEK_CUR) != 0) {
-                rc = fail_with(msg, msg_len, SDFT_EFORMAT, "%s is truncated: incomplete grid name", path);
-                break;
-            }
-            tmp[keep - 1] = '\0';
-            memcpy(e->name, tmp, keep);
-            at += NVDB_META + name_size;
-            n++;
-        }
-        for (size_t i = first; i < n && !rc; i++) {
-            entries[i].offset = at;
-            if (entries[i].size > (uint64_t)end - at)
-                rc = fail_with(msg, msg_len, SDFT_EFORMAT, "%s is truncated: grid '%s' needs %llu bytes, %llu left",
-                               path, entries[i].name, (unsigned long long)entries[i].size,
-                               (unsigned long long)((uint64_t)end - at));
-            at += entries[i].size;
-        }
-        if (!rc && fseek(f, (long)at, SEEK_SET) != 0)
-            rc = fail_with(msg, msg_len, SDFT_EIO, "cannot seek in %s", path);
-    }
+    for (uint64_t at = 0; at < (uint64_t)end && !rc;)
+        rc = read_segment(f, path, (uint64_t)end, entries, &n, &at, msg, msg_len);
     size_t pick = 0;
     if (!rc)
         rc = choose(entries, n, name, path, &pick, msg, msg_len);
@@ -553,6 +507,73 @@ sdft_error sdft_grid_load_nvdb(const char *path, const char *name, sdft_grid **o
         return rc;
     }
     return finish(g, out, msg, msg_len);
+}
+
+/* ---- the one way in ------------------------------------------------------ */
+
+sdft_grid_options sdft_grid_options_defaults(void)
+{
+    sdft_grid_options o;
+    memset(&o, 0, sizeof o);
+    o.memory = SDFT_GRID_COPY;
+    o.defer = SDFT_DEFER_NONE;
+    o.quant = SDFT_QUANT_NONE;
+    o.stream = 1;
+    return o;
+}
+
+/* A buffer in memory, as o says: copied, borrowed or adopted, its leaves
+ * there or deferred. */
+static sdft_error open_buffer(const sdft_grid_options *o, sdft_grid **out, char *msg, size_t msg_len)
+{
+    if ((unsigned)o->memory > SDFT_GRID_ADOPT)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "unknown memory %d (copy, borrow or adopt)", (int)o->memory);
+    if ((unsigned)o->defer > SDFT_DEFER_ALWAYS)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "unknown way to defer %d", (int)o->defer);
+    if (o->memory == SDFT_GRID_ADOPT && !o->release)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "no release function (NULL): borrow the buffer instead");
+    if (!o->fill != !o->defer || (o->fill && o->memory != SDFT_GRID_ADOPT))
+        return fail_with(msg, msg_len, SDFT_EINVAL,
+                         "deferred leaves need a fill function, a way to defer and an "
+                         "adopted buffer");
+    const grid_deferred d = {.fill = o->fill, .user = o->fill_user, .how = o->defer};
+    const sdft_error rc =
+        grid_of_buffer(o->data, o->size, o->name, o->memory != SDFT_GRID_COPY, o->fill ? &d : NULL, out, msg, msg_len);
+    if (!rc && o->memory == SDFT_GRID_ADOPT) {
+        (*out)->release = o->release;
+        (*out)->release_data = (void *)(uintptr_t)o->data;
+        (*out)->deferred.user = o->fill_user; /* released with the grid, deferred or not */
+        (*out)->deferred.release_user = o->fill_release;
+    }
+    return rc;
+}
+
+/* The owners of what an adopting call was handed, told once it refuses. */
+static sdft_error refuse(const sdft_grid_options *o, sdft_error rc)
+{
+    if (rc && o->memory == SDFT_GRID_ADOPT && !o->path) {
+        if (o->release && o->data)
+            o->release((void *)(uintptr_t)o->data);
+        if (o->fill_release)
+            o->fill_release(o->fill_user);
+    }
+    return rc;
+}
+
+sdft_error sdft_grid_open(const sdft_grid_options *o, sdft_grid **out, char *msg, size_t msg_len)
+{
+    if (!o)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "no options (NULL; sdft_grid_options_defaults makes them)");
+    if (!out)
+        return refuse(o, fail_with(msg, msg_len, SDFT_EINVAL, "no place for the grid (out is NULL)"));
+    *out = NULL;
+    if (!o->path)
+        return refuse(o, open_buffer(o, out, msg, msg_len));
+    const char *dot = strrchr(o->path, '.');
+    if (dot && strcmp(dot, ".vdb") == 0)
+        return fail_with(msg, msg_len, SDFT_EFORMAT,
+                         "%s is a .vdb file: the OpenVDB component's sdft_vdb_open reads it", o->path);
+    return load_nvdb(o->path, o->name, out, msg, msg_len);
 }
 
 /* ---- queries ------------------------------------------------------------ */

@@ -446,7 +446,7 @@ void grid_accel_init(sdft_grid *g)
     g->accel.hull_gradients = g->hull_gradient;
 }
 
-sdft_field sdft_grid_field_with(const sdft_grid *g, sdft_grid_bound bound)
+sdft_field sdft_grid_field(const sdft_grid *g, sdft_grid_bound bound)
 {
     sdft_field f = sdft_field_defaults();
     if (!g || (unsigned)bound > SDFT_GRID_BOUND_NONE)
@@ -465,11 +465,7 @@ sdft_field sdft_grid_field_with(const sdft_grid *g, sdft_grid_bound bound)
     return f;
 }
 
-sdft_field sdft_grid_field(const sdft_grid *g) { return sdft_grid_field_with(g, SDFT_GRID_BOUND_FAR); }
-
-sdft_field sdft_grid_field_without_bound(const sdft_grid *g) { return sdft_grid_field_with(g, SDFT_GRID_BOUND_NONE); }
-
-float sdft_grid_sample_with(const sdft_grid *g, sdft_grid_bound bound, sdft_scratch *s, sdft_vec3 p, int *level)
+float sdft_grid_sample(const sdft_grid *g, sdft_grid_bound bound, sdft_scratch *s, sdft_vec3 p, int *level)
 {
     if (!g || !s || s->owner.ctx != g || s->owner.init != grid_scratch_init) {
         if (level)
@@ -481,11 +477,6 @@ float sdft_grid_sample_with(const sdft_grid *g, sdft_grid_bound bound, sdft_scra
     if (bound != SDFT_GRID_BOUND_FAR && bound != SDFT_GRID_BOUND_TREE)
         bound = SDFT_GRID_BOUND_NONE;
     return sample(g, g->type, accessor(s), x, level, bound);
-}
-
-float sdft_grid_sample(const sdft_grid *g, sdft_scratch *s, sdft_vec3 p, int *level)
-{
-    return sdft_grid_sample_with(g, SDFT_GRID_BOUND_FAR, s, p, level);
 }
 
 float sdft_grid_voxel(const sdft_grid *g, int32_t i, int32_t j, int32_t k, int *active)

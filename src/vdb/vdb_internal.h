@@ -18,10 +18,10 @@
 
 // sdft_vdb_open and sdft_vdb_bounds once their arguments are checked
 // (vdb_open.c).
-extern "C" SDFT_INTERNAL sdft_error vdb_open_checked(const char *path, const char *name, const sdft_vdb_options *o,
-                                                          sdft_grid **out, char *msg, size_t msg_len);
-extern "C" SDFT_INTERNAL sdft_error vdb_bounds_checked(const char *path, const char *name, sdft_aabb *box,
-                                                            char *msg, size_t msg_len);
+extern "C" SDFT_INTERNAL sdft_error vdb_open_checked(const char *path, const char *name, const sdft_grid_options *o,
+                                                     sdft_grid **out, char *msg, size_t msg_len);
+extern "C" SDFT_INTERNAL sdft_error vdb_bounds_checked(const char *path, const char *name, sdft_aabb *box, char *msg,
+                                                       size_t msg_len);
 
 namespace sdft_vdb
 {
@@ -67,7 +67,7 @@ sdft_error write_grid(const openvdb::FloatGrid &grid, bool nvdb, sdft_quant quan
 // as they are copied. With `defer`, only laid out: the NanoVDB grid keeps
 // the OpenVDB grid and copies each leaf when first read. progress may be
 // NULL.
-sdft_error stream_to_nano(openvdb::FloatGrid::Ptr grid, const char *path, sdft_quant quant, int defer,
+sdft_error stream_to_nano(openvdb::FloatGrid::Ptr grid, const char *path, sdft_quant quant, sdft_defer defer,
                           sdft_progress_fn progress, void *progress_user, sdft_grid **out, char *msg, size_t msg_len);
 
 // The caller's progress callback (sdftrace/vdb.h), called about once per
