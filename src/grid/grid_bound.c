@@ -486,6 +486,59 @@ int grid_far_cell(const sdft_grid *g)
     return far_cells(g, MAX_CELLS, n, c0);
 }
 
+/* d2 at the corners of the cells (n per axis, signs in sign): 0 at the
+ * sites, the corners of occupied cells, INFINITY elsewhere, for edt3.
+ * A row of corners (y, z) is the corner row of the cell rows (y - 1 or y,
+ * z - 1 or z); corner x is a site when cell x - 1 or x of one of them is
+ * occupied. Rows in parallel, each written by one thread. */
+static void mark_sites(const int n[3], const int8_t *sign, float *d2)
+{
+    const int nv[3] = {n[0] + 1, n[1] + 1, n[2] + 1};
+#pragma omp parallel for schedule(static)
+    for (long row = 0; row < (long)nv[1] * nv[2]; row++) {
+        const int y = (int)(row % nv[1]), z = (int)(row / nv[1]);
+        float *out = d2 + (size_t)row * nv[0];
+        for (int x = 0; x < nv[0]; x++)
+            out[x] = INFINITY;
+        for (int k = 0; k < 4; k++) {
+            const int cy = y - (k & 1), cz = z - (k >> 1);
+            if (cy < 0 || cz < 0 || cy >= n[1] || cz >= n[2])
+                continue;
+            const int8_t *cells = sign + ((size_t)cz * n[1] + (size_t)cy) * n[0];
+            for (int x = 0; x < n[0]; x++)
+                if (cells[x] == 0)
+                    out[x] = out[x + 1] = 0.0f;
+        }
+    }
+}
+
+/* Each corner's word from d2 (squared distances in cells of S voxels): its
+ * distance, in quarters of a voxel rounded down (truncated: >= 0) and
+ * saturated, and, for the lowest corner of a cell, that cell's code. Rows
+ * of corners in parallel. */
+static void encode_corners(const int n[3], int S, const int8_t *sign, const float *d2, uint16_t *corner)
+{
+    const int nv[3] = {n[0] + 1, n[1] + 1, n[2] + 1};
+    const double most = (double)((1u << FAR_DISTANCE_BITS) - 1u);
+#pragma omp parallel for schedule(static)
+    for (long row = 0; row < (long)nv[1] * nv[2]; row++) {
+        const int y = (int)(row % nv[1]), z = (int)(row / nv[1]);
+        const float *in = d2 + (size_t)row * nv[0];
+        uint16_t *out = corner + (size_t)row * nv[0];
+        for (int x = 0; x < nv[0]; x++) {
+            const double q = FAR_DISTANCE_SCALE * S * sqrt((double)in[x]);
+            out[x] = (uint16_t)(q < most ? q : most);
+        }
+        if (y >= n[1] || z >= n[2])
+            continue;
+        const int8_t *cells = sign + ((size_t)z * n[1] + (size_t)y) * n[0];
+        for (int x = 0; x < n[0]; x++) {
+            const unsigned code = cells[x] > 0 ? FAR_EMPTY_POSITIVE : cells[x] < 0 ? FAR_EMPTY_NEGATIVE : 0;
+            out[x] |= (uint16_t)(code << FAR_DISTANCE_BITS);
+        }
+    }
+}
+
 sdft_error grid_far_build_cells(sdft_grid *g, size_t most_cells)
 {
     grid_far *far = &g->far;
@@ -514,51 +567,12 @@ sdft_error grid_far_build_cells(sdft_grid *g, size_t most_cells)
         free(sign), free(d2), free(corner);
         return SDFT_ENOMEM;
     }
-    /* Sites: the corners of occupied cells. A row of corners (y, z) is the
-     * corner row of the cell rows (y - 1 or y, z - 1 or z); corner x is a
-     * site when cell x - 1 or x of one of them is occupied. Rows in
-     * parallel, each written by one thread. */
-#pragma omp parallel for schedule(static)
-    for (long row = 0; row < (long)nv[1] * nv[2]; row++) {
-        const int y = (int)(row % nv[1]), z = (int)(row / nv[1]);
-        float *out = d2 + (size_t)row * nv[0];
-        for (int x = 0; x < nv[0]; x++)
-            out[x] = INFINITY;
-        for (int k = 0; k < 4; k++) {
-            const int cy = y - (k & 1), cz = z - (k >> 1);
-            if (cy < 0 || cz < 0 || cy >= n[1] || cz >= n[2])
-                continue;
-            const int8_t *cells = sign + ((size_t)cz * n[1] + (size_t)cy) * n[0];
-            for (int x = 0; x < n[0]; x++)
-                if (cells[x] == 0)
-                    out[x] = out[x + 1] = 0.0f;
-        }
-    }
+    mark_sites(n, sign, d2);
     if (edt3(d2, nv)) {
         free(sign), free(d2), free(corner);
         return SDFT_ENOMEM;
     }
-    /* Each corner: its distance, in quarters of a voxel rounded down
-     * (truncated: >= 0) and saturated, and, for the lowest corner of a cell,
-     * that cell's code. Rows of corners in parallel. */
-    const double most = (double)((1u << FAR_DISTANCE_BITS) - 1u);
-#pragma omp parallel for schedule(static)
-    for (long row = 0; row < (long)nv[1] * nv[2]; row++) {
-        const int y = (int)(row % nv[1]), z = (int)(row / nv[1]);
-        const float *in = d2 + (size_t)row * nv[0];
-        uint16_t *out = corner + (size_t)row * nv[0];
-        for (int x = 0; x < nv[0]; x++) {
-            const double q = FAR_DISTANCE_SCALE * S * sqrt((double)in[x]);
-            out[x] = (uint16_t)(q < most ? q : most);
-        }
-        if (y >= n[1] || z >= n[2])
-            continue;
-        const int8_t *cells = sign + ((size_t)z * n[1] + (size_t)y) * n[0];
-        for (int x = 0; x < n[0]; x++) {
-            const unsigned code = cells[x] > 0 ? FAR_EMPTY_POSITIVE : cells[x] < 0 ? FAR_EMPTY_NEGATIVE : 0;
-            out[x] |= (uint16_t)(code << FAR_DISTANCE_BITS);
-        }
-    }
+    encode_corners(n, S, sign, d2, corner);
     free(d2);
     free(sign);
     far->corner = corner;
