@@ -229,7 +229,8 @@ static void test_shared_libraries_export_the_api(void **state)
 
 /* What an internal name may start with: its module. sdft_ is the public
  * API's alone. */
-static const char *const internal_prefixes[] = {"grid_", "march_", "render_", "vdb_", "scene_", "fail_", "atomic_file_"};
+static const char *const internal_prefixes[] = {"grid_",  "march_", "render_",     "vdb_",
+                                                "scene_", "fail_",  "atomic_file_"};
 
 static int has_internal_prefix(const char *name)
 {
@@ -271,8 +272,7 @@ static void test_static_libraries_name_their_symbols(void **state)
                 continue;
             if (strncmp(name, "sdft_", 5) == 0) {
                 if (!names_has(&api, name))
-                    fail_msg("%s defines '%s' (%s): sdft_ is public, but no header marks it SDFT_API", lib, name,
-                             type);
+                    fail_msg("%s defines '%s' (%s): sdft_ is public, but no header marks it SDFT_API", lib, name, type);
             } else if (has_internal_prefix(name)) {
                 internal++;
             } else {

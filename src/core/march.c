@@ -38,9 +38,8 @@ static void refine(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, co
     }
 }
 
-sdft_hit march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p,
-                           float t0, float r0, float t, float r, uint32_t steps, uint32_t fallbacks,
-                           march_candidate best)
+sdft_hit march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p, float t0,
+                      float r0, float t, float r, uint32_t steps, uint32_t fallbacks, march_candidate best)
 {
     sdft_hit hit = {.t = t, .distance = r, .steps = steps, .fallbacks = fallbacks};
     if (r <= march_eps(p, t)) {

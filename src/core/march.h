@@ -39,9 +39,8 @@ static inline void march_offer(march_candidate *c, const sdft_trace_params *p, f
 /* Turns the final state of a march into a hit: classifies it, refines a hit
  * onto the surface from the last two accepted samples (t0, r0), (t, r), and
  * on non-convergence with the screen-space criterion returns the candidate. */
-sdft_hit march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p,
-                           float t0, float r0, float t, float r, uint32_t steps, uint32_t fallbacks,
-                           march_candidate best);
+sdft_hit march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p, float t0,
+                      float r0, float t, float r, uint32_t steps, uint32_t fallbacks, march_candidate best);
 
 /* What Algorithms 1-4 keep between iterations: the accepted point (t, r),
  * the step z to the next trial point T = t + z, auto's slope m, the point
@@ -275,12 +274,12 @@ MARCH_INLINE void march_many(const sdft_field *f, sdft_scratch *s, const sdft_ra
 
 /* Each variant's stream entry (march_many with its start and step). */
 void march_stream_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
-                              const sdft_trace_params *p);
+                         const sdft_trace_params *p);
 void march_stream_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
-                               const sdft_trace_params *p);
+                          const sdft_trace_params *p);
 void march_stream_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
-                                const sdft_trace_params *p);
+                           const sdft_trace_params *p);
 void march_stream_auto(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
-                            const sdft_trace_params *p);
+                       const sdft_trace_params *p);
 
 #endif

@@ -33,7 +33,7 @@ sdft_hit sdft_trace_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ra
 }
 
 void march_stream_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
-                                const sdft_trace_params *p)
+                           const sdft_trace_params *p)
 {
     march_many(f, s, rays, hits, n, p, enhanced_start, enhanced_step);
 }

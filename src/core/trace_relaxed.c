@@ -27,7 +27,7 @@ sdft_hit sdft_trace_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray
 }
 
 void march_stream_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
-                               const sdft_trace_params *p)
+                          const sdft_trace_params *p)
 {
     march_many(f, s, rays, hits, n, p, relaxed_start, relaxed_step);
 }

@@ -25,7 +25,7 @@ sdft_hit sdft_trace_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray 
 }
 
 void march_stream_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
-                              const sdft_trace_params *p)
+                         const sdft_trace_params *p)
 {
     march_many(f, s, rays, hits, n, p, sphere_start, sphere_step);
 }

@@ -23,7 +23,7 @@ typedef struct grid_candidate {
  * `what` names the file or buffer in messages. SDFT_OK with *pick, or
  * SDFT_ENOTFOUND / SDFT_ENOTSCALAR with one line in msg. */
 static inline sdft_error grid_choose(const grid_candidate *e, size_t n, const char *name, const char *what,
-                                          size_t *pick, char *msg, size_t msg_len)
+                                     size_t *pick, char *msg, size_t msg_len)
 {
     if (n == 0)
         return fail_with(msg, msg_len, SDFT_ENOTFOUND, "%s holds no grids", what);

@@ -35,7 +35,7 @@ static int aim_channels(exr_decode_pipeline_t *dec, int n, const char *const nam
 static void quiet(exr_const_context_t ctxt, exr_result_t code, const char *text) { (void)ctxt, (void)code, (void)text; }
 
 int io_read_exr_floats(const char *path, int n, const char *const names[], float *planes[], int *width, int *height,
-                         char *msg, size_t msg_len)
+                       char *msg, size_t msg_len)
 {
     for (int c = 0; c < n; c++)
         planes[c] = NULL;

@@ -102,7 +102,7 @@ static void draw_legend(canvas *c, int top, unsigned long scale)
 }
 
 int io_write_heatmap(const char *path, const sdft_image *img, io_heatmap_kind kind, unsigned long max, char *msg,
-                       size_t msg_len)
+                     size_t msg_len)
 {
     const uint32_t *counts = kind == SDFT_HEATMAP_FALLBACKS ? img->fallbacks : img->steps;
     size_t n = (size_t)img->width * (size_t)img->height;

@@ -29,7 +29,7 @@ int io_write_exr(const char *path, const sdft_image *img, char *msg, size_t msg_
  * or non-zero with one line in msg (missing file, not scanline, a channel
  * absent, a corrupt chunk) and every plane NULL. */
 int io_read_exr_floats(const char *path, int n, const char *const names[], float *planes[], int *width, int *height,
-                         char *msg, size_t msg_len);
+                       char *msg, size_t msg_len);
 
 /* 8-bit sRGB PNG of the image's linear RGB, through libpng. */
 int io_write_png(const char *path, const sdft_image *img, char *msg, size_t msg_len);
@@ -41,7 +41,7 @@ typedef enum io_heatmap_kind { SDFT_HEATMAP_STEPS = 0, SDFT_HEATMAP_FALLBACKS } 
  * scale runs from 0 to `max` (counts above it are red), so that several maps
  * can share one; max 0 takes the largest count rounded up to a multiple of 4. */
 int io_write_heatmap(const char *path, const sdft_image *img, io_heatmap_kind kind, unsigned long max, char *msg,
-                       size_t msg_len);
+                     size_t msg_len);
 
 /* The colour of a count on the heatmap's scale [0, max]: 8-bit RGB. */
 void io_heatmap_colour(double value, double max, unsigned char rgb[3]);

@@ -55,7 +55,7 @@ static int png_encode(FILE *fp, const unsigned char *rgb, int width, int height,
 }
 
 int io_png_write_rgb8(const char *path, const unsigned char *rgb, int width, int height, int srgb, char *msg,
-                        size_t msg_len)
+                      size_t msg_len)
 {
     atomic_file af;
     if (atomic_file_begin(&af, path, msg, msg_len))
