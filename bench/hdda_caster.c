@@ -233,7 +233,7 @@ static float *vdb_render_depth(const char *path, const sdft_grid *g, sdft_vec3 e
     float *rgb[3];
     int ew, eh;
     char msg[512];
-    if (sdft_read_exr_floats(path, 3, names, rgb, &ew, &eh, msg, sizeof msg) || ew != w || eh != h) {
+    if (io_read_exr_floats(path, 3, names, rgb, &ew, &eh, msg, sizeof msg) || ew != w || eh != h) {
         fprintf(stderr, "hdda_caster: %s\n", ew != w || eh != h ? "vdb_render's image has another size" : msg);
         return NULL;
     }
@@ -376,7 +376,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "hdda_caster: bad size\n");
         return 2;
     }
-    if (sdft_grid_open(argv[1], NULL, &g, msg, sizeof msg)) {
+    sdft_grid_options go = sdft_grid_options_defaults();
+    go.path = argv[1];
+    if (sdft_vdb_open(&go, &g, msg, sizeof msg)) {
         fprintf(stderr, "hdda_caster: %s\n", msg);
         return 1;
     }
@@ -407,7 +409,7 @@ int main(int argc, char **argv)
         best = fmin(best, cast(&c, &cam, w, h, 0, hdda));
         best_refined = fmin(best_refined, cast(&c, &cam, w, h, 1, refined));
         for (int k = 0; k < configs; k++) {
-            const sdft_field f = sdft_grid_field_with(g, cf[k].bound);
+            const sdft_field f = sdft_grid_field(g, cf[k].bound);
             if (sdft_render(&f, &cf[k].rp, &img, &cf[k].st, msg, sizeof msg)) {
                 fprintf(stderr, "hdda_caster: %s\n", msg);
                 return 1;

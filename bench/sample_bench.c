@@ -9,7 +9,7 @@
  * overlap: throughput) and `chained` (each point waits for the value before
  * it, as one ray's steps do: latency). `sdftrace-batch` is the field's
  * batch call (sdft_field_distances), which hints each point's memory
- * (sdft_field.prefetch) a few points ahead, the way to evaluate many
+ * (sdft_field_accel.prefetch) a few points ahead, the way to evaluate many
  * scattered points (the tracer does not hint its steps: along rays it
  * cost more than it saved). Samplers are interleaved, each timed REPEAT
  * times (default 7), the median reported.
@@ -55,7 +55,7 @@ static void push(points *p, sdft_vec3 v)
 static int in_band(const sdft_grid *g, sdft_scratch *s, sdft_vec3 p)
 {
     int level;
-    const float v = sdft_grid_sample_with(g, SDFT_GRID_BOUND_NONE, s, p, &level);
+    const float v = sdft_grid_sample(g, SDFT_GRID_BOUND_NONE, s, p, &level);
     return level == 0 && fabsf(v) < sdft_grid_background(g);
 }
 
@@ -72,13 +72,6 @@ static float logging_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
     return l->inner.distance(l->inner.ctx, s, p);
 }
 
-static int logging_root(const void *ctx, sdft_scratch *s, sdft_vec3 org, sdft_vec3 dir, float t0, float t1, float *t,
-                        sdft_vec3 *normal, uint32_t *reads)
-{
-    const logging *l = ctx;
-    return l->inner.root(l->inner.ctx, s, org, dir, t0, t1, t, normal, reads);
-}
-
 static void logging_scratch_init(const void *ctx, sdft_scratch *s)
 {
     const logging *l = ctx;
@@ -90,12 +83,12 @@ static void logging_scratch_init(const void *ctx, sdft_scratch *s)
 static points traced_points(const sdft_grid *g, size_t want, int band_only)
 {
     points all = {0}, kept = {0};
-    logging l = {sdft_grid_field(g), &all};
+    logging l = {sdft_grid_field(g, SDFT_GRID_BOUND_FAR), &all};
     sdft_field f = l.inner;
-    /* Every callback of a wrapped field takes the wrapper's ctx. */
+    /* Every callback of a wrapped field takes the wrapper's ctx; the
+     * grid's accel (its exact root, hints and hull) keeps its own and is
+     * kept as it is, as the distance is the grid's. */
     f.distance = logging_distance, f.scratch_init = logging_scratch_init, f.normal = NULL, f.ctx = &l;
-    f.root = l.inner.root ? logging_root : NULL;
-    f.prefetch = NULL; /* the grid's hint would take the wrapper's ctx for a grid (it crashed one run in three) */
     sdft_render_params rp = sdft_render_defaults();
     rp.camera = sdft_camera_front(f.bounds, rp.width, rp.height, 40.0f);
     rp.shadows = 0, rp.depth_only = 1, rp.threads = 1;
@@ -136,7 +129,7 @@ static points band_points(const sdft_grid *g, size_t want)
     const uint64_t first = PNANOVDB_GRID_SIZE + pnanovdb_tree_get_node_offset_leaf(g->buf, tree);
     const uint64_t stride = PNANOVDB_GRID_TYPE_GET(g->type, leaf_size);
     sdft_scratch s;
-    sdft_field f = sdft_grid_field(g);
+    sdft_field f = sdft_grid_field(g, SDFT_GRID_BOUND_FAR);
     sdft_scratch_init(&f, &s);
     uint64_t r = 88172645463325252ull;
     while (kept.n < want) {
@@ -380,7 +373,9 @@ int main(int argc, char **argv)
         repeat = MAX_REPEAT;
     char msg[512];
     sdft_grid *g = NULL;
-    if (sdft_grid_open(argv[1], NULL, &g, msg, sizeof msg)) {
+    sdft_grid_options go = sdft_grid_options_defaults();
+    go.path = argv[1];
+    if (sdft_vdb_open(&go, &g, msg, sizeof msg)) {
         fprintf(stderr, "sample_bench: %s\n", msg);
         return 1;
     }
@@ -402,7 +397,7 @@ int main(int argc, char **argv)
     sets[0].band = sets[1].band = 1;
     static const char *const set_names[3] = {"ray", "band", "trace"};
 
-    const sdft_field far = sdft_grid_field(g), plain = sdft_grid_field_without_bound(g);
+    const sdft_field far = sdft_grid_field(g, SDFT_GRID_BOUND_FAR), plain = sdft_grid_field(g, SDFT_GRID_BOUND_NONE);
     const sampler s[] = {
         {"dense-array", run_dense, &dense, 0},      {"nanovdb-accessor", run_nano, g->words, 1},
         {"sdftrace-sampler", run_field, &plain, 1}, {"sdftrace-field", run_field, &far, 1},

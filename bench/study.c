@@ -36,7 +36,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "atomic_file.h" /* src/util: sdft_check_writable */
+#include "atomic_file.h" /* src/util: atomic_file_check_writable */
 #include "parse.h"       /* src/util: sdft_parse_integer, sdft_parse_number */
 #include "sdftrace/grid.h"
 #include "sdftrace/render.h"
@@ -261,7 +261,7 @@ static int check_out_dir(const char *dir)
         fail("--out: path too long");
         return -1;
     }
-    if (sdft_check_writable(probe, msg, sizeof msg)) {
+    if (atomic_file_check_writable(probe, msg, sizeof msg)) {
         fail("--out %s: %s", dir, msg);
         return -1;
     }
@@ -429,11 +429,13 @@ static int open_sources(const study_options *o, study_run *run)
         char msg[512];
         if (!o->quiet)
             fprintf(stderr, "study: loading %s\n", src->path);
-        if (sdft_grid_load_nvdb(src->path, NULL, &src->grid, msg, sizeof msg)) {
+        sdft_grid_options go = sdft_grid_options_defaults();
+        go.path = src->path;
+        if (sdft_grid_open(&go, &src->grid, msg, sizeof msg)) {
             fail("%s (bench/study.sh bakes the grids)", msg);
             return -1;
         }
-        src->field = sdft_grid_field(src->grid);
+        src->field = sdft_grid_field(src->grid, SDFT_GRID_BOUND_FAR);
         src->voxel = sdft_grid_voxel_size(src->grid).x;
     }
     for (size_t i = 0; i < run->n; i++)

@@ -65,7 +65,7 @@ void study_run_free(study_run *run)
  * of its descriptor, so that closing the stream leaves the writer's own for
  * the commit (as src/io/png.c does). */
 typedef struct out_file {
-    sdft_atomic_file af;
+    atomic_file af;
     FILE *f;
 } out_file;
 
@@ -73,7 +73,7 @@ static int out_begin(out_file *o, const char *path, const char *mode)
 {
     char msg[512];
     o->f = NULL;
-    if (sdft_atomic_begin(&o->af, path, msg, sizeof msg)) {
+    if (atomic_file_begin(&o->af, path, msg, sizeof msg)) {
         fprintf(stderr, "study: %s\n", msg);
         return -1;
     }
@@ -82,7 +82,7 @@ static int out_begin(out_file *o, const char *path, const char *mode)
     if (!o->f) {
         if (fd >= 0)
             close(fd);
-        sdft_atomic_abort(&o->af);
+        atomic_file_abort(&o->af);
         fprintf(stderr, "study: cannot write %s\n", path);
         return -1;
     }
@@ -106,10 +106,10 @@ static int out_finish(out_file *o, int failed)
     o->f = NULL;
     if (bad) {
         fprintf(stderr, "study: cannot write %s\n", o->af.path);
-        sdft_atomic_abort(&o->af);
+        atomic_file_abort(&o->af);
         return -1;
     }
-    if (sdft_atomic_commit(&o->af, msg, sizeof msg)) {
+    if (atomic_file_commit(&o->af, msg, sizeof msg)) {
         fprintf(stderr, "study: %s\n", msg);
         return -1;
     }

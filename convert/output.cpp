@@ -17,7 +17,7 @@ namespace mesh2sdf {
 bool reserveFile(const std::string& path, PendingFile& file, std::string& error)
 {
     char msg[512];
-    if (sdft_atomic_begin(&file.file, path.c_str(), msg, sizeof msg)) {
+    if (atomic_file_begin(&file.file, path.c_str(), msg, sizeof msg)) {
         error = msg;
         return false;
     }
@@ -31,7 +31,7 @@ bool commitFile(PendingFile& file, std::string& error)
         return true;
     char msg[512];
     file.tmp.clear();
-    if (sdft_atomic_commit(&file.file, msg, sizeof msg)) {
+    if (atomic_file_commit(&file.file, msg, sizeof msg)) {
         error = msg;
         return false;
     }
@@ -41,7 +41,7 @@ bool commitFile(PendingFile& file, std::string& error)
 void discardFile(PendingFile& file)
 {
     if (!file.tmp.empty())
-        sdft_atomic_abort(&file.file);
+        atomic_file_abort(&file.file);
     file.tmp.clear();
 }
 

@@ -19,7 +19,7 @@ namespace mesh2sdf {
 
 /// A destination and the temporary file reserved next to it (`tmp`).
 struct PendingFile {
-    sdft_atomic_file file{};
+    atomic_file file{};
     std::string tmp;
 };
 

@@ -66,7 +66,7 @@ static float city_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
     return sdft_minf(buildings(p), ground(p));
 }
 
-const sdft_scene sdft_scene_city = {
+const sdft_scene scene_city = {
     .name = "city",
     .description = "81 x 81 blocks of hashed-height buildings receding to the horizon, seen from a street",
     .field = {.distance = city_distance,

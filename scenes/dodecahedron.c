@@ -34,7 +34,7 @@ static float dodecahedron_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p
     return sdft_minf(gem(p), sdft_minf(beads(p), ground(p)));
 }
 
-const sdft_scene sdft_scene_dodecahedron = {
+const sdft_scene scene_dodecahedron = {
     .name = "dodecahedron",
     .description = "a dodecahedron in its bounding sphere and three spheres over a ground slab (Keinert Fig. 11)",
     .field = {.distance = dodecahedron_distance,

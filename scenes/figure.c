@@ -52,7 +52,7 @@ static float figure_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
     return sdft_minf(character, pedestal(p));
 }
 
-const sdft_scene sdft_scene_figure = {
+const sdft_scene scene_figure = {
     .name = "figure",
     .description = "a smoothly blended standing character on a round pedestal (the papers' Girl)",
     .field = {.distance = figure_distance,

@@ -4,10 +4,10 @@
 #include "scenes.h"
 
 static const sdft_scene *const all_scenes[] = {
-    &sdft_scene_temple,
-    &sdft_scene_figure,
-    &sdft_scene_dodecahedron,
-    &sdft_scene_city,
+    &scene_temple,
+    &scene_figure,
+    &scene_dodecahedron,
+    &scene_city,
 };
 
 const sdft_scene *const *sdft_scenes(size_t *count)

@@ -5,9 +5,9 @@
 
 #include "sdftrace/scene.h"
 
-extern const sdft_scene sdft_scene_temple;
-extern const sdft_scene sdft_scene_figure;
-extern const sdft_scene sdft_scene_dodecahedron;
-extern const sdft_scene sdft_scene_city;
+extern const sdft_scene scene_temple;
+extern const sdft_scene scene_figure;
+extern const sdft_scene scene_dodecahedron;
+extern const sdft_scene scene_city;
 
 #endif

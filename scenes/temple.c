@@ -127,7 +127,7 @@ static float temple_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
     return sdft_minf(sdft_minf(within(building_box, 0.5f, building, p), within(fence_box, 0.2f, fence, p)), ground(p));
 }
 
-const sdft_scene sdft_scene_temple = {
+const sdft_scene scene_temple = {
     .name = "temple",
     .description = "a temple of 32 fluted columns, stairs, a gabled roof, thin plates, rods and a fence",
     .field = {.distance = temple_distance,

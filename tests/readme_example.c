@@ -19,11 +19,10 @@ static float torus_distance(const void *ctx, sdft_scratch *scratch, sdft_vec3 p)
 int main(void)
 {
     torus ring = {1.0f, 0.25f};
-    sdft_field field = {
-        .distance = torus_distance,
-        .ctx = &ring,
-        .bounds = {{-1.25f, -0.25f, -1.25f}, {1.25f, 0.25f, 1.25f}},
-    };
+    sdft_field field = sdft_field_defaults(); /* then what this field has */
+    field.distance = torus_distance;
+    field.ctx = &ring;
+    field.bounds = (sdft_aabb){{-1.25f, -0.25f, -1.25f}, {1.25f, 0.25f, 1.25f}};
 
     /* One ray from above the hole through the middle of the tube at (1, 0, 0):
      * it should stop sqrt(5) - 0.25 away. */

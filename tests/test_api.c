@@ -44,7 +44,27 @@ static void keep_nothing(const void *ctx, sdft_scratch *s) { (void)ctx, (void)s;
 
 static sdft_field sphere_field(void)
 {
-    return (sdft_field){.distance = unit_sphere, .bounds = {{-1, -1, -1}, {1, 1, 1}}};
+    sdft_field f = sdft_field_defaults();
+    f.distance = unit_sphere;
+    f.bounds = (sdft_aabb){{-1, -1, -1}, {1, 1, 1}};
+    return f;
+}
+
+/* A field and its accel start with nothing set; a field without a
+ * distance is refused. */
+static void test_field_defaults(void **state)
+{
+    (void)state;
+    const sdft_field f = sdft_field_defaults();
+    assert_true(!f.distance && !f.normal && !f.scratch_init && !f.ctx && !f.accel && f.feature_size == 0.0f);
+    const sdft_field_accel a = sdft_field_accel_defaults();
+    assert_true(!a.ctx && !a.root && a.root_reach == 0.0f && !a.prefetch);
+    assert_true(!a.hull && a.hull_count == 0 && !a.hull_slabs && !a.hull_gradients);
+    sdft_scratch s;
+    sdft_scratch_init(&f, &s);
+    sdft_trace_params p = sdft_trace_defaults();
+    const sdft_ray ray = {.org = {0, 0, 5}, .tnear = 0, .dir = {0, 0, -1}, .tfar = INFINITY};
+    assert_int_equal(sdft_trace(&f, &s, &ray, &p).status, SDFT_INVALID);
 }
 
 static void test_error_names(void **state)
@@ -275,57 +295,73 @@ static void test_grid_errors(void **state)
     size_t size;
     const void *bytes = sdft_grid_data(g, &size);
 
-    expect_code(sdft_grid_load_nvdb(NULL, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_nvdb(NULL, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
     assert_null(out);
-    expect_code(sdft_grid_load_nvdb(nvdb, NULL, NULL, msg, sizeof msg), SDFT_EINVAL);
-    expect_code(sdft_grid_load_nvdb(SDFT_TEST_TMP "/no-such.nvdb", NULL, &out, msg, sizeof msg), SDFT_EIO);
-    expect_code(sdft_grid_load_nvdb(SDFT_TEST_TMP, NULL, &out, msg, sizeof msg), SDFT_EIO); /* a folder */
-    expect_code(sdft_grid_load_nvdb(nvdb, "nosuch", &out, msg, sizeof msg), SDFT_ENOTFOUND);
+    expect_code(tu_open_nvdb(nvdb, NULL, NULL, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_nvdb(SDFT_TEST_TMP "/no-such.nvdb", NULL, &out, msg, sizeof msg), SDFT_EIO);
+    expect_code(tu_open_nvdb(SDFT_TEST_TMP, NULL, &out, msg, sizeof msg), SDFT_EIO); /* a folder */
+    expect_code(tu_open_nvdb(nvdb, "nosuch", &out, msg, sizeof msg), SDFT_ENOTFOUND);
     assert_null(out);
 
     static const unsigned char junk[64] = {1, 2, 3};
-    expect_code(sdft_grid_from_buffer(NULL, size, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
-    expect_code(sdft_grid_from_buffer(bytes, 0, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
-    expect_code(sdft_grid_from_buffer(bytes, size, NULL, NULL, msg, sizeof msg), SDFT_EINVAL);
-    expect_code(sdft_grid_from_buffer(junk, sizeof junk, NULL, &out, msg, sizeof msg), SDFT_EFORMAT);
-    expect_code(sdft_grid_from_buffer(bytes, size - 32, NULL, &out, msg, sizeof msg), SDFT_EFORMAT);
-    expect_code(sdft_grid_from_buffer(bytes, size, "nosuch", &out, msg, sizeof msg), SDFT_ENOTFOUND);
-    expect_code(sdft_grid_borrow_buffer(NULL, size, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
-    expect_code(sdft_grid_borrow_buffer(bytes, size, NULL, NULL, msg, sizeof msg), SDFT_EINVAL);
-    expect_code(sdft_grid_borrow_buffer(junk, sizeof junk, NULL, &out, msg, sizeof msg), SDFT_EFORMAT);
+    expect_code(tu_open_buffer(NULL, size, NULL, SDFT_GRID_COPY, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_buffer(bytes, 0, NULL, SDFT_GRID_COPY, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_buffer(bytes, size, NULL, SDFT_GRID_COPY, NULL, NULL, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_buffer(junk, sizeof junk, NULL, SDFT_GRID_COPY, NULL, &out, msg, sizeof msg), SDFT_EFORMAT);
+    expect_code(tu_open_buffer(bytes, size - 32, NULL, SDFT_GRID_COPY, NULL, &out, msg, sizeof msg), SDFT_EFORMAT);
+    expect_code(tu_open_buffer(bytes, size, "nosuch", SDFT_GRID_COPY, NULL, &out, msg, sizeof msg), SDFT_ENOTFOUND);
+    expect_code(tu_open_buffer(NULL, size, NULL, SDFT_GRID_BORROW, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_buffer(bytes, size, NULL, SDFT_GRID_BORROW, NULL, NULL, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_buffer(junk, sizeof junk, NULL, SDFT_GRID_BORROW, NULL, &out, msg, sizeof msg), SDFT_EFORMAT);
     /* A grid starting off NanoVDB's 32-byte alignment cannot be read in place. */
     unsigned char *shifted = malloc(size + 8);
     assert_non_null(shifted);
     memcpy(shifted + 8, bytes, size);
-    expect_code(sdft_grid_borrow_buffer(shifted + 8, size, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_buffer(shifted + 8, size, NULL, SDFT_GRID_BORROW, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
     assert_null(out);
-    assert_int_equal(sdft_grid_from_buffer(shifted + 8, size, NULL, &out, msg, sizeof msg), SDFT_OK); /* copied */
+    assert_int_equal(tu_open_buffer(shifted + 8, size, NULL, SDFT_GRID_COPY, NULL, &out, msg, sizeof msg),
+                     SDFT_OK); /* copied */
     sdft_grid_free(out);
     free(shifted);
 
     /* An adopted buffer is released exactly once: when the grid is freed,
      * or at once when it is refused. */
     released = 0;
-    expect_code(sdft_grid_adopt_buffer(NULL, size, NULL, count_release, &out, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_buffer(NULL, size, NULL, SDFT_GRID_ADOPT, count_release, &out, msg, sizeof msg), SDFT_EINVAL);
     void *mine = aligned_alloc(32, (size + 31) & ~(size_t)31);
     assert_non_null(mine);
     memcpy(mine, bytes, size);
-    expect_code(sdft_grid_adopt_buffer(mine, size, NULL, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
-    expect_code(sdft_grid_adopt_buffer(mine, size, "nosuch", count_release, &out, msg, sizeof msg), SDFT_ENOTFOUND);
+    expect_code(tu_open_buffer(mine, size, NULL, SDFT_GRID_ADOPT, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_buffer(mine, size, "nosuch", SDFT_GRID_ADOPT, count_release, &out, msg, sizeof msg),
+                SDFT_ENOTFOUND);
     assert_int_equal(released, 1);
     assert_null(out);
     mine = aligned_alloc(32, (size + 31) & ~(size_t)31);
     assert_non_null(mine);
     memcpy(mine, bytes, size);
-    assert_int_equal(sdft_grid_adopt_buffer(mine, size, NULL, count_release, &out, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(tu_open_buffer(mine, size, NULL, SDFT_GRID_ADOPT, count_release, &out, msg, sizeof msg), SDFT_OK);
     assert_int_equal(released, 1);
     assert_true(sdft_grid_data(out, NULL) == mine);
     assert_true(sdft_grid_voxel(out, 0, 0, 0, NULL) == sdft_grid_voxel(g, 0, 0, 0, NULL));
     sdft_grid_free(out);
     assert_int_equal(released, 2);
 
+    /* The options: their defaults, none at all, an unknown memory, a .vdb
+     * file (the OpenVDB component's call reads those). */
+    const sdft_grid_options d = sdft_grid_options_defaults();
+    assert_true(!d.path && !d.name && !d.data && d.memory == SDFT_GRID_COPY && !d.release && !d.fill);
+    assert_true(d.defer == SDFT_DEFER_NONE && d.quant == SDFT_QUANT_NONE && d.stream == 1 && !d.progress);
+    expect_code(sdft_grid_open(NULL, &out, msg, sizeof msg), SDFT_EINVAL);
+    sdft_grid_options odd_memory = d;
+    odd_memory.data = bytes, odd_memory.size = size, odd_memory.memory = (sdft_grid_memory)5;
+    expect_code(sdft_grid_open(&odd_memory, &out, msg, sizeof msg), SDFT_EINVAL);
+    assert_null(out);
+    sdft_grid_options vdb_file = d;
+    vdb_file.path = "x.vdb";
+    expect_code(sdft_grid_open(&vdb_file, &out, msg, sizeof msg), SDFT_EFORMAT);
+
     /* Fields of no grid, or of an unknown bound, are empty; tracing refuses them. */
-    sdft_field zero = sdft_grid_field(NULL), odd = sdft_grid_field_with(g, (sdft_grid_bound)3);
+    sdft_field zero = sdft_grid_field(NULL, SDFT_GRID_BOUND_FAR), odd = sdft_grid_field(g, (sdft_grid_bound)3);
     assert_null(zero.distance);
     assert_null(odd.distance);
     sdft_scratch s;
@@ -341,28 +377,28 @@ static void test_vdb_errors(void **state)
 {
     (void)state;
     sdft_grid *out = (sdft_grid *)&out;
-    expect_code(sdft_vdb_load(NULL, NULL, SDFT_QUANT_NONE, &out, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_file(NULL, NULL, SDFT_QUANT_NONE, &out, msg, sizeof msg), SDFT_EINVAL);
     assert_null(out);
-    expect_code(sdft_vdb_load("x.vdb", NULL, SDFT_QUANT_NONE, NULL, msg, sizeof msg), SDFT_EINVAL);
-    expect_code(sdft_vdb_load("x.vdb", NULL, (sdft_quant)9, &out, msg, sizeof msg), SDFT_EINVAL);
-    expect_code(sdft_vdb_load(SDFT_TEST_TMP "/no-such.vdb", NULL, SDFT_QUANT_NONE, &out, msg, sizeof msg), SDFT_EIO);
-    const sdft_vdb_options vo = sdft_vdb_options_defaults();
+    expect_code(tu_open_file("x.vdb", NULL, SDFT_QUANT_NONE, NULL, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_file("x.vdb", NULL, (sdft_quant)9, &out, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_file(SDFT_TEST_TMP "/no-such.vdb", NULL, SDFT_QUANT_NONE, &out, msg, sizeof msg), SDFT_EIO);
+    const sdft_grid_options vo = sdft_grid_options_defaults();
     assert_true(vo.quant == SDFT_QUANT_NONE && !vo.progress && vo.stream == 1);
-    expect_code(sdft_vdb_open("x.vdb", NULL, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
-    expect_code(sdft_vdb_open(NULL, NULL, &vo, &out, msg, sizeof msg), SDFT_EINVAL);
-    expect_code(sdft_vdb_open("x.vdb", NULL, &vo, NULL, msg, sizeof msg), SDFT_EINVAL);
-    sdft_vdb_options odd = vo;
+    expect_code(tu_open_with("x.vdb", NULL, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_with(NULL, NULL, &vo, &out, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_with("x.vdb", NULL, &vo, NULL, msg, sizeof msg), SDFT_EINVAL);
+    sdft_grid_options odd = vo;
     odd.quant = (sdft_quant)9;
-    expect_code(sdft_vdb_open("x.vdb", NULL, &odd, &out, msg, sizeof msg), SDFT_EINVAL);
-    expect_code(sdft_vdb_open(SDFT_TEST_TMP "/no-such.vdb", NULL, &vo, &out, msg, sizeof msg), SDFT_EIO);
+    expect_code(tu_open_with("x.vdb", NULL, &odd, &out, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_with(SDFT_TEST_TMP "/no-such.vdb", NULL, &vo, &out, msg, sizeof msg), SDFT_EIO);
     sdft_aabb box;
     expect_code(sdft_vdb_bounds(NULL, NULL, &box, msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_vdb_bounds("x.vdb", NULL, NULL, msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_vdb_bounds(SDFT_TEST_TMP "/no-such.vdb", NULL, &box, msg, sizeof msg), SDFT_EIO);
-    expect_code(sdft_grid_open(NULL, NULL, &out, msg, sizeof msg), SDFT_EINVAL);
-    expect_code(sdft_grid_open("x.vdb", NULL, NULL, msg, sizeof msg), SDFT_EINVAL);
-    expect_code(sdft_grid_open("x.txt", NULL, &out, msg, sizeof msg), SDFT_EFORMAT);
-    expect_code(sdft_grid_open(SDFT_TEST_TMP "/no-such.nvdb", NULL, &out, msg, sizeof msg), SDFT_EIO);
+    expect_code(tu_open_file(NULL, NULL, SDFT_QUANT_NONE, &out, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_file("x.vdb", NULL, SDFT_QUANT_NONE, NULL, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(tu_open_file("x.txt", NULL, SDFT_QUANT_NONE, &out, msg, sizeof msg), SDFT_EFORMAT);
+    expect_code(tu_open_file(SDFT_TEST_TMP "/no-such.nvdb", NULL, SDFT_QUANT_NONE, &out, msg, sizeof msg), SDFT_EIO);
 
     /* sdft_bake: each bad argument, and no file written. */
     char path[512];
@@ -455,17 +491,17 @@ static void test_vdb_open_progress_and_cancel(void **state)
     sdft_bake_params bp = sdft_bake_defaults();
     bp.res = 96;
     assert_int_equal(sdft_bake(&f, &bp, path, NULL, NULL, msg, sizeof msg), SDFT_OK);
-    sdft_vdb_options o = sdft_vdb_options_defaults();
+    sdft_grid_options o = sdft_grid_options_defaults();
     o.progress = log_progress;
     progress_log stop = {.stop_after = 2};
     o.progress_user = &stop;
     sdft_grid *g = (sdft_grid *)&g;
-    expect_code(sdft_vdb_open(path, NULL, &o, &g, msg, sizeof msg), SDFT_ECANCELED);
+    expect_code(tu_open_with(path, NULL, &o, &g, msg, sizeof msg), SDFT_ECANCELED);
     assert_null(g);
     assert_int_equal(stop.calls, 2);
     progress_log go = {.stop_after = 1 << 30};
     o.progress_user = &go;
-    assert_int_equal(sdft_vdb_open(path, NULL, &o, &g, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(tu_open_with(path, NULL, &o, &g, msg, sizeof msg), SDFT_OK);
     assert_true(go.calls >= 10 && go.calls <= 101);
     assert_false(go.decreased);
     assert_true(go.last == 1.0f);
@@ -484,6 +520,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_error_names),
+        cmocka_unit_test(test_field_defaults),
         cmocka_unit_test(test_version),
         cmocka_unit_test(test_message_buffer),
         cmocka_unit_test(test_trace_refusals),

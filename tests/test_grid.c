@@ -73,7 +73,7 @@ static sdft_grid *spheres_grid_with_scratch(int res, sdft_scratch *s)
 {
     sdft_field f = spheres_field();
     sdft_grid *g = bake(&f, res, 0, NULL);
-    sdft_field gf = sdft_grid_field(g);
+    sdft_field gf = sdft_grid_field(g, SDFT_GRID_BOUND_FAR);
     sdft_scratch_init(&gf, s);
     return g;
 }
@@ -123,7 +123,7 @@ static void test_linear_field_is_exact(void **state)
     linear l = {sdft_normalize(sdft_v3(0.3f, -0.5f, 0.8f)), 0.1f};
     sdft_field f = {.distance = linear_distance, .ctx = &l, .bounds = {{-1, -1, -1}, {1, 1, 1}}};
     sdft_grid *g = bake(&f, 32, 1, NULL);
-    sdft_field gf = sdft_grid_field(g);
+    sdft_field gf = sdft_grid_field(g, SDFT_GRID_BOUND_FAR);
     sdft_scratch s;
     sdft_scratch_init(&gf, &s);
     tu_rng r = tu_rng_seed(1);
@@ -132,7 +132,7 @@ static void test_linear_field_is_exact(void **state)
         /* Stay half a voxel inside the box's voxel centres so all 8 corners exist. */
         sdft_vec3 p = sdft_v3(tu_uniform(&r, -0.9f, 0.9f), tu_uniform(&r, -0.9f, 0.9f), tu_uniform(&r, -0.9f, 0.9f));
         int level;
-        float v = sdft_grid_sample(g, &s, p, &level);
+        float v = sdft_grid_sample(g, SDFT_GRID_BOUND_FAR, &s, p, &level);
         assert_int_equal(level, 0);
         worst = fmaxf(worst, fabsf(v - linear_distance(&l, NULL, p)));
         /* The field, its gradient normal: the plane's normal. */
@@ -157,7 +157,7 @@ static void test_trilinear_matches_brute_force(void **state)
     for (int i = 0; i < 20000; i++) {
         sdft_vec3 p = sdft_v3(tu_uniform(&r, -1.1f, 1.1f), tu_uniform(&r, -1.1f, 1.1f), tu_uniform(&r, -1.1f, 1.1f));
         int level;
-        float v = sdft_grid_sample(g, &s, p, &level);
+        float v = sdft_grid_sample(g, SDFT_GRID_BOUND_FAR, &s, p, &level);
         if (level != 0)
             continue;
         float x[3] = {(p.x + 1.2f) / h - 0.5f, (p.y + 1.2f) / h - 0.5f, (p.z + 1.2f) / h - 0.5f};
@@ -184,7 +184,7 @@ static void test_specialised_fields_agree(void **state)
     sdft_grid *g = bake(&f, 48, 0, NULL);
     assert_true(g->diagonal);
     sdft_scratch s;
-    sdft_field gf = sdft_grid_field(g);
+    sdft_field gf = sdft_grid_field(g, SDFT_GRID_BOUND_FAR);
     sdft_scratch_init(&gf, &s);
     enum { N = 4000 };
     static float ref[3][N];
@@ -192,13 +192,13 @@ static void test_specialised_fields_agree(void **state)
     for (int pass = 0; pass < 2; pass++) {
         g->diagonal = pass == 0;
         for (int b = 0; b < 3; b++) {
-            sdft_field bf = sdft_grid_field_with(g, bounds[b]);
+            sdft_field bf = sdft_grid_field(g, bounds[b]);
             tu_rng r = tu_rng_seed(7);
             for (int i = 0; i < N; i++) {
                 sdft_vec3 p =
                     sdft_v3(tu_uniform(&r, -1.5f, 1.5f), tu_uniform(&r, -1.5f, 1.5f), tu_uniform(&r, -1.5f, 1.5f));
                 float v = bf.distance(bf.ctx, &s, p);
-                assert_true(v == sdft_grid_sample_with(g, bounds[b], &s, p, NULL));
+                assert_true(v == sdft_grid_sample(g, bounds[b], &s, p, NULL));
                 if (pass == 0)
                     ref[b][i] = v;
                 else
@@ -235,12 +235,13 @@ static void test_inverse_map_noise_is_dropped(void **state)
         memcpy(map + PNANOVDB_MAP_OFF_INVMATF + 4 * 7, &offf, sizeof offf);
         sdft_grid *g;
         char msg[256];
-        assert_int_equal(sdft_grid_from_buffer(copy, size, NULL, &g, msg, sizeof msg), 0);
+        assert_int_equal(tu_open_buffer(copy, size, NULL, SDFT_GRID_COPY, NULL, &g, msg, sizeof msg), 0);
         assert_int_equal(g->diagonal, noisy);
         assert_true(noisy ? g->w2i[7] == 0.0f : g->w2i[7] != 0.0f);
         if (noisy) {
             sdft_scratch s, sc;
-            const sdft_field gf = sdft_grid_field(g), cf = sdft_grid_field(clean);
+            const sdft_field gf = sdft_grid_field(g, SDFT_GRID_BOUND_FAR),
+                             cf = sdft_grid_field(clean, SDFT_GRID_BOUND_FAR);
             assert_ptr_equal(gf.distance, cf.distance);
             sdft_scratch_init(&gf, &s);
             sdft_scratch_init(&cf, &sc);
@@ -264,7 +265,7 @@ static void test_inverse_map_noise_is_dropped(void **state)
 static int same_without_directory(sdft_grid *g, sdft_aabb b)
 {
     sdft_scratch s;
-    sdft_field gf = sdft_grid_field(g);
+    sdft_field gf = sdft_grid_field(g, SDFT_GRID_BOUND_FAR);
     sdft_scratch_init(&gf, &s);
     enum { N = 20000 };
     static float value[2][2][N];
@@ -278,8 +279,8 @@ static int same_without_directory(sdft_grid *g, sdft_aabb b)
             sdft_vec3 p =
                 sdft_v3(tu_uniform(&r, b.lo.x, b.hi.x), tu_uniform(&r, b.lo.y, b.hi.y), tu_uniform(&r, b.lo.z, b.hi.z));
             int level;
-            value[pass][0][i] = sdft_grid_sample_with(g, SDFT_GRID_BOUND_NONE, &s, p, &level);
-            value[pass][1][i] = sdft_grid_sample_with(g, SDFT_GRID_BOUND_TREE, &s, p, NULL);
+            value[pass][0][i] = sdft_grid_sample(g, SDFT_GRID_BOUND_NONE, &s, p, &level);
+            value[pass][1][i] = sdft_grid_sample(g, SDFT_GRID_BOUND_TREE, &s, p, NULL);
             normal[pass][i] = sdft_field_normal(&gf, &s, p);
             in_leaves += pass == 0 && level == 0 && fabsf(value[0][0][i]) < sdft_grid_background(g);
         }
@@ -380,11 +381,11 @@ static void test_quantized_grids(void **state)
     sdft_image want, got;
     assert_int_equal(sdft_image_alloc(&want, rp.width, rp.height, NULL, 0), 0);
     assert_int_equal(sdft_image_alloc(&got, rp.width, rp.height, NULL, 0), 0);
-    sdft_field rf = sdft_grid_field(ref);
+    sdft_field rf = sdft_grid_field(ref, SDFT_GRID_BOUND_FAR);
     assert_int_equal(sdft_render(&rf, &rp, &want, NULL, msg, sizeof msg), 0);
     for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
         sdft_grid *q = NULL;
-        int rc = sdft_vdb_load(path, NULL, kinds[k].quant, &q, msg, sizeof msg);
+        int rc = tu_open_file(path, NULL, kinds[k].quant, &q, msg, sizeof msg);
         if (rc)
             print_error("%s\n", msg);
         assert_int_equal(rc, 0);
@@ -393,7 +394,7 @@ static void test_quantized_grids(void **state)
         assert_true((q->leaves.top != NULL) == (kinds[k].quant != SDFT_QUANT_FPN));
         same_without_directory(q, sc->field.bounds);
         sdft_scratch s, sq;
-        sdft_field qf = sdft_grid_field(q);
+        sdft_field qf = sdft_grid_field(q, SDFT_GRID_BOUND_FAR);
         sdft_scratch_init(&rf, &s);
         sdft_scratch_init(&qf, &sq);
         tu_rng r = tu_rng_seed(12);
@@ -404,8 +405,8 @@ static void test_quantized_grids(void **state)
                                   tu_uniform(&r, sc->field.bounds.lo.y, sc->field.bounds.hi.y),
                                   tu_uniform(&r, sc->field.bounds.lo.z, sc->field.bounds.hi.z));
             int la, lb;
-            float a = sdft_grid_sample_with(ref, SDFT_GRID_BOUND_NONE, &s, p, &la);
-            float b = sdft_grid_sample_with(q, SDFT_GRID_BOUND_NONE, &sq, p, &lb);
+            float a = sdft_grid_sample(ref, SDFT_GRID_BOUND_NONE, &s, p, &la);
+            float b = sdft_grid_sample(q, SDFT_GRID_BOUND_NONE, &sq, p, &lb);
             if (la != 0 || lb != 0)
                 continue;
             checked++;
@@ -465,7 +466,7 @@ static int empty_sphere(const sdft_field *truth, sdft_vec3 p, float r, int outsi
 static void check_bound(const sdft_field *truth, const sdft_grid *g, sdft_grid_bound bound, float margin,
                         int exact_inside, int bound_only, uint64_t seed, int *tiles_seen)
 {
-    sdft_field gf = sdft_grid_field_with(g, bound);
+    sdft_field gf = sdft_grid_field(g, bound);
     sdft_scratch s;
     sdft_scratch_init(&gf, &s);
     sdft_aabb b = truth->bounds;
@@ -476,7 +477,7 @@ static void check_bound(const sdft_field *truth, const sdft_grid *g, sdft_grid_b
                               tu_uniform(&r, b.lo.y - margin * e.y, b.hi.y + margin * e.y),
                               tu_uniform(&r, b.lo.z - margin * e.z, b.hi.z + margin * e.z));
         int level;
-        float v = sdft_grid_sample_with(g, bound, &s, p, &level);
+        float v = sdft_grid_sample(g, bound, &s, p, &level);
         if (level == 0)
             continue;
         float d = truth->distance(truth->ctx, NULL, p);
@@ -557,14 +558,14 @@ static void test_far_cells_from_directory_match_tree(void **state)
     for (int i = 0; i < 2; i++)
         for (size_t most = 1u << 24; most >= 128; most /= 16) { /* 4-voxel cells, then 8, 16 */
             sdft_grid *g = grids[i];
-            sdft_grid_far_free(g);
-            assert_int_equal(sdft_grid_far_build_cells(g, most), 0);
+            grid_far_free(g);
+            assert_int_equal(grid_far_build_cells(g, most), 0);
             const grid_far a = g->far;
             const size_t corners = (size_t)(a.n[0] + 1) * (a.n[1] + 1) * (a.n[2] + 1);
             g->far.corner = NULL;
             const grid_leaves directory = g->leaves;
             g->leaves.top = NULL; /* the tree walk */
-            assert_int_equal(sdft_grid_far_build_cells(g, most), 0);
+            assert_int_equal(grid_far_build_cells(g, most), 0);
             g->leaves = directory;
             assert_int_equal(g->far.cell, a.cell);
             assert_memory_equal(g->far.corner, a.corner, corners * sizeof *a.corner);
@@ -594,8 +595,8 @@ static void test_far_corner_distances_match_brute_force(void **state)
     for (int i = 0; i < 2; i++)
         for (size_t most = 1u << 24; most >= 1u << 12; most >>= 12) {
             sdft_grid *g = grids[i];
-            sdft_grid_far_free(g);
-            assert_int_equal(sdft_grid_far_build_cells(g, most), 0);
+            grid_far_free(g);
+            assert_int_equal(grid_far_build_cells(g, most), 0);
             const grid_far *f = &g->far;
             const int nv[3] = {f->n[0] + 1, f->n[1] + 1, f->n[2] + 1};
             const size_t corners = (size_t)nv[0] * nv[1] * nv[2];
@@ -670,7 +671,8 @@ static void test_far_bound_is_continuous(void **state)
         sdft_vec3 p = sdft_v3(tu_uniform(&r, -1.8f, 1.8f), tu_uniform(&r, -1.8f, 1.8f), tu_uniform(&r, -1.8f, 1.8f));
         sdft_vec3 d = sdft_normalize(sdft_v3(tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1), tu_uniform(&r, -1, 1)));
         int la, lb;
-        float a = sdft_grid_sample(g, &s, p, &la), b = sdft_grid_sample(g, &s, sdft_madd(p, d, step), &lb);
+        float a = sdft_grid_sample(g, SDFT_GRID_BOUND_FAR, &s, p, &la),
+              b = sdft_grid_sample(g, SDFT_GRID_BOUND_FAR, &s, sdft_madd(p, d, step), &lb);
         if (la != 5 || lb != 5)
             continue;
         pairs++;
@@ -725,8 +727,8 @@ static void test_far_bound_is_not_asked_in_leaves(void **state)
     for (int i = 0; i < 200000; i++) {
         sdft_vec3 p = sdft_v3(tu_uniform(&r, -1.8f, 1.8f), tu_uniform(&r, -1.8f, 1.8f), tu_uniform(&r, -1.8f, 1.8f));
         int tree_level, far_level;
-        const float tree = sdft_grid_sample_with(g, SDFT_GRID_BOUND_TREE, &s, p, &tree_level);
-        const float far = sdft_grid_sample(g, &s, p, &far_level);
+        const float tree = sdft_grid_sample(g, SDFT_GRID_BOUND_TREE, &s, p, &tree_level);
+        const float far = sdft_grid_sample(g, SDFT_GRID_BOUND_FAR, &s, p, &far_level);
         const int in_leaves = cell_in_leaves(g, p);
         if (in_leaves == 1 && fabsf(tree) >= bg) {
             at_background++;
@@ -763,7 +765,7 @@ static void test_grid_trace_is_safe(void **state)
     assert_non_null(sc);
     sdft_grid *g = bake(&sc->field, 96, 0, NULL);
     const float h = sdft_grid_voxel_size(g).x;
-    sdft_field plain = sdft_grid_field_without_bound(g);
+    sdft_field plain = sdft_grid_field(g, SDFT_GRID_BOUND_NONE);
     sdft_scratch s;
     sdft_scratch_init(&plain, &s);
     sdft_aabb b = sdft_grid_world_bounds(g);
@@ -779,7 +781,7 @@ static void test_grid_trace_is_safe(void **state)
                     break;
                 }
         for (int bound = 0; bound < 3; bound++) {
-            sdft_field gf = sdft_grid_field_with(g, (sdft_grid_bound)bound);
+            sdft_field gf = sdft_grid_field(g, (sdft_grid_bound)bound);
             for (int m = 0; m < SDFT_METHOD_COUNT; m++) {
                 sdft_trace_params tp = sdft_trace_defaults();
                 tp.method = (sdft_method)m;
@@ -886,10 +888,10 @@ static int cell_root_across(const float v[8], const double q[3], double du[3], d
     for (int k = 0; k < 3; k++)
         u0[k] = q[k] - back * du[k];
     *want = brute_root(v, u0, du, across);
-    return sdft_grid_cell_root(v, u0, du, across, s);
+    return grid_cell_root(v, u0, du, across, s);
 }
 
-/* sdft_grid_cell_root against brute force on random cells and rays across
+/* grid_cell_root against brute force on random cells and rays across
  * them: half aimed through a point of the surface along its tangent
  * plane (grazing, tilted by at most 3 degrees), the rest in random
  * directions. Roots agree to 1e-3 of a voxel; where brute force sees none,
@@ -1024,8 +1026,8 @@ static void test_exact_root_on_a_grid(void **state)
     assert_non_null(sc);
     sdft_grid *g = bake(&sc->field, 96, 0, NULL);
     const float h = sdft_grid_voxel_size(g).x;
-    sdft_field gf = sdft_grid_field(g);
-    assert_non_null(gf.root);
+    sdft_field gf = sdft_grid_field(g, SDFT_GRID_BOUND_FAR);
+    assert_non_null(gf.accel->root);
     sdft_scratch s;
     sdft_scratch_init(&gf, &s);
     tu_rng r = tu_rng_seed(22);
@@ -1091,8 +1093,8 @@ static void test_exact_root_passes_a_near_miss(void **state)
     (void)state;
     sdft_scratch s;
     sdft_grid *g = spheres_grid_with_scratch(48, &s);
-    const sdft_field gf = sdft_grid_field_without_bound(g); /* the interpolant alone: the far bound's values
-                                                             * can be below two voxels */
+    const sdft_field gf = sdft_grid_field(g, SDFT_GRID_BOUND_NONE); /* the interpolant alone: the far bound's values
+                                                                     * can be below two voxels */
     sdft_scratch_init(&gf, &s);
     const float h = sdft_grid_voxel_size(g).x;
     int passed = 0, papers_hit = 0, crossed = 0;
@@ -1141,7 +1143,7 @@ static void test_normal_is_the_interpolant_gradient(void **state)
     (void)state;
     sdft_scratch s;
     sdft_grid *g = spheres_grid_with_scratch(48, &s);
-    const sdft_field gf = sdft_grid_field(g);
+    const sdft_field gf = sdft_grid_field(g, SDFT_GRID_BOUND_FAR);
     tu_rng r = tu_rng_seed(31);
     int checked = 0;
     double worst = 1.0;
@@ -1182,7 +1184,7 @@ static void test_grid_render_matches_procedural(void **state)
     const sdft_scene *sc = sdft_scene_find("figure");
     assert_non_null(sc);
     sdft_grid *g = bake(&sc->field, 256, 0, NULL);
-    sdft_field gf = sdft_grid_field(g);
+    sdft_field gf = sdft_grid_field(g, SDFT_GRID_BOUND_FAR);
     const float h = sdft_grid_voxel_size(g).x;
 
     sdft_render_params rp = sdft_render_defaults();
@@ -1221,12 +1223,12 @@ static void test_grid_render_matches_procedural(void **state)
 /* p in hull box i and, where the field gives slabs, in slab i. */
 static int in_hull_part(const sdft_field *f, size_t i, sdft_vec3 p)
 {
-    const sdft_aabb b = f->hull[i];
+    const sdft_aabb b = f->accel->hull[i];
     if (!(p.x >= b.lo.x && p.x <= b.hi.x && p.y >= b.lo.y && p.y <= b.hi.y && p.z >= b.lo.z && p.z <= b.hi.z))
         return 0;
-    if (!f->hull_slabs)
+    if (!f->accel->hull_slabs)
         return 1;
-    const sdft_slab sl = f->hull_slabs[i];
+    const sdft_slab sl = f->accel->hull_slabs[i];
     const float d = sdft_dot(sl.n, p);
     return d >= sl.lo && d <= sl.hi;
 }
@@ -1235,7 +1237,7 @@ static int in_hull_part(const sdft_field *f, size_t i, sdft_vec3 p)
  * ray along d rises wherever it crosses the box's cells. */
 static float least_slope(const sdft_field *f, size_t i, sdft_vec3 d)
 {
-    const sdft_aabb gb = f->hull_gradients[i];
+    const sdft_aabb gb = f->accel->hull_gradients[i];
     return fminf(d.x * gb.lo.x, d.x * gb.hi.x) + fminf(d.y * gb.lo.y, d.y * gb.hi.y) +
            fminf(d.z * gb.lo.z, d.z * gb.hi.z);
 }
@@ -1244,7 +1246,7 @@ static float least_slope(const sdft_field *f, size_t i, sdft_vec3 d)
  * reach 0: one whose gradient bounds do not rise along d. */
 static int in_hull(const sdft_field *f, sdft_vec3 p, sdft_vec3 d)
 {
-    for (size_t i = 0; i < f->hull_count; i++)
+    for (size_t i = 0; i < f->accel->hull_count; i++)
         if (in_hull_part(f, i, p) && !(least_slope(f, i, d) > 0.0f))
             return 1;
     return 0;
@@ -1254,7 +1256,7 @@ static int in_hull(const sdft_field *f, sdft_vec3 p, sdft_vec3 d)
  * in hull box i's gradient bounds, to a millionth of their size. */
 static int in_gradient_bounds(const sdft_grid *g, const sdft_field *f, size_t i, const double x[3])
 {
-    const sdft_aabb gb = f->hull_gradients[i];
+    const sdft_aabb gb = f->accel->hull_gradients[i];
     const float lo[3] = {gb.lo.x, gb.lo.y, gb.lo.z}, hi[3] = {gb.hi.x, gb.hi.y, gb.hi.z};
     double w[3];
     world_of_index_gradient(g, x, w);
@@ -1307,7 +1309,7 @@ static double mixed_cells_in_hull(const sdft_grid *g, const sdft_field *f, int t
                 lo[a] = fmin(lo[a], e), hi[a] = fmax(hi[a], e);
             }
         int held = 0;
-        for (size_t b = 0; b < f->hull_count && !held; b++) {
+        for (size_t b = 0; b < f->accel->hull_count && !held; b++) {
             held = 1;
             for (int k = 0; k < 8 && held; k++)
                 held = in_hull_part(f, b, w[k]);
@@ -1320,17 +1322,17 @@ static double mixed_cells_in_hull(const sdft_grid *g, const sdft_field *f, int t
             fail_msg("mixed cell (%d, %d, %d) lies in no hull box and its slab with its gradients", c[0], c[1], c[2]);
     }
     size_t without_zero = 0;
-    for (size_t b = 0; b < f->hull_count; b++) {
-        const sdft_aabb gb = f->hull_gradients[b];
+    for (size_t b = 0; b < f->accel->hull_count; b++) {
+        const sdft_aabb gb = f->accel->hull_gradients[b];
         without_zero +=
             gb.lo.x > 0.0f || gb.hi.x < 0.0f || gb.lo.y > 0.0f || gb.hi.y < 0.0f || gb.lo.z > 0.0f || gb.hi.z < 0.0f;
     }
-    *narrow = (double)without_zero / (double)f->hull_count;
+    *narrow = (double)without_zero / (double)f->accel->hull_count;
     double thick = 0.0;
     size_t slabs = 0;
     const float h = sdft_grid_voxel_size(g).x;
-    for (size_t b = 0; b < f->hull_count; b++) {
-        const sdft_slab sl = f->hull_slabs[b];
+    for (size_t b = 0; b < f->accel->hull_count; b++) {
+        const sdft_slab sl = f->accel->hull_slabs[b];
         const float n = sdft_length(sl.n);
         if (n > 0.0f && isfinite(sl.hi - sl.lo))
             thick += (sl.hi - sl.lo) / n / h, slabs++;
@@ -1362,21 +1364,21 @@ static void test_hull_holds_every_first_root(void **state)
     for (int gi = 0; gi < 2; gi++) {
         sdft_grid *g = grids[gi];
         const float h = sdft_grid_voxel_size(g).x;
-        const sdft_field gf = sdft_grid_field(g);
-        assert_true(gf.hull_count > 100);
+        const sdft_field gf = sdft_grid_field(g, SDFT_GRID_BOUND_FAR);
+        assert_true(gf.accel->hull_count > 100);
         const sdft_aabb bounds = sdft_grid_world_bounds(g);
         double hull_volume = 0.0;
-        for (size_t i = 0; i < gf.hull_count; i++) {
-            const sdft_vec3 e = sdft_sub(gf.hull[i].hi, gf.hull[i].lo);
+        for (size_t i = 0; i < gf.accel->hull_count; i++) {
+            const sdft_vec3 e = sdft_sub(gf.accel->hull[i].hi, gf.accel->hull[i].lo);
             hull_volume += (double)e.x * e.y * e.z;
         }
         const sdft_vec3 be = sdft_sub(bounds.hi, bounds.lo);
-        print_message("%s: %zu hull boxes, %.1f%% of the box's volume\n", gi ? "cut slab" : "figure", gf.hull_count,
-                      100.0 * hull_volume / ((double)be.x * be.y * be.z));
+        print_message("%s: %zu hull boxes, %.1f%% of the box's volume\n", gi ? "cut slab" : "figure",
+                      gf.accel->hull_count, 100.0 * hull_volume / ((double)be.x * be.y * be.z));
         if (gi == 0) {
             assert_true(hull_volume < 0.25 * (double)be.x * be.y * be.z);
-            assert_non_null(gf.hull_slabs);
-            assert_non_null(gf.hull_gradients);
+            assert_non_null(gf.accel->hull_slabs);
+            assert_non_null(gf.accel->hull_gradients);
             int mixed;
             double narrow;
             const double thick = mixed_cells_in_hull(g, &gf, 200000, &mixed, &narrow);
@@ -1398,7 +1400,7 @@ static void test_hull_holds_every_first_root(void **state)
                 continue;
             for (float t = t0; t <= t1; t += 0.05f * h) {
                 const sdft_vec3 p = sdft_madd(ray.org, ray.dir, t);
-                if (sdft_grid_sample_with(g, SDFT_GRID_BOUND_NONE, &s, p, NULL) <= 0.0f) {
+                if (sdft_grid_sample(g, SDFT_GRID_BOUND_NONE, &s, p, NULL) <= 0.0f) {
                     if (!in_hull(&gf, p, ray.dir))
                         fail_msg("ray %d: first root near t = %g, (%g, %g, %g), in no hull box that may hold it", i, t,
                                  p.x, p.y, p.z);
@@ -1429,7 +1431,7 @@ static void test_render_from_the_hull(void **state)
     const sdft_scene *sc = sdft_scene_find("figure");
     assert_non_null(sc);
     sdft_grid *g = bake(&sc->field, 128, 0, NULL);
-    sdft_field gf = sdft_grid_field(g);
+    sdft_field gf = sdft_grid_field(g, SDFT_GRID_BOUND_FAR);
     const float h = sdft_grid_voxel_size(g).x;
     sdft_render_params rp = sdft_render_defaults();
     rp.width = 160, rp.height = 90;
@@ -1489,7 +1491,9 @@ static void test_render_from_the_hull(void **state)
             /* Without the gradient bounds every box of the hull counts, the
              * far side's too: the same image, no fewer evaluations. */
             sdft_field all_boxes = gf;
-            all_boxes.hull_gradients = NULL;
+            sdft_field_accel no_gradients = *gf.accel;
+            no_gradients.hull_gradients = NULL;
+            all_boxes.accel = &no_gradients;
             assert_int_equal(sdft_render(&all_boxes, &rp, &b, &sb, msg, sizeof msg), 0);
             int changed = 0;
             for (int i = 0; i < n; i++)
@@ -1505,7 +1509,7 @@ static void test_render_from_the_hull(void **state)
     sdft_grid_free(g);
 }
 
-/* The points sdft_render hinted at (sdft_field.prefetch), one thread. */
+/* The points sdft_render hinted at (sdft_field_accel.prefetch), one thread. */
 enum { MOST_HINTS = 1 << 16 };
 static sdft_vec3 hints[MOST_HINTS];
 static int hint_count;
@@ -1523,12 +1527,12 @@ static void record_hint(const void *ctx, sdft_vec3 p)
 static float hull_face_distance(const sdft_field *f, sdft_vec3 p)
 {
     float best = INFINITY;
-    for (size_t i = 0; i < f->hull_count; i++) {
-        const sdft_aabb b = f->hull[i];
+    for (size_t i = 0; i < f->accel->hull_count; i++) {
+        const sdft_aabb b = f->accel->hull[i];
         const sdft_vec3 in = sdft_min_v(sdft_sub(p, b.lo), sdft_sub(b.hi, p));
         float depth = sdft_minf(in.x, sdft_minf(in.y, in.z));
-        if (f->hull_slabs && sdft_length(f->hull_slabs[i].n) > 0.0f) {
-            const sdft_slab sl = f->hull_slabs[i];
+        if (f->accel->hull_slabs && sdft_length(f->accel->hull_slabs[i].n) > 0.0f) {
+            const sdft_slab sl = f->accel->hull_slabs[i];
             const float d = sdft_dot(sl.n, p), n = sdft_length(sl.n);
             depth = sdft_minf(depth, sdft_minf(d - sl.lo, sl.hi - d) / n);
         }
@@ -1547,9 +1551,11 @@ static void test_render_hints_hull_entries(void **state)
     const sdft_scene *sc = sdft_scene_find("figure");
     assert_non_null(sc);
     sdft_grid *g = bake(&sc->field, 128, 0, NULL);
-    const sdft_field gf = sdft_grid_field(g);
+    const sdft_field gf = sdft_grid_field(g, SDFT_GRID_BOUND_FAR);
     sdft_field hinted = gf, plain = gf;
-    hinted.prefetch = record_hint, plain.prefetch = NULL;
+    sdft_field_accel hinting = *gf.accel, silent = *gf.accel;
+    hinting.prefetch = record_hint, silent.prefetch = NULL;
+    hinted.accel = &hinting, plain.accel = &silent;
     const float h = sdft_grid_voxel_size(g).x;
     sdft_render_params rp = sdft_render_defaults();
     rp.width = 96, rp.height = 54, rp.threads = 1;
@@ -1622,11 +1628,14 @@ static void test_field_distances_batch(void **state)
     p[7] = sdft_v3(NAN, 0.0f, 0.0f), p[8] = sdft_v3(1e30f, -1e30f, 0.0f);
     static const size_t counts[] = {0, 1, SDFT_FIELD_DISTANCES_AHEAD, SDFT_FIELD_DISTANCES_AHEAD + 1, N};
     for (int bound = 0; bound < 2; bound++) {
-        const sdft_field gf = bound ? sdft_grid_field(g) : sdft_grid_field_without_bound(g);
-        assert_non_null(gf.prefetch);
+        const sdft_field gf =
+            bound ? sdft_grid_field(g, SDFT_GRID_BOUND_FAR) : sdft_grid_field(g, SDFT_GRID_BOUND_NONE);
+        assert_non_null(gf.accel->prefetch);
         sdft_field logged = gf;
+        sdft_field_accel hinting = *gf.accel;
+        hinting.prefetch = record_hint;
         batch_inner = gf;
-        logged.distance = batch_logging_distance, logged.prefetch = record_hint;
+        logged.distance = batch_logging_distance, logged.accel = &hinting;
         for (size_t c = 0; c < sizeof counts / sizeof counts[0]; c++) {
             const size_t n = counts[c];
             hint_count = 0, batch_evaluated = 0;
@@ -1703,7 +1712,7 @@ static void round_trip(const char *file)
     sdft_grid *mem = bake(&f, 40, 0, path);
     assert_true(tu_file_exists(path));
     sdft_grid *disk = NULL;
-    int rc = sdft_grid_open(path, NULL, &disk, msg, sizeof msg);
+    int rc = tu_open_file(path, NULL, SDFT_QUANT_NONE, &disk, msg, sizeof msg);
     if (rc)
         print_error("%s\n", msg);
     assert_int_equal(rc, 0);
@@ -1717,8 +1726,8 @@ static void round_trip(const char *file)
 /* The figure baked at res^3 into the .vdb at `name` (a temporary path in
  * path), then opened twice with quant: g[0] with options `first`, g[1]
  * with `second`. */
-static void open_figure_twice(const char *name, int res, sdft_quant quant, sdft_vdb_options first,
-                              sdft_vdb_options second, char *path, size_t path_len, sdft_grid *g[2])
+static void open_figure_twice(const char *name, int res, sdft_quant quant, sdft_grid_options first,
+                              sdft_grid_options second, char *path, size_t path_len, sdft_grid *g[2])
 {
     char msg[256];
     tu_tmp(path, path_len, name);
@@ -1727,11 +1736,11 @@ static void open_figure_twice(const char *name, int res, sdft_quant quant, sdft_
         assert_non_null(sc);
         sdft_grid_free(bake(&sc->field, res, 0, path));
     }
-    const sdft_vdb_options o[2] = {first, second};
+    const sdft_grid_options o[2] = {first, second};
     for (int k = 0; k < 2; k++) {
-        sdft_vdb_options ok = o[k];
+        sdft_grid_options ok = o[k];
         ok.quant = quant;
-        const int rc = sdft_vdb_open(path, NULL, &ok, &g[k], msg, sizeof msg);
+        const int rc = tu_open_with(path, NULL, &ok, &g[k], msg, sizeof msg);
         if (rc)
             print_error("%s\n", msg);
         assert_int_equal(rc, 0);
@@ -1754,7 +1763,7 @@ static void test_streamed_load_matches_nanovdb_converter(void **state)
     static const sdft_quant quants[2] = {SDFT_QUANT_NONE, SDFT_QUANT_FP16};
     for (int q = 0; q < 2; q++) {
         sdft_grid *g[2] = {NULL, NULL}; /* converted, streamed */
-        sdft_vdb_options converted = sdft_vdb_options_defaults(), streamed = converted;
+        sdft_grid_options converted = sdft_grid_options_defaults(), streamed = converted;
         converted.stream = 0;
         open_figure_twice("streamed.vdb", 256, quants[q], converted, streamed, path, sizeof path, g);
         pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g[1]->buf, g[1]->grid);
@@ -1767,7 +1776,7 @@ static void test_streamed_load_matches_nanovdb_converter(void **state)
         assert_memory_equal(g[1]->w2i, g[0]->w2i, sizeof g[0]->w2i);
         same_voxels(g[0], g[1]);
         sdft_scratch s0, s1;
-        sdft_field f0 = sdft_grid_field(g[0]), f1 = sdft_grid_field(g[1]);
+        sdft_field f0 = sdft_grid_field(g[0], SDFT_GRID_BOUND_FAR), f1 = sdft_grid_field(g[1], SDFT_GRID_BOUND_FAR);
         sdft_scratch_init(&f0, &s0);
         sdft_scratch_init(&f1, &s1);
         tu_rng r = tu_rng_seed(31);
@@ -1784,7 +1793,7 @@ static void test_streamed_load_matches_nanovdb_converter(void **state)
 
 /* ---- deferred leaves --------------------------------------------------------------- */
 
-/* A .vdb opened with deferred leaves (sdft_vdb_options.defer) reads nothing
+/* A .vdb opened with deferred leaves (sdft_grid_options.defer) reads nothing
  * of a leaf until something samples it, and then reads exactly what the
  * whole load holds: every voxel equal, trilinear samples equal, renders
  * (2 threads filling leaves at once) equal within a thousandth of a voxel
@@ -1802,7 +1811,7 @@ static void test_deferred_leaves_match_whole_load(void **state)
     static const sdft_quant quants[2] = {SDFT_QUANT_NONE, SDFT_QUANT_FP16};
     for (int q = 0; q < 2; q++) {
         sdft_grid *g[2] = {NULL, NULL}; /* whole, deferred */
-        sdft_vdb_options loaded = sdft_vdb_options_defaults(), deferred = loaded;
+        sdft_grid_options loaded = sdft_grid_options_defaults(), deferred = loaded;
         deferred.defer = 2; /* always: a grid this small would otherwise load whole (below) */
         open_figure_twice("deferred.vdb", 160, quants[q], loaded, deferred, path, sizeof path, g);
         uint64_t leaves, filled, failed, whole_leaves, whole_filled;
@@ -1822,17 +1831,17 @@ static void test_deferred_leaves_match_whole_load(void **state)
         static int whole_level[N];
         tu_rng r = tu_rng_seed(77);
         sdft_scratch s0;
-        sdft_field f0 = sdft_grid_field(g[0]);
+        sdft_field f0 = sdft_grid_field(g[0], SDFT_GRID_BOUND_FAR);
         sdft_scratch_init(&f0, &s0);
         for (int i = 0; i < N; i++) {
             p[i] = sdft_v3(tu_uniform(&r, sc->field.bounds.lo.x, sc->field.bounds.hi.x),
                            tu_uniform(&r, sc->field.bounds.lo.y, sc->field.bounds.hi.y),
                            tu_uniform(&r, sc->field.bounds.lo.z, sc->field.bounds.hi.z));
-            whole[i] = sdft_grid_sample(g[0], &s0, p[i], &whole_level[i]);
-            whole_none[i] = sdft_grid_sample_with(g[0], SDFT_GRID_BOUND_NONE, &s0, p[i], NULL);
+            whole[i] = sdft_grid_sample(g[0], SDFT_GRID_BOUND_FAR, &s0, p[i], &whole_level[i]);
+            whole_none[i] = sdft_grid_sample(g[0], SDFT_GRID_BOUND_NONE, &s0, p[i], NULL);
         }
         int bad = 0;
-        const sdft_field f1 = sdft_grid_field(g[1]);
+        const sdft_field f1 = sdft_grid_field(g[1], SDFT_GRID_BOUND_FAR);
 #pragma omp parallel num_threads(2) reduction(+ : bad)
         {
             sdft_scratch s1;
@@ -1840,8 +1849,8 @@ static void test_deferred_leaves_match_whole_load(void **state)
 #pragma omp for schedule(dynamic, 64)
             for (int i = 0; i < N; i++) {
                 int level;
-                const float v = sdft_grid_sample(g[1], &s1, p[i], &level);
-                const float none = sdft_grid_sample_with(g[1], SDFT_GRID_BOUND_NONE, &s1, p[i], NULL);
+                const float v = sdft_grid_sample(g[1], SDFT_GRID_BOUND_FAR, &s1, p[i], &level);
+                const float none = sdft_grid_sample(g[1], SDFT_GRID_BOUND_NONE, &s1, p[i], NULL);
                 bad += none != whole_none[i]; /* the same voxels, the same interpolant */
                 /* A looser far bound: on the same side, and never above the whole grid's bounds (its
                  * trilinear band values, level 0, are no bounds to compare with). */
@@ -1861,7 +1870,7 @@ static void test_deferred_leaves_match_whole_load(void **state)
         sdft_image img[2];
         sdft_render_stats st[2];
         for (int d = 0; d < 2; d++) {
-            const sdft_field f = sdft_grid_field(g[d]);
+            const sdft_field f = sdft_grid_field(g[d], SDFT_GRID_BOUND_FAR);
             assert_int_equal(sdft_image_alloc(&img[d], rp.width, rp.height, msg, sizeof msg), 0);
             assert_int_equal(sdft_render(&f, &rp, &img[d], &st[d], msg, sizeof msg), 0);
         }
@@ -1891,7 +1900,7 @@ static void test_deferred_leaves_match_whole_load(void **state)
     remove(path);
 }
 
-/* Deferring where it is exact (sdft_vdb_options.defer 1, render's way): a
+/* Deferring where it is exact (sdft_grid_options.defer 1, render's way): a
  * level set this small has far-bound cells narrower than a leaf, so it is
  * filled whole at load, and a render counts exactly what the whole load's
  * counts. An unknown way to defer is refused. */
@@ -1900,7 +1909,7 @@ static void test_deferred_where_exact_loads_small_grids_whole(void **state)
     (void)state;
     char path[512], msg[256];
     sdft_grid *g[2] = {NULL, NULL}; /* whole, deferred where exact */
-    sdft_vdb_options loaded = sdft_vdb_options_defaults(), deferred = loaded;
+    sdft_grid_options loaded = sdft_grid_options_defaults(), deferred = loaded;
     deferred.defer = 1;
     open_figure_twice("deferred-exact.vdb", 96, SDFT_QUANT_NONE, loaded, deferred, path, sizeof path, g);
     uint64_t leaves, filled, failed;
@@ -1914,7 +1923,7 @@ static void test_deferred_where_exact_loads_small_grids_whole(void **state)
     sdft_render_stats st[2];
     for (int d = 0; d < 2; d++) {
         sdft_image img;
-        const sdft_field f = sdft_grid_field(g[d]);
+        const sdft_field f = sdft_grid_field(g[d], SDFT_GRID_BOUND_FAR);
         assert_int_equal(sdft_image_alloc(&img, rp.width, rp.height, msg, sizeof msg), 0);
         assert_int_equal(sdft_render(&f, &rp, &img, &st[d], msg, sizeof msg), 0);
         sdft_image_free(&img);
@@ -1927,7 +1936,7 @@ static void test_deferred_where_exact_loads_small_grids_whole(void **state)
     sdft_grid_free(g[1]);
     sdft_grid *none = NULL;
     deferred.defer = 3;
-    assert_int_equal(sdft_vdb_open(path, NULL, &deferred, &none, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(tu_open_with(path, NULL, &deferred, &none, msg, sizeof msg), SDFT_EINVAL);
     assert_null(none);
     remove(path);
 }
@@ -1968,7 +1977,18 @@ static unsigned char *aligned_copy(const unsigned char *bytes, size_t n)
 static int released_buffers;
 static void release_buffer(void *data) { free(data), released_buffers++; }
 
-/* sdft_grid_adopt_deferred from C: a buffer whose leaves are garbage until
+/* sdft_grid_open adopting buf, n bytes, whose leaves fill fills from user
+ * as `how` defers them; release_buffer and release_source release them. */
+static sdft_error open_deferred(void *buf, size_t n, sdft_leaf_fill_fn fill, void *user, sdft_defer how, sdft_grid **g,
+                                char *msg, size_t msg_len)
+{
+    sdft_grid_options o = sdft_grid_options_defaults();
+    o.data = buf, o.size = n, o.memory = SDFT_GRID_ADOPT, o.release = release_buffer;
+    o.fill = fill, o.fill_user = user, o.fill_release = release_source, o.defer = how;
+    return sdft_grid_open(&o, g, msg, msg_len);
+}
+
+/* Deferred leaves from C: a buffer whose leaves are garbage until
  * filled; each leaf filled exactly once however many threads read it; a
  * leaf whose fill fails reads NaN and is counted; the rest read as the
  * reference; the loader's user released once, with the grid or on a
@@ -1994,9 +2014,7 @@ static void test_deferred_fill_and_failure(void **state)
     char msg[256];
     sdft_grid *g = NULL;
     released_buffers = 0;
-    assert_int_equal(sdft_grid_adopt_deferred(buf, n, NULL, release_buffer, fill_from, &src, release_source,
-                                              SDFT_DEFER_ALWAYS, &g, msg, sizeof msg),
-                     SDFT_OK);
+    assert_int_equal(open_deferred(buf, n, fill_from, &src, SDFT_DEFER_ALWAYS, &g, msg, sizeof msg), SDFT_OK);
     uint64_t filled, failed;
     sdft_grid_leaf_counts(g, NULL, &filled, &failed);
     assert_int_equal(filled, 0);
@@ -2033,22 +2051,19 @@ static void test_deferred_fill_and_failure(void **state)
     assert_int_equal(released_buffers, 1);
 
     /* Refusals release what they were given, once. */
-    assert_int_equal(sdft_grid_adopt_deferred(aligned_copy(bytes, n), n, NULL, release_buffer, NULL, &src,
-                                              release_source, SDFT_DEFER_ALWAYS, &g, msg, sizeof msg),
+    assert_int_equal(open_deferred(aligned_copy(bytes, n), n, NULL, &src, SDFT_DEFER_ALWAYS, &g, msg, sizeof msg),
                      SDFT_EINVAL);
     assert_null(g);
     assert_int_equal(src.released, 2);
     assert_int_equal(released_buffers, 2);
-    assert_int_equal(sdft_grid_adopt_deferred(aligned_copy(bytes, n), n, NULL, release_buffer, fill_from, &src,
-                                              release_source, (sdft_defer)7, &g, msg, sizeof msg),
+    assert_int_equal(open_deferred(aligned_copy(bytes, n), n, fill_from, &src, (sdft_defer)7, &g, msg, sizeof msg),
                      SDFT_EINVAL);
     assert_int_equal(src.released, 3);
     assert_int_equal(released_buffers, 3);
     unsigned char *bad_bytes = aligned_alloc(64, 64);
     assert_non_null(bad_bytes);
     memset(bad_bytes, 0, 64);
-    assert_int_equal(sdft_grid_adopt_deferred(bad_bytes, 64, NULL, release_buffer, fill_from, &src, release_source,
-                                              SDFT_DEFER_ALWAYS, &g, msg, sizeof msg),
+    assert_int_equal(open_deferred(bad_bytes, 64, fill_from, &src, SDFT_DEFER_ALWAYS, &g, msg, sizeof msg),
                      SDFT_EFORMAT);
     assert_int_equal(src.released, 4);
     assert_int_equal(released_buffers, 4);
@@ -2059,13 +2074,13 @@ static void test_deferred_fill_and_failure(void **state)
     char path[512];
     tu_tmp(path, sizeof path, "deferred-errors.vdb");
     sdft_grid_free(bake(&f, 24, 0, path));
-    sdft_vdb_options o = sdft_vdb_options_defaults();
+    sdft_grid_options o = sdft_grid_options_defaults();
     o.defer = 1;
     o.quant = SDFT_QUANT_FP8;
-    assert_int_equal(sdft_vdb_open(path, NULL, &o, &g, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(tu_open_with(path, NULL, &o, &g, msg, sizeof msg), SDFT_EINVAL);
     assert_non_null(strstr(msg, "deferred"));
     o.quant = SDFT_QUANT_NONE, o.stream = 0;
-    assert_int_equal(sdft_vdb_open(path, NULL, &o, &g, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(tu_open_with(path, NULL, &o, &g, msg, sizeof msg), SDFT_EINVAL);
     remove(path);
 }
 
@@ -2093,8 +2108,8 @@ static void test_scratch_remembers_its_grid(void **state)
     const sdft_scene *sc = sdft_scene_find("figure");
     assert_non_null(sc);
     sdft_grid *a = bake(&f, 32, 0, NULL), *b = bake(&sc->field, 40, 0, NULL);
-    sdft_field fa = sdft_grid_field(a), fb = sdft_grid_field(b),
-               fa_tree = sdft_grid_field_with(a, SDFT_GRID_BOUND_TREE);
+    sdft_field fa = sdft_grid_field(a, SDFT_GRID_BOUND_FAR), fb = sdft_grid_field(b, SDFT_GRID_BOUND_FAR),
+               fa_tree = sdft_grid_field(a, SDFT_GRID_BOUND_TREE);
     sdft_scratch s;
     sdft_scratch_init(&fa, &s);
     const sdft_trace_params p = sdft_trace_defaults();
@@ -2118,9 +2133,9 @@ static void test_scratch_remembers_its_grid(void **state)
     assert_int_equal(sdft_trace_check(&fb, &s, &p, msg, sizeof msg), SDFT_EINVAL);
     assert_non_null(strstr(msg, "another field"));
     int level = 0;
-    assert_true(isnan(sdft_grid_sample(b, &s, sdft_v3(0, 0, 0), &level)));
+    assert_true(isnan(sdft_grid_sample(b, SDFT_GRID_BOUND_FAR, &s, sdft_v3(0, 0, 0), &level)));
     assert_int_equal(level, -1);
-    assert_false(isnan(sdft_grid_sample(a, &s, sdft_v3(0, 0, 0), &level)));
+    assert_false(isnan(sdft_grid_sample(a, SDFT_GRID_BOUND_FAR, &s, sdft_v3(0, 0, 0), &level)));
 
     /* Prepared for b, it serves b and no longer a. */
     sdft_scratch_init(&fb, &s);
@@ -2160,8 +2175,8 @@ static void test_borrowed_buffer(void **state)
 
     char msg[256];
     sdft_grid *lent = NULL, *lent2 = NULL;
-    assert_int_equal(sdft_grid_borrow_buffer(mine, n1 + n2, NULL, &lent, msg, sizeof msg), SDFT_OK);
-    assert_int_equal(sdft_grid_borrow_buffer(mine, n1 + n2, "second", &lent2, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(tu_open_buffer(mine, n1 + n2, NULL, SDFT_GRID_BORROW, NULL, &lent, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(tu_open_buffer(mine, n1 + n2, "second", SDFT_GRID_BORROW, NULL, &lent2, msg, sizeof msg), SDFT_OK);
     size_t got;
     assert_ptr_equal(sdft_grid_data(lent, &got), mine);
     assert_int_equal(got, n1);
@@ -2170,7 +2185,7 @@ static void test_borrowed_buffer(void **state)
     same_voxels(first, lent);
     same_voxels(second, lent2);
 
-    sdft_field fc = sdft_grid_field(first), fl = sdft_grid_field(lent);
+    sdft_field fc = sdft_grid_field(first, SDFT_GRID_BOUND_FAR), fl = sdft_grid_field(lent, SDFT_GRID_BOUND_FAR);
     sdft_scratch sc, sl;
     sdft_scratch_init(&fc, &sc);
     sdft_scratch_init(&fl, &sl);
@@ -2240,8 +2255,8 @@ static void test_grid_selection_is_the_same_for_vdb_and_nvdb(void **state)
             const char *name = files[k].cases[c].name;
             sdft_grid *gv = NULL, *gn = NULL;
             char mv[256] = "", mn[256] = "";
-            const sdft_error rv = sdft_vdb_load(vdb, name, SDFT_QUANT_NONE, &gv, mv, sizeof mv);
-            const sdft_error rn = sdft_grid_load_nvdb(nvdb, name, &gn, mn, sizeof mn);
+            const sdft_error rv = tu_open_file(vdb, name, SDFT_QUANT_NONE, &gv, mv, sizeof mv);
+            const sdft_error rn = tu_open_nvdb(nvdb, name, &gn, mn, sizeof mn);
             print_message("%s '%s': .vdb %s %s | .nvdb %s %s\n", k ? "choose2" : "choose1", name ? name : "(null)",
                           sdft_error_name(rv), gv ? sdft_grid_name(gv) : mv, sdft_error_name(rn),
                           gn ? sdft_grid_name(gn) : mn);
@@ -2264,7 +2279,7 @@ static void expect_error(const char *path, const char *name, int code, const cha
 {
     sdft_grid *g = (sdft_grid *)1;
     char msg[512] = "";
-    int rc = sdft_grid_open(path, name, &g, msg, sizeof msg);
+    int rc = tu_open_file(path, name, SDFT_QUANT_NONE, &g, msg, sizeof msg);
     print_message("%s -> %d: %s\n", path, rc, msg);
     assert_int_equal(rc, code);
     assert_null(g);
@@ -2342,7 +2357,7 @@ static void test_errors(void **state)
 
     sdft_grid *g = NULL;
     char msg[256];
-    assert_int_not_equal(sdft_grid_open("plain.txt", NULL, &g, msg, sizeof msg), 0);
+    assert_int_not_equal(tu_open_file("plain.txt", NULL, SDFT_QUANT_NONE, &g, msg, sizeof msg), 0);
 }
 
 static void test_bake_errors(void **state)

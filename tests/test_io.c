@@ -117,7 +117,7 @@ static void test_exr_round_trip(void **state)
     char path[512], msg[256] = "";
     tu_tmp(path, sizeof path, "io_round_trip.exr");
     remove(path);
-    assert_int_equal(sdft_write_exr(path, &img, msg, sizeof msg), 0);
+    assert_int_equal(io_write_exr(path, &img, msg, sizeof msg), 0);
     tu_assert_no_temporaries(SDFT_TEST_TMP, "io_round_trip.exr");
 
     exr_readback rb;
@@ -163,7 +163,7 @@ static unsigned char *read_png(const char *path, int *w, int *h)
     return buf;
 }
 
-/* sdft_read_exr_floats reads back chosen channels bit for bit, and fails
+/* io_read_exr_floats reads back chosen channels bit for bit, and fails
  * with one line, every plane NULL, on a missing file, a file that is not an
  * EXR, and a channel the file lacks. */
 static void test_exr_read_floats(void **state)
@@ -174,12 +174,12 @@ static void test_exr_read_floats(void **state)
     char path[512], other[512], msg[256] = "";
     tu_tmp(path, sizeof path, "io_read.exr");
     tu_tmp(other, sizeof other, "io_read.png");
-    assert_int_equal(sdft_write_exr(path, &img, msg, sizeof msg), 0);
-    assert_int_equal(sdft_write_png(other, &img, msg, sizeof msg), 0);
+    assert_int_equal(io_write_exr(path, &img, msg, sizeof msg), 0);
+    assert_int_equal(io_write_png(other, &img, msg, sizeof msg), 0);
     static const char *const names[3] = {"Z", "N.Y", "R"};
     float *planes[3];
     int w = 0, h = 0;
-    assert_int_equal(sdft_read_exr_floats(path, 3, names, planes, &w, &h, msg, sizeof msg), 0);
+    assert_int_equal(io_read_exr_floats(path, 3, names, planes, &w, &h, msg, sizeof msg), 0);
     assert_int_equal(w, W);
     assert_int_equal(h, H);
     for (int i = 0; i < W * H; i++) {
@@ -200,7 +200,7 @@ static void test_exr_read_floats(void **state)
                {path, "no channel 'Q'", 2, absent}};
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         msg[0] = 0;
-        assert_int_not_equal(sdft_read_exr_floats(bad[k].path, bad[k].n, bad[k].names, planes, &w, &h, msg, sizeof msg),
+        assert_int_not_equal(io_read_exr_floats(bad[k].path, bad[k].n, bad[k].names, planes, &w, &h, msg, sizeof msg),
                              0);
         print_message("%s\n", msg);
         assert_non_null(strstr(msg, bad[k].needle));
@@ -220,7 +220,7 @@ static void test_png_is_srgb(void **state)
     img.rgb[3] = 0.0031308f, img.rgb[4] = 0.21586f, img.rgb[5] = 7.0f; /* -> sRGB 128/255 */
     char path[512], msg[256] = "";
     tu_tmp(path, sizeof path, "io_preview.png");
-    assert_int_equal(sdft_write_png(path, &img, msg, sizeof msg), 0);
+    assert_int_equal(io_write_png(path, &img, msg, sizeof msg), 0);
     int w, h;
     unsigned char *px = read_png(path, &w, &h);
     assert_int_equal(w, W);
@@ -242,7 +242,7 @@ static void test_heatmap(void **state)
     fill_image(&img);
     char path[512], msg[256] = "";
     tu_tmp(path, sizeof path, "io_heat.png");
-    assert_int_equal(sdft_write_heatmap(path, &img, SDFT_HEATMAP_STEPS, 0, msg, sizeof msg), 0);
+    assert_int_equal(io_write_heatmap(path, &img, SDFT_HEATMAP_STEPS, 0, msg, sizeof msg), 0);
     int w, h;
     unsigned char *px = read_png(path, &w, &h);
     assert_int_equal(w, W);
@@ -251,7 +251,7 @@ static void test_heatmap(void **state)
     unsigned long max = 3ul * W * H - 2, scale = (max + 3) / 4 * 4;
     for (int i = 0; i < W * H; i += 17) {
         unsigned char want[3];
-        sdft_heatmap_colour((double)img.steps[i], (double)scale, want);
+        io_heatmap_colour((double)img.steps[i], (double)scale, want);
         assert_memory_equal(px + 3 * i, want, 3);
     }
     /* Few steps are green, many are red. */
@@ -260,22 +260,22 @@ static void test_heatmap(void **state)
     assert_true(px[3 * last] > 200 && px[3 * last + 1] < 30);
     free(px);
 
-    assert_int_equal(sdft_write_heatmap(path, &img, SDFT_HEATMAP_FALLBACKS, 0, msg, sizeof msg), 0);
+    assert_int_equal(io_write_heatmap(path, &img, SDFT_HEATMAP_FALLBACKS, 0, msg, sizeof msg), 0);
     px = read_png(path, &w, &h);
     unsigned char want[3];
-    sdft_heatmap_colour(4.0, 4.0, want); /* fallbacks 0..4: scale 4 */
+    io_heatmap_colour(4.0, 4.0, want); /* fallbacks 0..4: scale 4 */
     assert_memory_equal(px + 3 * 4, want, 3);
     free(px);
 
     /* A fixed scale (--heatmap-max 40) draws exactly what the data's own
      * scale draws for the counts clamped at 40, whose largest is 40: the
      * same colours, larger counts red, and the same legend, ticks 0..40. */
-    assert_int_equal(sdft_write_heatmap(path, &img, SDFT_HEATMAP_STEPS, 40, msg, sizeof msg), 0);
+    assert_int_equal(io_write_heatmap(path, &img, SDFT_HEATMAP_STEPS, 40, msg, sizeof msg), 0);
     unsigned char *fixed = read_png(path, &w, &h);
     assert_true(img.steps[W * H - 1] > 40);
     for (int i = 0; i < W * H; i++)
         img.steps[i] = img.steps[i] < 40 ? img.steps[i] : 40;
-    assert_int_equal(sdft_write_heatmap(path, &img, SDFT_HEATMAP_STEPS, 0, msg, sizeof msg), 0);
+    assert_int_equal(io_write_heatmap(path, &img, SDFT_HEATMAP_STEPS, 0, msg, sizeof msg), 0);
     int w2, h2;
     px = read_png(path, &w2, &h2);
     assert_true(w2 == w && h2 == h);
@@ -289,10 +289,10 @@ static void test_colour_scale(void **state)
 {
     (void)state;
     unsigned char lo[3], mid[3], hi[3], over[3];
-    sdft_heatmap_colour(0, 10, lo);
-    sdft_heatmap_colour(5, 10, mid);
-    sdft_heatmap_colour(10, 10, hi);
-    sdft_heatmap_colour(50, 10, over);
+    io_heatmap_colour(0, 10, lo);
+    io_heatmap_colour(5, 10, mid);
+    io_heatmap_colour(10, 10, hi);
+    io_heatmap_colour(50, 10, over);
     assert_true(lo[0] == 0 && lo[1] > 150);     /* green */
     assert_true(mid[0] == 255 && mid[1] > 150); /* yellow */
     assert_true(hi[0] == 255 && hi[1] == 0);    /* red */
@@ -307,26 +307,26 @@ static void test_failed_writes_leave_nothing(void **state)
     fill_image(&img);
     char msg[256] = "";
     const char *missing = SDFT_TEST_TMP "/no/such/folder/out.exr";
-    assert_int_not_equal(sdft_write_exr(missing, &img, msg, sizeof msg), 0);
+    assert_int_not_equal(io_write_exr(missing, &img, msg, sizeof msg), 0);
     assert_true(strlen(msg) > 0 && strchr(msg, '\n') == NULL);
     assert_false(tu_file_exists(missing));
-    assert_int_not_equal(sdft_check_writable(missing, msg, sizeof msg), 0);
-    assert_int_not_equal(sdft_write_png(SDFT_TEST_TMP "/no/such/out.png", &img, msg, sizeof msg), 0);
-    assert_int_not_equal(sdft_write_heatmap(SDFT_TEST_TMP "/no/such/h.png", &img, 0, 0, msg, sizeof msg), 0);
+    assert_int_not_equal(atomic_file_check_writable(missing, msg, sizeof msg), 0);
+    assert_int_not_equal(io_write_png(SDFT_TEST_TMP "/no/such/out.png", &img, msg, sizeof msg), 0);
+    assert_int_not_equal(io_write_heatmap(SDFT_TEST_TMP "/no/such/h.png", &img, 0, 0, msg, sizeof msg), 0);
 
     /* The target is a folder: refused before anything is written. */
     char dir[512];
     tu_tmp(dir, sizeof dir, "io_is_a_dir.exr");
     mkdir(dir, 0755);
     msg[0] = '\0';
-    assert_int_not_equal(sdft_write_exr(dir, &img, msg, sizeof msg), 0);
+    assert_int_not_equal(io_write_exr(dir, &img, msg, sizeof msg), 0);
     assert_true(strlen(msg) > 0);
     tu_assert_no_temporaries(SDFT_TEST_TMP, "io_is_a_dir.exr");
-    assert_int_not_equal(sdft_write_png(dir, &img, msg, sizeof msg), 0);
+    assert_int_not_equal(io_write_png(dir, &img, msg, sizeof msg), 0);
     tu_assert_no_temporaries(SDFT_TEST_TMP, "io_is_a_dir.exr");
 
     char ok[512];
-    assert_int_equal(sdft_check_writable(tu_tmp(ok, sizeof ok, "io_check.exr"), msg, sizeof msg), 0);
+    assert_int_equal(atomic_file_check_writable(tu_tmp(ok, sizeof ok, "io_check.exr"), msg, sizeof msg), 0);
     assert_false(tu_file_exists(ok));
     tu_assert_no_temporaries(SDFT_TEST_TMP, "io_check.exr");
     sdft_image_free(&img);

@@ -1,7 +1,8 @@
 /* sdftrace tests — the library as others get it: every public header
  * compiles alone as C11 and as C++17 (-pedantic-errors); the shared
- * libraries export exactly the functions the headers mark SDFT_API, and the
- * static ones define nothing outside sdft_; the core needs nothing but
+ * libraries export exactly the functions the headers mark SDFT_API, the
+ * static ones define sdft_ names only for those and module-prefixed names
+ * for the rest, and no installed header includes a private one; the core needs nothing but
  * OpenMP, libm and libc, and configures and builds with every other part
  * off; and an install, moved to another folder, serves an outside project
  * through find_package and through pkg-config, which build the README's
@@ -226,15 +227,34 @@ static void test_shared_libraries_export_the_api(void **state)
     free(h.name), free(core_api.name), free(vdb_api.name);
 }
 
+/* What an internal name may start with: its module. sdft_ is the public
+ * API's alone. */
+static const char *const internal_prefixes[] = {"grid_",  "march_", "render_",     "vdb_",
+                                                "scene_", "fail_",  "atomic_file_"};
+
+static int has_internal_prefix(const char *name)
+{
+    for (size_t i = 0; i < sizeof internal_prefixes / sizeof *internal_prefixes; i++)
+        if (strncmp(name, internal_prefixes[i], strlen(internal_prefixes[i])) == 0)
+            return 1;
+    return 0;
+}
+
 /* Strong global symbols of the static libraries (weak ones are C++ template
- * instantiations from other projects' headers): all sdft_ (C++: in the
- * sdft_vdb namespace). AddressSanitizer adds an "__odr_asan." twin of each
- * global, which is its instrumentation, not ours. */
-static void test_static_libraries_define_only_sdft(void **state)
+ * instantiations from other projects' headers): an sdft_ name is a function
+ * a public header marks SDFT_API; any other carries its module's prefix
+ * (C++: lives in the sdft_vdb namespace). AddressSanitizer adds an
+ * "__odr_asan." twin of each global, which is its instrumentation, not
+ * ours. */
+static void test_static_libraries_name_their_symbols(void **state)
 {
     (void)state;
+    names h = public_headers(), api = {0};
+    for (size_t i = 0; i < h.n; i++)
+        if (strcmp(h.name[i], "config.h") != 0)
+            api_functions(h.name[i], &api);
     char libs[] = SDFT_STATIC_LIBS;
-    int seen = 0;
+    int seen = 0, internal = 0;
     char *save_lib = NULL;
     for (char *lib = strtok_r(libs, " ", &save_lib); lib; lib = strtok_r(NULL, " ", &save_lib)) {
         assert_int_equal(tu_run(out, sizeof out, "nm -g -C --defined-only %s", lib), 0);
@@ -248,11 +268,63 @@ static void test_static_libraries_define_only_sdft(void **state)
             if (strchr("WwVvu", type[0]) || strncmp(name, "__odr_asan.", 11) == 0)
                 continue;
             seen++;
-            if (strncmp(name, "sdft_", 5) != 0)
-                fail_msg("%s defines '%s' (%s), outside sdft_", lib, name, type);
+            if (strncmp(name, "sdft_vdb::", 10) == 0)
+                continue;
+            if (strncmp(name, "sdft_", 5) == 0) {
+                if (!names_has(&api, name))
+                    fail_msg("%s defines '%s' (%s): sdft_ is public, but no header marks it SDFT_API", lib, name, type);
+            } else if (has_internal_prefix(name)) {
+                internal++;
+            } else {
+                fail_msg("%s defines '%s' (%s), neither sdft_ nor a module's prefix", lib, name, type);
+            }
         }
     }
+    print_message("%d symbols, %d of them internal\n", seen, internal);
     assert_true(seen > 60);
+    free(h.name), free(api.name);
+}
+
+/* An installed header includes only the C library's headers and its
+ * siblings (sdftrace/NAME.h or "NAME.h" of include/sdftrace), never one of
+ * src/: what it names must be installed too. */
+static void test_installed_headers_include_only_installed_ones(void **state)
+{
+    (void)state;
+    names h = public_headers();
+    int includes = 0;
+    for (size_t i = 0; i < h.n; i++) {
+        char path[1024];
+        if (strcmp(h.name[i], "config.h") == 0)
+            snprintf(path, sizeof path, "%s/include/sdftrace/config.h.in", SDFT_SOURCE_DIR);
+        else
+            snprintf(path, sizeof path, "%s/include/sdftrace/%s", SDFT_SOURCE_DIR, h.name[i]);
+        char *text = tu_slurp(path);
+        assert_non_null(text);
+        for (const char *at = text; (at = strstr(at, "#include")); at += 8) {
+            const char *p = at + 8;
+            while (*p == ' ')
+                p++;
+            const char close = *p == '<' ? '>' : '"';
+            const char *end = strchr(p + 1, close);
+            assert_non_null(end);
+            char target[256];
+            snprintf(target, sizeof target, "%.*s", (int)(end - p - 1), p + 1);
+            includes++;
+            if (close == '>') {
+                if (strchr(target, '/'))
+                    fail_msg("sdftrace/%s includes <%s>: only the C library's headers", h.name[i], target);
+                continue;
+            }
+            const char *base = strncmp(target, "sdftrace/", 9) == 0 ? target + 9 : target;
+            if (strchr(base, '/') || !names_has(&h, base))
+                fail_msg("sdftrace/%s includes \"%s\", which is not installed", h.name[i], target);
+        }
+        free(text);
+    }
+    print_message("%d includes, all installed or the C library's\n", includes);
+    assert_true(includes > 10);
+    free(h.name);
 }
 
 /* libsdftrace.so needs OpenMP, libm and libc (and the sanitizers' runtimes
@@ -465,7 +537,8 @@ int main(void)
         cmocka_unit_test(test_headers_compile_alone_as_c_and_cxx),
         cmocka_unit_test(test_every_declared_function_is_marked),
         cmocka_unit_test(test_shared_libraries_export_the_api),
-        cmocka_unit_test(test_static_libraries_define_only_sdft),
+        cmocka_unit_test(test_static_libraries_name_their_symbols),
+        cmocka_unit_test(test_installed_headers_include_only_installed_ones),
         cmocka_unit_test(test_core_needs_only_openmp_and_libm),
         cmocka_unit_test(test_core_builds_alone),
         cmocka_unit_test(test_install_and_consume),

@@ -60,25 +60,20 @@ typedef struct sdft_scratch {
     sdft_scratch_owner owner;
 } sdft_scratch;
 
-typedef struct sdft_field {
-    /* Signed distance bound at world point p. `ctx` is the shared, read-only
-     * data below; `scratch` is the calling thread's own state. Required. */
-    float (*distance)(const void *ctx, sdft_scratch *scratch, sdft_vec3 p);
-    /* Unit outward normal at p (e.g. a grid's own gradient). Optional: NULL
-     * means tetrahedral differences of `distance` (sdft_field_normal). */
-    sdft_vec3 (*normal)(const void *ctx, sdft_scratch *scratch, sdft_vec3 p);
-    /* Prepares a thread's scratch (its `bytes`). Optional: NULL when the
-     * field keeps no per-thread state; then any scratch will do. */
-    sdft_scratch_init_fn scratch_init;
-    /* Shared data; owned by whoever made the field, must outlive it. Every
-     * callback gets it: a field that wraps another and replaces ctx must
-     * wrap (or clear) each of the inner field's callbacks too. */
+/* What a field may add where it knows its own form (a grid does): its
+ * exact first root along a ray, memory hints, and a hull around its
+ * surface. The tracer and the renderer use each member that is set and do
+ * without the others. It grows with each new speed-up, where sdft_field
+ * does not: make one with sdft_field_accel_defaults() and set what you
+ * provide. Owned by whoever made the field (a grid keeps its own); it must
+ * outlive every field that points to it. Its callbacks get its own `ctx`,
+ * so a field that wraps another and replaces the field's ctx may point to
+ * the inner field's accel unchanged, as long as its distance is the inner
+ * field's (the root and the hull describe that one); a wrapper that changes
+ * the distance points to NULL or to its own. */
+typedef struct sdft_field_accel {
+    /* Shared data, handed to root and prefetch (a grid: the grid). */
     const void *ctx;
-    /* Every point with distance <= 0 lies in this box; rays are clipped to it. */
-    sdft_aabb bounds;
-    /* Length scale for numerical differences (normals), world units; 0 picks
-     * 1e-4 of the box diagonal. Grids set one voxel. */
-    float feature_size;
     /* Optional: the exact first root along a ray, where the field knows its
      * own form (a grid: the trilinear interpolant, a cubic along the ray in
      * each voxel cell). The tracer asks once f(org + t0 dir) lies in (0,
@@ -88,7 +83,9 @@ typedef struct sdft_field {
      * (0, 0, 0) where it has none), or 0 with *t the t up to which it proved
      * there is none (t0 <= *t <= t1; the tracer marches on from there). It
      * adds to *reads the evaluations' worth of data it read (a grid: one per
-     * cell). NULL: not provided; the tracer steps to eps, as the papers do. */
+     * cell). `scratch` is the calling thread's, prepared for the field
+     * (sdft_scratch_init). NULL: not provided; the tracer steps to eps, as
+     * the papers do. */
     int (*root)(const void *ctx, sdft_scratch *scratch, sdft_vec3 org, sdft_vec3 dir, float t0, float t1, float *t,
                 sdft_vec3 *normal, uint32_t *reads);
     float root_reach; /* world units; with root */
@@ -125,7 +122,41 @@ typedef struct sdft_field {
      * narrow where the surface is smooth, so the boxes on the far side of
      * an object drop out of a view). NULL: no such bounds. */
     const sdft_aabb *hull_gradients;
+} sdft_field_accel;
+
+/* Nothing provided: every member NULL or 0. */
+SDFT_API sdft_field_accel sdft_field_accel_defaults(void);
+
+/* What every field has. Make one with sdft_field_defaults() and set at
+ * least distance and bounds (and ctx, where distance reads one), never
+ * with an aggregate initializer alone: a later version may add members. */
+typedef struct sdft_field {
+    /* Signed distance bound at world point p. `ctx` is the shared, read-only
+     * data below; `scratch` is the calling thread's own state. Required. */
+    float (*distance)(const void *ctx, sdft_scratch *scratch, sdft_vec3 p);
+    /* Unit outward normal at p (e.g. a grid's own gradient). Optional: NULL
+     * means tetrahedral differences of `distance` (sdft_field_normal). */
+    sdft_vec3 (*normal)(const void *ctx, sdft_scratch *scratch, sdft_vec3 p);
+    /* Prepares a thread's scratch (its `bytes`). Optional: NULL when the
+     * field keeps no per-thread state; then any scratch will do. */
+    sdft_scratch_init_fn scratch_init;
+    /* Shared data; owned by whoever made the field, must outlive it. Every
+     * callback above gets it: a field that wraps another and replaces ctx
+     * must wrap (or clear) each of the inner field's callbacks too. */
+    const void *ctx;
+    /* Every point with distance <= 0 lies in this box; rays are clipped to it. */
+    sdft_aabb bounds;
+    /* Length scale for numerical differences (normals), world units; 0 picks
+     * 1e-4 of the box diagonal. Grids set one voxel. */
+    float feature_size;
+    /* Optional: what the field adds where it knows its own form (above; a
+     * grid's). NULL: nothing, as for a procedural field. */
+    const sdft_field_accel *accel;
 } sdft_field;
+
+/* A field with nothing set yet: every member NULL or 0 (no distance, so
+ * the tracer refuses it until distance is set). */
+SDFT_API sdft_field sdft_field_defaults(void);
 
 /* Prepares s for field f on the calling thread: f's scratch_init, and s
  * remembers f (its ctx and scratch_init). Call it once per thread and field,
@@ -155,7 +186,7 @@ static inline float sdft_field_distance(const sdft_field *f, sdft_scratch *s, sd
 
 /* f at the n world points p[i], into d[i]: the values n calls of
  * sdft_field_distance would give, in order. Where the field takes hints
- * (prefetch), each point is hinted SDFT_FIELD_DISTANCES_AHEAD points
+ * (accel->prefetch), each point is hinted SDFT_FIELD_DISTANCES_AHEAD points
  * before its evaluation, so that scattered points wait for their memory
  * together: a 1024^3 grid's random band points, one call each, take
  * 1.6-1.8x a dense float array's time per point, and 1.1-1.3x through

@@ -12,10 +12,13 @@
  * take a grid exactly as they take a procedural SDF. Distances are in the
  * grid's world units.
  *
- * Grids come from `.nvdb` files (here, in C, never through C++), from a
- * NanoVDB buffer in memory, copied or borrowed, or from `.vdb` files
- * through the OpenVDB component (sdftrace/vdb.h). Errors follow
- * sdftrace/error.h: an sdft_error and one line in msg; nothing here prints.
+ * One call opens a grid, sdft_grid_open, with an sdft_grid_options that
+ * says where from: a `.nvdb` file (here, in C, never through C++) or a
+ * NanoVDB buffer in memory, copied, borrowed or adopted. The OpenVDB
+ * component's sdft_vdb_open (sdftrace/vdb.h) takes the same options and
+ * opens `.vdb` files too. sdft_grid_free releases a grid, however it was
+ * opened. Errors follow sdftrace/error.h: an sdft_error and one line in
+ * msg; nothing here prints.
  *
  * Choosing a grid (every loader, `.vdb` and `.nvdb` alike): with a `name`,
  * the first grid of that name (SDFT_ENOTFOUND if there is none,
@@ -39,39 +42,26 @@ extern "C" {
 
 typedef struct sdft_grid sdft_grid;
 
-/* Loads one grid of a `.nvdb` file (uncompressed, as NanoVDB writes by
- * default), chosen as above. On success *out owns a copy of the grid's
- * bytes: free it with sdft_grid_free. On failure *out is NULL. SDFT_EINVAL
- * (NULL path or out), SDFT_EIO, SDFT_EFORMAT, SDFT_ENOTFOUND,
- * SDFT_ENOTSCALAR, SDFT_EEMPTY, SDFT_ENOMEM. */
-SDFT_API sdft_error sdft_grid_load_nvdb(const char *path, const char *name, sdft_grid **out, char *msg, size_t msg_len);
-
-/* Makes a grid from `size` bytes holding one or more NanoVDB grids back to
- * back (a GridHandle's buffer), chosen as above. The chosen grid's bytes are
- * copied and validated (sizes, node offsets), so a corrupt buffer is an
- * error, never a crash; `data` stays the caller's and may be freed at once.
- * Free the grid with sdft_grid_free. Errors as sdft_grid_load_nvdb, less
- * SDFT_EIO. */
-SDFT_API sdft_error sdft_grid_from_buffer(const void *data, size_t size, const char *name, sdft_grid **out, char *msg,
-                                          size_t msg_len);
-
-/* As sdft_grid_from_buffer, without the copy: the grid reads the caller's
- * bytes in place (validated the same way), for a renderer that already
- * holds its NanoVDB grids in memory. The buffer stays the caller's: it must
- * stay unchanged and alive until sdft_grid_free, which does not free it.
- * The chosen grid must start 32-byte aligned, as NanoVDB lays grids out
- * (SDFT_EINVAL otherwise). The grid still owns what it builds at load (the
- * far bound, the leaf directory). */
-SDFT_API sdft_error sdft_grid_borrow_buffer(const void *data, size_t size, const char *name, sdft_grid **out, char *msg,
-                                            size_t msg_len);
-
-/* As sdft_grid_borrow_buffer, but the grid takes the buffer over: it calls
- * release(data) once, when the grid is freed, or before returning when it
- * refuses the buffer (any error but a NULL release, SDFT_EINVAL). For a
- * loader that fills a buffer for the grid alone (the OpenVDB component's
- * streamed `.vdb` loading does), without a copy. */
-SDFT_API sdft_error sdft_grid_adopt_buffer(void *data, size_t size, const char *name, void (*release)(void *data),
-                                           sdft_grid **out, char *msg, size_t msg_len);
+/* How a grid in memory is taken (sdft_grid_options.memory). */
+typedef enum sdft_grid_memory {
+    /* The chosen grid's bytes are copied and validated (sizes, node
+     * offsets), so a corrupt buffer is an error, never a crash; `data`
+     * stays the caller's and may be freed at once. */
+    SDFT_GRID_COPY = 0,
+    /* Read in place (validated the same way), for a renderer that already
+     * holds its NanoVDB grids in memory: the buffer must stay unchanged and
+     * alive until sdft_grid_free, which does not free it. The chosen grid
+     * must start 32-byte aligned, as NanoVDB lays grids out (SDFT_EINVAL
+     * otherwise). The grid still owns what it builds at load (the far
+     * bound, the leaf directory). */
+    SDFT_GRID_BORROW = 1,
+    /* As BORROW, but the grid takes the buffer over: it calls
+     * release(data) once, when the grid is freed, or before returning when
+     * it refuses the buffer. For a loader that fills a buffer for the grid
+     * alone (the OpenVDB component's streamed `.vdb` loading does), without
+     * a copy. */
+    SDFT_GRID_ADOPT = 2
+} sdft_grid_memory;
 
 /* Writes leaf `index` of a deferred grid (the index-th node of the tree's
  * leaf array) whole into `leaf`, its place in the grid's buffer: header,
@@ -79,35 +69,92 @@ SDFT_API sdft_error sdft_grid_adopt_buffer(void *data, size_t size, const char *
  * read, after writing the header and masks and NaN values. */
 typedef int (*sdft_leaf_fill_fn)(void *user, uint64_t index, void *leaf);
 
-/* How a deferred grid defers (sdft_grid_adopt_deferred's `how`). */
+/* Whether a grid's leaves are read only when something first reads them
+ * (sdft_grid_options.defer). */
 typedef enum sdft_defer {
+    SDFT_DEFER_NONE = 0, /* every leaf at load */
     /* Defer where it changes nothing but the time and the memory: a level
      * set whose far bound has cells narrower than a leaf (an active box up
      * to about 1024^3) reads a leaf's active states for it, so such a grid
      * is filled whole at load; wider cells see a leaf as one block, read or
      * not, and the grid is deferred. */
-    SDFT_DEFER_WHERE_EXACT = 0,
+    SDFT_DEFER_WHERE_EXACT = 1,
     /* Always defer: a looser far bound on small level sets (an unread leaf
      * counts as occupied), for the quickest first image. */
-    SDFT_DEFER_ALWAYS = 1
+    SDFT_DEFER_ALWAYS = 2
 } sdft_defer;
 
-/* As sdft_grid_adopt_buffer, for a loader that has laid a grid out but not
- * yet filled its leaves (the OpenVDB component's deferred `.vdb` loading):
- * every node above the leaves must be in place; the leaves' bytes need not
- * be. The grid calls fill(user, i, leaf) the first time anything reads
- * leaf i, from the thread that reads it, at most once per leaf and possibly
- * for several leaves at once, and release_user(user) (if not NULL) when it
- * is freed or refuses the buffer. Float and Fp16 grids (SDFT_EINVAL for
- * others, a NULL fill or an unknown `how`). `how` says whether a small
- * level set is filled at load (sdft_defer above); until filled, a leaf
- * counts as occupied for the far bound: still a bound, a looser one. A fill
- * that fails at load is an error (SDFT_EIO). A leaf whose fill failed reads as
- * NaN, where rays see no surface; sdft_grid_leaf_counts counts them.
- * sdft_grid_data fills every leaf first. */
-SDFT_API sdft_error sdft_grid_adopt_deferred(void *data, size_t size, const char *name, void (*release)(void *data),
-                                             sdft_leaf_fill_fn fill, void *user, void (*release_user)(void *user),
-                                             sdft_defer how, sdft_grid **out, char *msg, size_t msg_len);
+/* How a `.vdb` file's grid is stored as NanoVDB (sdft_grid_options.quant,
+ * sdft_vdb_open). */
+typedef enum sdft_quant {
+    SDFT_QUANT_NONE = 0, /* float */
+    SDFT_QUANT_FP16,
+    SDFT_QUANT_FP8,
+    SDFT_QUANT_FP4,
+    SDFT_QUANT_FPN /* variable bit rate, NanoVDB's AbsDiff oracle */
+} sdft_quant;
+
+/* A long operation's progress: `done` in [0, 1], never decreasing. Return
+ * 0 to go on, non-zero to stop (the operation then fails with
+ * SDFT_ECANCELED). Called from the operation's worker threads, one call at
+ * a time, about once per percent. */
+typedef int (*sdft_progress_fn)(void *user, float done);
+
+/* How to open a grid. It will grow: make one with
+ * sdft_grid_options_defaults() and set the fields you change. Defaults in
+ * brackets. */
+typedef struct sdft_grid_options {
+    const char *path; /* a `.nvdb` file (uncompressed, as NanoVDB writes by default), or with
+                       * sdft_vdb_open a `.vdb` file; NULL: the buffer below [NULL] */
+    const char *name; /* the grid to take, chosen as above; NULL: the first scalar level set [NULL] */
+    /* A buffer in memory, with path NULL: `size` bytes holding one or more NanoVDB grids back to
+     * back (a GridHandle's buffer). */
+    const void *data;
+    size_t size;
+    sdft_grid_memory memory;     /* how data is taken [SDFT_GRID_COPY] */
+    void (*release)(void *data); /* SDFT_GRID_ADOPT: called once with data (required there) [NULL] */
+    /* Deferred leaves, for a loader that has laid a grid out but not yet filled its leaves (the
+     * OpenVDB component's deferred `.vdb` loading): with SDFT_GRID_ADOPT and defer, every node above
+     * the leaves must be in place, the leaves' bytes need not be. The grid calls fill(fill_user, i,
+     * leaf) the first time anything reads leaf i, from the thread that reads it, at most once per
+     * leaf and possibly for several leaves at once, and fill_release(fill_user) (if not NULL, with
+     * SDFT_GRID_ADOPT) when it is freed or refuses the buffer. Float and Fp16 grids. Until filled, a leaf counts as
+     * occupied for the far bound: still a bound, a looser one. A fill that fails at load is an
+     * error (SDFT_EIO); a leaf whose fill failed later reads as NaN, where rays see no surface
+     * (sdft_grid_leaf_counts counts them). sdft_grid_data fills every leaf first. [NULL] */
+    sdft_leaf_fill_fn fill;
+    void *fill_user;
+    void (*fill_release)(void *user);
+    /* With fill, whether a small level set is filled at load (sdft_defer above). With sdft_vdb_open,
+     * lay a `.vdb` grid out and read each leaf's values from the file only when something first
+     * reads that leaf (OpenVDB's delayed loading, as vdb_render does): a renderer's first image
+     * sooner, and memory for the leaves it reaches; the file must stay unchanged while the grid
+     * lives; float and Fp16, streamed. [SDFT_DEFER_NONE] */
+    sdft_defer defer;
+    /* `.vdb` files (sdft_vdb_open) only: */
+    sdft_quant quant;          /* how the NanoVDB copy stores leaf values [SDFT_QUANT_NONE: float] */
+    int stream;                /* 1: float and Fp16 copies streamed leaf by leaf; 0: NanoVDB's own
+                                * converter with the whole OpenVDB grid in memory (the reference the
+                                * tests hold the stream to) [1] */
+    sdft_progress_fn progress; /* NULL: no progress reports [NULL] */
+    void *progress_user;       /* handed to progress */
+} sdft_grid_options;
+
+/* No path, no buffer (set one), the first level set, copied, every leaf at
+ * load; for `.vdb` files float leaves, streamed, no progress reports. */
+SDFT_API sdft_grid_options sdft_grid_options_defaults(void);
+
+/* Opens the grid o says into *out, which owns it: free it with
+ * sdft_grid_free. On failure *out is NULL (and, with SDFT_GRID_ADOPT of a
+ * buffer, release(data) and fill_release(fill_user) have been called). A `.vdb` path is
+ * SDFT_EFORMAT here: it needs the OpenVDB component's sdft_vdb_open, which
+ * takes the same options. SDFT_EINVAL (NULL o or out; neither path nor
+ * data, or size 0; an unknown memory or defer; ADOPT without release;
+ * fill without ADOPT and defer, or defer without fill; a borrowed grid not
+ * 32-byte aligned; deferred leaves on a grid neither float nor Fp16),
+ * SDFT_EIO, SDFT_EFORMAT, SDFT_ENOTFOUND, SDFT_ENOTSCALAR, SDFT_EEMPTY,
+ * SDFT_ENOMEM. */
+SDFT_API sdft_error sdft_grid_open(const sdft_grid_options *o, sdft_grid **out, char *msg, size_t msg_len);
 
 /* A deferred grid's leaves: how many there are, how many are filled so far,
  * and how many of those failed; for a grid loaded whole, all filled and 0
@@ -118,14 +165,6 @@ SDFT_API void sdft_grid_leaf_counts(const sdft_grid *g, uint64_t *leaves, uint64
  * Every field of the grid must be out of use. */
 SDFT_API void sdft_grid_free(sdft_grid *g);
 
-/* The field of a grid: ctx is the grid itself, which must outlive it.
- * bounds: the world box of the active voxels' cells; feature_size: the
- * smallest voxel edge. Beyond the leaves it answers with the far bound.
- * Each thread's scratch must be sdft_scratch_init'ed for it (one scratch
- * serves every field of the same grid). g NULL gives an all-zero field,
- * which sdft_trace and sdft_render refuse. */
-SDFT_API sdft_field sdft_grid_field(const sdft_grid *g);
-
 /* What a grid's field answers where the tree holds no voxels (level sets):
  *   FAR   the default: the distance to the nearest leaf, from a coarse
  *         distance transform built at load (src/grid/grid_bound.c), plus
@@ -135,11 +174,15 @@ SDFT_API sdft_field sdft_grid_field(const sdft_grid *g);
  *   NONE  trilinear everywhere, so +-background beyond the band.
  * TREE and NONE are kept to measure what the bounds save. */
 typedef enum sdft_grid_bound { SDFT_GRID_BOUND_FAR, SDFT_GRID_BOUND_TREE, SDFT_GRID_BOUND_NONE } sdft_grid_bound;
-/* An unknown bound, like g NULL, gives an all-zero field. */
-SDFT_API sdft_field sdft_grid_field_with(const sdft_grid *g, sdft_grid_bound bound);
 
-/* sdft_grid_field_with(g, SDFT_GRID_BOUND_NONE). */
-SDFT_API sdft_field sdft_grid_field_without_bound(const sdft_grid *g);
+/* The field of a grid, answering with `bound` beyond the leaves: ctx is
+ * the grid itself, which must outlive it, and so is its accel (the exact
+ * root, prefetch hints and, on a grid loaded whole, the hull). bounds: the
+ * world box of the active voxels' cells; feature_size: the smallest voxel
+ * edge. Each thread's scratch must be sdft_scratch_init'ed for it (one
+ * scratch serves every field of the same grid). g NULL or an unknown bound
+ * gives sdft_field_defaults(), which sdft_trace and sdft_render refuse. */
+SDFT_API sdft_field sdft_grid_field(const sdft_grid *g, sdft_grid_bound bound);
 
 /* Queries; g must not be NULL. Strings are owned by the grid and live as
  * long as it does. */
@@ -168,14 +211,11 @@ SDFT_API float sdft_grid_voxel(const sdft_grid *g, int32_t i, int32_t j, int32_t
 /* What the field with `bound` does at world point p, spelled out: the far
  * bound (*level 5), else the trilinear value where the tree holds voxels
  * (*level 0), else the tree bound of the tile or empty root region (*level
- * 1..4: lower tile, upper tile, root tile, background). World units.
- * sdft_grid_sample is the default field's (SDFT_GRID_BOUND_FAR). s must have
- * been prepared for a field of g (sdft_scratch_init): otherwise the answer
- * is NaN with *level -1, never a read through another grid's accessor.
- * level may be NULL. */
-SDFT_API float sdft_grid_sample_with(const sdft_grid *g, sdft_grid_bound bound, sdft_scratch *s, sdft_vec3 p,
-                                     int *level);
-SDFT_API float sdft_grid_sample(const sdft_grid *g, sdft_scratch *s, sdft_vec3 p, int *level);
+ * 1..4: lower tile, upper tile, root tile, background). World units. s
+ * must have been prepared for a field of g (sdft_scratch_init): otherwise
+ * the answer is NaN with *level -1, never a read through another grid's
+ * accessor. level may be NULL. */
+SDFT_API float sdft_grid_sample(const sdft_grid *g, sdft_grid_bound bound, sdft_scratch *s, sdft_vec3 p, int *level);
 
 #ifdef __cplusplus
 }

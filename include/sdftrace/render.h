@@ -26,7 +26,7 @@ typedef struct sdft_render_params {
     int shadows;      /* 1: trace a hard shadow ray per hit */
     int screen_space; /* 1: Keinert's criterion, pixel_radius from the camera */
     int cones;        /* 1: primary rays skip the empty space together. A field with a hull (a
-                       * grid: sdft_field.hull) has each ray traced only over its span of the hull's
+                       * grid: sdft_field_accel.hull) has each ray traced only over its span of the hull's
                        * boxes, found by ray-box tests, no evaluation; any other field's rays first
                        * march together, per 16x16 tile and 4x4 block, as cones (sdft_cone_march),
                        * each ray's trace starting where its block's cone stopped */

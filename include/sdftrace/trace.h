@@ -62,7 +62,7 @@ typedef struct sdft_trace_params {
     float eps;          /* absolute convergence radius, world units (>= 0) */
     float pixel_radius; /* screen-space criterion: half a pixel's footprint at t = 1; 0 = off */
     uint32_t max_steps; /* i_max: most SDF evaluations while marching (>= 1) */
-    int exact_root;     /* 1: near the surface, the field's exact root (sdft_field.root, a grid's trilinear
+    int exact_root;     /* 1: near the surface, the field's exact root (sdft_field_accel.root, a grid's trilinear
                          * cell) instead of steps to eps, its reads counted; 0: every step to eps, as the
                          * papers count (fields without a root march so anyway) */
 } sdft_trace_params;
@@ -76,7 +76,7 @@ typedef struct sdft_hit {
     sdft_status status;
     uint32_t steps;      /* SDF evaluations, refinement included */
     uint32_t fallbacks;  /* relaxed steps rejected: consecutive unbounding spheres disjoint */
-    sdft_vec3 normal;    /* hit at the field's exact root (exact_root, sdft_field.root): the unit outward
+    sdft_vec3 normal;    /* hit at the field's exact root (exact_root, sdft_field_accel.root): the unit outward
                           * normal there, as the root gives it; otherwise (0, 0, 0), and
                           * sdft_field_normal gives one at the hit point */
 } sdft_hit;

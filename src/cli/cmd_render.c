@@ -32,7 +32,7 @@ typedef struct render_opts {
     float camera[6], fov;
     int shadows, screen_space, cones, exact_root, depth_only, json, quiet, fp16;
     const char *out, *png, *heatmap;
-    sdft_heatmap_kind heatmap_kind;
+    io_heatmap_kind heatmap_kind;
 } render_opts;
 
 /* What is rendered: a field, its default view and light, and whatever must
@@ -295,17 +295,18 @@ static int open_grid(const render_opts *o, render_source *src, char *msg, size_t
     }
     sdft_progress_bar bar;
     sdft_progress_bar_init(&bar, !o->quiet);
-    sdft_vdb_options vo = sdft_vdb_options_defaults();
+    sdft_grid_options vo = sdft_grid_options_defaults();
+    vo.path = o->grid, vo.name = o->grid_name;
     vo.quant = o->fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE;
     vo.progress = show_loading;
-    vo.defer = 1; /* leaves read as rays reach them: the first image sooner, memory for what it shows */
+    vo.defer = SDFT_DEFER_WHERE_EXACT; /* .vdb: leaves read as rays reach them: the first image sooner, memory for what
+                                          it shows */
     vo.progress_user = &bar;
-    const sdft_error rc = vdb ? sdft_vdb_open(o->grid, o->grid_name, &vo, &g, msg, len)
-                              : sdft_grid_open(o->grid, o->grid_name, &g, msg, len);
+    const sdft_error rc = sdft_vdb_open(&vo, &g, msg, len);
     sdft_progress_bar_clear(&bar);
     if (rc)
         return -1;
-    *src = (render_source){.field = sdft_grid_field(g), .name = sdft_grid_name(g), .grid = g};
+    *src = (render_source){.field = sdft_grid_field(g, SDFT_GRID_BOUND_FAR), .name = sdft_grid_name(g), .grid = g};
     if (scene) {
         src->camera = scene->camera, src->light = scene->light;
         return 0;
@@ -362,13 +363,13 @@ static sdft_render_params make_params(const render_opts *o, const render_source 
  * already wrote, so the outputs appear together or not at all. */
 static int write_outputs(const render_opts *o, const sdft_image *img, char *msg, size_t len)
 {
-    if (sdft_write_exr(o->out, img, msg, len))
+    if (io_write_exr(o->out, img, msg, len))
         return -1;
-    if (o->png && sdft_write_png(o->png, img, msg, len)) {
+    if (o->png && io_write_png(o->png, img, msg, len)) {
         remove(o->out);
         return -1;
     }
-    if (o->heatmap && sdft_write_heatmap(o->heatmap, img, o->heatmap_kind, (unsigned long)o->heatmap_max, msg, len)) {
+    if (o->heatmap && io_write_heatmap(o->heatmap, img, o->heatmap_kind, (unsigned long)o->heatmap_max, msg, len)) {
         remove(o->out);
         if (o->png)
             remove(o->png);
@@ -460,9 +461,9 @@ int cmd_render(int argc, char **argv)
         return 2;
     }
     sdft_render_params p = make_params(&o, &src);
-    if (sdft_trace_params_check(&p.trace, msg, sizeof msg) || sdft_check_writable(o.out, msg, sizeof msg) ||
-        (o.png && sdft_check_writable(o.png, msg, sizeof msg)) ||
-        (o.heatmap && sdft_check_writable(o.heatmap, msg, sizeof msg))) {
+    if (sdft_trace_params_check(&p.trace, msg, sizeof msg) || atomic_file_check_writable(o.out, msg, sizeof msg) ||
+        (o.png && atomic_file_check_writable(o.png, msg, sizeof msg)) ||
+        (o.heatmap && atomic_file_check_writable(o.heatmap, msg, sizeof msg))) {
         cli_error("render", msg);
         close_field(&src);
         return 2;

@@ -26,8 +26,8 @@
 
 /* printf into msg (when msg and msg_len), on one line whatever a path in it
  * holds; returns code. */
-static inline sdft_error sdft_fail(char *msg, size_t msg_len, sdft_error code, const char *fmt, ...) SDFT_PRINTF(4, 5);
-static inline sdft_error sdft_fail(char *msg, size_t msg_len, sdft_error code, const char *fmt, ...)
+static inline sdft_error fail_with(char *msg, size_t msg_len, sdft_error code, const char *fmt, ...) SDFT_PRINTF(4, 5);
+static inline sdft_error fail_with(char *msg, size_t msg_len, sdft_error code, const char *fmt, ...)
 {
     if (msg && msg_len) {
         va_list ap;

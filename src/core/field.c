@@ -1,6 +1,22 @@
-/* sdftrace — what every field gets for free: normals by tetrahedral
- * differences and clipping rays to its bounds. */
+/* sdftrace — making a field, and what every field gets for free: normals
+ * by tetrahedral differences and clipping rays to its bounds. */
+#include <string.h>
+
 #include "sdftrace/field.h"
+
+sdft_field sdft_field_defaults(void)
+{
+    sdft_field f;
+    memset(&f, 0, sizeof f);
+    return f;
+}
+
+sdft_field_accel sdft_field_accel_defaults(void)
+{
+    sdft_field_accel a;
+    memset(&a, 0, sizeof a);
+    return a;
+}
 
 float sdft_field_feature_size(const sdft_field *f)
 {
@@ -24,12 +40,13 @@ sdft_vec3 sdft_field_normal(const sdft_field *f, sdft_scratch *s, sdft_vec3 p)
 void sdft_field_distances(const sdft_field *f, sdft_scratch *s, const sdft_vec3 *p, size_t n, float *d)
 {
     const size_t ahead = SDFT_FIELD_DISTANCES_AHEAD;
+    const sdft_field_accel *a = f->accel;
     size_t i = 0;
-    if (f->prefetch) {
+    if (a && a->prefetch) {
         for (size_t k = 0; k < n && k < ahead; k++)
-            f->prefetch(f->ctx, p[k]);
+            a->prefetch(a->ctx, p[k]);
         for (; i + ahead < n; i++) {
-            f->prefetch(f->ctx, p[i + ahead]);
+            a->prefetch(a->ctx, p[i + ahead]);
             d[i] = f->distance(f->ctx, s, p[i]);
         }
     }

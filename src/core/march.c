@@ -38,9 +38,8 @@ static void refine(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, co
     }
 }
 
-sdft_hit sdft_march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p,
-                           float t0, float r0, float t, float r, uint32_t steps, uint32_t fallbacks,
-                           march_candidate best)
+sdft_hit march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p, float t0,
+                      float r0, float t, float r, uint32_t steps, uint32_t fallbacks, march_candidate best)
 {
     sdft_hit hit = {.t = t, .distance = r, .steps = steps, .fallbacks = fallbacks};
     if (r <= march_eps(p, t)) {
@@ -49,8 +48,9 @@ sdft_hit sdft_march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray 
          * point known outside (a step may have landed inside). */
         const float from = r > 0.0f ? t : t0;
         float at;
-        if (p->exact_root && f->root && (r > 0.0f || (r0 > 0.0f && t0 < t))) {
-            if (f->root(f->ctx, s, ray->org, ray->dir, from, ray->tfar, &at, &hit.normal, &hit.steps)) {
+        const sdft_field_accel *a = f->accel;
+        if (p->exact_root && a && a->root && (r > 0.0f || (r0 > 0.0f && t0 < t))) {
+            if (a->root(a->ctx, s, ray->org, ray->dir, from, ray->tfar, &at, &hit.normal, &hit.steps)) {
                 hit.t = at, hit.distance = 0.0f;
                 return hit;
             }

@@ -39,9 +39,8 @@ static inline void march_offer(march_candidate *c, const sdft_trace_params *p, f
 /* Turns the final state of a march into a hit: classifies it, refines a hit
  * onto the surface from the last two accepted samples (t0, r0), (t, r), and
  * on non-convergence with the screen-space criterion returns the candidate. */
-sdft_hit sdft_march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p,
-                           float t0, float r0, float t, float r, uint32_t steps, uint32_t fallbacks,
-                           march_candidate best);
+sdft_hit march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p, float t0,
+                      float r0, float t, float r, uint32_t steps, uint32_t fallbacks, march_candidate best);
 
 /* What Algorithms 1-4 keep between iterations: the accepted point (t, r),
  * the step z to the next trial point T = t + z, auto's slope m, the point
@@ -93,21 +92,27 @@ static inline void march_accept(march_state *m, const sdft_trace_params *p, floa
 static inline sdft_hit march_end(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p,
                                  const march_state *m)
 {
-    return sdft_march_finish(f, s, ray, p, m->t0, m->r0, m->t, m->r, m->i, m->fallbacks, m->best);
+    return march_finish(f, s, ray, p, m->t0, m->r0, m->t, m->r, m->i, m->fallbacks, m->best);
 }
 
 /* THE EXACT LAST CELL. A field that knows its own form near the surface
- * (sdft_field.root: a grid's trilinear cells, where f along the ray is a
+ * (sdft_field_accel.root: a grid's trilinear cells, where f along the ray is a
  * cubic) is asked for the exact first root once the accepted point is
  * within its reach (eps(t) < r < root_reach) instead of stepping on to eps:
  * its answer is the hit, on the surface itself, or a stretch [t, t') it
  * proved free, after which marching restarts at t' (the variant's state
  * begins anew there; its history does not span the jump). It is asked at
  * most once per stretch (root_t), and the data it reads counts as
- * evaluations. Only with p->exact_root and a field that has one. */
-static inline int march_root_due(const sdft_field *f, const sdft_trace_params *p, const march_state *m)
+ * evaluations. Only with p->exact_root and a field that has one
+ * (march_root_reach). */
+static inline int march_root_due(float reach, const march_state *m) { return m->r < reach && m->t > m->root_t; }
+
+/* The reach march_root_due compares with, read once per ray or stream:
+ * the field's root_reach where the tracer may ask for its exact root,
+ * else -infinity (no r is below it). */
+static inline float march_root_reach(const sdft_field *f, const sdft_trace_params *p)
 {
-    return p->exact_root && f->root && m->r < f->root_reach && m->t > m->root_t;
+    return p->exact_root && f->accel && f->accel->root ? f->accel->root_reach : -INFINITY;
 }
 
 /* Asks the field; 1 when it found the root (*t_out: where, *normal: the
@@ -117,7 +122,7 @@ static inline int march_root(const sdft_field *f, sdft_scratch *s, const sdft_ra
                              sdft_vec3 *normal)
 {
     float t = m->t;
-    const int found = f->root(f->ctx, s, ray->org, ray->dir, m->t, ray->tfar, &t, normal, &m->i);
+    const int found = f->accel->root(f->accel->ctx, s, ray->org, ray->dir, m->t, ray->tfar, &t, normal, &m->i);
     m->root_t = found ? m->root_t : sdft_maxf(t, m->t);
     *t_out = found ? t : sdft_maxf(t, m->t);
     return found;
@@ -145,12 +150,13 @@ MARCH_INLINE sdft_hit march_one(const sdft_field *f, sdft_scratch *s, const sdft
                                 march_start_fn start, march_step_fn step)
 {
     march_state m;
+    const float reach = march_root_reach(f, p);
     march_begin(&m, p, ray->tnear, march_eval(f, s, ray, ray->tnear)); /* line 4 */
     start(&m, p);
     while (march_on(p, ray, m.t, m.r, m.i)) {
         float at;
         sdft_vec3 n;
-        if (march_root_due(f, p, &m)) {
+        if (march_root_due(reach, &m)) {
             if (march_root(f, s, ray, &m, &at, &n))
                 return march_exact_hit(&m, at, n);
             if (at > m.t) {
@@ -216,12 +222,13 @@ MARCH_INLINE void march_many(const sdft_field *f, sdft_scratch *s, const sdft_ra
 {
     march_lane lane[MARCH_LANES];
     float R[MARCH_LANES];
+    const float reach = march_root_reach(f, p);
     size_t next = 0;
     int live = 0;
     while (live < MARCH_LANES && march_take(f, rays, hits, n, &next, &lane[live]))
         live++;
     while (live > 0) {
-        /* No sdft_field.prefetch hints here: a ray's next point mostly lies in
+        /* No sdft_field_accel.prefetch hints here: a ray's next point mostly lies in
          * the cache lines of its last, and on every grid of the bench the
          * hints cost more than they saved (frames 2-8% slower with them). */
         for (int k = 0; k < live; k++) /* independent: their loads overlap */
@@ -242,7 +249,7 @@ MARCH_INLINE void march_many(const sdft_field *f, sdft_scratch *s, const sdft_ra
             if (march_on(p, &l->ray, l->m.t, l->m.r, l->m.i)) {
                 float at;
                 sdft_vec3 n;
-                if (!march_root_due(f, p, &l->m)) {
+                if (!march_root_due(reach, &l->m)) {
                     l->T = l->m.t + l->m.z;
                     continue;
                 }
@@ -266,13 +273,13 @@ MARCH_INLINE void march_many(const sdft_field *f, sdft_scratch *s, const sdft_ra
 }
 
 /* Each variant's stream entry (march_many with its start and step). */
-void sdft_march_stream_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
-                              const sdft_trace_params *p);
-void sdft_march_stream_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
-                               const sdft_trace_params *p);
-void sdft_march_stream_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
-                                const sdft_trace_params *p);
-void sdft_march_stream_auto(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
-                            const sdft_trace_params *p);
+void march_stream_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                         const sdft_trace_params *p);
+void march_stream_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                          const sdft_trace_params *p);
+void march_stream_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                           const sdft_trace_params *p);
+void march_stream_auto(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                       const sdft_trace_params *p);
 
 #endif

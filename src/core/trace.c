@@ -14,13 +14,13 @@ const char *sdft_method_name(sdft_method m) { return (unsigned)m < SDFT_METHOD_C
 sdft_error sdft_method_parse(const char *name, sdft_method *out, char *msg, size_t msg_len)
 {
     if (!name || !out)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "sdft_method_parse: NULL %s", name ? "out" : "name");
+        return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_method_parse: NULL %s", name ? "out" : "name");
     for (int m = 0; m < SDFT_METHOD_COUNT; m++)
         if (strcmp(name, method_names[m]) == 0) {
             *out = (sdft_method)m;
             return SDFT_OK;
         }
-    return sdft_fail(msg, msg_len, SDFT_EINVAL, "unknown method '%s' (sphere, relaxed, enhanced or auto)", name);
+    return fail_with(msg, msg_len, SDFT_EINVAL, "unknown method '%s' (sphere, relaxed, enhanced or auto)", name);
 }
 
 float sdft_default_omega(sdft_method m) { return m == SDFT_RELAXED ? 1.5f : m == SDFT_ENHANCED ? 0.88f : 1.0f; }
@@ -59,7 +59,7 @@ sdft_error sdft_trace_params_check(const sdft_trace_params *p, char *msg, size_t
         why = "eps and pixel radius cannot both be 0";
     else if (p->max_steps < 1)
         why = "max steps must be at least 1";
-    return why ? sdft_fail(msg, msg_len, SDFT_EINVAL, "%s", why) : SDFT_OK;
+    return why ? fail_with(msg, msg_len, SDFT_EINVAL, "%s", why) : SDFT_OK;
 }
 
 /* Why sdft_trace would refuse (f, s, p), or NULL. Once per call, never per
@@ -83,7 +83,7 @@ sdft_error sdft_trace_check(const sdft_field *f, const sdft_scratch *s, const sd
                             size_t msg_len)
 {
     const char *why = refusal(f, s, p);
-    return why ? sdft_fail(msg, msg_len, SDFT_EINVAL, "%s", why) : sdft_trace_params_check(p, msg, msg_len);
+    return why ? fail_with(msg, msg_len, SDFT_EINVAL, "%s", why) : sdft_trace_params_check(p, msg, msg_len);
 }
 
 static sdft_hit refused(void) { return (sdft_hit){.t = NAN, .distance = NAN, .status = SDFT_INVALID}; }
@@ -95,10 +95,10 @@ static const struct {
     void (*stream)(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
                    const sdft_trace_params *p);
 } variants[SDFT_METHOD_COUNT] = {
-    [SDFT_SPHERE] = {sdft_trace_sphere, sdft_march_stream_sphere},
-    [SDFT_RELAXED] = {sdft_trace_relaxed, sdft_march_stream_relaxed},
-    [SDFT_ENHANCED] = {sdft_trace_enhanced, sdft_march_stream_enhanced},
-    [SDFT_AUTO] = {sdft_trace_auto, sdft_march_stream_auto},
+    [SDFT_SPHERE] = {sdft_trace_sphere, march_stream_sphere},
+    [SDFT_RELAXED] = {sdft_trace_relaxed, march_stream_relaxed},
+    [SDFT_ENHANCED] = {sdft_trace_enhanced, march_stream_enhanced},
+    [SDFT_AUTO] = {sdft_trace_auto, march_stream_auto},
 };
 
 sdft_hit sdft_trace(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p)

@@ -32,8 +32,8 @@ sdft_hit sdft_trace_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ra
     return march_one(f, s, ray, p, enhanced_start, enhanced_step);
 }
 
-void sdft_march_stream_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
-                                const sdft_trace_params *p)
+void march_stream_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                           const sdft_trace_params *p)
 {
     march_many(f, s, rays, hits, n, p, enhanced_start, enhanced_step);
 }

@@ -26,8 +26,8 @@ sdft_hit sdft_trace_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray
     return march_one(f, s, ray, p, relaxed_start, relaxed_step);
 }
 
-void sdft_march_stream_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
-                               const sdft_trace_params *p)
+void march_stream_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                          const sdft_trace_params *p)
 {
     march_many(f, s, rays, hits, n, p, relaxed_start, relaxed_step);
 }

@@ -24,8 +24,8 @@ sdft_hit sdft_trace_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray 
     return march_one(f, s, ray, p, sphere_start, sphere_step);
 }
 
-void sdft_march_stream_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
-                              const sdft_trace_params *p)
+void march_stream_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                         const sdft_trace_params *p)
 {
     march_many(f, s, rays, hits, n, p, sphere_start, sphere_step);
 }

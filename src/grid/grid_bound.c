@@ -460,7 +460,7 @@ static int classify_from_directory(const sdft_grid *g, grid_far *far, int8_t *si
     return 0;
 }
 
-sdft_error sdft_grid_far_build(sdft_grid *g) { return sdft_grid_far_build_cells(g, MAX_CELLS); }
+sdft_error grid_far_build(sdft_grid *g) { return grid_far_build_cells(g, MAX_CELLS); }
 
 /* S, the voxels per cell edge for at most most_cells cells over the
  * active box: 4, doubled until they fit; n and c0 the cells per axis and
@@ -479,45 +479,21 @@ static int far_cells(const sdft_grid *g, size_t most_cells, int n[3], int32_t c0
     }
 }
 
-int sdft_grid_far_cell(const sdft_grid *g)
+int grid_far_cell(const sdft_grid *g)
 {
     int n[3];
     int32_t c0[3];
     return far_cells(g, MAX_CELLS, n, c0);
 }
 
-sdft_error sdft_grid_far_build_cells(sdft_grid *g, size_t most_cells)
+/* d2 at the corners of the cells (n per axis, signs in sign): 0 at the
+ * sites, the corners of occupied cells, INFINITY elsewhere, for edt3.
+ * A row of corners (y, z) is the corner row of the cell rows (y - 1 or y,
+ * z - 1 or z); corner x is a site when cell x - 1 or x of one of them is
+ * occupied. Rows in parallel, each written by one thread. */
+static void mark_sites(const int n[3], const int8_t *sign, float *d2)
 {
-    grid_far *far = &g->far;
-    memset(far, 0, sizeof *far);
-    int n[3];
-    const int S = far_cells(g, most_cells, n, far->c0);
-    far->cell = S;
-    memcpy(far->n, n, sizeof n);
     const int nv[3] = {n[0] + 1, n[1] + 1, n[2] + 1};
-    const size_t ncell = (size_t)n[0] * n[1] * n[2], nvert = (size_t)nv[0] * nv[1] * nv[2];
-    int8_t *sign = malloc(ncell);
-    float *d2 = malloc(sizeof(float) * nvert);
-    uint16_t *corner = sdft_grid_table_alloc(sizeof(uint16_t) * nvert);
-    if (!sign || !d2 || !corner) {
-        free(sign), free(d2), free(corner);
-        return SDFT_ENOMEM;
-    }
-    int failed;
-    if (g->leaves.top && S <= 64) {
-        failed = classify_from_directory(g, far, sign);
-    } else {
-        classify_by_tree(g, far, sign);
-        failed = 0;
-    }
-    if (failed || dilate_sign_changes(n, sign)) {
-        free(sign), free(d2), free(corner);
-        return SDFT_ENOMEM;
-    }
-    /* Sites: the corners of occupied cells. A row of corners (y, z) is the
-     * corner row of the cell rows (y - 1 or y, z - 1 or z); corner x is a
-     * site when cell x - 1 or x of one of them is occupied. Rows in
-     * parallel, each written by one thread. */
 #pragma omp parallel for schedule(static)
     for (long row = 0; row < (long)nv[1] * nv[2]; row++) {
         const int y = (int)(row % nv[1]), z = (int)(row / nv[1]);
@@ -534,13 +510,15 @@ sdft_error sdft_grid_far_build_cells(sdft_grid *g, size_t most_cells)
                     out[x] = out[x + 1] = 0.0f;
         }
     }
-    if (edt3(d2, nv)) {
-        free(sign), free(d2), free(corner);
-        return SDFT_ENOMEM;
-    }
-    /* Each corner: its distance, in quarters of a voxel rounded down
-     * (truncated: >= 0) and saturated, and, for the lowest corner of a cell,
-     * that cell's code. Rows of corners in parallel. */
+}
+
+/* Each corner's word from d2 (squared distances in cells of S voxels): its
+ * distance, in quarters of a voxel rounded down (truncated: >= 0) and
+ * saturated, and, for the lowest corner of a cell, that cell's code. Rows
+ * of corners in parallel. */
+static void encode_corners(const int n[3], int S, const int8_t *sign, const float *d2, uint16_t *corner)
+{
+    const int nv[3] = {n[0] + 1, n[1] + 1, n[2] + 1};
     const double most = (double)((1u << FAR_DISTANCE_BITS) - 1u);
 #pragma omp parallel for schedule(static)
     for (long row = 0; row < (long)nv[1] * nv[2]; row++) {
@@ -559,6 +537,42 @@ sdft_error sdft_grid_far_build_cells(sdft_grid *g, size_t most_cells)
             out[x] |= (uint16_t)(code << FAR_DISTANCE_BITS);
         }
     }
+}
+
+sdft_error grid_far_build_cells(sdft_grid *g, size_t most_cells)
+{
+    grid_far *far = &g->far;
+    memset(far, 0, sizeof *far);
+    int n[3];
+    const int S = far_cells(g, most_cells, n, far->c0);
+    far->cell = S;
+    memcpy(far->n, n, sizeof n);
+    const int nv[3] = {n[0] + 1, n[1] + 1, n[2] + 1};
+    const size_t ncell = (size_t)n[0] * n[1] * n[2], nvert = (size_t)nv[0] * nv[1] * nv[2];
+    int8_t *sign = malloc(ncell);
+    float *d2 = malloc(sizeof(float) * nvert);
+    uint16_t *corner = grid_table_alloc(sizeof(uint16_t) * nvert);
+    if (!sign || !d2 || !corner) {
+        free(sign), free(d2), free(corner);
+        return SDFT_ENOMEM;
+    }
+    int failed;
+    if (g->leaves.top && S <= 64) {
+        failed = classify_from_directory(g, far, sign);
+    } else {
+        classify_by_tree(g, far, sign);
+        failed = 0;
+    }
+    if (failed || dilate_sign_changes(n, sign)) {
+        free(sign), free(d2), free(corner);
+        return SDFT_ENOMEM;
+    }
+    mark_sites(n, sign, d2);
+    if (edt3(d2, nv)) {
+        free(sign), free(d2), free(corner);
+        return SDFT_ENOMEM;
+    }
+    encode_corners(n, S, sign, d2, corner);
     free(d2);
     free(sign);
     far->corner = corner;
@@ -570,7 +584,7 @@ sdft_error sdft_grid_far_build_cells(sdft_grid *g, size_t most_cells)
     return SDFT_OK;
 }
 
-void sdft_grid_far_free(sdft_grid *g)
+void grid_far_free(sdft_grid *g)
 {
     free(g->far.corner);
     g->far.corner = NULL;

@@ -37,7 +37,7 @@ GRID_INLINE void grid_leaf_ready(const sdft_grid *g, uint64_t at, pnanovdb_coord
         return;
     const uint64_t i = deferred_leaf_index(d, at);
     if (i < d->count && __atomic_load_n(&d->state[i], __ATOMIC_ACQUIRE) != LEAF_READY)
-        sdft_grid_leaf_fill(g, at, ijk);
+        grid_leaf_fill(g, at, ijk);
 }
 
 /* The stored value at voxel ijk and the tree level it came from

@@ -12,31 +12,31 @@
 #include "../core/fail.h"
 
 /* What a loader knows of each grid before reading it. */
-typedef struct sdft_grid_entry {
+typedef struct grid_candidate {
     const char *name;
     const char *type; /* the value type's name, for messages */
     int scalar;       /* float, double or a quantized float */
     int level_set;
-} sdft_grid_entry;
+} grid_candidate;
 
 /* By name, else the first scalar level set, else the first scalar grid;
  * `what` names the file or buffer in messages. SDFT_OK with *pick, or
  * SDFT_ENOTFOUND / SDFT_ENOTSCALAR with one line in msg. */
-static inline sdft_error sdft_grid_choose(const sdft_grid_entry *e, size_t n, const char *name, const char *what,
-                                          size_t *pick, char *msg, size_t msg_len)
+static inline sdft_error grid_choose(const grid_candidate *e, size_t n, const char *name, const char *what,
+                                     size_t *pick, char *msg, size_t msg_len)
 {
     if (n == 0)
-        return sdft_fail(msg, msg_len, SDFT_ENOTFOUND, "%s holds no grids", what);
+        return fail_with(msg, msg_len, SDFT_ENOTFOUND, "%s holds no grids", what);
     if (name) {
         for (size_t i = 0; i < n; i++)
             if (strcmp(e[i].name, name) == 0) {
                 if (!e[i].scalar)
-                    return sdft_fail(msg, msg_len, SDFT_ENOTSCALAR,
+                    return fail_with(msg, msg_len, SDFT_ENOTSCALAR,
                                      "grid '%s' in %s holds %s values, not scalar distances", name, what, e[i].type);
                 *pick = i;
                 return SDFT_OK;
             }
-        return sdft_fail(msg, msg_len, SDFT_ENOTFOUND, "%s has no grid named '%s'", what, name);
+        return fail_with(msg, msg_len, SDFT_ENOTFOUND, "%s has no grid named '%s'", what, name);
     }
     for (int pass = 0; pass < 2; pass++)
         for (size_t i = 0; i < n; i++)
@@ -44,7 +44,7 @@ static inline sdft_error sdft_grid_choose(const sdft_grid_entry *e, size_t n, co
                 *pick = i;
                 return SDFT_OK;
             }
-    return sdft_fail(msg, msg_len, SDFT_ENOTSCALAR, "%s holds no scalar grid (first grid '%s' is %s)", what, e[0].name,
+    return fail_with(msg, msg_len, SDFT_ENOTSCALAR, "%s holds no scalar grid (first grid '%s' is %s)", what, e[0].name,
                      e[0].type);
 }
 

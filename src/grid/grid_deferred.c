@@ -1,5 +1,5 @@
 /* sdftrace — deferred leaves: a grid laid out in full whose leaves are
- * filled the first time anything reads them (sdft_grid_adopt_deferred).
+ * filled the first time anything reads them (sdft_grid_options.fill).
  *
  * WHY. A renderer that opens a big .vdb wants its first image, not the whole
  * grid: OpenVDB's vdb_render reads a leaf's values from the file only when a
@@ -29,7 +29,7 @@
 
 #include "grid_cell.h"
 
-sdft_error sdft_grid_deferred_init(sdft_grid *g)
+sdft_error grid_deferred_init(sdft_grid *g)
 {
     grid_deferred *d = &g->deferred;
     pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
@@ -42,7 +42,7 @@ sdft_error sdft_grid_deferred_init(sdft_grid *g)
     return d->state ? SDFT_OK : SDFT_ENOMEM;
 }
 
-void sdft_grid_deferred_free(sdft_grid *g)
+void grid_deferred_free(sdft_grid *g)
 {
     grid_deferred *d = &g->deferred;
     if (d->release_user)
@@ -51,7 +51,7 @@ void sdft_grid_deferred_free(sdft_grid *g)
     *d = (grid_deferred){0};
 }
 
-void sdft_grid_leaf_fill(const sdft_grid *g, uint64_t at, pnanovdb_coord_t ijk)
+void grid_leaf_fill(const sdft_grid *g, uint64_t at, pnanovdb_coord_t ijk)
 {
     grid_deferred *d = (grid_deferred *)&g->deferred; /* its counts and states are atomic */
     const uint64_t i = deferred_leaf_index(d, at);    /* grid_leaf_ready checked it is one */
@@ -66,7 +66,7 @@ void sdft_grid_leaf_fill(const sdft_grid *g, uint64_t at, pnanovdb_coord_t ijk)
         __atomic_add_fetch(&d->failed, 1, __ATOMIC_RELAXED);
     if (g->leaves.top) { /* the leaf's block from the voxel read, not from what fill wrote */
         const int32_t b[3] = {ijk.x >> 3, ijk.y >> 3, ijk.z >> 3};
-        sdft_grid_leaves_publish(g, b, (uint32_t)((at + PNANOVDB_GRID_TYPE_GET(g->type, leaf_off_table)) / 4u));
+        grid_leaves_publish(g, b, (uint32_t)((at + PNANOVDB_GRID_TYPE_GET(g->type, leaf_off_table)) / 4u));
     }
     __atomic_add_fetch(&d->filled, 1, __ATOMIC_RELAXED);
     __atomic_store_n(state, LEAF_READY, __ATOMIC_RELEASE);
@@ -78,16 +78,16 @@ static void fill_visited(void *ctx, const int32_t b[3], uint64_t at, uint32_t wo
     grid_leaf_ready(ctx, at, (pnanovdb_coord_t){b[0] * 8, b[1] * 8, b[2] * 8});
 }
 
-void sdft_grid_fill_all(const sdft_grid *g)
+void grid_fill_all(const sdft_grid *g)
 {
     const grid_deferred *d = &g->deferred;
     if (d->state && __atomic_load_n(&d->filled, __ATOMIC_RELAXED) < d->count) /* else every leaf is there */
-        sdft_grid_each_leaf(g, fill_visited, (void *)(uintptr_t)g);
+        grid_each_leaf(g, fill_visited, (void *)(uintptr_t)g);
 }
 
-uint64_t sdft_grid_deferred_fill_now(sdft_grid *g)
+uint64_t grid_deferred_fill_now(sdft_grid *g)
 {
-    sdft_grid_fill_all(g); /* no directory yet: nothing to publish */
+    grid_fill_all(g); /* no directory yet: nothing to publish */
     const uint64_t failed = g->deferred.failed;
     free(g->deferred.state);
     g->deferred.state = NULL; /* every read now goes as in a grid loaded whole */

@@ -1,5 +1,5 @@
 /* sdftrace — a grid's hull: world boxes that hold every trilinear cell
- * where the field can first reach 0 along a ray (sdft_field.hull), so that
+ * where the field can first reach 0 along a ray (sdft_field_accel.hull), so that
  * a renderer can start each primary ray where it enters the first box and
  * end it where it leaves the last, instead of marching the empty space and
  * the band's far side (render.c).
@@ -281,7 +281,7 @@ static int scan_faces(const sdft_grid *g, hull_fill *h)
     return ok;
 }
 
-sdft_error sdft_grid_hull_build(sdft_grid *g)
+sdft_error grid_hull_build(sdft_grid *g)
 {
     g->hull = NULL, g->hull_slab = NULL, g->hull_gradient = NULL, g->hull_count = 0;
     if (g->grid_class != PNANOVDB_GRID_CLASS_LEVEL_SET || !(g->background > 1.7320508f * g->sigma_max) ||
@@ -311,13 +311,13 @@ sdft_error sdft_grid_hull_build(sdft_grid *g)
         free(h.box), free(h.slab), free(h.gradient);
         return SDFT_OK;
     }
-    sdft_grid_each_leaf(g, add_leaf, &h);
+    grid_each_leaf(g, add_leaf, &h);
     g->hull = h.box, g->hull_slab = h.slab, g->hull_gradient = h.gradient;
     g->hull_count = h.count < h.most ? h.count : h.most;
     return SDFT_OK;
 }
 
-void sdft_grid_hull_free(sdft_grid *g)
+void grid_hull_free(sdft_grid *g)
 {
     free(g->hull), free(g->hull_slab), free(g->hull_gradient);
     g->hull = NULL, g->hull_slab = NULL, g->hull_gradient = NULL, g->hull_count = 0;

@@ -77,8 +77,8 @@ static inline uint64_t deferred_leaf_index(const grid_deferred *d, uint64_t at)
  * decoded once from the grid's header. Immutable after loading. */
 struct sdft_grid {
     uint32_t *words;         /* the grid's bytes, 64-byte aligned when owned */
-    int owned;               /* 1: words is ours to free; 0: borrowed (sdft_grid_borrow_buffer) */
-    void (*release)(void *); /* adopted (sdft_grid_adopt_buffer): release(release_data) when freed */
+    int owned;               /* 1: words is ours to free; 0: borrowed or adopted (SDFT_GRID_BORROW, _ADOPT) */
+    void (*release)(void *); /* adopted (SDFT_GRID_ADOPT): release(release_data) when freed */
     void *release_data;
     size_t size; /* bytes */
     pnanovdb_buf_t buf;
@@ -101,6 +101,7 @@ struct sdft_grid {
     sdft_slab *hull_slab;     /* with each box, a world slab that holds its cells too */
     sdft_aabb *hull_gradient; /* with each box, world bounds on its cells' gradients */
     size_t hull_count;
+    sdft_field_accel accel; /* what its fields point to (grid_accel_init) */
     char name[256];
 };
 
@@ -127,55 +128,59 @@ static inline sdft_aabb grid_world_box(const sdft_grid *g, const float lo[3], co
 }
 
 /* Decodes and checks a grid already copied into g->words / g->size. */
-sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len);
+sdft_error grid_init(sdft_grid *g, char *msg, size_t msg_len);
 
 /* Builds / frees g->far (grid_bound.c). Needs g fully decoded, its
  * directory included. SDFT_OK or SDFT_ENOMEM. */
-sdft_error sdft_grid_far_build(sdft_grid *g);
-int sdft_grid_far_cell(const sdft_grid *g); /* the S sdft_grid_far_build picks: voxels per cell edge */
-sdft_error sdft_grid_far_build_cells(sdft_grid *g, size_t most_cells); /* cells of 4 * 2^k voxels, at most most_cells */
-void sdft_grid_far_free(sdft_grid *g);
+sdft_error grid_far_build(sdft_grid *g);
+int grid_far_cell(const sdft_grid *g);                            /* the S grid_far_build picks: voxels per cell edge */
+sdft_error grid_far_build_cells(sdft_grid *g, size_t most_cells); /* cells of 4 * 2^k voxels, at most most_cells */
+void grid_far_free(sdft_grid *g);
 
 /* Builds / frees g->leaves (grid_leaves.c). Needs g fully decoded. SDFT_OK
  * (also when the grid gets no directory) or SDFT_ENOMEM. */
-sdft_error sdft_grid_leaves_build(sdft_grid *g);
+sdft_error grid_leaves_build(sdft_grid *g);
 /* Enters a deferred leaf, just filled, into the directory: block b (index >> 3), value table at `word`. */
-void sdft_grid_leaves_publish(const sdft_grid *g, const int32_t b[3], uint32_t word);
+void grid_leaves_publish(const sdft_grid *g, const int32_t b[3], uint32_t word);
 /* Calls visit(ctx, block (index >> 3), byte offset, value table word) for each leaf the tree reaches,
  * without reading the leaves (grid_leaves.c). */
 typedef void (*leaf_visit)(void *ctx, const int32_t b[3], uint64_t at, uint32_t word);
-void sdft_grid_each_leaf(const sdft_grid *g, leaf_visit visit, void *ctx);
+void grid_each_leaf(const sdft_grid *g, leaf_visit visit, void *ctx);
 
 /* Deferred leaves (grid_deferred.c). init: after decoding, before the directory; free: with the grid. */
-sdft_error sdft_grid_deferred_init(sdft_grid *g);
-void sdft_grid_deferred_free(sdft_grid *g);
+sdft_error grid_deferred_init(sdft_grid *g);
+void grid_deferred_free(sdft_grid *g);
 /* Fills the leaf at byte `at` that holds voxel ijk, unless filled (cold; grid_leaf_ready asks). */
-void sdft_grid_leaf_fill(const sdft_grid *g, uint64_t at, pnanovdb_coord_t ijk);
+void grid_leaf_fill(const sdft_grid *g, uint64_t at, pnanovdb_coord_t ijk);
 /* Fills every leaf not yet filled (sdft_grid_data). */
-void sdft_grid_fill_all(const sdft_grid *g);
+void grid_fill_all(const sdft_grid *g);
 /* At load, before the directory: fills every leaf and makes g a grid loaded
  * whole (its loader's user is still released with it). The leaves whose
  * fill failed. */
-uint64_t sdft_grid_deferred_fill_now(sdft_grid *g);
-void sdft_grid_leaves_free(sdft_grid *g);
-size_t sdft_grid_leaves_bytes(const sdft_grid *g); /* its tables' size */
+uint64_t grid_deferred_fill_now(sdft_grid *g);
+void grid_leaves_free(sdft_grid *g);
+size_t grid_leaves_bytes(const sdft_grid *g); /* its tables' size */
 
-/* The exact last-cell root (grid_root.c): the grid field's sdft_field.root,
+/* The exact last-cell root (grid_root.c): the grid's sdft_field_accel.root,
  * specialised for g's type; and its core, the first root in [0, len] of the
  * trilinear interpolant of cell values v (v[k] at corner (k & 1, k >> 1 & 1,
  * k >> 2 & 1)) along u0 + s du in cell-local coordinates: 1 and *s, or 0. */
-typedef int (*sdft_root_fn)(const void *ctx, sdft_scratch *s, sdft_vec3 org, sdft_vec3 dir, float t0, float t1,
+typedef int (*grid_root_fn)(const void *ctx, sdft_scratch *s, sdft_vec3 org, sdft_vec3 dir, float t0, float t1,
                             float *t, sdft_vec3 *normal, uint32_t *reads);
-sdft_root_fn sdft_grid_root_for(const sdft_grid *g);
-int sdft_grid_cell_root(const float v[8], const double u0[3], const double du[3], double len, double *s);
+grid_root_fn grid_root_for(const sdft_grid *g);
+int grid_cell_root(const float v[8], const double u0[3], const double du[3], double len, double *s);
 
 /* Builds / frees g->hull (grid_hull.c). Needs g fully decoded. SDFT_OK
  * (also when the grid gets none) or SDFT_ENOMEM. */
-sdft_error sdft_grid_hull_build(sdft_grid *g);
-void sdft_grid_hull_free(sdft_grid *g);
+sdft_error grid_hull_build(sdft_grid *g);
+void grid_hull_free(sdft_grid *g);
+
+/* Fills g->accel, which every field of g points to: its exact root,
+ * prefetch hints and hull (grid_sample.c). Last at load, after the hull. */
+void grid_accel_init(sdft_grid *g);
 
 /* Memory for a big table (grid_memory.c): 64-byte aligned; free() releases
  * it. */
-void *sdft_grid_table_alloc(size_t bytes);
+void *grid_table_alloc(size_t bytes);
 
 #endif

@@ -152,7 +152,7 @@ static void visit_leaf(void *ctx, pnanovdb_lower_handle_t lower, uint32_t n, con
     w->visit(w->ctx, b, leaf, (uint32_t)((leaf + PNANOVDB_GRID_TYPE_GET(g->type, leaf_off_table)) / 4u));
 }
 
-void sdft_grid_each_leaf(const sdft_grid *g, leaf_visit visit, void *ctx)
+void grid_each_leaf(const sdft_grid *g, leaf_visit visit, void *ctx)
 {
     leaf_walk w = {g, visit, ctx};
     each_lower_child(g, visit_leaf, &w);
@@ -286,7 +286,7 @@ static void mark_tiles(const sdft_grid *g, grid_leaves *d)
     each_lower(g, mark_lower_tiles, &w);
 }
 
-sdft_error sdft_grid_leaves_build(sdft_grid *g)
+sdft_error grid_leaves_build(sdft_grid *g)
 {
     grid_leaves *d = &g->leaves;
     *d = (grid_leaves){0};
@@ -300,25 +300,25 @@ sdft_error sdft_grid_leaves_build(sdft_grid *g)
     }
     if (regions > MAX_REGIONS)
         return SDFT_OK;
-    d->top = sdft_grid_table_alloc(regions * sizeof *d->top);
+    d->top = grid_table_alloc(regions * sizeof *d->top);
     if (!d->top)
         return SDFT_ENOMEM;
     memset(d->top, 0, regions * sizeof *d->top);
     builder bl = {d, 0};
-    sdft_grid_each_leaf(g, mark_leaf, &bl);
+    grid_each_leaf(g, mark_leaf, &bl);
     for (size_t i = 0; i < regions; i++)
         if (d->top[i])
             d->top[i] = ++bl.chunks;
     d->chunks = bl.chunks;
     const size_t entries = (size_t)bl.chunks * GRID_CHUNK_ENTRIES;
-    d->chunk = sdft_grid_table_alloc((entries ? entries : 1) * sizeof *d->chunk);
+    d->chunk = grid_table_alloc((entries ? entries : 1) * sizeof *d->chunk);
     if (!d->chunk) {
-        sdft_grid_leaves_free(g);
+        grid_leaves_free(g);
         return SDFT_ENOMEM;
     }
     memset(d->chunk, 0, entries * sizeof *d->chunk);
     if (!g->deferred.state) /* a deferred grid's leaves are entered as they are filled */
-        sdft_grid_each_leaf(g, fill_leaf, &bl);
+        grid_each_leaf(g, fill_leaf, &bl);
     if (g->background > 0.0f && g->type != PNANOVDB_GRID_TYPE_DOUBLE)
         mark_tiles(g, d);
     return SDFT_OK;
@@ -330,12 +330,12 @@ static void publish_entry(grid_leaves *d, size_t ri, uint32_t local, void *arg)
                      __ATOMIC_RELEASE);
 }
 
-void sdft_grid_leaves_publish(const sdft_grid *g, const int32_t b[3], uint32_t word)
+void grid_leaves_publish(const sdft_grid *g, const int32_t b[3], uint32_t word)
 {
     each_place((grid_leaves *)&g->leaves, b, publish_entry, &word); /* its entries are written atomically */
 }
 
-void sdft_grid_leaves_free(sdft_grid *g)
+void grid_leaves_free(sdft_grid *g)
 {
     free(g->leaves.top);
     free(g->leaves.chunk);
@@ -343,7 +343,7 @@ void sdft_grid_leaves_free(sdft_grid *g)
     g->leaves.chunk = NULL;
 }
 
-size_t sdft_grid_leaves_bytes(const sdft_grid *g)
+size_t grid_leaves_bytes(const sdft_grid *g)
 {
     const grid_leaves *d = &g->leaves;
     if (!d->top)

@@ -72,7 +72,7 @@ static sdft_error check_tree(const sdft_grid *g, uint64_t root_at, char *msg, si
     uint64_t tile_size = PNANOVDB_GRID_TYPE_GET(t, root_tile_size);
     uint64_t root_size = PNANOVDB_GRID_TYPE_GET(t, root_size);
     if (!fits(s, root_at, root_size + (uint64_t)tiles * tile_size))
-        return sdft_fail(msg, msg_len, SDFT_EFORMAT, "grid '%s' is corrupt: root table runs past the grid", g->name);
+        return fail_with(msg, msg_len, SDFT_EFORMAT, "grid '%s' is corrupt: root table runs past the grid", g->name);
     uint64_t upper_size = PNANOVDB_GRID_TYPE_GET(t, upper_size), lower_size = PNANOVDB_GRID_TYPE_GET(t, lower_size);
     for (uint32_t i = 0; i < tiles; i++) {
         pnanovdb_root_tile_handle_t tile = pnanovdb_root_get_tile(t, g->root, i);
@@ -81,7 +81,7 @@ static sdft_error check_tree(const sdft_grid *g, uint64_t root_at, char *msg, si
             continue;
         uint64_t up = root_at + (uint64_t)child;
         if (child < 0 || !fits(s, up, upper_size))
-            return sdft_fail(msg, msg_len, SDFT_EFORMAT, "grid '%s' is corrupt: upper node outside the grid", g->name);
+            return fail_with(msg, msg_len, SDFT_EFORMAT, "grid '%s' is corrupt: upper node outside the grid", g->name);
         pnanovdb_upper_handle_t upper = {{up}};
         for (uint32_t n = 0; n < 32768u; n++) {
             if (!pnanovdb_upper_get_child_mask(g->buf, upper, n))
@@ -89,7 +89,7 @@ static sdft_error check_tree(const sdft_grid *g, uint64_t root_at, char *msg, si
             int64_t off = pnanovdb_upper_get_table_child(t, g->buf, upper, n);
             uint64_t lo = up + (uint64_t)off;
             if (off <= 0 || !fits(s, lo, lower_size))
-                return sdft_fail(msg, msg_len, SDFT_EFORMAT, "grid '%s' is corrupt: lower node outside the grid",
+                return fail_with(msg, msg_len, SDFT_EFORMAT, "grid '%s' is corrupt: lower node outside the grid",
                                  g->name);
             pnanovdb_lower_handle_t lower = {{lo}};
             for (uint32_t m = 0; m < 4096u; m++) {
@@ -98,7 +98,7 @@ static sdft_error check_tree(const sdft_grid *g, uint64_t root_at, char *msg, si
                 int64_t loff = pnanovdb_lower_get_table_child(t, g->buf, lower, m);
                 uint64_t leaf = lo + (uint64_t)loff;
                 if (loff <= 0 || !fits(s, leaf, leaf_bytes(g, leaf, s)))
-                    return sdft_fail(msg, msg_len, SDFT_EFORMAT, "grid '%s' is corrupt: leaf node outside the grid",
+                    return fail_with(msg, msg_len, SDFT_EFORMAT, "grid '%s' is corrupt: leaf node outside the grid",
                                      g->name);
             }
         }
@@ -120,44 +120,50 @@ static float spectral_bound(const double a[9])
     return (float)sqrt(worst);
 }
 
-sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len)
+/* The header, checked: magic, version, size, a scalar type, a tree whose
+ * nodes lie inside the grid, some active voxels. */
+static sdft_error decode_header(sdft_grid *g, char *msg, size_t msg_len)
 {
     g->buf = pnanovdb_make_buf(g->words, g->size / 4);
     g->grid.address.byte_offset = 0;
     if (g->size < PNANOVDB_GRID_SIZE + PNANOVDB_TREE_SIZE)
-        return sdft_fail(msg, msg_len, SDFT_EFORMAT, "not a NanoVDB grid: only %zu bytes", g->size);
+        return fail_with(msg, msg_len, SDFT_EFORMAT, "not a NanoVDB grid: only %zu bytes", g->size);
     if (pnanovdb_grid_get_magic(g->buf, g->grid) != PNANOVDB_MAGIC_NUMBER)
-        return sdft_fail(msg, msg_len, SDFT_EFORMAT, "not a NanoVDB grid: bad magic number");
+        return fail_with(msg, msg_len, SDFT_EFORMAT, "not a NanoVDB grid: bad magic number");
     uint32_t major = pnanovdb_grid_get_version(g->buf, g->grid) >> 21u;
     if (major != PNANOVDB_MAJOR_VERSION_NUMBER)
-        return sdft_fail(msg, msg_len, SDFT_EFORMAT, "NanoVDB grid version %u, this build reads version %u", major,
+        return fail_with(msg, msg_len, SDFT_EFORMAT, "NanoVDB grid version %u, this build reads version %u", major,
                          PNANOVDB_MAJOR_VERSION_NUMBER);
     memcpy(g->name, (const char *)g->words + PNANOVDB_GRID_OFF_GRID_NAME, sizeof g->name - 1);
     g->name[sizeof g->name - 1] = '\0';
     uint64_t grid_size = pnanovdb_grid_get_grid_size(g->buf, g->grid);
     if (grid_size > g->size || grid_size < PNANOVDB_GRID_SIZE + PNANOVDB_TREE_SIZE)
-        return sdft_fail(msg, msg_len, SDFT_EFORMAT, "grid '%s' is truncated: %llu of %llu bytes", g->name,
+        return fail_with(msg, msg_len, SDFT_EFORMAT, "grid '%s' is truncated: %llu of %llu bytes", g->name,
                          (unsigned long long)g->size, (unsigned long long)grid_size);
     g->size = grid_size;
     g->buf = pnanovdb_make_buf(g->words, g->size / 4);
     g->type = pnanovdb_grid_get_grid_type(g->buf, g->grid);
     g->grid_class = pnanovdb_grid_get_grid_class(g->buf, g->grid);
     if (!type_is_scalar(g->type))
-        return sdft_fail(msg, msg_len, SDFT_ENOTSCALAR, "grid '%s' holds %s values, not scalar distances", g->name,
+        return fail_with(msg, msg_len, SDFT_ENOTSCALAR, "grid '%s' holds %s values, not scalar distances", g->name,
                          type_name(g->type));
 
     pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
     uint64_t root_at = PNANOVDB_GRID_SIZE + pnanovdb_tree_get_node_offset_root(g->buf, tree);
     if (!fits((span){g->size}, root_at, PNANOVDB_GRID_TYPE_GET(g->type, root_size)))
-        return sdft_fail(msg, msg_len, SDFT_EFORMAT, "grid '%s' is corrupt: root node outside the grid", g->name);
+        return fail_with(msg, msg_len, SDFT_EFORMAT, "grid '%s' is corrupt: root node outside the grid", g->name);
     g->root = pnanovdb_tree_get_root(g->buf, tree);
     const sdft_error rc = check_tree(g, root_at, msg, msg_len);
     if (rc)
         return rc;
     if (pnanovdb_tree_get_voxel_count(g->buf, tree) == 0)
-        return sdft_fail(msg, msg_len, SDFT_EEMPTY, "grid '%s' is empty: no active voxels", g->name);
+        return fail_with(msg, msg_len, SDFT_EEMPTY, "grid '%s' is empty: no active voxels", g->name);
+    return SDFT_OK;
+}
 
-    /* The transform, in floats for the sampler. */
+/* The transform, in floats for the sampler, and the voxel size. */
+static sdft_error decode_map(sdft_grid *g, char *msg, size_t msg_len)
+{
     pnanovdb_map_handle_t map = pnanovdb_grid_get_map(g->buf, g->grid);
     double mat[9], inv[9];
     for (int i = 0; i < 9; i++) {
@@ -188,11 +194,16 @@ sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len)
     float inv_norm = spectral_bound(inv);
     g->sigma_min = inv_norm > 0 ? 1.0f / inv_norm : 0.0f;
     if (!(g->sigma_min > 0) || !isfinite(g->sigma_max) || !isfinite(g->sigma_min))
-        return sdft_fail(msg, msg_len, SDFT_EFORMAT, "grid '%s' has a singular transform", g->name);
+        return fail_with(msg, msg_len, SDFT_EFORMAT, "grid '%s' has a singular transform", g->name);
     g->voxel_size = sdft_v3((float)pnanovdb_grid_get_voxel_size(g->buf, g->grid, 0),
                             (float)pnanovdb_grid_get_voxel_size(g->buf, g->grid, 1),
                             (float)pnanovdb_grid_get_voxel_size(g->buf, g->grid, 2));
+    return SDFT_OK;
+}
 
+/* The background and the active box, in index and world units. */
+static sdft_error decode_box(sdft_grid *g, char *msg, size_t msg_len)
+{
     pnanovdb_address_t bg =
         pnanovdb_address_offset(g->root.address, PNANOVDB_GRID_TYPE_GET(g->type, root_off_background));
     g->background = g->type == PNANOVDB_GRID_TYPE_DOUBLE ? (float)pnanovdb_read_double(g->buf, bg)
@@ -202,18 +213,27 @@ sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len)
     g->ilo[0] = lo.x, g->ilo[1] = lo.y, g->ilo[2] = lo.z;
     g->ihi[0] = hi.x, g->ihi[1] = hi.y, g->ihi[2] = hi.z;
     if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z)
-        return sdft_fail(msg, msg_len, SDFT_EEMPTY, "grid '%s' is empty: no active bounding box", g->name);
+        return fail_with(msg, msg_len, SDFT_EEMPTY, "grid '%s' is empty: no active bounding box", g->name);
     /* World box of the active cells [lo - 1/2, hi + 1/2]. */
     const float cells_lo[3] = {lo.x - 0.5f, lo.y - 0.5f, lo.z - 0.5f},
                 cells_hi[3] = {hi.x + 0.5f, hi.y + 0.5f, hi.z + 0.5f};
     g->bounds = grid_world_box(g, cells_lo, cells_hi);
+    return SDFT_OK;
+}
+
+/* What the sampler and the renderer read besides the grid's bytes: a
+ * deferred grid's leaf states (or its leaves, filled now where deferring
+ * would loosen the far bound), the leaf directory, the far bound, the hull,
+ * and the accel that points to them. */
+static sdft_error build_tables(sdft_grid *g, char *msg, size_t msg_len)
+{
     if (g->deferred.fill) {
         if (g->type != PNANOVDB_GRID_TYPE_FLOAT && g->type != PNANOVDB_GRID_TYPE_FP16)
-            return sdft_fail(msg, msg_len, SDFT_EINVAL, "grid '%s' holds %s values: deferred leaves need float or fp16",
+            return fail_with(msg, msg_len, SDFT_EINVAL, "grid '%s' holds %s values: deferred leaves need float or fp16",
                              g->name, type_name(g->type));
-        const sdft_error drc = sdft_grid_deferred_init(g);
+        const sdft_error drc = grid_deferred_init(g);
         if (drc)
-            return sdft_fail(msg, msg_len, drc, "grid '%s': %s", g->name,
+            return fail_with(msg, msg_len, drc, "grid '%s': %s", g->name,
                              drc == SDFT_ENOMEM ? "out of memory for its leaves' states" : "its leaf array is corrupt");
         /* Where the far bound's cells are narrower than a leaf (boxes up to
          * about 1024^3), it reads the active states of a leaf's sub-blocks,
@@ -221,21 +241,32 @@ sdft_error sdft_grid_init(sdft_grid *g, char *msg, size_t msg_len)
          * such a grid is filled now, whole, and is then a grid like any
          * other. Wider cells look at a leaf as one block, read or not. */
         if (g->deferred.how == SDFT_DEFER_WHERE_EXACT && g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET &&
-            g->background > 0.0f && sdft_grid_far_cell(g) < 8) {
-            const uint64_t failed = sdft_grid_deferred_fill_now(g);
+            g->background > 0.0f && grid_far_cell(g) < 8) {
+            const uint64_t failed = grid_deferred_fill_now(g);
             if (failed)
-                return sdft_fail(msg, msg_len, SDFT_EIO, "grid '%s': %llu leaves could not be read", g->name,
+                return fail_with(msg, msg_len, SDFT_EIO, "grid '%s': %llu leaves could not be read", g->name,
                                  (unsigned long long)failed);
         }
     }
     /* The directory first: the far bound reads the cells' signs through it. */
-    if (sdft_grid_leaves_build(g))
-        return sdft_fail(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its leaf directory", g->name);
-    if (g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET && g->background > 0.0f && sdft_grid_far_build(g))
-        return sdft_fail(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its far bound", g->name);
-    if (sdft_grid_hull_build(g))
-        return sdft_fail(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its hull", g->name);
+    if (grid_leaves_build(g))
+        return fail_with(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its leaf directory", g->name);
+    if (g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET && g->background > 0.0f && grid_far_build(g))
+        return fail_with(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its far bound", g->name);
+    if (grid_hull_build(g))
+        return fail_with(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its hull", g->name);
+    grid_accel_init(g);
     return SDFT_OK;
+}
+
+sdft_error grid_init(sdft_grid *g, char *msg, size_t msg_len)
+{
+    sdft_error rc = decode_header(g, msg, msg_len);
+    if (!rc)
+        rc = decode_map(g, msg, msg_len);
+    if (!rc)
+        rc = decode_box(g, msg, msg_len);
+    return rc ? rc : build_tables(g, msg, msg_len);
 }
 
 /* ---- choosing a grid --------------------------------------------------- */
@@ -250,13 +281,13 @@ typedef struct grid_entry {
 static sdft_error choose(const grid_entry *e, size_t n, const char *name, const char *what, size_t *pick, char *msg,
                          size_t msg_len)
 {
-    sdft_grid_entry seen[64];
+    grid_candidate seen[64];
     for (size_t i = 0; i < n && i < 64; i++)
-        seen[i] = (sdft_grid_entry){.name = e[i].name,
-                                    .type = type_name(e[i].type),
-                                    .scalar = type_is_scalar(e[i].type),
-                                    .level_set = e[i].grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET};
-    return sdft_grid_choose(seen, n, name, what, pick, msg, msg_len);
+        seen[i] = (grid_candidate){.name = e[i].name,
+                                   .type = type_name(e[i].type),
+                                   .scalar = type_is_scalar(e[i].type),
+                                   .level_set = e[i].grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET};
+    return grid_choose(seen, n, name, what, pick, msg, msg_len);
 }
 
 static sdft_grid *grid_alloc(uint64_t size)
@@ -265,7 +296,7 @@ static sdft_grid *grid_alloc(uint64_t size)
     if (!g)
         return NULL;
     size_t padded = (size_t)((size + 63u) & ~(uint64_t)63u);
-    g->words = padded ? sdft_grid_table_alloc(padded) : NULL;
+    g->words = padded ? grid_table_alloc(padded) : NULL;
     if (!g->words) {
         free(g);
         return NULL;
@@ -279,10 +310,10 @@ static sdft_grid *grid_alloc(uint64_t size)
 void sdft_grid_free(sdft_grid *g)
 {
     if (g) {
-        sdft_grid_hull_free(g);
-        sdft_grid_far_free(g);
-        sdft_grid_leaves_free(g);
-        sdft_grid_deferred_free(g);
+        grid_hull_free(g);
+        grid_far_free(g);
+        grid_leaves_free(g);
+        grid_deferred_free(g);
         if (g->owned)
             free(g->words);
         if (g->release)
@@ -293,7 +324,7 @@ void sdft_grid_free(sdft_grid *g)
 
 static sdft_error finish(sdft_grid *g, sdft_grid **out, char *msg, size_t msg_len)
 {
-    const sdft_error rc = sdft_grid_init(g, msg, msg_len);
+    const sdft_error rc = grid_init(g, msg, msg_len);
     if (rc) {
         sdft_grid_free(g);
         return rc;
@@ -310,7 +341,7 @@ static sdft_error scan_buffer(const unsigned char *bytes, size_t size, const cha
     size_t n = 0;
     for (uint64_t at = 0; at < size && n < 64;) {
         if (size - at < PNANOVDB_GRID_SIZE)
-            return sdft_fail(msg, msg_len, SDFT_EFORMAT, "buffer is truncated: %zu bytes after grid %zu",
+            return fail_with(msg, msg_len, SDFT_EFORMAT, "buffer is truncated: %zu bytes after grid %zu",
                              (size_t)(size - at), n);
         uint64_t magic, gsize;
         uint32_t type, cls;
@@ -319,9 +350,9 @@ static sdft_error scan_buffer(const unsigned char *bytes, size_t size, const cha
         memcpy(&type, bytes + at + PNANOVDB_GRID_OFF_GRID_TYPE, 4);
         memcpy(&cls, bytes + at + PNANOVDB_GRID_OFF_GRID_CLASS, 4);
         if (magic != PNANOVDB_MAGIC_NUMBER)
-            return sdft_fail(msg, msg_len, SDFT_EFORMAT, "not a NanoVDB buffer: bad magic number");
+            return fail_with(msg, msg_len, SDFT_EFORMAT, "not a NanoVDB buffer: bad magic number");
         if (gsize < PNANOVDB_GRID_SIZE || gsize > size - at)
-            return sdft_fail(msg, msg_len, SDFT_EFORMAT, "buffer is truncated: grid %zu needs %llu bytes", n,
+            return fail_with(msg, msg_len, SDFT_EFORMAT, "buffer is truncated: grid %zu needs %llu bytes", n,
                              (unsigned long long)gsize);
         entries[n] = (grid_entry){.offset = at, .size = gsize, .type = type, .grid_class = cls};
         memcpy(entries[n].name, bytes + at + PNANOVDB_GRID_OFF_GRID_NAME, 255);
@@ -337,10 +368,10 @@ static sdft_error buffer_grid(const void *data, size_t size, const char *name, s
                               char *msg, size_t msg_len)
 {
     if (!out)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no place for the grid (out is NULL)");
+        return fail_with(msg, msg_len, SDFT_EINVAL, "no place for the grid (out is NULL)");
     *out = NULL;
     if (!data || size == 0)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no buffer (NULL data or size 0)");
+        return fail_with(msg, msg_len, SDFT_EINVAL, "no buffer (NULL data or size 0)");
     grid_entry entries[64];
     size_t pick;
     const sdft_error rc = scan_buffer(data, size, name, entries, &pick, msg, msg_len);
@@ -360,80 +391,18 @@ static sdft_error grid_of_buffer(const void *data, size_t size, const char *name
         return rc;
     const unsigned char *at = (const unsigned char *)data + e.offset;
     if (borrow && (uintptr_t)at % 32u != 0)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "grid '%s' does not start 32-byte aligned: copy it instead",
+        return fail_with(msg, msg_len, SDFT_EINVAL, "grid '%s' does not start 32-byte aligned: copy it instead",
                          e.name);
     sdft_grid *g = borrow ? calloc(1, sizeof *g) : grid_alloc(e.size);
     if (!g)
-        return sdft_fail(msg, msg_len, SDFT_ENOMEM, "out of memory for a %llu-byte grid", (unsigned long long)e.size);
+        return fail_with(msg, msg_len, SDFT_ENOMEM, "out of memory for a %llu-byte grid", (unsigned long long)e.size);
     if (borrow)
         g->words = (uint32_t *)(uintptr_t)at, g->size = (size_t)e.size; /* read only: PNanoVDB's type is not const */
     else
         memcpy(g->words, at, e.size);
     if (deferred)
-        g->deferred = *deferred; /* sdft_grid_init completes it */
+        g->deferred = *deferred; /* grid_init completes it */
     return finish(g, out, msg, msg_len);
-}
-
-sdft_error sdft_grid_from_buffer(const void *data, size_t size, const char *name, sdft_grid **out, char *msg,
-                                 size_t msg_len)
-{
-    return grid_of_buffer(data, size, name, 0, NULL, out, msg, msg_len);
-}
-
-sdft_error sdft_grid_borrow_buffer(const void *data, size_t size, const char *name, sdft_grid **out, char *msg,
-                                   size_t msg_len)
-{
-    return grid_of_buffer(data, size, name, 1, NULL, out, msg, msg_len);
-}
-
-/* grid_of_buffer in place on a buffer the grid adopts: release(data) on
- * failure, or by the grid once it is freed. */
-static sdft_error adopt(void *data, size_t size, const char *name, void (*release)(void *data),
-                        const grid_deferred *deferred, sdft_grid **out, char *msg, size_t msg_len)
-{
-    const sdft_error rc = grid_of_buffer(data, size, name, 1, deferred, out, msg, msg_len);
-    if (rc) {
-        if (data)
-            release(data);
-        return rc;
-    }
-    (*out)->release = release;
-    (*out)->release_data = data;
-    return SDFT_OK;
-}
-
-sdft_error sdft_grid_adopt_buffer(void *data, size_t size, const char *name, void (*release)(void *data),
-                                  sdft_grid **out, char *msg, size_t msg_len)
-{
-    if (!release)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no release function (NULL): borrow the buffer instead");
-    return adopt(data, size, name, release, NULL, out, msg, msg_len);
-}
-
-sdft_error sdft_grid_adopt_deferred(void *data, size_t size, const char *name, void (*release)(void *data),
-                                    sdft_leaf_fill_fn fill, void *user, void (*release_user)(void *user),
-                                    sdft_defer how, sdft_grid **out, char *msg, size_t msg_len)
-{
-    if (!release || !fill || (unsigned)how > SDFT_DEFER_ALWAYS) {
-        if (out)
-            *out = NULL;
-        if (release_user)
-            release_user(user);
-        if (release && data)
-            release(data);
-        return (unsigned)how > SDFT_DEFER_ALWAYS
-                   ? sdft_fail(msg, msg_len, SDFT_EINVAL, "unknown way to defer %d", (int)how)
-                   : sdft_fail(msg, msg_len, SDFT_EINVAL, "no %s function (NULL)", release ? "fill" : "release");
-    }
-    const grid_deferred d = {.fill = fill, .user = user, .how = how}; /* release_user once the grid is made */
-    const sdft_error rc = adopt(data, size, name, release, &d, out, msg, msg_len);
-    if (rc) {
-        if (release_user)
-            release_user(user);
-        return rc;
-    }
-    (*out)->deferred.release_user = release_user;
-    return SDFT_OK;
 }
 
 /* ---- .nvdb files --------------------------------------------------------
@@ -446,112 +415,165 @@ enum { NVDB_HEADER = 16, NVDB_META = 176 };
 
 static int read_exact(FILE *f, void *dst, size_t n) { return fread(dst, 1, n, f) == n; }
 
-sdft_error sdft_grid_load_nvdb(const char *path, const char *name, sdft_grid **out, char *msg, size_t msg_len)
+/* The segment of a .nvdb file at byte *at (f positioned there): its
+ * header, and each grid's metadata into entries[*n], (*n)++, with the
+ * offset of its bytes in the file; then *at and f past the segment. `end`:
+ * the file's size. */
+static sdft_error read_segment(FILE *f, const char *path, uint64_t end, grid_entry *entries, size_t *n, uint64_t *at,
+                               char *msg, size_t msg_len)
 {
-    if (!out)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no place for the grid (out is NULL)");
-    *out = NULL;
-    if (!path)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no path (NULL)");
+    unsigned char head[NVDB_HEADER];
+    uint64_t magic;
+    uint32_t version;
+    uint16_t count, codec;
+    if (!read_exact(f, head, sizeof head))
+        return fail_with(msg, msg_len, SDFT_EFORMAT, "%s is truncated: incomplete segment header", path);
+    memcpy(&magic, head, 8), memcpy(&version, head + 8, 4), memcpy(&count, head + 12, 2), memcpy(&codec, head + 14, 2);
+    if (magic != PNANOVDB_MAGIC_NUMBER)
+        return fail_with(msg, msg_len, SDFT_EFORMAT, "%s is not a NanoVDB file (bad magic number)", path);
+    if (version >> 21u != PNANOVDB_MAJOR_VERSION_NUMBER)
+        return fail_with(msg, msg_len, SDFT_EFORMAT, "%s is NanoVDB version %u; this build reads %u", path,
+                         version >> 21u, PNANOVDB_MAJOR_VERSION_NUMBER);
+    if (codec != 0)
+        return fail_with(msg, msg_len, SDFT_EFORMAT, "%s is compressed (codec %u); write it uncompressed", path, codec);
+    *at += NVDB_HEADER;
+    const size_t first = *n;
+    for (uint16_t i = 0; i < count; i++) {
+        unsigned char meta[NVDB_META];
+        uint32_t name_size;
+        if (*n == 64)
+            return fail_with(msg, msg_len, SDFT_EFORMAT, "%s holds more than 64 grids", path);
+        if (!read_exact(f, meta, sizeof meta))
+            return fail_with(msg, msg_len, SDFT_EFORMAT, "%s is truncated: incomplete grid metadata", path);
+        grid_entry *e = &entries[*n];
+        memset(e, 0, sizeof *e);
+        uint64_t file_size;
+        memcpy(&e->size, meta, 8), memcpy(&file_size, meta + 8, 8);
+        memcpy(&e->type, meta + 32, 4), memcpy(&e->grid_class, meta + 36, 4);
+        memcpy(&name_size, meta + 136, 4);
+        if (file_size != e->size || name_size == 0 || name_size > 1u << 20)
+            return fail_with(msg, msg_len, SDFT_EFORMAT, "%s is corrupt: bad sizes in grid metadata", path);
+        char tmp[256];
+        size_t keep = name_size < sizeof tmp ? name_size : sizeof tmp;
+        if (!read_exact(f, tmp, keep) || fseek(f, (long)(name_size - keep), SEEK_CUR) != 0)
+            return fail_with(msg, msg_len, SDFT_EFORMAT, "%s is truncated: incomplete grid name", path);
+        tmp[keep - 1] = '\0';
+        memcpy(e->name, tmp, keep);
+        *at += NVDB_META + name_size;
+        (*n)++;
+    }
+    for (size_t i = first; i < *n; i++) {
+        entries[i].offset = *at;
+        if (entries[i].size > end - *at)
+            return fail_with(msg, msg_len, SDFT_EFORMAT, "%s is truncated: grid '%s' needs %llu bytes, %llu left", path,
+                             entries[i].name, (unsigned long long)entries[i].size, (unsigned long long)(end - *at));
+        *at += entries[i].size;
+    }
+    if (fseek(f, (long)*at, SEEK_SET) != 0)
+        return fail_with(msg, msg_len, SDFT_EIO, "cannot seek in %s", path);
+    return SDFT_OK;
+}
+
+/* The grid `name` (chosen as grid.h says) of the .nvdb file at path. */
+static sdft_error load_nvdb(const char *path, const char *name, sdft_grid **out, char *msg, size_t msg_len)
+{
     FILE *f = fopen(path, "rb");
     if (!f)
-        return sdft_fail(msg, msg_len, SDFT_EIO, "cannot open %s: %s", path, strerror(errno));
+        return fail_with(msg, msg_len, SDFT_EIO, "cannot open %s: %s", path, strerror(errno));
     struct stat st;
     if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode) || fseek(f, 0, SEEK_END) != 0) {
         fclose(f);
-        return sdft_fail(msg, msg_len, SDFT_EIO, "cannot read %s: not a regular file", path);
+        return fail_with(msg, msg_len, SDFT_EIO, "cannot read %s: not a regular file", path);
     }
     long end = ftell(f);
     rewind(f);
     grid_entry entries[64];
     size_t n = 0;
     sdft_error rc = SDFT_OK;
-    uint64_t at = 0;
-    while (at < (uint64_t)end && !rc) {
-        unsigned char head[NVDB_HEADER];
-        uint64_t magic;
-        uint32_t version;
-        uint16_t count, codec;
-        if (!read_exact(f, head, sizeof head)) {
-            rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is truncated: incomplete segment header", path);
-            break;
-        }
-        memcpy(&magic, head, 8), memcpy(&version, head + 8, 4), memcpy(&count, head + 12, 2),
-            memcpy(&codec, head + 14, 2);
-        if (magic != PNANOVDB_MAGIC_NUMBER) {
-            rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is not a NanoVDB file (bad magic number)", path);
-            break;
-        }
-        if (version >> 21u != PNANOVDB_MAJOR_VERSION_NUMBER) {
-            rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is NanoVDB version %u; this build reads %u", path,
-                           version >> 21u, PNANOVDB_MAJOR_VERSION_NUMBER);
-            break;
-        }
-        if (codec != 0) {
-            rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is compressed (codec %u); write it uncompressed", path,
-                           codec);
-            break;
-        }
-        at += NVDB_HEADER;
-        size_t first = n;
-        for (uint16_t i = 0; i < count && !rc; i++) {
-            unsigned char meta[NVDB_META];
-            uint32_t name_size;
-            if (n == 64) {
-                rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s holds more than 64 grids", path);
-                break;
-            }
-            if (!read_exact(f, meta, sizeof meta)) {
-                rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is truncated: incomplete grid metadata", path);
-                break;
-            }
-            grid_entry *e = &entries[n];
-            memset(e, 0, sizeof *e);
-            uint64_t file_size;
-            memcpy(&e->size, meta, 8), memcpy(&file_size, meta + 8, 8);
-            memcpy(&e->type, meta + 32, 4), memcpy(&e->grid_class, meta + 36, 4);
-            memcpy(&name_size, meta + 136, 4);
-            if (file_size != e->size || name_size == 0 || name_size > 1u << 20) {
-                rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is corrupt: bad sizes in grid metadata", path);
-                break;
-            }
-            char tmp[256];
-            size_t keep = name_size < sizeof tmp ? name_size : sizeof tmp;
-            if (!read_exact(f, tmp, keep) || fseek(f, (long)(name_size - keep), SEEK_CUR) != 0) {
-                rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is truncated: incomplete grid name", path);
-                break;
-            }
-            tmp[keep - 1] = '\0';
-            memcpy(e->name, tmp, keep);
-            at += NVDB_META + name_size;
-            n++;
-        }
-        for (size_t i = first; i < n && !rc; i++) {
-            entries[i].offset = at;
-            if (entries[i].size > (uint64_t)end - at)
-                rc = sdft_fail(msg, msg_len, SDFT_EFORMAT, "%s is truncated: grid '%s' needs %llu bytes, %llu left",
-                               path, entries[i].name, (unsigned long long)entries[i].size,
-                               (unsigned long long)((uint64_t)end - at));
-            at += entries[i].size;
-        }
-        if (!rc && fseek(f, (long)at, SEEK_SET) != 0)
-            rc = sdft_fail(msg, msg_len, SDFT_EIO, "cannot seek in %s", path);
-    }
+    for (uint64_t at = 0; at < (uint64_t)end && !rc;)
+        rc = read_segment(f, path, (uint64_t)end, entries, &n, &at, msg, msg_len);
     size_t pick = 0;
     if (!rc)
         rc = choose(entries, n, name, path, &pick, msg, msg_len);
     sdft_grid *g = NULL;
     if (!rc && !(g = grid_alloc(entries[pick].size)))
-        rc = sdft_fail(msg, msg_len, SDFT_ENOMEM, "out of memory for a %llu-byte grid",
+        rc = fail_with(msg, msg_len, SDFT_ENOMEM, "out of memory for a %llu-byte grid",
                        (unsigned long long)entries[pick].size);
     if (!rc && (fseek(f, (long)entries[pick].offset, SEEK_SET) != 0 || !read_exact(f, g->words, g->size)))
-        rc = sdft_fail(msg, msg_len, SDFT_EIO, "cannot read grid '%s' from %s", entries[pick].name, path);
+        rc = fail_with(msg, msg_len, SDFT_EIO, "cannot read grid '%s' from %s", entries[pick].name, path);
     fclose(f);
     if (rc) {
         sdft_grid_free(g);
         return rc;
     }
     return finish(g, out, msg, msg_len);
+}
+
+/* ---- the one way in ------------------------------------------------------ */
+
+sdft_grid_options sdft_grid_options_defaults(void)
+{
+    sdft_grid_options o;
+    memset(&o, 0, sizeof o);
+    o.memory = SDFT_GRID_COPY;
+    o.defer = SDFT_DEFER_NONE;
+    o.quant = SDFT_QUANT_NONE;
+    o.stream = 1;
+    return o;
+}
+
+/* A buffer in memory, as o says: copied, borrowed or adopted, its leaves
+ * there or deferred. */
+static sdft_error open_buffer(const sdft_grid_options *o, sdft_grid **out, char *msg, size_t msg_len)
+{
+    if ((unsigned)o->memory > SDFT_GRID_ADOPT)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "unknown memory %d (copy, borrow or adopt)", (int)o->memory);
+    if ((unsigned)o->defer > SDFT_DEFER_ALWAYS)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "unknown way to defer %d", (int)o->defer);
+    if (o->memory == SDFT_GRID_ADOPT && !o->release)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "no release function (NULL): borrow the buffer instead");
+    if (!o->fill != !o->defer || (o->fill && o->memory != SDFT_GRID_ADOPT))
+        return fail_with(msg, msg_len, SDFT_EINVAL,
+                         "deferred leaves need a fill function, a way to defer and an "
+                         "adopted buffer");
+    const grid_deferred d = {.fill = o->fill, .user = o->fill_user, .how = o->defer};
+    const sdft_error rc =
+        grid_of_buffer(o->data, o->size, o->name, o->memory != SDFT_GRID_COPY, o->fill ? &d : NULL, out, msg, msg_len);
+    if (!rc && o->memory == SDFT_GRID_ADOPT) {
+        (*out)->release = o->release;
+        (*out)->release_data = (void *)(uintptr_t)o->data;
+        (*out)->deferred.user = o->fill_user; /* released with the grid, deferred or not */
+        (*out)->deferred.release_user = o->fill_release;
+    }
+    return rc;
+}
+
+/* The owners of what an adopting call was handed, told once it refuses. */
+static sdft_error refuse(const sdft_grid_options *o, sdft_error rc)
+{
+    if (rc && o->memory == SDFT_GRID_ADOPT && !o->path) {
+        if (o->release && o->data)
+            o->release((void *)(uintptr_t)o->data);
+        if (o->fill_release)
+            o->fill_release(o->fill_user);
+    }
+    return rc;
+}
+
+sdft_error sdft_grid_open(const sdft_grid_options *o, sdft_grid **out, char *msg, size_t msg_len)
+{
+    if (!o)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "no options (NULL; sdft_grid_options_defaults makes them)");
+    if (!out)
+        return refuse(o, fail_with(msg, msg_len, SDFT_EINVAL, "no place for the grid (out is NULL)"));
+    *out = NULL;
+    if (!o->path)
+        return refuse(o, open_buffer(o, out, msg, msg_len));
+    const char *dot = strrchr(o->path, '.');
+    if (dot && strcmp(dot, ".vdb") == 0)
+        return fail_with(msg, msg_len, SDFT_EFORMAT,
+                         "%s is a .vdb file: the OpenVDB component's sdft_vdb_open reads it", o->path);
+    return load_nvdb(o->path, o->name, out, msg, msg_len);
 }
 
 /* ---- queries ------------------------------------------------------------ */
@@ -579,7 +601,7 @@ size_t sdft_grid_size(const sdft_grid *g) { return g->size; }
 
 const void *sdft_grid_data(const sdft_grid *g, size_t *size)
 {
-    sdft_grid_fill_all(g);
+    grid_fill_all(g);
     if (size)
         *size = g->size;
     return g->words;

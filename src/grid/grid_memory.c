@@ -10,7 +10,7 @@
 
 #include "grid_internal.h"
 
-void *sdft_grid_table_alloc(size_t bytes)
+void *grid_table_alloc(size_t bytes)
 {
     const size_t padded = (bytes + 63u) & ~(size_t)63u;
     return aligned_alloc(64, padded ? padded : 64);

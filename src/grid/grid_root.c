@@ -1,5 +1,5 @@
 /* sdftrace — the exact first root of a grid's field along a ray, near the
- * surface: the grid's sdft_field.root (field.h, march.h).
+ * surface: the grid's sdft_field_accel.root (field.h, march.h).
  *
  * THE CUBIC. In the voxel cell with lowest corner i0 (corners at integer
  * index points, values v_abc) the field is the trilinear interpolant
@@ -125,7 +125,7 @@ static double bracketed_root(const double c[4], double a, double fa, double b, d
     return b;
 }
 
-int sdft_grid_cell_root(const float v[8], const double u0[3], const double du[3], double len, double *s)
+int grid_cell_root(const float v[8], const double u0[3], const double du[3], double len, double *s)
 {
     double c[4], split[4];
     cell_cubic(v, u0, du, c);
@@ -219,7 +219,7 @@ static inline __attribute__((always_inline)) int walk(const sdft_grid *g, pnanov
          * normal there is not a long chain after it). */
         double q[3][3];
         cell_gradient_along(v, u0, xd, q);
-        if (sdft_grid_cell_root(v, u0, xd, tb - ta, &s)) {
+        if (grid_cell_root(v, u0, xd, tb - ta, &s)) {
             *t_out = (float)(ta + s);
             /* The normal: the gradient at the root, in the cell; none where
              * it is too flat (gradient_is_flat), and normal_of, which falls
@@ -256,7 +256,7 @@ GRID_ROOT(grid_root_fp16, PNANOVDB_GRID_TYPE_FP16)
 GRID_ROOT(grid_root_any, g->type)
 #undef GRID_ROOT
 
-sdft_root_fn sdft_grid_root_for(const sdft_grid *g)
+grid_root_fn grid_root_for(const sdft_grid *g)
 {
     return g->type == PNANOVDB_GRID_TYPE_FLOAT  ? grid_root_float
            : g->type == PNANOVDB_GRID_TYPE_FP16 ? grid_root_fp16

@@ -415,7 +415,7 @@ static sdft_vec3 normal_any(const void *ctx, sdft_scratch *s, sdft_vec3 p)
     return normal_of(g, g->type, s, p);
 }
 
-typedef sdft_vec3 (*sdft_normal_fn)(const void *ctx, sdft_scratch *s, sdft_vec3 p);
+typedef sdft_vec3 (*grid_normal_fn)(const void *ctx, sdft_scratch *s, sdft_vec3 p);
 
 static inline int is_float(const sdft_grid *g) { return g->type == PNANOVDB_GRID_TYPE_FLOAT; }
 
@@ -424,38 +424,48 @@ static inline int is_float(const sdft_grid *g) { return g->type == PNANOVDB_GRID
  * it saves at a head-on hit, and far fewer at a grazing one. */
 #define GRID_ROOT_REACH 1.0f
 
-sdft_field sdft_grid_field_with(const sdft_grid *g, sdft_grid_bound bound)
+/* The grid's kind for the specialised callbacks: float with a diagonal
+ * transform, float, fp16, any other. */
+static int grid_kind(const sdft_grid *g)
 {
-    if (!g || (unsigned)bound > SDFT_GRID_BOUND_NONE)
-        return (sdft_field){0};
-    sdft_vec3 vs = g->voxel_size;
-    const int kind = is_float(g) ? (g->diagonal ? 0 : 1) : g->type == PNANOVDB_GRID_TYPE_FP16 ? 2 : 3;
-    static const sdft_normal_fn normals[4] = {normal_float, normal_float, normal_fp16, normal_any};
-    static void (*const prefetches[4])(const void *, sdft_vec3) = {prefetch_float_diag, prefetch_float_full,
-                                                                   prefetch_fp16_any, prefetch_any};
-    const int b = bound == SDFT_GRID_BOUND_TREE ? 1 : bound == SDFT_GRID_BOUND_NONE ? 2 : 0;
-    return (sdft_field){
-        .distance = grid_distances[kind][b],
-        .normal = normals[kind],
-        .scratch_init = grid_scratch_init,
-        .ctx = g,
-        .bounds = g->bounds,
-        .feature_size = sdft_minf(vs.x, sdft_minf(vs.y, vs.z)),
-        .root = sdft_grid_root_for(g),
-        .root_reach = GRID_ROOT_REACH * g->sigma_min,
-        .prefetch = prefetches[kind],
-        .hull = g->hull,
-        .hull_count = g->hull_count,
-        .hull_slabs = g->hull_slab,
-        .hull_gradients = g->hull_gradient,
-    };
+    return is_float(g) ? (g->diagonal ? 0 : 1) : g->type == PNANOVDB_GRID_TYPE_FP16 ? 2 : 3;
 }
 
-sdft_field sdft_grid_field(const sdft_grid *g) { return sdft_grid_field_with(g, SDFT_GRID_BOUND_FAR); }
+void grid_accel_init(sdft_grid *g)
+{
+    static void (*const prefetches[4])(const void *, sdft_vec3) = {prefetch_float_diag, prefetch_float_full,
+                                                                   prefetch_fp16_any, prefetch_any};
+    g->accel = sdft_field_accel_defaults();
+    g->accel.ctx = g;
+    g->accel.root = grid_root_for(g);
+    g->accel.root_reach = GRID_ROOT_REACH * g->sigma_min;
+    g->accel.prefetch = prefetches[grid_kind(g)];
+    g->accel.hull = g->hull;
+    g->accel.hull_count = g->hull_count;
+    g->accel.hull_slabs = g->hull_slab;
+    g->accel.hull_gradients = g->hull_gradient;
+}
 
-sdft_field sdft_grid_field_without_bound(const sdft_grid *g) { return sdft_grid_field_with(g, SDFT_GRID_BOUND_NONE); }
+sdft_field sdft_grid_field(const sdft_grid *g, sdft_grid_bound bound)
+{
+    sdft_field f = sdft_field_defaults();
+    if (!g || (unsigned)bound > SDFT_GRID_BOUND_NONE)
+        return f;
+    sdft_vec3 vs = g->voxel_size;
+    const int kind = grid_kind(g);
+    static const grid_normal_fn normals[4] = {normal_float, normal_float, normal_fp16, normal_any};
+    const int b = bound == SDFT_GRID_BOUND_TREE ? 1 : bound == SDFT_GRID_BOUND_NONE ? 2 : 0;
+    f.distance = grid_distances[kind][b];
+    f.normal = normals[kind];
+    f.scratch_init = grid_scratch_init;
+    f.ctx = g;
+    f.bounds = g->bounds;
+    f.feature_size = sdft_minf(vs.x, sdft_minf(vs.y, vs.z));
+    f.accel = &g->accel;
+    return f;
+}
 
-float sdft_grid_sample_with(const sdft_grid *g, sdft_grid_bound bound, sdft_scratch *s, sdft_vec3 p, int *level)
+float sdft_grid_sample(const sdft_grid *g, sdft_grid_bound bound, sdft_scratch *s, sdft_vec3 p, int *level)
 {
     if (!g || !s || s->owner.ctx != g || s->owner.init != grid_scratch_init) {
         if (level)
@@ -467,11 +477,6 @@ float sdft_grid_sample_with(const sdft_grid *g, sdft_grid_bound bound, sdft_scra
     if (bound != SDFT_GRID_BOUND_FAR && bound != SDFT_GRID_BOUND_TREE)
         bound = SDFT_GRID_BOUND_NONE;
     return sample(g, g->type, accessor(s), x, level, bound);
-}
-
-float sdft_grid_sample(const sdft_grid *g, sdft_scratch *s, sdft_vec3 p, int *level)
-{
-    return sdft_grid_sample_with(g, SDFT_GRID_BOUND_FAR, s, p, level);
 }
 
 float sdft_grid_voxel(const sdft_grid *g, int32_t i, int32_t j, int32_t k, int *active)

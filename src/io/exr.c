@@ -153,7 +153,7 @@ static exr_result_t exr_write_planes(exr_context_t ctx, int part, const exr_plan
     return first_error;
 }
 
-int sdft_write_exr(const char *path, const sdft_image *img, char *msg, size_t msg_len)
+int io_write_exr(const char *path, const sdft_image *img, char *msg, size_t msg_len)
 {
     const int w = img->width, h = img->height;
     const size_t n = (size_t)w * (size_t)h;
@@ -180,8 +180,8 @@ int sdft_write_exr(const char *path, const sdft_image *img, char *msg, size_t ms
         {"primary_steps", EXR_PIXEL_UINT, img->primary_steps},
     };
 
-    sdft_atomic_file af;
-    if (sdft_atomic_begin(&af, path, msg, msg_len)) {
+    atomic_file af;
+    if (atomic_file_begin(&af, path, msg, msg_len)) {
         free(split);
         return -1;
     }
@@ -205,8 +205,8 @@ int sdft_write_exr(const char *path, const sdft_image *img, char *msg, size_t ms
     if (rc != EXR_ERR_SUCCESS) {
         snprintf(msg, msg_len, "cannot write %s: %s", path,
                  errors.text[0] ? errors.text : exr_get_default_error_message(rc));
-        sdft_atomic_abort(&af);
+        atomic_file_abort(&af);
         return -1;
     }
-    return sdft_atomic_commit(&af, msg, msg_len);
+    return atomic_file_commit(&af, msg, msg_len);
 }

@@ -34,8 +34,8 @@ static int aim_channels(exr_decode_pipeline_t *dec, int n, const char *const nam
 /* OpenEXRCore's default handler prints; the one line we return says it. */
 static void quiet(exr_const_context_t ctxt, exr_result_t code, const char *text) { (void)ctxt, (void)code, (void)text; }
 
-int sdft_read_exr_floats(const char *path, int n, const char *const names[], float *planes[], int *width, int *height,
-                         char *msg, size_t msg_len)
+int io_read_exr_floats(const char *path, int n, const char *const names[], float *planes[], int *width, int *height,
+                       char *msg, size_t msg_len)
 {
     for (int c = 0; c < n; c++)
         planes[c] = NULL;

@@ -25,7 +25,7 @@ static const unsigned char DIGITS[10][5] = {
     {7, 4, 7, 1, 7}, {7, 4, 7, 5, 7}, {7, 1, 1, 1, 1}, {7, 5, 7, 5, 7}, {7, 5, 7, 1, 7},
 };
 
-void sdft_heatmap_colour(double value, double max, unsigned char rgb[3])
+void io_heatmap_colour(double value, double max, unsigned char rgb[3])
 {
     double t = max > 0.0 ? value / max : 0.0;
     t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
@@ -88,7 +88,7 @@ static void draw_legend(canvas *c, int top, unsigned long scale)
     int span = x1 > x0 ? x1 - x0 : 1;
     for (int x = x0; x <= x1; x++) {
         unsigned char col[3];
-        sdft_heatmap_colour((double)(x - x0), (double)span, col);
+        io_heatmap_colour((double)(x - x0), (double)span, col);
         for (int y = 0; y < BAR_H; y++)
             put(c, x, top + BAR_Y + y, col);
     }
@@ -101,8 +101,8 @@ static void draw_legend(canvas *c, int top, unsigned long scale)
     }
 }
 
-int sdft_write_heatmap(const char *path, const sdft_image *img, sdft_heatmap_kind kind, unsigned long max, char *msg,
-                       size_t msg_len)
+int io_write_heatmap(const char *path, const sdft_image *img, io_heatmap_kind kind, unsigned long max, char *msg,
+                     size_t msg_len)
 {
     const uint32_t *counts = kind == SDFT_HEATMAP_FALLBACKS ? img->fallbacks : img->steps;
     size_t n = (size_t)img->width * (size_t)img->height;
@@ -114,9 +114,9 @@ int sdft_write_heatmap(const char *path, const sdft_image *img, sdft_heatmap_kin
     }
     unsigned long scale = max ? max : heatmap_scale(counts, n);
     for (size_t i = 0; i < n; i++)
-        sdft_heatmap_colour((double)counts[i], (double)scale, c.rgb + 3 * i);
+        io_heatmap_colour((double)counts[i], (double)scale, c.rgb + 3 * i);
     draw_legend(&c, img->height, scale);
-    int rc = sdft_png_write_rgb8(path, c.rgb, c.width, c.height, 0, msg, msg_len);
+    int rc = io_png_write_rgb8(path, c.rgb, c.width, c.height, 0, msg, msg_len);
     free(c.rgb);
     return rc;
 }

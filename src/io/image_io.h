@@ -10,7 +10,7 @@
 #ifndef SDFTRACE_IMAGE_IO_H
 #define SDFTRACE_IMAGE_IO_H
 
-#include "atomic_file.h" /* sdft_check_writable */
+#include "atomic_file.h" /* atomic_file_check_writable */
 #include "sdftrace/render.h"
 
 #ifdef __cplusplus
@@ -21,30 +21,30 @@ extern "C" {
  * linear), Z (float: primary-ray t, inf on a miss), N.X, N.Y, N.Z (float),
  * steps and fallbacks (uint: primary + shadow ray), primary_steps (uint:
  * the primary ray's steps alone). */
-int sdft_write_exr(const char *path, const sdft_image *img, char *msg, size_t msg_len);
+int io_write_exr(const char *path, const sdft_image *img, char *msg, size_t msg_len);
 
 /* Reads channels names[0..n-1] of a scanline OpenEXR file as float planes
  * (row-major, top row first; half and float channels), allocated into
  * planes[] for the caller to free, and the data window's size. Returns 0,
  * or non-zero with one line in msg (missing file, not scanline, a channel
  * absent, a corrupt chunk) and every plane NULL. */
-int sdft_read_exr_floats(const char *path, int n, const char *const names[], float *planes[], int *width, int *height,
-                         char *msg, size_t msg_len);
+int io_read_exr_floats(const char *path, int n, const char *const names[], float *planes[], int *width, int *height,
+                       char *msg, size_t msg_len);
 
 /* 8-bit sRGB PNG of the image's linear RGB, through libpng. */
-int sdft_write_png(const char *path, const sdft_image *img, char *msg, size_t msg_len);
+int io_write_png(const char *path, const sdft_image *img, char *msg, size_t msg_len);
 
-typedef enum sdft_heatmap_kind { SDFT_HEATMAP_STEPS = 0, SDFT_HEATMAP_FALLBACKS } sdft_heatmap_kind;
+typedef enum io_heatmap_kind { SDFT_HEATMAP_STEPS = 0, SDFT_HEATMAP_FALLBACKS } io_heatmap_kind;
 
 /* A PNG of the image's steps or fallbacks, green (low) to red (high) as in
  * Bán–Valasek Fig. 1, with a legend bar and numeric tick labels below. The
  * scale runs from 0 to `max` (counts above it are red), so that several maps
  * can share one; max 0 takes the largest count rounded up to a multiple of 4. */
-int sdft_write_heatmap(const char *path, const sdft_image *img, sdft_heatmap_kind kind, unsigned long max, char *msg,
-                       size_t msg_len);
+int io_write_heatmap(const char *path, const sdft_image *img, io_heatmap_kind kind, unsigned long max, char *msg,
+                     size_t msg_len);
 
 /* The colour of a count on the heatmap's scale [0, max]: 8-bit RGB. */
-void sdft_heatmap_colour(double value, double max, unsigned char rgb[3]);
+void io_heatmap_colour(double value, double max, unsigned char rgb[3]);
 
 #ifdef __cplusplus
 }

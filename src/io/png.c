@@ -54,16 +54,16 @@ static int png_encode(FILE *fp, const unsigned char *rgb, int width, int height,
     return 0;
 }
 
-int sdft_png_write_rgb8(const char *path, const unsigned char *rgb, int width, int height, int srgb, char *msg,
-                        size_t msg_len)
+int io_png_write_rgb8(const char *path, const unsigned char *rgb, int width, int height, int srgb, char *msg,
+                      size_t msg_len)
 {
-    sdft_atomic_file af;
-    if (sdft_atomic_begin(&af, path, msg, msg_len))
+    atomic_file af;
+    if (atomic_file_begin(&af, path, msg, msg_len))
         return -1;
     FILE *fp = fdopen(af.fd, "wb");
     if (!fp) {
         snprintf(msg, msg_len, "cannot write %s", path);
-        sdft_atomic_abort(&af);
+        atomic_file_abort(&af);
         return -1;
     }
     png_errors errors = {{0}};
@@ -75,10 +75,10 @@ int sdft_png_write_rgb8(const char *path, const unsigned char *rgb, int width, i
     fclose(fp);
     if (rc != 0) {
         snprintf(msg, msg_len, "cannot write %s: %s", path, errors.text[0] ? errors.text : "write failed");
-        sdft_atomic_abort(&af);
+        atomic_file_abort(&af);
         return -1;
     }
-    return sdft_atomic_commit(&af, msg, msg_len);
+    return atomic_file_commit(&af, msg, msg_len);
 }
 
 /* Linear [0, 1] to the sRGB transfer curve, 8 bits. */
@@ -89,7 +89,7 @@ static unsigned char srgb8(float linear)
     return (unsigned char)(s * 255.0f + 0.5f);
 }
 
-int sdft_write_png(const char *path, const sdft_image *img, char *msg, size_t msg_len)
+int io_write_png(const char *path, const sdft_image *img, char *msg, size_t msg_len)
 {
     size_t n = (size_t)img->width * (size_t)img->height;
     unsigned char *rgb = malloc(3 * n);
@@ -99,7 +99,7 @@ int sdft_write_png(const char *path, const sdft_image *img, char *msg, size_t ms
     }
     for (size_t i = 0; i < 3 * n; i++)
         rgb[i] = srgb8(img->rgb[i]);
-    int rc = sdft_png_write_rgb8(path, rgb, img->width, img->height, 1, msg, msg_len);
+    int rc = io_png_write_rgb8(path, rgb, img->width, img->height, 1, msg, msg_len);
     free(rgb);
     return rc;
 }

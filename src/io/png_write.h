@@ -5,7 +5,7 @@
 
 /* Writes width x height 8-bit RGB rows (row-major, no padding) to path,
  * atomically; srgb tags the file as sRGB. 0, or -1 with msg. */
-int sdft_png_write_rgb8(const char *path, const unsigned char *rgb, int width, int height, int srgb, char *msg,
-                        size_t msg_len);
+int io_png_write_rgb8(const char *path, const unsigned char *rgb, int width, int height, int srgb, char *msg,
+                      size_t msg_len);
 
 #endif

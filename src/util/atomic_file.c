@@ -15,7 +15,7 @@
 
 #include "../core/fail.h"
 
-unsigned sdft_new_file_mode(void)
+unsigned atomic_file_mode(void)
 {
     /* Linux shows the umask in /proc/self/status: read it there, since
      * umask() can only be read by setting it, a race with other threads. */
@@ -36,17 +36,17 @@ unsigned sdft_new_file_mode(void)
     return 0666u & ~mask;
 }
 
-sdft_error sdft_atomic_begin(sdft_atomic_file *af, const char *path, char *msg, size_t msg_len)
+sdft_error atomic_file_begin(atomic_file *af, const char *path, char *msg, size_t msg_len)
 {
     af->fd = -1;
     af->path[0] = af->tmp_path[0] = '\0';
     if (!path || !*path)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "empty output path");
+        return fail_with(msg, msg_len, SDFT_EINVAL, "empty output path");
     if (strlen(path) >= sizeof af->path)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "output path too long: %.64s...", path);
+        return fail_with(msg, msg_len, SDFT_EINVAL, "output path too long: %.64s...", path);
     struct stat st;
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
-        return sdft_fail(msg, msg_len, SDFT_EIO, "cannot write %s: it is a folder", path);
+        return fail_with(msg, msg_len, SDFT_EIO, "cannot write %s: it is a folder", path);
     strcpy(af->path, path);
     /* "<folder>/.<name>.tmp-XXXXXX": same folder, so the rename stays atomic. */
     const char *slash = strrchr(path, '/');
@@ -56,13 +56,13 @@ sdft_error sdft_atomic_begin(sdft_atomic_file *af, const char *path, char *msg, 
     if (af->fd < 0) {
         const int err = errno;
         af->tmp_path[0] = '\0';
-        return sdft_fail(msg, msg_len, SDFT_EIO, "cannot write %s: %s", path, strerror(err));
+        return fail_with(msg, msg_len, SDFT_EIO, "cannot write %s: %s", path, strerror(err));
     }
     /* mkstemp makes 0600; give the file the mode a plain fopen would. */
-    if (fchmod(af->fd, (mode_t)sdft_new_file_mode()) != 0) {
+    if (fchmod(af->fd, (mode_t)atomic_file_mode()) != 0) {
         const int err = errno;
-        sdft_atomic_abort(af);
-        return sdft_fail(msg, msg_len, SDFT_EIO, "cannot write %s: %s", path, strerror(err));
+        atomic_file_abort(af);
+        return fail_with(msg, msg_len, SDFT_EIO, "cannot write %s: %s", path, strerror(err));
     }
     return SDFT_OK;
 }
@@ -81,7 +81,7 @@ static void sync_folder(const char *path)
     }
 }
 
-sdft_error sdft_atomic_commit(sdft_atomic_file *af, char *msg, size_t msg_len)
+sdft_error atomic_file_commit(atomic_file *af, char *msg, size_t msg_len)
 {
     int err = 0;
     if (af->fd >= 0) {
@@ -96,14 +96,14 @@ sdft_error sdft_atomic_commit(sdft_atomic_file *af, char *msg, size_t msg_len)
     if (err) {
         unlink(af->tmp_path);
         af->tmp_path[0] = '\0';
-        return sdft_fail(msg, msg_len, SDFT_EIO, "cannot write %s: %s", af->path, strerror(err));
+        return fail_with(msg, msg_len, SDFT_EIO, "cannot write %s: %s", af->path, strerror(err));
     }
     af->tmp_path[0] = '\0';
     sync_folder(af->path);
     return SDFT_OK;
 }
 
-void sdft_atomic_abort(sdft_atomic_file *af)
+void atomic_file_abort(atomic_file *af)
 {
     if (af->fd >= 0)
         close(af->fd);
@@ -113,11 +113,11 @@ void sdft_atomic_abort(sdft_atomic_file *af)
     af->tmp_path[0] = '\0';
 }
 
-sdft_error sdft_check_writable(const char *path, char *msg, size_t msg_len)
+sdft_error atomic_file_check_writable(const char *path, char *msg, size_t msg_len)
 {
-    sdft_atomic_file af;
-    const sdft_error rc = sdft_atomic_begin(&af, path, msg, msg_len);
+    atomic_file af;
+    const sdft_error rc = atomic_file_begin(&af, path, msg, msg_len);
     if (rc == SDFT_OK)
-        sdft_atomic_abort(&af);
+        atomic_file_abort(&af);
     return rc;
 }

@@ -14,33 +14,33 @@
 extern "C" {
 #endif
 
-typedef struct sdft_atomic_file {
+typedef struct atomic_file {
     char path[4096];     /* the target */
     char tmp_path[4112]; /* "<folder>/.<name>.tmp-XXXXXX", beside it; "" when none */
     int fd;              /* open descriptor of tmp_path, or -1 */
-} sdft_atomic_file;
+} atomic_file;
 
 /* Creates the empty temporary file beside `path` (mode from the umask), so
  * that a missing folder, a folder in the target's place or a read-only
  * folder fails here, before any work. Write to af->tmp_path (by name, or
  * through af->fd). SDFT_OK; SDFT_EINVAL (empty or too long a path); SDFT_EIO
  * with the reason. On failure nothing is left behind. */
-sdft_error sdft_atomic_begin(sdft_atomic_file *af, const char *path, char *msg, size_t msg_len);
+sdft_error atomic_file_begin(atomic_file *af, const char *path, char *msg, size_t msg_len);
 
 /* Flushes the temporary file to disk, closes it and renames it onto the
  * target (then flushes the folder). SDFT_OK, or SDFT_EIO with the reason,
  * and then the temporary file is removed. */
-sdft_error sdft_atomic_commit(sdft_atomic_file *af, char *msg, size_t msg_len);
+sdft_error atomic_file_commit(atomic_file *af, char *msg, size_t msg_len);
 
 /* Removes the temporary file (after a failed write); safe to call twice. */
-void sdft_atomic_abort(sdft_atomic_file *af);
+void atomic_file_abort(atomic_file *af);
 
 /* Whether a file could be created at path: creates and removes a temporary
  * file beside it, touching nothing at path itself. SDFT_OK or as begin. */
-sdft_error sdft_check_writable(const char *path, char *msg, size_t msg_len);
+sdft_error atomic_file_check_writable(const char *path, char *msg, size_t msg_len);
 
 /* The mode a new file gets from the process's umask: 0666 & ~umask. */
-unsigned sdft_new_file_mode(void);
+unsigned atomic_file_mode(void);
 
 #ifdef __cplusplus
 }

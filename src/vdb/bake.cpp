@@ -101,16 +101,16 @@ struct Baker {
 // The output file: its temporary file is made before any work, so that an
 // unwritable destination fails at once; removed unless committed.
 struct Output {
-    sdft_atomic_file af;
+    atomic_file af;
     bool open = false;
     ~Output()
     {
         if (open)
-            sdft_atomic_abort(&af);
+            atomic_file_abort(&af);
     }
     sdft_error begin(const char *path, char *msg, size_t msg_len)
     {
-        const sdft_error rc = sdft_atomic_begin(&af, path, msg, msg_len);
+        const sdft_error rc = atomic_file_begin(&af, path, msg, msg_len);
         open = rc == SDFT_OK;
         return rc;
     }
@@ -124,7 +124,7 @@ struct Output {
                                                  af.path, msg, msg_len))
             return rc;
         open = false;
-        return sdft_atomic_commit(&af, msg, msg_len);
+        return atomic_file_commit(&af, msg, msg_len);
     }
 };
 
@@ -132,59 +132,40 @@ struct Output {
 sdft_error check(const sdft_field *f, const sdft_bake_params *p, const char *path, char *msg, size_t msg_len)
 {
     if (!f || !f->distance)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no field, or a field without a distance function");
+        return fail_with(msg, msg_len, SDFT_EINVAL, "no field, or a field without a distance function");
     if (!p)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "no bake parameters (NULL)");
+        return fail_with(msg, msg_len, SDFT_EINVAL, "no bake parameters (NULL)");
     if (p->res < 1 || p->res > SDFT_BAKE_MAX_RES)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "resolution must be in 1..%d, got %d", SDFT_BAKE_MAX_RES, p->res);
+        return fail_with(msg, msg_len, SDFT_EINVAL, "resolution must be in 1..%d, got %d", SDFT_BAKE_MAX_RES, p->res);
     if (!p->full && !(p->band > 0.0f && p->band <= 1000.0f))
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "band must be a number of voxels in (0, 1000]");
+        return fail_with(msg, msg_len, SDFT_EINVAL, "band must be a number of voxels in (0, 1000]");
     if (p->threads < 0)
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "threads must be >= 0, got %d", p->threads);
+        return fail_with(msg, msg_len, SDFT_EINVAL, "threads must be >= 0, got %d", p->threads);
     if (path) {
         const char *dot = std::strrchr(path, '.');
         if (!dot || (std::strcmp(dot, ".vdb") != 0 && std::strcmp(dot, ".nvdb") != 0))
-            return sdft_fail(msg, msg_len, SDFT_EINVAL, "%s: output must end in .vdb or .nvdb", path);
+            return fail_with(msg, msg_len, SDFT_EINVAL, "%s: output must end in .vdb or .nvdb", path);
     }
     const sdft_vec3 ext = sdft_sub(f->bounds.hi, f->bounds.lo);
     if (!sdft_isfinite3(ext) || !sdft_isfinite3(f->bounds.lo) || !(sdft_minf(ext.x, sdft_minf(ext.y, ext.z)) >= 0.0f) ||
         !(sdft_maxcomp(ext) > 0.0f))
-        return sdft_fail(msg, msg_len, SDFT_EINVAL, "the field's bounding box is empty or infinite");
+        return fail_with(msg, msg_len, SDFT_EINVAL, "the field's bounding box is empty or infinite");
     return SDFT_OK;
 }
 
-sdft_error bake(const sdft_field *f, const sdft_bake_params *p, const char *path, sdft_grid **grid_out,
-                sdft_bake_stats *stats, char *msg, size_t msg_len)
+// 1. Blocks of 128^3: tiles (into tiles, a list per block), or the 8^3
+// leaf blocks to evaluate, whose origins it returns in the blocks' order.
+std::vector<openvdb::Coord> plan_blocks(const Baker &bk, tbb::task_arena &arena, std::vector<std::vector<Tile>> &tiles,
+                                        std::atomic<uint64_t> &evals)
 {
-    Output out;
-    if (path)
-        if (sdft_error rc = out.begin(path, msg, msg_len))
-            return rc;
-    const sdft_aabb b = f->bounds;
-    const sdft_vec3 ext = sdft_sub(b.hi, b.lo);
-    const auto t0 = std::chrono::steady_clock::now();
-    Baker bk;
-    bk.f = f;
-    bk.lo = b.lo;
-    bk.h = sdft_maxcomp(ext) / float(p->res);
-    bk.band = (p->full ? 3.0f : p->band) * bk.h;
-    bk.full = p->full != 0;
-    const float e[3] = {ext.x, ext.y, ext.z};
-    for (int k = 0; k < 3; k++)
-        bk.n[k] = std::clamp(int(std::ceil(e[k] / bk.h - 1e-3f)), 1, p->res);
-
-    // 1. Blocks of 128^3: tiles, or the 8^3 leaf blocks to evaluate.
     const int nb[3] = {(bk.n[0] + 127) / 128, (bk.n[1] + 127) / 128, (bk.n[2] + 127) / 128};
     const size_t blocks = size_t(nb[0]) * nb[1] * nb[2];
     std::vector<std::vector<openvdb::Coord>> todo(blocks);
-    std::vector<std::vector<Tile>> tiles(blocks);
-    std::atomic<uint64_t> evals{0};
-
-    tbb::task_arena arena(p->threads > 0 ? p->threads : tbb::task_arena::automatic);
+    tiles.assign(blocks, std::vector<Tile>());
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, blocks), [&](const tbb::blocked_range<size_t> &r) {
             sdft_scratch s;
-            sdft_scratch_init(f, &s);
+            sdft_scratch_init(bk.f, &s);
             uint64_t count = 0;
             for (size_t bi = r.begin(); bi != r.end(); ++bi) {
                 const openvdb::Coord o(int(bi % nb[0]) * 128, int(bi / nb[0] % nb[1]) * 128,
@@ -223,13 +204,21 @@ sdft_error bake(const sdft_field *f, const sdft_bake_params *p, const char *path
         std::vector<openvdb::Coord>().swap(t);
     }
 
-    // 2. The leaves, voxel by voxel; once the callback says stop, the rest
-    // are skipped.
+    return leaf_origins;
+}
+
+// 2. The leaves, voxel by voxel, into leaves (NULL where none is kept), and
+// the inside tiles found among them into tiles; once the progress callback
+// says stop, the rest are skipped and it returns false.
+bool bake_leaves(const Baker &bk, const sdft_bake_params *p, tbb::task_arena &arena,
+                 const std::vector<openvdb::Coord> &leaf_origins, std::vector<std::unique_ptr<LeafT>> &leaves,
+                 std::vector<std::vector<Tile>> &tiles, std::atomic<uint64_t> &evals)
+{
     sdft_vdb::Progress progress;
     progress.fn = p->progress;
     progress.user = p->progress_user;
     progress.total = std::max<uint64_t>(1, leaf_origins.size());
-    std::vector<std::unique_ptr<LeafT>> leaves(leaf_origins.size());
+    leaves.resize(leaf_origins.size());
     std::mutex tiles_mutex;
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, leaf_origins.size(), 64),
@@ -237,7 +226,7 @@ sdft_error bake(const sdft_field *f, const sdft_bake_params *p, const char *path
                               if (progress.stop)
                                   return;
                               sdft_scratch s;
-                              sdft_scratch_init(f, &s);
+                              sdft_scratch_init(bk.f, &s);
                               std::vector<Tile> local;
                               for (size_t i = r.begin(); i != r.end(); ++i) {
                                   leaves[i] = bk.leaf(&s, leaf_origins[i], local);
@@ -250,10 +239,15 @@ sdft_error bake(const sdft_field *f, const sdft_bake_params *p, const char *path
                               }
                           });
     });
-    if (progress.stop)
-        return sdft_fail(msg, msg_len, SDFT_ECANCELED, "bake stopped by its progress callback");
+    return !progress.stop;
+}
 
-    // 3. The tree: inside tiles, then the leaves (the tree takes them).
+// 3. The tree: inside tiles, then the leaves (the tree takes them; *kept
+// counts them), in cubic voxels of bk.h from b.lo.
+openvdb::FloatGrid::Ptr make_tree(const Baker &bk, const sdft_bake_params *p, const sdft_aabb &b,
+                                  const std::vector<std::vector<Tile>> &tiles,
+                                  std::vector<std::unique_ptr<LeafT>> &leaves, uint64_t *kept)
+{
     openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(bk.band);
     grid->setTransform(openvdb::math::Transform::createLinearTransform(bk.h));
     grid->transform().postTranslate(openvdb::Vec3d(b.lo.x + 0.5 * bk.h, b.lo.y + 0.5 * bk.h, b.lo.z + 0.5 * bk.h));
@@ -263,12 +257,44 @@ sdft_error bake(const sdft_field *f, const sdft_bake_params *p, const char *path
     for (auto &list : tiles)
         for (const Tile &t : list)
             tree.addTile(t.level, t.origin, t.value, false);
-    uint64_t kept = 0;
     for (auto &leaf : leaves)
         if (leaf) {
             tree.addLeaf(leaf.release());
-            kept++;
+            (*kept)++;
         }
+    return grid;
+}
+
+sdft_error bake(const sdft_field *f, const sdft_bake_params *p, const char *path, sdft_grid **grid_out,
+                sdft_bake_stats *stats, char *msg, size_t msg_len)
+{
+    Output out;
+    if (path)
+        if (sdft_error rc = out.begin(path, msg, msg_len))
+            return rc;
+    const sdft_aabb b = f->bounds;
+    const sdft_vec3 ext = sdft_sub(b.hi, b.lo);
+    const auto t0 = std::chrono::steady_clock::now();
+    Baker bk;
+    bk.f = f;
+    bk.lo = b.lo;
+    bk.h = sdft_maxcomp(ext) / float(p->res);
+    bk.band = (p->full ? 3.0f : p->band) * bk.h;
+    bk.full = p->full != 0;
+    const float e[3] = {ext.x, ext.y, ext.z};
+    for (int k = 0; k < 3; k++)
+        bk.n[k] = std::clamp(int(std::ceil(e[k] / bk.h - 1e-3f)), 1, p->res);
+
+    std::vector<std::vector<Tile>> tiles;
+    std::atomic<uint64_t> evals{0};
+    tbb::task_arena arena(p->threads > 0 ? p->threads : tbb::task_arena::automatic);
+    const std::vector<openvdb::Coord> leaf_origins = plan_blocks(bk, arena, tiles, evals);
+    std::vector<std::unique_ptr<LeafT>> leaves;
+    if (!bake_leaves(bk, p, arena, leaf_origins, leaves, tiles, evals))
+        return fail_with(msg, msg_len, SDFT_ECANCELED, "bake stopped by its progress callback");
+    uint64_t kept = 0;
+    openvdb::FloatGrid::Ptr grid = make_tree(bk, p, b, tiles, leaves, &kept);
+    const auto &tree = grid->tree();
     const auto t1 = std::chrono::steady_clock::now();
 
     if (stats) {
@@ -280,7 +306,7 @@ sdft_error bake(const sdft_field *f, const sdft_bake_params *p, const char *path
         stats->voxel_size = bk.h;
     }
     if (tree.activeVoxelCount() == 0)
-        return sdft_fail(msg, msg_len, SDFT_EEMPTY, "the bake holds no surface: no voxel within the band");
+        return fail_with(msg, msg_len, SDFT_EEMPTY, "the bake holds no surface: no voxel within the band");
     if (path)
         if (sdft_error rc = out.write(*grid, p->fp16 != 0, msg, msg_len))
             return rc;

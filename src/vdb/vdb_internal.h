@@ -18,10 +18,10 @@
 
 // sdft_vdb_open and sdft_vdb_bounds once their arguments are checked
 // (vdb_open.c).
-extern "C" SDFT_INTERNAL sdft_error sdft_vdb_open_checked(const char *path, const char *name, const sdft_vdb_options *o,
-                                                          sdft_grid **out, char *msg, size_t msg_len);
-extern "C" SDFT_INTERNAL sdft_error sdft_vdb_bounds_checked(const char *path, const char *name, sdft_aabb *box,
-                                                            char *msg, size_t msg_len);
+extern "C" SDFT_INTERNAL sdft_error vdb_open_checked(const char *path, const char *name, const sdft_grid_options *o,
+                                                     sdft_grid **out, char *msg, size_t msg_len);
+extern "C" SDFT_INTERNAL sdft_error vdb_bounds_checked(const char *path, const char *name, sdft_aabb *box, char *msg,
+                                                       size_t msg_len);
 
 namespace sdft_vdb
 {
@@ -29,7 +29,7 @@ namespace sdft_vdb
 // Writes one line to msg; returns code.
 inline sdft_error fail(char *msg, size_t msg_len, sdft_error code, const std::string &line)
 {
-    return sdft_fail(msg, msg_len, code, "%s", line.c_str());
+    return fail_with(msg, msg_len, code, "%s", line.c_str());
 }
 
 // Runs body() and returns its code; an exception becomes a code and one
@@ -39,11 +39,11 @@ template <typename Body> sdft_error guarded(const char *what, char *msg, size_t 
     try {
         return body();
     } catch (const std::bad_alloc &) {
-        return sdft_fail(msg, msg_len, SDFT_ENOMEM, "%s: out of memory", what);
+        return fail_with(msg, msg_len, SDFT_ENOMEM, "%s: out of memory", what);
     } catch (const std::exception &e) {
-        return sdft_fail(msg, msg_len, SDFT_EINTERNAL, "%s: %s", what, e.what());
+        return fail_with(msg, msg_len, SDFT_EINTERNAL, "%s: %s", what, e.what());
     } catch (...) {
-        return sdft_fail(msg, msg_len, SDFT_EINTERNAL, "%s: unknown exception", what);
+        return fail_with(msg, msg_len, SDFT_EINTERNAL, "%s: unknown exception", what);
     }
 }
 
@@ -67,7 +67,7 @@ sdft_error write_grid(const openvdb::FloatGrid &grid, bool nvdb, sdft_quant quan
 // as they are copied. With `defer`, only laid out: the NanoVDB grid keeps
 // the OpenVDB grid and copies each leaf when first read. progress may be
 // NULL.
-sdft_error stream_to_nano(openvdb::FloatGrid::Ptr grid, const char *path, sdft_quant quant, int defer,
+sdft_error stream_to_nano(openvdb::FloatGrid::Ptr grid, const char *path, sdft_quant quant, sdft_defer defer,
                           sdft_progress_fn progress, void *progress_user, sdft_grid **out, char *msg, size_t msg_len);
 
 // The caller's progress callback (sdftrace/vdb.h), called about once per

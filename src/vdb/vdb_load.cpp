@@ -40,7 +40,9 @@ nanovdb::GridHandle<> nano_handle(const openvdb::FloatGrid &grid, sdft_quant qua
 sdft_error to_nano(const openvdb::FloatGrid &grid, sdft_quant quant, sdft_grid **out, char *msg, size_t msg_len)
 {
     nanovdb::GridHandle<> handle = nano_handle(grid, quant);
-    return sdft_grid_from_buffer(handle.data(), handle.size(), nullptr, out, msg, msg_len);
+    sdft_grid_options o = sdft_grid_options_defaults();
+    o.data = handle.data(), o.size = handle.size();
+    return sdft_grid_open(&o, out, msg, msg_len);
 }
 
 } // namespace sdft_vdb
@@ -91,20 +93,20 @@ static sdft_error choose(openvdb::io::File &file, const char *path, const char *
     std::vector<std::string> names, types;
     for (const auto &m : *metas)
         names.push_back(m->getName()), types.push_back(m->valueType());
-    std::vector<sdft_grid_entry> entries;
+    std::vector<grid_candidate> entries;
     for (size_t i = 0; i < metas->size(); i++) {
         const openvdb::GridBase &m = *(*metas)[i];
         entries.push_back(
             {names[i].c_str(), types[i].c_str(), is_scalar(m), m.getGridClass() == openvdb::GRID_LEVEL_SET});
     }
     size_t pick = 0;
-    if (sdft_error rc = sdft_grid_choose(entries.data(), entries.size(), name, path, &pick, msg, msg_len))
+    if (sdft_error rc = grid_choose(entries.data(), entries.size(), name, path, &pick, msg, msg_len))
         return rc;
     *chosen = names[pick];
     return SDFT_OK;
 }
 
-static sdft_error load(const char *path, const char *name, const sdft_vdb_options *o, sdft_grid **out, char *msg,
+static sdft_error load(const char *path, const char *name, const sdft_grid_options *o, sdft_grid **out, char *msg,
                        size_t msg_len)
 {
     openvdb::io::File file(path);
@@ -153,14 +155,13 @@ static sdft_error bounds(const char *path, const char *name, sdft_aabb *box, cha
 
 // The checked entry points are in vdb_open.c: in C, where an out-of-range
 // sdft_quant is a plain int, not undefined behaviour.
-extern "C" sdft_error sdft_vdb_open_checked(const char *path, const char *name, const sdft_vdb_options *o,
-                                            sdft_grid **out, char *msg, size_t msg_len)
+extern "C" sdft_error vdb_open_checked(const char *path, const char *name, const sdft_grid_options *o, sdft_grid **out,
+                                       char *msg, size_t msg_len)
 {
     return sdft_vdb::guarded(path, msg, msg_len, [&] { return load(path, name, o, out, msg, msg_len); });
 }
 
-extern "C" sdft_error sdft_vdb_bounds_checked(const char *path, const char *name, sdft_aabb *box, char *msg,
-                                              size_t msg_len)
+extern "C" sdft_error vdb_bounds_checked(const char *path, const char *name, sdft_aabb *box, char *msg, size_t msg_len)
 {
     return sdft_vdb::guarded(path, msg, msg_len, [&] { return bounds(path, name, box, msg, msg_len); });
 }

@@ -19,7 +19,7 @@
 // (malloc_trim), so that resident memory stays near the NanoVDB grid's
 // size plus the OpenVDB tree's internal nodes.
 //
-// DEFERRED (sdft_vdb_options.defer, what `render` uses): the same layout
+// DEFERRED (sdft_grid_options.defer, what `render` uses): the same layout
 // and every node above the leaves, but no leaf is read here. The NanoVDB
 // grid keeps the OpenVDB grid and a list of its leaves in NanoVDB's order,
 // and fills a leaf from the file the first time it is read
@@ -440,7 +440,7 @@ void release_deferred(void *user) noexcept
 }
 
 template <typename BuildT>
-sdft_error stream(openvdb::FloatGrid::Ptr grid_ptr, const char *path, int defer, sdft_progress_fn progress,
+sdft_error stream(openvdb::FloatGrid::Ptr grid_ptr, const char *path, sdft_defer defer, sdft_progress_fn progress,
                   void *progress_user, sdft_grid **out, char *msg, size_t msg_len)
 {
     openvdb::FloatGrid &grid = *grid_ptr;
@@ -493,17 +493,23 @@ sdft_error stream(openvdb::FloatGrid::Ptr grid_ptr, const char *path, int defer,
     s.write_root(active);
     s.write_tree(voxels);
     s.write_grid(active);
-    if (deferred)
-        return sdft_grid_adopt_deferred(owned.release(), s.size, nullptr, release_buffer, fill_deferred<BuildT>,
-                                        deferred.release(), release_deferred,
-                                        defer == 2 ? SDFT_DEFER_ALWAYS : SDFT_DEFER_WHERE_EXACT, out, msg, msg_len);
-    grid.clear(); // the OpenVDB tree's nodes (~100 MB at 4096^3) go before the bounds are built
-    return sdft_grid_adopt_buffer(owned.release(), s.size, nullptr, release_buffer, out, msg, msg_len);
+    sdft_grid_options o = sdft_grid_options_defaults();
+    o.memory = SDFT_GRID_ADOPT;
+    o.release = release_buffer;
+    o.size = s.size;
+    if (deferred) {
+        o.fill = fill_deferred<BuildT>, o.fill_release = release_deferred, o.defer = defer;
+        o.fill_user = deferred.release();
+    } else {
+        grid.clear(); // the OpenVDB tree's nodes (~100 MB at 4096^3) go before the bounds are built
+    }
+    o.data = owned.release();
+    return sdft_grid_open(&o, out, msg, msg_len);
 }
 
 } // namespace
 
-sdft_error stream_to_nano(openvdb::FloatGrid::Ptr grid, const char *path, sdft_quant quant, int defer,
+sdft_error stream_to_nano(openvdb::FloatGrid::Ptr grid, const char *path, sdft_quant quant, sdft_defer defer,
                           sdft_progress_fn progress, void *progress_user, sdft_grid **out, char *msg, size_t msg_len)
 {
     return quant == SDFT_QUANT_FP16

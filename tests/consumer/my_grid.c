@@ -25,19 +25,23 @@ int main(int argc, char **argv)
     char msg[256];
     sdft_error err = SDFT_OK;
     if (argc == 3) {
-        sdft_field sphere = {.distance = ball, .bounds = {{-1.1f, -1.1f, -1.1f}, {1.1f, 1.1f, 1.1f}}};
+        sdft_field sphere = sdft_field_defaults();
+        sphere.distance = ball;
+        sphere.bounds = (sdft_aabb){{-1.1f, -1.1f, -1.1f}, {1.1f, 1.1f, 1.1f}};
         sdft_bake_params bake = sdft_bake_defaults();
         bake.res = 32;
         err = sdft_bake(&sphere, &bake, path, NULL, NULL, msg, sizeof msg);
     }
     sdft_grid *grid = NULL;
+    sdft_grid_options open = sdft_grid_options_defaults();
+    open.path = path;
     if (!err)
-        err = sdft_grid_open(path, NULL, &grid, msg, sizeof msg);
+        err = sdft_vdb_open(&open, &grid, msg, sizeof msg);
     if (err) {
         fprintf(stderr, "my_grid: %s: %s\n", sdft_error_name(err), msg);
         return 1;
     }
-    sdft_field field = sdft_grid_field(grid);
+    sdft_field field = sdft_grid_field(grid, SDFT_GRID_BOUND_FAR);
     sdft_scratch scratch;
     sdft_scratch_init(&field, &scratch);
     sdft_aabb box = sdft_grid_world_bounds(grid);

@@ -115,3 +115,36 @@ float tu_uniform(tu_rng *r, float lo, float hi)
     uint64_t x = r->state * 0x2545F4914F6CDD1Dull;
     return lo + (hi - lo) * (float)((x >> 40) * (1.0 / 16777216.0));
 }
+
+sdft_error tu_open_nvdb(const char *path, const char *name, sdft_grid **out, char *msg, size_t msg_len)
+{
+    sdft_grid_options o = sdft_grid_options_defaults();
+    o.path = path, o.name = name;
+    return sdft_grid_open(&o, out, msg, msg_len);
+}
+
+sdft_error tu_open_file(const char *path, const char *name, sdft_quant quant, sdft_grid **out, char *msg,
+                        size_t msg_len)
+{
+    sdft_grid_options o = sdft_grid_options_defaults();
+    o.quant = quant;
+    return tu_open_with(path, name, &o, out, msg, msg_len);
+}
+
+sdft_error tu_open_with(const char *path, const char *name, const sdft_grid_options *o, sdft_grid **out, char *msg,
+                        size_t msg_len)
+{
+    if (!o)
+        return sdft_vdb_open(NULL, out, msg, msg_len);
+    sdft_grid_options with = *o;
+    with.path = path, with.name = name;
+    return sdft_vdb_open(&with, out, msg, msg_len);
+}
+
+sdft_error tu_open_buffer(const void *data, size_t size, const char *name, sdft_grid_memory memory,
+                          void (*release)(void *data), sdft_grid **out, char *msg, size_t msg_len)
+{
+    sdft_grid_options o = sdft_grid_options_defaults();
+    o.data = data, o.size = size, o.name = name, o.memory = memory, o.release = release;
+    return sdft_grid_open(&o, out, msg, msg_len);
+}

@@ -6,6 +6,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "sdftrace/vdb.h"
+
 /* Runs a shell command; captures up to out_len-1 bytes of stdout+stderr into
  * out (may be NULL) and returns its exit status (-1 if it could not run). */
 int tu_run(char *out, size_t out_len, const char *fmt, ...);
@@ -41,5 +43,18 @@ typedef struct tu_rng {
 } tu_rng;
 static inline tu_rng tu_rng_seed(uint64_t seed) { return (tu_rng){seed * 0x9E3779B97F4A7C15ull + 1}; }
 float tu_uniform(tu_rng *r, float lo, float hi);
+
+/* The one way to open a grid, as the tests call it: sdft_grid_open on a
+ * path (read as a .nvdb file whatever its name); sdft_vdb_open on a path
+ * (by its extension) with `quant` and the other defaults, or with o's
+ * options (o NULL is passed on as NULL); sdft_grid_open on a buffer taken
+ * as `memory` (release: SDFT_GRID_ADOPT's). */
+sdft_error tu_open_nvdb(const char *path, const char *name, sdft_grid **out, char *msg, size_t msg_len);
+sdft_error tu_open_file(const char *path, const char *name, sdft_quant quant, sdft_grid **out, char *msg,
+                        size_t msg_len);
+sdft_error tu_open_with(const char *path, const char *name, const sdft_grid_options *o, sdft_grid **out, char *msg,
+                        size_t msg_len);
+sdft_error tu_open_buffer(const void *data, size_t size, const char *name, sdft_grid_memory memory,
+                          void (*release)(void *data), sdft_grid **out, char *msg, size_t msg_len);
 
 #endif
