@@ -36,8 +36,8 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "atomic_file.h" /* src/util: sdft_check_writable */
-#include "parse.h"       /* src/util: sdft_parse_integer, sdft_parse_number */
+#include "atomic_file.h" /* src/common: sdft_check_writable */
+#include "parse.h"       /* src/common: sdft_parse_integer, sdft_parse_number */
 #include "sdftrace/grid.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
@@ -91,7 +91,7 @@ static void usage(FILE *out)
 }
 
 /* An integer in [lo, hi], parsed strictly as the tools parse theirs
- * (src/util/parse.h: the whole text, no blanks, no overflow). */
+ * (src/common/parse.h: the whole text, no blanks, no overflow). */
 static int parse_int(const char *flag, const char *text, long lo, long hi, int *out)
 {
     long v;

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "util/parse.h"
+#include "parse.h"
 
 namespace mesh2sdf {
 
@@ -20,7 +20,7 @@ const char* signMethodName(SignMethod m)
 
 namespace {
 
-// The shared strict parsers (src/util/parse.h): the whole text, finite,
+// The shared strict parsers (src/common/parse.h): the whole text, finite,
 // no blanks, no overflow.
 bool parseInt(const char* s, long lo, long hi, int& out)
 {

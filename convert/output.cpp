@@ -9,7 +9,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "util/json.h"
+#include "json.h"
 #include "vdb/vdb_internal.h"
 
 namespace mesh2sdf {

@@ -1,4 +1,4 @@
-/* sdftrace CLI — option values, parsed strictly (src/util/parse.h) and
+/* sdftrace CLI — option values, parsed strictly (src/common/parse.h) and
  * checked against their range, else one line in msg. Shared by the
  * commands. */
 #ifndef SDFTRACE_ARGS_H

@@ -5,7 +5,7 @@
 
 #include "args.h"
 #include "commands.h"
-#include "progress.h"
+#include "progress_bar.h"
 #include "sdftrace/scene.h"
 #include "sdftrace/vdb.h"
 

@@ -12,7 +12,7 @@
 #include "commands.h"
 #include "image_io.h"
 #include "json.h"
-#include "progress.h"
+#include "progress_bar.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
 #include "sdftrace/vdb.h"

@@ -13,7 +13,7 @@
 #include <nanovdb/util/GridHandle.h>
 #include <openvdb/openvdb.h>
 
-#include "../core/fail.h"
+#include "fail.h"
 #include "sdftrace/vdb.h"
 
 // sdft_vdb_open and sdft_vdb_bounds once their arguments are checked
@@ -55,7 +55,7 @@ sdft_error to_nano(const openvdb::FloatGrid &grid, sdft_quant quant, sdft_grid *
 
 // Writes `grid` to `path`: NanoVDB (.nvdb, leaves as `quant`) or OpenVDB
 // (.vdb, halves when quant is SDFT_QUANT_FP16), chosen by `nvdb`. Writes in
-// place: callers write to a temporary file (src/util/atomic_file.h) and
+// place: callers write to a temporary file (src/common/atomic_file.h) and
 // rename it. SDFT_OK, or SDFT_EIO with "cannot write LABEL: reason" (label:
 // the name to report, the final path rather than the temporary one). May
 // throw std::bad_alloc.

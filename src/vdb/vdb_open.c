@@ -3,7 +3,7 @@
  * argument checks of sdft_vdb_load, before vdb_load.cpp does the work. */
 #include <string.h>
 
-#include "../core/fail.h"
+#include "fail.h"
 #include "sdftrace/vdb.h"
 
 /* vdb_load.cpp */
