@@ -10,7 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include "json.h"
-#include "vdb/vdb_internal.h"
+#include "grid_file.h"
 
 namespace mesh2sdf {
 

@@ -3,7 +3,7 @@
 // in its destination folder and renamed at the end, so a failure never
 // leaves a half-written file at the destination: sdftrace's one atomic
 // writer (src/common/atomic_file.h), and its one grid-file writer
-// (src/vdb/vdb_internal.h) for .vdb and .nvdb.
+// (src/gridfile/grid_file.h) for .vdb and .nvdb.
 #ifndef MESH2SDF_OUTPUT_H
 #define MESH2SDF_OUTPUT_H
 
