@@ -193,7 +193,6 @@ static cmdline_spec study_option_rows(study_options *o, const char **scenes, cmd
         .usage = "usage: study --out DIR [options]\n",
         .rows = rows,
         .column = 18,
-        .default_format = "(default %s)",
     };
 }
 

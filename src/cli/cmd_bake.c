@@ -58,7 +58,6 @@ static cmdline_spec bake_options(bake_opts *o, cmdline_option rows[BAKE_ROWS])
         .footer = "Progress goes to stderr when it is a terminal; one summary line to stdout.\n",
         .rows = rows,
         .column = 20,
-        .default_format = "(default %s)",
     };
 }
 

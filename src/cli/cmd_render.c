@@ -156,7 +156,6 @@ static cmdline_spec render_options(render_opts *o, cmdline_option rows[RENDER_RO
         .usage = "usage: sdftrace render --scene NAME | --grid FILE -o OUT.exr [options]\n",
         .rows = rows,
         .column = 24,
-        .default_format = "(default %s)",
     };
 }
 

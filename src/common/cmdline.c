@@ -281,7 +281,7 @@ static void help_row(const cmdline_spec *spec, const cmdline_option *row, FILE *
     if (def[0]) {
         if (!*row->help || row->help[strlen(row->help) - 1] != '\n')
             fputc(' ', out); /* a description ending in '\n' puts the default on a line of its own */
-        fprintf(out, spec->default_format, def);
+        fprintf(out, spec->default_format ? spec->default_format : "(default %s)", def);
     }
     fputc('\n', out);
 }

@@ -63,7 +63,7 @@ typedef struct cmdline_spec {
     const char *footer;         /* printed after them, or NULL */
     const cmdline_option *rows; /* ends with a row of neither name nor letter */
     int column;                 /* where the descriptions start */
-    const char *default_format; /* how a default is shown, "(default %s)" */
+    const char *default_format; /* how a default is shown; NULL: "(default %s)" */
     /* A word that is not an option (mesh2sdf's input mesh): 0, or -1 with
      * msg. NULL: such a word is an error. */
     cmdline_handler operand;
