@@ -461,7 +461,7 @@ static int open_sources(const study_options *o, study_run *run)
 
 /* ---- one configuration: its parameters and its command line ------------- */
 
-/* A number as `sdftrace render` parses it (src/cli/args.c, arg_float):
+/* A number as `sdftrace render` parses it (a CMDLINE_FLOAT row, src/common/cmdline.c):
  * the shared strict parser, then float. The study's own texts always parse. */
 static float cli_float(const char *text)
 {
