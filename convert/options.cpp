@@ -75,34 +75,33 @@ int setTrue(void* target, const char*, char*, size_t)
     return 0;
 }
 
+// v as names[i], stored as E(i) (names in E's order); else one line,
+// "FLAG must be a, b or c, got 'v'".
+template <typename E, size_t n>
+int pick(const char* flag, const char* const (&names)[n], const char* v, void* target, char* msg, size_t len)
+{
+    std::string list;
+    for (size_t i = 0; i < n; ++i) {
+        if (!std::strcmp(v, names[i])) {
+            *static_cast<E*>(target) = E(i);
+            return 0;
+        }
+        list += std::string(i == 0 ? "" : i + 1 < n ? ", " : " or ") + names[i];
+    }
+    std::snprintf(msg, len, "%s must be %s, got '%s'", flag, list.c_str(), v);
+    return -1;
+}
+
 int setSign(void* target, const char* v, char* msg, size_t len)
 {
-    SignMethod& sign = *static_cast<SignMethod*>(target);
-    if (!std::strcmp(v, "winding"))
-        sign = SignMethod::Winding;
-    else if (!std::strcmp(v, "flood"))
-        sign = SignMethod::Flood;
-    else if (!std::strcmp(v, "none"))
-        sign = SignMethod::None;
-    else {
-        std::snprintf(msg, len, "--sign must be winding, flood or none, got '%s'", v);
-        return -1;
-    }
-    return 0;
+    static const char* const names[] = {"winding", "flood", "none"};
+    return pick<SignMethod>("--sign", names, v, target, msg, len);
 }
 
 int setOrient(void* target, const char* v, char* msg, size_t len)
 {
-    OrientMethod& orient = *static_cast<OrientMethod*>(target);
-    if (!std::strcmp(v, "outward"))
-        orient = OrientMethod::Outward;
-    else if (!std::strcmp(v, "none"))
-        orient = OrientMethod::None;
-    else {
-        std::snprintf(msg, len, "--orient must be outward or none, got '%s'", v);
-        return -1;
-    }
-    return 0;
+    static const char* const names[] = {"outward", "none"};
+    return pick<OrientMethod>("--orient", names, v, target, msg, len);
 }
 
 int setSimd(void* target, const char* v, char* msg, size_t len)
