@@ -23,10 +23,32 @@
 #include <string.h>
 #include <time.h>
 
-#include "grid_internal.h"
+#define PNANOVDB_C
+#include <nanovdb/PNanoVDB.h>
+
 #include "sample_nano.h"
 #include "sdftrace/render.h"
 #include "sdftrace/vdb.h"
+
+/* The grid's NanoVDB bytes, read through PNanoVDB.h as an outside program
+ * would (the public sdft_grid_data), for the comparisons below. */
+typedef struct nano {
+    const uint32_t *words;
+    pnanovdb_buf_t buf;
+    pnanovdb_grid_handle_t grid;
+    pnanovdb_root_handle_t root;
+    pnanovdb_grid_type_t type;
+} nano;
+
+static nano nano_of(const sdft_grid *g)
+{
+    size_t size = 0;
+    nano n = {.words = sdft_grid_data(g, &size)};
+    n.buf = pnanovdb_make_buf((uint32_t *)n.words, size / 4);
+    n.type = pnanovdb_grid_get_grid_type(n.buf, n.grid);
+    n.root = pnanovdb_tree_get_root(n.buf, pnanovdb_grid_get_tree(n.buf, n.grid));
+    return n;
+}
 
 /* ---- points ------------------------------------------------------------- */
 
@@ -124,20 +146,22 @@ static float rng_unit(uint64_t *s) { return (float)(rng_next(s) >> 40) / (float)
 static points band_points(const sdft_grid *g, size_t want)
 {
     points kept = {0};
-    pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
-    const uint64_t count = pnanovdb_tree_get_node_count_leaf(g->buf, tree);
-    const uint64_t first = PNANOVDB_GRID_SIZE + pnanovdb_tree_get_node_offset_leaf(g->buf, tree);
-    const uint64_t stride = PNANOVDB_GRID_TYPE_GET(g->type, leaf_size);
+    const nano nv = nano_of(g);
+    pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(nv.buf, nv.grid);
+    const uint64_t count = pnanovdb_tree_get_node_count_leaf(nv.buf, tree);
+    const uint64_t first = PNANOVDB_GRID_SIZE + pnanovdb_tree_get_node_offset_leaf(nv.buf, tree);
+    const uint64_t stride = PNANOVDB_GRID_TYPE_GET(nv.type, leaf_size);
     sdft_scratch s;
     sdft_field f = sdft_grid_field(g, SDFT_GRID_BOUND_FAR);
     sdft_scratch_init(&f, &s);
     uint64_t r = 88172645463325252ull;
     while (kept.n < want) {
         pnanovdb_leaf_handle_t leaf = {{first + (rng_next(&r) % count) * stride}};
-        const pnanovdb_coord_t o = pnanovdb_leaf_get_bbox_min(g->buf, leaf);
-        const float x[3] = {(float)(o.x & ~7) + 8.0f * rng_unit(&r), (float)(o.y & ~7) + 8.0f * rng_unit(&r),
-                            (float)(o.z & ~7) + 8.0f * rng_unit(&r)};
-        const sdft_vec3 p = grid_index_to_world(g, x);
+        const pnanovdb_coord_t o = pnanovdb_leaf_get_bbox_min(nv.buf, leaf);
+        pnanovdb_vec3_t x = {(float)(o.x & ~7) + 8.0f * rng_unit(&r), (float)(o.y & ~7) + 8.0f * rng_unit(&r),
+                             (float)(o.z & ~7) + 8.0f * rng_unit(&r)};
+        const pnanovdb_vec3_t w = pnanovdb_grid_index_to_worldf(nv.buf, nv.grid, &x);
+        const sdft_vec3 p = sdft_v3(w.x, w.y, w.z);
         if (in_band(g, &s, p))
             push(&kept, p);
     }
@@ -239,16 +263,20 @@ typedef struct bricks {
     float w2i[9], w2i_t[3];
 } bricks;
 
-static int bricks_make(const sdft_grid *g, bricks *k)
+static int bricks_make(const sdft_grid *g, const sb_dense *dense, bricks *k)
 {
     size_t blocks = 1, count = 0;
+    const nano nv = nano_of(g);
+    int32_t ilo[3], ihi[3];
+    sdft_grid_index_bounds(g, ilo, ihi);
     for (int a = 0; a < 3; a++) {
-        k->b0[a] = g->ilo[a] >> 3;
-        k->n[a] = (g->ihi[a] >> 3) - k->b0[a] + 1;
+        k->b0[a] = ilo[a] >> 3;
+        k->n[a] = (ihi[a] >> 3) - k->b0[a] + 1;
         blocks *= (size_t)k->n[a];
     }
-    memcpy(k->w2i, g->w2i, sizeof k->w2i);
-    memcpy(k->w2i_t, g->w2i_t, sizeof k->w2i_t);
+    /* The dense array's transform: NanoVDB's own floats. */
+    memcpy(k->w2i, dense->w2i, sizeof k->w2i);
+    memcpy(k->w2i_t, dense->w2i_t, sizeof k->w2i_t);
     k->block = calloc(blocks, sizeof *k->block);
     if (!k->block)
         return -1;
@@ -258,10 +286,10 @@ static int bricks_make(const sdft_grid *g, bricks *k)
                 int active;
                 sdft_grid_voxel(g, (k->b0[0] + x) * 8, (k->b0[1] + y) * 8, (k->b0[2] + z) * 8, &active);
                 pnanovdb_readaccessor_t acc;
-                pnanovdb_readaccessor_init(&acc, g->root);
+                pnanovdb_readaccessor_init(&acc, nv.root);
                 pnanovdb_coord_t ijk = {(k->b0[0] + x) * 8, (k->b0[1] + y) * 8, (k->b0[2] + z) * 8};
                 uint32_t level;
-                pnanovdb_readaccessor_get_value_address_and_level(g->type, g->buf, &acc, &ijk, &level);
+                pnanovdb_readaccessor_get_value_address_and_level(nv.type, nv.buf, &acc, &ijk, &level);
                 if (level == 0)
                     k->block[((size_t)z * k->n[1] + y) * k->n[0] + x] = (uint32_t)++count;
             }
@@ -379,17 +407,18 @@ int main(int argc, char **argv)
         fprintf(stderr, "sample_bench: %s\n", msg);
         return 1;
     }
-    if (g->type != PNANOVDB_GRID_TYPE_FLOAT) {
+    const nano nv = nano_of(g);
+    if (nv.type != PNANOVDB_GRID_TYPE_FLOAT) {
         fprintf(stderr, "sample_bench: a float grid, please (this one is %s)\n", sdft_grid_type_name(g));
         return 1;
     }
     sb_dense dense;
-    if (sb_dense_make(g->words, &dense)) {
+    if (sb_dense_make(nv.words, &dense)) {
         fprintf(stderr, "sample_bench: out of memory for the dense array\n");
         return 1;
     }
     bricks brick;
-    if (bricks_make(g, &brick)) {
+    if (bricks_make(g, &dense, &brick)) {
         fprintf(stderr, "sample_bench: out of memory for the bricks\n");
         return 1;
     }
@@ -399,14 +428,14 @@ int main(int argc, char **argv)
 
     const sdft_field far = sdft_grid_field(g, SDFT_GRID_BOUND_FAR), plain = sdft_grid_field(g, SDFT_GRID_BOUND_NONE);
     const sampler s[] = {
-        {"dense-array", run_dense, &dense, 0},      {"nanovdb-accessor", run_nano, g->words, 1},
+        {"dense-array", run_dense, &dense, 0},      {"nanovdb-accessor", run_nano, nv.words, 1},
         {"sdftrace-sampler", run_field, &plain, 1}, {"sdftrace-field", run_field, &far, 1},
         {"sdftrace-batch", run_batch, &far, 1},     {"bricks-9^3", run_bricks, &brick, 0},
     };
     const int count = (int)(sizeof s / sizeof s[0]);
     printf("grid %s: %llu leaves, index box %d x %d x %d; dense array %.0f MiB; median of %d, 1 thread\n",
            sdft_grid_name(g),
-           (unsigned long long)pnanovdb_tree_get_node_count_leaf(g->buf, pnanovdb_grid_get_tree(g->buf, g->grid)),
+           (unsigned long long)pnanovdb_tree_get_node_count_leaf(nv.buf, pnanovdb_grid_get_tree(nv.buf, nv.grid)),
            dense.n[0] - 2, dense.n[1] - 2, dense.n[2] - 2,
            (double)dense.n[0] * dense.n[1] * dense.n[2] * 4.0 / 1048576.0, repeat);
     printf("%-18s", "ns/evaluation");

@@ -36,8 +36,9 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "atomic_file.h" /* src/util: atomic_file_check_writable */
-#include "parse.h"       /* src/util: sdft_parse_integer, sdft_parse_number */
+#include "atomic_file.h" /* src/common: atomic_file_check_writable */
+#include "cmdline.h"     /* src/common: the option table */
+#include "parse.h"       /* src/common: sdft_parse_integer, sdft_parse_number */
 #include "sdftrace/grid.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
@@ -69,184 +70,199 @@ static void fail(const char *fmt, ...)
 
 /* ---- options ----------------------------------------------------------- */
 
-static void usage(FILE *out)
-{
-    fprintf(out, "usage: study --out DIR [options]\n"
-                 "  --out DIR       where results.csv, table.md and the figures' data go; must be writable\n"
-                 "  --grids DIR     the baked grids, DIR/SCENE-band-RES.nvdb and DIR/SCENE-full-RES.nvdb\n"
-                 "                  (default build/study-grids)\n"
-                 "  --res N         the grids' resolution, 1..1024 (default 1024)\n"
-                 "  --width W       image width, 1..16384 (default 1280)\n"
-                 "  --height H      image height, 1..16384 (default 720)\n"
-                 "  --repeats R     timed frames per configuration after the warm-up, 1..100 (default 5)\n"
-                 "  --sweep N       values per method in the hyperparameter sweep, 0..40 (default 10; 0: none)\n"
-                 "  --scenes LIST   the table's scenes, comma-separated (default temple,figure)\n"
-                 "  --reps LIST     representations: procedural,band,full (default all three)\n"
-                 "  --caps LIST     step caps of the table, comma-separated (default 1000,32)\n"
-                 "  --parts LIST    table,sweep,keinert,beyond (default all)\n"
-                 "  --cli PATH      the sdftrace binary named in the command lines (default build/sdftrace)\n"
-                 "  --row-exr PATH  the -o of those command lines (default /tmp/study-row.exr)\n"
-                 "  --quiet         no progress on stderr\n"
-                 "  --dry-run       check the options, count the configurations, touch no grid\n");
-}
-
-/* An integer in [lo, hi], parsed strictly as the tools parse theirs
- * (src/util/parse.h: the whole text, no blanks, no overflow). */
-static int parse_int(const char *flag, const char *text, long lo, long hi, int *out)
-{
-    long v;
-    if (sdft_parse_integer(text, &v) || v < lo || v > hi) {
-        fail("%s must be an integer in [%ld, %ld], got '%s'", flag, lo, hi, text ? text : "");
-        return -1;
-    }
-    *out = (int)v;
-    return 0;
-}
-
 /* Splits a comma-separated list into at most `most` items (pointers into
- * `buf`, a copy). Returns the count, or -1 when empty or too long. */
-static int split_list(const char *flag, const char *text, char *buf, size_t len, char **items, int most)
+ * `buf`, a copy). Returns the count, or -1 with msg when empty or too long. */
+static int split_list(const char *flag, const char *text, char *buf, size_t len, char **items, int most, char *msg,
+                      size_t msg_len)
 {
     if (!text || !*text || strlen(text) >= len) {
-        fail("%s needs a comma-separated list, got '%s'", flag, text ? text : "");
+        snprintf(msg, msg_len, "%s needs a comma-separated list, got '%s'", flag, text ? text : "");
         return -1;
     }
     strcpy(buf, text);
     int n = 0;
     for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
         if (n == most) {
-            fail("%s: at most %d items", flag, most);
+            snprintf(msg, msg_len, "%s: at most %d items", flag, most);
             return -1;
         }
         items[n++] = tok;
     }
     if (n == 0)
-        fail("%s needs a comma-separated list, got '%s'", flag, text);
+        snprintf(msg, msg_len, "%s needs a comma-separated list, got '%s'", flag, text);
     return n ? n : -1;
 }
 
-static int parse_options(int argc, char **argv, study_options *o)
+/* --reps LIST: the representations measured. */
+static int set_reps(void *target, const char *value, char *msg, size_t len)
 {
-    static char scenes_buf[256], reps_buf[64], caps_buf[64], parts_buf[64];
-    *o = (study_options){.grids = "build/study-grids",
-                         .cli = "build/sdftrace",
-                         .row_exr = "/tmp/study-row.exr",
-                         .res = 1024,
-                         .width = 1280,
-                         .height = 720,
-                         .repeats = 5,
-                         .sweep = 10,
-                         .caps = {1000, 32},
-                         .ncaps = 2,
-                         .parts = STUDY_TABLE | STUDY_SWEEP | STUDY_KEINERT | STUDY_BEYOND,
-                         .reps = {1, 1, 1}};
-    const char *scenes = "temple,figure";
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            return 1;
-        }
-        if (!strcmp(a, "--quiet") || !strcmp(a, "--dry-run")) {
-            *(a[2] == 'q' ? &o->quiet : &o->dry_run) = 1;
-            continue;
-        }
-        static const char *const valued[] = {"--out",     "--grids", "--res",    "--width", "--height",
-                                             "--repeats", "--sweep", "--scenes", "--reps",  "--caps",
-                                             "--parts",   "--cli",   "--row-exr"};
-        int known = 0;
-        for (size_t k = 0; k < sizeof valued / sizeof valued[0]; k++)
-            known |= !strcmp(a, valued[k]);
-        if (!known) {
-            fail("unknown option '%s' (try: study --help)", a);
+    static char buf[64];
+    study_options *o = target;
+    char *items[STUDY_REPS * 2];
+    const int n = split_list("--reps", value, buf, sizeof buf, items, STUDY_REPS * 2, msg, len);
+    memset(o->reps, 0, sizeof o->reps);
+    for (int k = 0; k < n; k++) {
+        const int r = study_rep_parse(items[k]);
+        if (r < 0) {
+            snprintf(msg, len, "--reps: unknown representation '%s' (procedural, band or full)", items[k]);
             return -1;
         }
-        if (i + 1 >= argc) {
-            fail("%s needs a value", a);
-            return -1;
-        }
-        const char *v = argv[++i];
-        int rc = 0;
-        if (!strcmp(a, "--out"))
-            o->out = v;
-        else if (!strcmp(a, "--grids"))
-            o->grids = v;
-        else if (!strcmp(a, "--cli"))
-            o->cli = v;
-        else if (!strcmp(a, "--row-exr"))
-            o->row_exr = v;
-        else if (!strcmp(a, "--scenes"))
-            scenes = v;
-        else if (!strcmp(a, "--res"))
-            rc = parse_int(a, v, 1, 1024, &o->res);
-        else if (!strcmp(a, "--width"))
-            rc = parse_int(a, v, 1, 16384, &o->width);
-        else if (!strcmp(a, "--height"))
-            rc = parse_int(a, v, 1, 16384, &o->height);
-        else if (!strcmp(a, "--repeats"))
-            rc = parse_int(a, v, 1, 100, &o->repeats);
-        else if (!strcmp(a, "--sweep"))
-            rc = parse_int(a, v, 0, 40, &o->sweep);
-        else if (!strcmp(a, "--reps")) {
-            char *items[STUDY_REPS * 2];
-            int n = split_list(a, v, reps_buf, sizeof reps_buf, items, STUDY_REPS * 2);
-            rc = n < 0;
-            memset(o->reps, 0, sizeof o->reps);
-            for (int k = 0; k < n && !rc; k++) {
-                int r = study_rep_parse(items[k]);
-                if (r < 0) {
-                    fail("--reps: unknown representation '%s' (procedural, band or full)", items[k]);
-                    rc = -1;
-                } else {
-                    o->reps[r] = 1;
-                }
-            }
-        } else if (!strcmp(a, "--caps")) {
-            char *items[STUDY_MAX_CAPS];
-            int n = split_list(a, v, caps_buf, sizeof caps_buf, items, STUDY_MAX_CAPS);
-            rc = n < 0;
-            o->ncaps = n < 0 ? 0 : n;
-            for (int k = 0; k < n && !rc; k++)
-                rc = parse_int("--caps", items[k], 1, 10000000, &o->caps[k]);
-        } else if (!strcmp(a, "--parts")) {
-            static const char *const names[] = {"table", "sweep", "keinert", "beyond"};
-            char *items[8];
-            int n = split_list(a, v, parts_buf, sizeof parts_buf, items, 8);
-            rc = n < 0;
-            o->parts = 0;
-            for (int k = 0; k < n && !rc; k++) {
-                unsigned bit = 0;
-                for (unsigned b = 0; b < 4; b++)
-                    if (!strcmp(items[k], names[b]))
-                        bit = 1u << b;
-                if (!bit) {
-                    fail("--parts: unknown part '%s' (table, sweep, keinert or beyond)", items[k]);
-                    rc = -1;
-                }
-                o->parts |= bit;
-            }
-        }
-        if (rc)
-            return -1;
+        o->reps[r] = 1;
     }
+    return n < 0 ? -1 : 0;
+}
+
+/* --caps LIST: the table's step caps, each parsed strictly (src/common/parse.h). */
+static int set_caps(void *target, const char *value, char *msg, size_t len)
+{
+    static char buf[64];
+    study_options *o = target;
+    char *items[STUDY_MAX_CAPS];
+    const int n = split_list("--caps", value, buf, sizeof buf, items, STUDY_MAX_CAPS, msg, len);
+    o->ncaps = n < 0 ? 0 : n;
+    for (int k = 0; k < n; k++) {
+        long v;
+        if (sdft_parse_integer(items[k], &v) || v < 1 || v > 10000000) {
+            snprintf(msg, len, "--caps must be integers in [1, 10000000], got '%s'", items[k]);
+            return -1;
+        }
+        o->caps[k] = (int)v;
+    }
+    return n < 0 ? -1 : 0;
+}
+
+/* --parts LIST: which groups of rows are measured. */
+static int set_parts(void *target, const char *value, char *msg, size_t len)
+{
+    static const char *const names[] = {"table", "sweep", "keinert", "beyond"};
+    static char buf[64];
+    study_options *o = target;
+    char *items[8];
+    const int n = split_list("--parts", value, buf, sizeof buf, items, 8, msg, len);
+    o->parts = 0;
+    for (int k = 0; k < n; k++) {
+        unsigned bit = 0;
+        for (unsigned b = 0; b < 4; b++)
+            if (!strcmp(items[k], names[b]))
+                bit = 1u << b;
+        if (!bit) {
+            snprintf(msg, len, "--parts: unknown part '%s' (table, sweep, keinert or beyond)", items[k]);
+            return -1;
+        }
+        o->parts |= bit;
+    }
+    return n < 0 ? -1 : 0;
+}
+
+enum { STUDY_OPTION_ROWS = 18 };
+
+/* The options of study, over o (for the help, over the defaults), in rows,
+ * and the command line they make; *scenes: the --scenes list, resolved
+ * after parsing. */
+static cmdline_spec study_option_rows(study_options *o, const char **scenes, cmdline_option rows[STUDY_OPTION_ROWS])
+{
+    const cmdline_option t[STUDY_OPTION_ROWS] = {
+        {"out", 0, "DIR", "where results.csv, table.md and the figures' data go; must be writable", CMDLINE_TEXT,
+         &o->out, .def = ""},
+        {"grids", 0, "DIR", "the baked grids, DIR/SCENE-band-RES.nvdb and DIR/SCENE-full-RES.nvdb\n", CMDLINE_TEXT,
+         &o->grids, .value = 1},
+        {"res", 0, "N", "the grids' resolution, 1..1024", CMDLINE_INT, &o->res, .lo = 1, .hi = 1024},
+        {"width", 0, "W", "image width, 1..16384", CMDLINE_INT, &o->width, .lo = 1, .hi = 16384},
+        {"height", 0, "H", "image height, 1..16384", CMDLINE_INT, &o->height, .lo = 1, .hi = 16384},
+        {"repeats", 0, "R", "timed frames per configuration after the warm-up, 1..100", CMDLINE_INT, &o->repeats,
+         .lo = 1, .hi = 100},
+        {"sweep", 0, "N", "values per method in the hyperparameter sweep, 0..40 (0: none)", CMDLINE_INT, &o->sweep,
+         .lo = 0, .hi = 40},
+        {"scenes", 0, "LIST", "the table's scenes, comma-separated", CMDLINE_TEXT, scenes, .value = 1},
+        {"reps", 0, "LIST", "representations: procedural,band,full", CMDLINE_CALL, o, .def = "all three",
+         .handle = set_reps},
+        {"caps", 0, "LIST", "step caps of the table, comma-separated", CMDLINE_CALL, o, .def = "1000,32",
+         .handle = set_caps},
+        {"parts", 0, "LIST", "table,sweep,keinert,beyond", CMDLINE_CALL, o, .def = "all", .handle = set_parts},
+        {"cli", 0, "PATH", "the sdftrace binary named in the command lines", CMDLINE_TEXT, &o->cli, .value = 1},
+        {"row-exr", 0, "PATH", "the -o of those command lines", CMDLINE_TEXT, &o->row_exr, .value = 1},
+        {"quiet", 0, NULL, "no progress on stderr", CMDLINE_SET, &o->quiet, .value = 1, .def = ""},
+        {"dry-run", 0, NULL, "check the options, count the configurations, touch no grid", CMDLINE_SET, &o->dry_run,
+         .value = 1, .def = ""},
+        {"help", 'h', NULL, NULL, CMDLINE_HELP, NULL, .def = ""},
+        {0},
+    };
+    memcpy(rows, t, sizeof t);
+    return (cmdline_spec){
+        .program = "study",
+        .usage = "usage: study --out DIR [options]\n",
+        .rows = rows,
+        .column = 18,
+    };
+}
+
+static study_options default_options(const char **scenes)
+{
+    *scenes = "temple,figure";
+    return (study_options){.grids = "build/study-grids",
+                           .cli = "build/sdftrace",
+                           .row_exr = "/tmp/study-row.exr",
+                           .res = 1024,
+                           .width = 1280,
+                           .height = 720,
+                           .repeats = 5,
+                           .sweep = 10,
+                           .caps = {1000, 32},
+                           .ncaps = 2,
+                           .parts = STUDY_TABLE | STUDY_SWEEP | STUDY_KEINERT | STUDY_BEYOND,
+                           .reps = {1, 1, 1}};
+}
+
+static void usage(FILE *out)
+{
+    const char *scenes;
+    study_options d = default_options(&scenes);
+    cmdline_option rows[STUDY_OPTION_ROWS];
+    const cmdline_spec spec = study_option_rows(&d, &scenes, rows);
+    cmdline_help(&spec, out);
+}
+
+/* The checks that need all the options at once, and the scenes by name. */
+static int check_options(study_options *o, const char *scenes, char *msg, size_t len)
+{
+    static char buf[256];
     char *items[STUDY_MAX_SCENES];
-    int n = split_list("--scenes", scenes, scenes_buf, sizeof scenes_buf, items, STUDY_MAX_SCENES);
+    const int n = split_list("--scenes", scenes, buf, sizeof buf, items, STUDY_MAX_SCENES, msg, len);
     if (n < 0)
         return -1;
     for (int k = 0; k < n; k++) {
         o->scenes[k] = sdft_scene_find(items[k]);
         if (!o->scenes[k]) {
-            fail("unknown scene '%s' (sdftrace scenes lists them)", items[k]);
+            snprintf(msg, len, "unknown scene '%s' (sdftrace scenes lists them)", items[k]);
             return -1;
         }
     }
     o->nscenes = n;
-    if (!o->out) {
-        fail("--out DIR is required (try: study --help)");
-        return -1;
+    if (!o->out)
+        snprintf(msg, len, "--out DIR is required (try: study --help)");
+    else if (!o->reps[STUDY_PROCEDURAL] && (o->parts & (STUDY_TABLE | STUDY_BEYOND)))
+        snprintf(msg, len,
+                 "--reps: the table and the beyond rows compare with the procedural scene; include procedural");
+    else
+        return 0;
+    return -1;
+}
+
+/* 0: options read; 1: the help was asked for (and printed); -1: an error (printed). */
+static int parse_options(int argc, char **argv, study_options *o)
+{
+    const char *scenes;
+    char msg[512];
+    *o = default_options(&scenes);
+    cmdline_option rows[STUDY_OPTION_ROWS];
+    const cmdline_spec spec = study_option_rows(o, &scenes, rows);
+    const int parsed = cmdline_parse(&spec, argc, argv, msg, sizeof msg);
+    if (parsed == CMDLINE_HELP_ASKED) {
+        usage(stdout);
+        return 1;
     }
-    if (!o->reps[STUDY_PROCEDURAL] && (o->parts & (STUDY_TABLE | STUDY_BEYOND))) {
-        fail("--reps: the table and the beyond rows compare with the procedural scene; include procedural");
+    if (parsed != CMDLINE_OK || check_options(o, scenes, msg, sizeof msg)) {
+        fail("%s", msg);
         return -1;
     }
     return 0;
@@ -447,7 +463,7 @@ static int open_sources(const study_options *o, study_run *run)
 
 /* ---- one configuration: its parameters and its command line ------------- */
 
-/* A number as `sdftrace render` parses it (src/cli/args.c, arg_float):
+/* A number as `sdftrace render` parses it (a CMDLINE_FLOAT row, src/common/cmdline.c):
  * the shared strict parser, then float. The study's own texts always parse. */
 static float cli_float(const char *text)
 {

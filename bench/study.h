@@ -103,7 +103,7 @@ int study_rep_parse(const char *name); /* -1 if unknown */
 study_fig1 *study_fig1_of(study_run *run, const sdft_scene *scene);
 double study_now(void); /* seconds, monotonic */
 
-/* Writes bytes to path through the atomic writer (src/util/atomic_file.h:
+/* Writes bytes to path through the atomic writer (src/common/atomic_file.h:
  * a temporary file renamed into place, the umask's mode); 0, or -1 with one
  * line on stderr. */
 int study_write_file(const char *path, const void *data, size_t size);

@@ -1,7 +1,7 @@
 /* study — writing what bench/study.c measured: results.csv (every row, with
  * its command line), table.md (the paper's layout and the other groups),
  * and the data of the three figures for bench/fig*.gp. Every file goes
- * through sdftrace's atomic writer (src/util/atomic_file.h): a temporary
+ * through sdftrace's atomic writer (src/common/atomic_file.h): a temporary
  * file beside it, flushed and renamed into place, with the umask's mode. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>

@@ -6,6 +6,7 @@
 #   find_package(sdftrace CONFIG REQUIRED)                          sdftrace::sdftrace, sdftrace::sdftrace_static
 #   find_package(sdftrace CONFIG REQUIRED COMPONENTS vdb)           also sdftrace::vdb (shared)
 #   find_package(sdftrace CONFIG REQUIRED COMPONENTS vdb_static)    also sdftrace::vdb_static (needs OpenVDB, C++)
+#   find_package(sdftrace CONFIG REQUIRED COMPONENTS scenes)        also sdftrace::scenes (static, the demo scenes)
 #   pkg-config --cflags --libs sdftrace  (sdftrace_vdb; --static for the static libraries)
 
 set(SDFT_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/sdftrace)
@@ -18,6 +19,10 @@ set_target_properties(sdftrace_static PROPERTIES EXPORT_NAME sdftrace_static)
 install(TARGETS sdftrace sdftrace_static EXPORT sdftraceTargets
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(EXPORT sdftraceTargets NAMESPACE sdftrace:: DESTINATION ${SDFT_CMAKE_DIR})
+# The demo scenes (sdftrace/scene.h), a static library on sdftrace_static.
+set_target_properties(sdftrace_scenes PROPERTIES EXPORT_NAME scenes)
+install(TARGETS sdftrace_scenes EXPORT sdftrace_scenesTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+install(EXPORT sdftrace_scenesTargets NAMESPACE sdftrace:: DESTINATION ${SDFT_CMAKE_DIR})
 if(TARGET sdftrace_vdb)
   set_target_properties(sdftrace_vdb PROPERTIES EXPORT_NAME vdb)
   set_target_properties(sdftrace_vdb_static PROPERTIES EXPORT_NAME vdb_static)

@@ -22,7 +22,7 @@
 #include <sys/resource.h>
 
 #include "sdftrace/error.h"
-#include "util/json.h"
+#include "json.h"
 
 using namespace mesh2sdf;
 

@@ -1,10 +1,11 @@
 // mesh2sdf — command line parsing (see options.h).
 #include "options.h"
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 
-#include "util/parse.h"
+#include "cmdline.h"
 
 namespace mesh2sdf {
 
@@ -20,215 +21,237 @@ const char* signMethodName(SignMethod m)
 
 namespace {
 
-// The shared strict parsers (src/util/parse.h): the whole text, finite,
-// no blanks, no overflow.
-bool parseInt(const char* s, long lo, long hi, int& out)
+// The rows of the option table (src/common/cmdline.h): the flag, its
+// value's name, its description and default for --help, and what it sets.
+cmdline_option row(const char* name, char letter, const char* arg, const char* help, cmdline_kind kind, void* target,
+                   const char* def = "")
 {
-    long v;
-    if (sdft_parse_integer(s, &v) || v < lo || v > hi)
-        return false;
-    out = int(v);
-    return true;
+    cmdline_option r{};
+    r.name = name, r.letter = letter, r.arg = arg, r.help = help, r.kind = kind, r.target = target, r.def = def;
+    return r;
 }
 
-bool parseDouble(const char* s, double& out) { return sdft_parse_number(s, &out) == 0; }
+// A value handled by `set` (a std::string, an enum, ...).
+cmdline_option call(const char* name, char letter, const char* arg, const char* help, cmdline_handler set,
+                    void* target, const char* def = "")
+{
+    cmdline_option r = row(name, letter, arg, help, CMDLINE_CALL, target, def);
+    r.handle = set;
+    return r;
+}
+
+// A number in [lo, hi] (open ends: open), parsed strictly (src/common/parse.h);
+// the help shows the target's default unless `def` says otherwise.
+cmdline_option number(const char* name, const char* arg, const char* help, cmdline_kind kind, void* target,
+                      double lo, double hi, int open = 0, const char* def = nullptr)
+{
+    cmdline_option r = row(name, 0, arg, help, kind, target, def);
+    r.lo = lo, r.hi = hi, r.open = open;
+    return r;
+}
+
+// r, noting in *flag whether it was given.
+cmdline_option seen(cmdline_option r, int* flag)
+{
+    r.seen = flag;
+    return r;
+}
+
+int setString(void* target, const char* value, char*, size_t)
+{
+    static_cast<std::string*>(target)->assign(value);
+    return 0;
+}
+
+int addString(void* target, const char* value, char*, size_t)
+{
+    static_cast<std::vector<std::string>*>(target)->push_back(value);
+    return 0;
+}
+
+int setTrue(void* target, const char*, char*, size_t)
+{
+    *static_cast<bool*>(target) = true;
+    return 0;
+}
+
+// v as names[i], stored as E(i) (names in E's order); else one line,
+// "FLAG must be a, b or c, got 'v'".
+template <typename E, size_t n>
+int pick(const char* flag, const char* const (&names)[n], const char* v, void* target, char* msg, size_t len)
+{
+    std::string list;
+    for (size_t i = 0; i < n; ++i) {
+        if (!std::strcmp(v, names[i])) {
+            *static_cast<E*>(target) = E(i);
+            return 0;
+        }
+        list += std::string(i == 0 ? "" : i + 1 < n ? ", " : " or ") + names[i];
+    }
+    std::snprintf(msg, len, "%s must be %s, got '%s'", flag, list.c_str(), v);
+    return -1;
+}
+
+int setSign(void* target, const char* v, char* msg, size_t len)
+{
+    static const char* const names[] = {"winding", "flood", "none"};
+    return pick<SignMethod>("--sign", names, v, target, msg, len);
+}
+
+int setOrient(void* target, const char* v, char* msg, size_t len)
+{
+    static const char* const names[] = {"outward", "none"};
+    return pick<OrientMethod>("--orient", names, v, target, msg, len);
+}
+
+int setSimd(void* target, const char* v, char* msg, size_t len)
+{
+    Options& o = *static_cast<Options*>(target);
+    if (std::strcmp(v, "auto") && std::strcmp(v, "avx2") && std::strcmp(v, "none")) {
+        std::snprintf(msg, len, "--simd must be auto, avx2 or none, got '%s'", v);
+        return -1;
+    }
+    o.simd = std::strcmp(v, "none") != 0;
+    o.simd512 = !std::strcmp(v, "auto");
+    return 0;
+}
+
+int setNoSimd(void* target, const char*, char*, size_t)
+{
+    Options& o = *static_cast<Options*>(target);
+    o.simd = o.simd512 = false;
+    return 0;
+}
+
+// The input mesh: the one word that is not an option.
+int setInput(void* target, const char* v, char* msg, size_t len)
+{
+    std::string& input = *static_cast<std::string*>(target);
+    if (!input.empty()) {
+        std::snprintf(msg, len, "unexpected argument '%s' (one input mesh only)", v);
+        return -1;
+    }
+    input = v;
+    return 0;
+}
+
+const std::string kResHelp =
+    "voxels along the longest side of the padded box,\n1.." + std::to_string(kMaxResolution);
+
+// Every option of mesh2sdf, over `o` (for --help, over the defaults);
+// *sawRes: --res given.
+std::vector<cmdline_option> optionRows(Options& o, int* sawRes)
+{
+    const double inf = HUGE_VAL, maxRes = kMaxResolution;
+    std::vector<cmdline_option> rows = {
+        call("output", 'o', "OUT.vdb", "OpenVDB level set to write (required)", setString, &o.output),
+        call("nvdb", 0, "OUT.nvdb", "also write a NanoVDB grid", setString, &o.nvdb, "none"),
+        call("npy", 0, "OUT.npy",
+             "also write the padded box densely as float32 NumPy,\n"
+             "C order, shape (nx, ny, nz): a[i,j,k] is the distance\n"
+             "at origin + (i,j,k) * voxel_size, z fastest; origin,\n"
+             "voxel size and shape go to OUT.json",
+             setString, &o.npy, "none"),
+        seen(number("res", "N", kResHelp.c_str(), CMDLINE_INT, &o.res, 1, maxRes), sawRes),
+        number("voxel-size", "H", "voxel size in world units, > 0; overrides --res\n", CMDLINE_DOUBLE, &o.voxelSize,
+               0, inf, CMDLINE_OPEN_LO, "from --res"),
+        number("band", "W", "narrow-band half-width in voxels, > 0", CMDLINE_DOUBLE, &o.band, 0, maxRes,
+               CMDLINE_OPEN_LO),
+        call("full", 0, nullptr, "store a distance in every voxel of the padded box\n", setTrue, &o.full,
+             "narrow band only"),
+        number("padding", "P", "voxels between the mesh bounds and the box, >= 0\n", CMDLINE_DOUBLE, &o.padding, 0,
+               maxRes, 0, "band + 1"),
+        call("sign", 0, "METHOD",
+             "winding: generalized winding number > 0.5 is inside,\n"
+             "right on open meshes (default); flood: OpenVDB's\n"
+             "flood fill, needs a closed mesh; none: unsigned",
+             setSign, &o.sign),
+        call("orient", 0, "METHOD",
+             "outward: weld the vertices by position, drop duplicate\n"
+             "faces, orient each edge-connected patch consistently\n"
+             "and turn it to face outward, so that inside-out,\n"
+             "flipped and unwelded meshes sign right (default);\n"
+             "none: the faces as the file orients them",
+             setOrient, &o.orient),
+        call("fp16", 0, nullptr, "NanoVDB values as Fp16", setTrue, &o.fp16, "float"),
+        call("name", 0, "NAME", "grid name", setString, &o.name, "the mesh's file name stem"),
+        number("threads", "N", "worker threads, 0 = all cores", CMDLINE_INT, &o.threads, 0, 1024),
+        call("quiet", 0, nullptr, "no health line, progress bar or summary", setTrue, &o.quiet),
+        call("json", 0, nullptr,
+             "the health counts and the summary as one JSON object\n"
+             "on stdout, instead of the text lines",
+             setTrue, &o.json),
+        call("simd", 0, "LEVEL",
+             "vector instructions, chosen at run time: auto (the\n"
+             "widest the processor has: AVX-512 for the dense\n"
+             "search, else AVX2; default), avx2 (no AVX-512) or\n"
+             "none; the same grid to rounding, for comparison\n"
+             "and testing",
+             setSimd, &o),
+        call("no-simd", 0, nullptr, "the same as --simd none", setNoSimd, &o),
+        call("check-sign", 0, "GRID.vdb",
+             "do not convert: sample points uniformly in the mesh's\n"
+             "box grown by 5%, compute the exact winding number by\n"
+             "brute force and print, per GRID (repeatable), the\n"
+             "fraction of clearly inside (> 0.75) or outside\n"
+             "(< 0.25) points where GRID's sign is wrong",
+             addString, &o.checkSign),
+        number("samples", "N", "points for --check-sign", CMDLINE_INT, &o.samples, 1, 100000000),
+        row("help", 'h', nullptr, "this help", CMDLINE_HELP, nullptr),
+        row("version", 0, nullptr, "the version, sdftrace's", CMDLINE_NOTE, nullptr), // main.cpp answers it
+    };
+    rows.push_back(cmdline_option{});
+    return rows;
+}
+
+cmdline_spec optionSpec(const std::vector<cmdline_option>& rows, Options& o)
+{
+    cmdline_spec spec{};
+    spec.program = "mesh2sdf";
+    spec.usage = "usage: mesh2sdf IN.{obj,ply,off,stl,om} -o OUT.vdb [options]\n"
+                 "       mesh2sdf IN.obj --check-sign GRID.vdb [--check-sign GRID2.vdb ...] [--samples N]\n"
+                 "\n"
+                 "Converts a triangle mesh to a signed distance grid (OpenVDB level set).\n"
+                 "Polygons are triangulated; zero-area triangles are skipped and counted.\n"
+                 "\n";
+    spec.footer = "\n"
+                  "Dense outputs (--full, --npy) are limited to 2^31 voxels.\n"
+                  "Exit status: 0 on success, 1 on bad input or a failed write (one line on\n"
+                  "stderr; no partial output is left: files are written to a temporary name\n"
+                  "and renamed).\n";
+    spec.rows = rows.data();
+    spec.column = 25;
+    spec.default_format = "(default: %s)";
+    spec.operand = setInput;
+    spec.operand_target = &o.input;
+    return spec;
+}
 
 } // namespace
 
 void printHelp()
 {
-    std::printf(
-        "usage: mesh2sdf IN.{obj,ply,off,stl,om} -o OUT.vdb [options]\n"
-        "       mesh2sdf IN.obj --check-sign GRID.vdb [--check-sign GRID2.vdb ...] [--samples N]\n"
-        "\n"
-        "Converts a triangle mesh to a signed distance grid (OpenVDB level set).\n"
-        "Polygons are triangulated; zero-area triangles are skipped and counted.\n"
-        "\n"
-        "  -o, --output OUT.vdb   OpenVDB level set to write (required)\n"
-        "  --nvdb OUT.nvdb        also write a NanoVDB grid (default: none)\n"
-        "  --npy OUT.npy          also write the padded box densely as float32 NumPy,\n"
-        "                         C order, shape (nx, ny, nz): a[i,j,k] is the distance\n"
-        "                         at origin + (i,j,k) * voxel_size, z fastest; origin,\n"
-        "                         voxel size and shape go to OUT.json (default: none)\n"
-        "  --res N                voxels along the longest side of the padded box,\n"
-        "                         1..%d (default: 256)\n"
-        "  --voxel-size H         voxel size in world units, > 0; overrides --res\n"
-        "                         (default: from --res)\n"
-        "  --band W               narrow-band half-width in voxels, > 0 (default: 3)\n"
-        "  --full                 store a distance in every voxel of the padded box\n"
-        "                         (default: narrow band only)\n"
-        "  --padding P            voxels between the mesh bounds and the box, >= 0\n"
-        "                         (default: band + 1)\n"
-        "  --sign METHOD          winding: generalized winding number > 0.5 is inside,\n"
-        "                         right on open meshes (default); flood: OpenVDB's\n"
-        "                         flood fill, needs a closed mesh; none: unsigned\n"
-        "  --orient METHOD        outward: weld the vertices by position, drop duplicate\n"
-        "                         faces, orient each edge-connected patch consistently\n"
-        "                         and turn it to face outward, so that inside-out,\n"
-        "                         flipped and unwelded meshes sign right (default);\n"
-        "                         none: the faces as the file orients them\n"
-        "  --fp16                 NanoVDB values as Fp16 (default: float)\n"
-        "  --name NAME            grid name (default: the mesh's file name stem)\n"
-        "  --threads N            worker threads, 0 = all cores (default: 0)\n"
-        "  --quiet                no health line, progress bar or summary\n"
-        "  --json                 the health counts and the summary as one JSON object\n"
-        "                         on stdout, instead of the text lines\n"
-        "  --simd LEVEL           vector instructions, chosen at run time: auto (the\n"
-        "                         widest the processor has: AVX-512 for the dense\n"
-        "                         search, else AVX2; default), avx2 (no AVX-512) or\n"
-        "                         none; the same grid to rounding, for comparison\n"
-        "                         and testing\n"
-        "  --no-simd              the same as --simd none\n"
-        "  --check-sign GRID.vdb  do not convert: sample points uniformly in the mesh's\n"
-        "                         box grown by 5%%, compute the exact winding number by\n"
-        "                         brute force and print, per GRID (repeatable), the\n"
-        "                         fraction of clearly inside (> 0.75) or outside\n"
-        "                         (< 0.25) points where GRID's sign is wrong\n"
-        "  --samples N            points for --check-sign (default: 10000)\n"
-        "  -h, --help             this help\n"
-        "  --version              the version, sdftrace's\n"
-        "\n"
-        "Dense outputs (--full, --npy) are limited to 2^31 voxels.\n"
-        "Exit status: 0 on success, 1 on bad input or a failed write (one line on\n"
-        "stderr; no partial output is left: files are written to a temporary name\n"
-        "and renamed).\n",
-        kMaxResolution);
+    Options defaults;
+    int sawRes = 0;
+    const std::vector<cmdline_option> rows = optionRows(defaults, &sawRes);
+    const cmdline_spec spec = optionSpec(rows, defaults);
+    cmdline_help(&spec, stdout);
 }
 
 bool parseOptions(int argc, char** argv, Options& opt, std::string& error)
 {
-    bool sawRes = false;
-    for (int i = 1; i < argc; ++i) {
-        const char* a = argv[i];
-        auto value = [&](const char*& out) {
-            if (i + 1 >= argc) {
-                error = std::string("option ") + a + " needs a value";
-                return false;
-            }
-            out = argv[++i];
-            return true;
-        };
-        const char* v = nullptr;
-        if (!std::strcmp(a, "-h") || !std::strcmp(a, "--help")) {
-            opt.help = true;
-            return true;
-        } else if (!std::strcmp(a, "-o") || !std::strcmp(a, "--output")) {
-            if (!value(v))
-                return false;
-            opt.output = v;
-        } else if (!std::strcmp(a, "--nvdb")) {
-            if (!value(v))
-                return false;
-            opt.nvdb = v;
-        } else if (!std::strcmp(a, "--npy")) {
-            if (!value(v))
-                return false;
-            opt.npy = v;
-        } else if (!std::strcmp(a, "--res")) {
-            if (!value(v))
-                return false;
-            if (!parseInt(v, 1, kMaxResolution, opt.res)) {
-                error = std::string("--res must be an integer in 1..") + std::to_string(kMaxResolution) +
-                        ", got '" + v + "'";
-                return false;
-            }
-            sawRes = true;
-        } else if (!std::strcmp(a, "--voxel-size")) {
-            if (!value(v))
-                return false;
-            if (!parseDouble(v, opt.voxelSize) || opt.voxelSize <= 0) {
-                error = std::string("--voxel-size must be a finite number > 0, got '") + v + "'";
-                return false;
-            }
-        } else if (!std::strcmp(a, "--band")) {
-            if (!value(v))
-                return false;
-            if (!parseDouble(v, opt.band) || opt.band <= 0 || opt.band > kMaxResolution) {
-                error = std::string("--band must be a number of voxels in (0, 4096], got '") + v + "'";
-                return false;
-            }
-        } else if (!std::strcmp(a, "--padding")) {
-            if (!value(v))
-                return false;
-            if (!parseDouble(v, opt.padding) || opt.padding < 0 || opt.padding > kMaxResolution) {
-                error = std::string("--padding must be a number of voxels in [0, 4096], got '") + v + "'";
-                return false;
-            }
-        } else if (!std::strcmp(a, "--sign")) {
-            if (!value(v))
-                return false;
-            if (!std::strcmp(v, "winding"))
-                opt.sign = SignMethod::Winding;
-            else if (!std::strcmp(v, "flood"))
-                opt.sign = SignMethod::Flood;
-            else if (!std::strcmp(v, "none"))
-                opt.sign = SignMethod::None;
-            else {
-                error = std::string("--sign must be winding, flood or none, got '") + v + "'";
-                return false;
-            }
-        } else if (!std::strcmp(a, "--orient")) {
-            if (!value(v))
-                return false;
-            if (!std::strcmp(v, "outward"))
-                opt.orient = OrientMethod::Outward;
-            else if (!std::strcmp(v, "none"))
-                opt.orient = OrientMethod::None;
-            else {
-                error = std::string("--orient must be outward or none, got '") + v + "'";
-                return false;
-            }
-        } else if (!std::strcmp(a, "--json")) {
-            opt.json = true;
-        } else if (!std::strcmp(a, "--name")) {
-            if (!value(v))
-                return false;
-            opt.name = v;
-        } else if (!std::strcmp(a, "--threads")) {
-            if (!value(v))
-                return false;
-            if (!parseInt(v, 0, 1024, opt.threads)) {
-                error = std::string("--threads must be an integer in 0..1024, got '") + v + "'";
-                return false;
-            }
-        } else if (!std::strcmp(a, "--check-sign")) {
-            if (!value(v))
-                return false;
-            opt.checkSign.push_back(v);
-        } else if (!std::strcmp(a, "--samples")) {
-            if (!value(v))
-                return false;
-            if (!parseInt(v, 1, 100000000, opt.samples)) {
-                error = std::string("--samples must be an integer in 1..100000000, got '") + v + "'";
-                return false;
-            }
-        } else if (!std::strcmp(a, "--full")) {
-            opt.full = true;
-        } else if (!std::strcmp(a, "--fp16")) {
-            opt.fp16 = true;
-        } else if (!std::strcmp(a, "--quiet")) {
-            opt.quiet = true;
-        } else if (!std::strcmp(a, "--simd")) {
-            if (!value(v))
-                return false;
-            if (!std::strcmp(v, "auto") || !std::strcmp(v, "avx2") || !std::strcmp(v, "none")) {
-                opt.simd = std::strcmp(v, "none") != 0;
-                opt.simd512 = !std::strcmp(v, "auto");
-            } else {
-                error = std::string("--simd must be auto, avx2 or none, got '") + v + "'";
-                return false;
-            }
-        } else if (!std::strcmp(a, "--no-simd")) {
-            opt.simd = opt.simd512 = false;
-        } else if (a[0] == '-' && a[1] != '\0') {
-            error = std::string("unknown option '") + a + "' (see --help)";
-            return false;
-        } else if (opt.input.empty()) {
-            opt.input = a;
-        } else {
-            error = std::string("unexpected argument '") + a + "' (one input mesh only)";
-            return false;
-        }
+    int sawRes = 0;
+    const std::vector<cmdline_option> rows = optionRows(opt, &sawRes);
+    const cmdline_spec spec = optionSpec(rows, opt);
+    char msg[512];
+    const int parsed = cmdline_parse(&spec, argc, argv, msg, sizeof msg);
+    if (parsed == CMDLINE_HELP_ASKED) {
+        opt.help = true;
+        return true;
+    }
+    if (parsed != CMDLINE_OK) {
+        error = msg;
+        return false;
     }
     if (opt.input.empty()) {
         error = "no input mesh (see --help)";

@@ -9,8 +9,8 @@
 
 #include <tbb/parallel_for.h>
 
-#include "util/json.h"
-#include "vdb/vdb_internal.h"
+#include "json.h"
+#include "grid_file.h"
 
 namespace mesh2sdf {
 

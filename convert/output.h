@@ -2,8 +2,8 @@
 // (.npy) with a sidecar JSON. Every file is written under a temporary name
 // in its destination folder and renamed at the end, so a failure never
 // leaves a half-written file at the destination: sdftrace's one atomic
-// writer (src/util/atomic_file.h), and its one grid-file writer
-// (src/vdb/vdb_internal.h) for .vdb and .nvdb.
+// writer (src/common/atomic_file.h), and its one grid-file writer
+// (src/gridfile/grid_file.h) for .vdb and .nvdb.
 #ifndef MESH2SDF_OUTPUT_H
 #define MESH2SDF_OUTPUT_H
 
@@ -13,7 +13,7 @@
 
 #include <string>
 
-#include "util/atomic_file.h"
+#include "atomic_file.h"
 
 namespace mesh2sdf {
 

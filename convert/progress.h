@@ -1,13 +1,13 @@
 // mesh2sdf — progress on stderr through OpenVDB's interrupter interface.
 // The conversion runs in stages; each stage maps its own 0..100 % onto a
 // slice of the overall bar. Drawn by sdftrace's one progress bar
-// (src/util/progress.h), only when stderr is a terminal.
+// (src/common/progress_bar.h), only when stderr is a terminal.
 #ifndef MESH2SDF_PROGRESS_H
 #define MESH2SDF_PROGRESS_H
 
 #include <openvdb/util/NullInterrupter.h>
 
-#include "util/progress.h"
+#include "progress_bar.h"
 
 namespace mesh2sdf {
 

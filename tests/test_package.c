@@ -1,8 +1,9 @@
 /* sdftrace tests — the library as others get it: every public header
  * compiles alone as C11 and as C++17 (-pedantic-errors); the shared
- * libraries export exactly the functions the headers mark SDFT_API, the
- * static ones define sdft_ names only for those and module-prefixed names
- * for the rest, and no installed header includes a private one; the core needs nothing but
+ * libraries export exactly the functions the headers mark SDFT_API (the
+ * scenes' none: they are a static component of their own), the static
+ * ones define sdft_ names only for those and module-prefixed names for the
+ * rest, and no installed header includes a private one; the core needs nothing but
  * OpenMP, libm and libc, and configures and builds with every other part
  * off; and an install, moved to another folder, serves an outside project
  * through find_package and through pkg-config, which build the README's
@@ -199,12 +200,15 @@ static void test_every_declared_function_is_marked(void **state)
 static void test_shared_libraries_export_the_api(void **state)
 {
     (void)state;
-    names h = public_headers(), core_api = {0}, vdb_api = {0};
+    names h = public_headers(), core_api = {0}, vdb_api = {0}, scene_api = {0};
     for (size_t i = 0; i < h.n; i++)
         if (strcmp(h.name[i], "config.h") != 0)
-            api_functions(h.name[i], strcmp(h.name[i], "vdb.h") == 0 ? &vdb_api : &core_api);
+            api_functions(h.name[i], strcmp(h.name[i], "vdb.h") == 0     ? &vdb_api
+                                     : strcmp(h.name[i], "scene.h") == 0 ? &scene_api
+                                                                         : &core_api);
     assert_true(core_api.n > 40);
     assert_true(vdb_api.n >= 4);
+    assert_true(scene_api.n >= 2); /* the scenes component's (static only): in neither shared library */
     char libs[] = SDFT_SHARED_LIBS;
     char *save = NULL;
     char *core_lib = strtok_r(libs, " ", &save), *vdb_lib = strtok_r(NULL, " ", &save);
@@ -221,10 +225,13 @@ static void test_shared_libraries_export_the_api(void **state)
         for (size_t i = 0; i < pairs[k].api->n; i++)
             if (!names_has(&e, pairs[k].api->name[i]))
                 fail_msg("%s does not export %s", pairs[k].lib, pairs[k].api->name[i]);
+        for (size_t i = 0; i < scene_api.n; i++)
+            if (names_has(&e, scene_api.name[i]))
+                fail_msg("%s exports %s: the scenes are a library of their own", pairs[k].lib, scene_api.name[i]);
         print_message("%s: %zu symbols, all public API\n", pairs[k].lib, e.n);
         free(e.name);
     }
-    free(h.name), free(core_api.name), free(vdb_api.name);
+    free(h.name), free(core_api.name), free(vdb_api.name), free(scene_api.name);
 }
 
 /* What an internal name may start with: its module. sdft_ is the public
@@ -455,6 +462,7 @@ static void test_install_and_consume(void **state)
                                         "lib/libsdftrace.so",
                                         "lib/libsdftrace_vdb.a",
                                         "lib/libsdftrace_vdb.so",
+                                        "lib/libsdftrace_scenes.a",
                                         "lib/cmake/sdftrace/sdftraceConfig.cmake",
                                         "lib/pkgconfig/sdftrace.pc",
                                         "lib/pkgconfig/sdftrace_vdb.pc",

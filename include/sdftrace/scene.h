@@ -1,5 +1,7 @@
 /* sdftrace — the procedural scenes of scenes/: each is a field, a default
- * camera and a point light. The registry is static, read-only data. */
+ * camera and a point light. The registry is static, read-only data. Not in
+ * libsdftrace: link the static library sdftrace_scenes (CMake component
+ * `scenes`, target sdftrace::scenes). */
 #ifndef SDFTRACE_SCENE_H
 #define SDFTRACE_SCENE_H
 

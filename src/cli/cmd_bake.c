@@ -3,9 +3,9 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "args.h"
+#include "cmdline.h"
 #include "commands.h"
-#include "progress.h"
+#include "progress_bar.h"
 #include "sdftrace/scene.h"
 #include "sdftrace/vdb.h"
 
@@ -16,113 +16,111 @@ static int show_progress(void *user, float done)
     return 0;
 }
 
+/* What the command line gives: the bake's parameters and the rest. */
+typedef struct bake_opts {
+    sdft_bake_params p;
+    const char *scene, *out;
+    int band_set, quiet;
+} bake_opts;
+
+#define STR(x) #x
+#define XSTR(x) STR(x)
+
+enum { BAKE_ROWS = 12 };
+
+/* The options of `sdftrace bake`, over o, in rows (room for them and the
+ * end); and the command line they make. */
+static cmdline_spec bake_options(bake_opts *o, cmdline_option rows[BAKE_ROWS])
+{
+    const cmdline_option t[BAKE_ROWS] = {
+        {"scene", 0, "NAME", "procedural scene (sdftrace scenes lists them); required", CMDLINE_TEXT, &o->scene,
+         .def = ""},
+        {"res", 0, "N", "voxels along the scene box's longest edge, 1.." XSTR(SDFT_BAKE_MAX_RES), CMDLINE_INT,
+         &o->p.res, .lo = 1, .hi = SDFT_BAKE_MAX_RES},
+        {NULL, 'o', "OUT", ".vdb: OpenVDB level set; .nvdb: NanoVDB grid; required", CMDLINE_TEXT, &o->out, .def = ""},
+        {"band", 0, "W", "narrow-band half-width in voxels, also the background", CMDLINE_FLOAT, &o->p.band, .lo = 1e-3,
+         .hi = 1000.0, .seen = &o->band_set},
+        {"full", 0, NULL, "store every voxel of the box instead of a narrow band", CMDLINE_SET, &o->p.full, .value = 1,
+         .def = "off"},
+        {"fp16", 0, NULL, "Fp16 leaves in .nvdb, half floats in .vdb", CMDLINE_SET, &o->p.fp16, .value = 1,
+         .def = "float"},
+        {"grid-name", 0, "NAME", "name of the grid in the file", CMDLINE_TEXT, &o->p.grid_name, .def = "sdf"},
+        {"threads", 0, "N", "worker threads, 0 = all cores", CMDLINE_INT, &o->p.threads, .lo = 0, .hi = 1024},
+        {"quiet", 0, NULL, "no progress bar and no summary line (errors still go to stderr)", CMDLINE_SET, &o->quiet,
+         .value = 1, .def = ""},
+        {"help", 'h', NULL, NULL, CMDLINE_HELP, NULL, .def = ""},
+        {0},
+    };
+    memcpy(rows, t, sizeof t);
+    return (cmdline_spec){
+        .program = "sdftrace bake",
+        .usage = "usage: sdftrace bake --scene NAME --res N -o OUT.vdb|OUT.nvdb [options]\n",
+        .footer = "Progress goes to stderr when it is a terminal; one summary line to stdout.\n",
+        .rows = rows,
+        .column = 20,
+    };
+}
+
 void cmd_bake_help(FILE *out)
 {
-    sdft_bake_params d = sdft_bake_defaults();
-    fprintf(out,
-            "usage: sdftrace bake --scene NAME --res N -o OUT.vdb|OUT.nvdb [options]\n"
-            "  --scene NAME      procedural scene (sdftrace scenes lists them); required\n"
-            "  --res N           voxels along the scene box's longest edge, 1..%d (default %d)\n"
-            "  -o OUT            .vdb: OpenVDB level set; .nvdb: NanoVDB grid; required\n"
-            "  --band W          narrow-band half-width in voxels, also the background (default %g)\n"
-            "  --full            store every voxel of the box instead of a narrow band (default off)\n"
-            "  --fp16            Fp16 leaves in .nvdb, half floats in .vdb (default float)\n"
-            "  --grid-name NAME  name of the grid in the file (default sdf)\n"
-            "  --threads N       worker threads, 0 = all cores (default 0)\n"
-            "  --quiet           no progress bar and no summary line (errors still go to stderr)\n"
-            "Progress goes to stderr when it is a terminal; one summary line to stdout.\n",
-            SDFT_BAKE_MAX_RES, d.res, d.band);
+    bake_opts d = {.p = sdft_bake_defaults()};
+    cmdline_option rows[BAKE_ROWS];
+    const cmdline_spec spec = bake_options(&d, rows);
+    cmdline_help(&spec, out);
+}
+
+/* The checks that need all the options at once: 0, or -1 with msg. */
+static int check_opts(const bake_opts *o, const sdft_scene **scene, char *msg, size_t len)
+{
+    *scene = o->scene ? sdft_scene_find(o->scene) : NULL;
+    const char *ext = o->out ? strrchr(o->out, '.') : NULL;
+    if (!o->scene)
+        snprintf(msg, len, "--scene is required (sdftrace scenes lists them)");
+    else if (!*scene)
+        snprintf(msg, len, "unknown scene '%s' (sdftrace scenes lists them)", o->scene);
+    else if (!o->out)
+        snprintf(msg, len, "-o OUT.vdb or OUT.nvdb is required");
+    else if (!ext || (strcmp(ext, ".vdb") && strcmp(ext, ".nvdb")))
+        snprintf(msg, len, "%s: the output must end in .vdb or .nvdb", o->out);
+    else if (o->band_set && o->p.full)
+        snprintf(msg, len, "--band and --full exclude each other");
+    else if (o->p.grid_name && !*o->p.grid_name)
+        snprintf(msg, len, "--grid-name must not be empty");
+    else
+        return 0;
+    return -1;
 }
 
 int cmd_bake(int argc, char **argv)
 {
     char msg[512] = "";
-    sdft_bake_params p = sdft_bake_defaults();
-    const char *scene_name = NULL, *out = NULL;
-    int band_set = 0, quiet = 0;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        long n = 0;
-        int rc = 0;
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            cmd_bake_help(stdout);
-            return 0;
-        } else if (!strcmp(a, "--full")) {
-            p.full = 1;
-            continue;
-        } else if (!strcmp(a, "--fp16")) {
-            p.fp16 = 1;
-            continue;
-        } else if (!strcmp(a, "--quiet")) {
-            quiet = 1;
-            continue;
-        }
-        int known = !strcmp(a, "--scene") || !strcmp(a, "--res") || !strcmp(a, "-o") || !strcmp(a, "--band") ||
-                    !strcmp(a, "--grid-name") || !strcmp(a, "--threads");
-        if (!known) {
-            snprintf(msg, sizeof msg, "unknown option '%s' (try: sdftrace bake --help)", a);
-            cli_error("bake", msg);
-            return 2;
-        }
-        if (i + 1 >= argc) {
-            snprintf(msg, sizeof msg, "%s needs a value", a);
-            cli_error("bake", msg);
-            return 2;
-        }
-        const char *v = argv[++i];
-        if (!strcmp(a, "--scene"))
-            scene_name = v;
-        else if (!strcmp(a, "-o"))
-            out = v;
-        else if (!strcmp(a, "--grid-name"))
-            p.grid_name = v;
-        else if (!strcmp(a, "--res")) {
-            rc = arg_long(a, v, 1, SDFT_BAKE_MAX_RES, &n, msg, sizeof msg);
-            p.res = (int)n;
-        } else if (!strcmp(a, "--band")) {
-            rc = arg_float(a, v, 1e-3f, 1000.0f, &p.band, msg, sizeof msg);
-            band_set = 1;
-        } else if (!strcmp(a, "--threads")) {
-            rc = arg_long(a, v, 0, 1024, &n, msg, sizeof msg);
-            p.threads = (int)n;
-        }
-        if (rc) {
-            cli_error("bake", msg);
-            return 2;
-        }
+    bake_opts o = {.p = sdft_bake_defaults()};
+    cmdline_option rows[BAKE_ROWS];
+    const cmdline_spec spec = bake_options(&o, rows);
+    const int parsed = cmdline_parse(&spec, argc, argv, msg, sizeof msg);
+    if (parsed == CMDLINE_HELP_ASKED) {
+        cmd_bake_help(stdout);
+        return 0;
     }
-    const sdft_scene *scene = scene_name ? sdft_scene_find(scene_name) : NULL;
-    const char *ext = out ? strrchr(out, '.') : NULL;
-    if (!scene_name)
-        snprintf(msg, sizeof msg, "--scene is required (sdftrace scenes lists them)");
-    else if (!scene)
-        snprintf(msg, sizeof msg, "unknown scene '%s' (sdftrace scenes lists them)", scene_name);
-    else if (!out)
-        snprintf(msg, sizeof msg, "-o OUT.vdb or OUT.nvdb is required");
-    else if (!ext || (strcmp(ext, ".vdb") && strcmp(ext, ".nvdb")))
-        snprintf(msg, sizeof msg, "%s: the output must end in .vdb or .nvdb", out);
-    else if (band_set && p.full)
-        snprintf(msg, sizeof msg, "--band and --full exclude each other");
-    else if (p.grid_name && !*p.grid_name)
-        snprintf(msg, sizeof msg, "--grid-name must not be empty");
-    if (*msg) {
+    const sdft_scene *scene = NULL;
+    if (parsed != CMDLINE_OK || check_opts(&o, &scene, msg, sizeof msg)) {
         cli_error("bake", msg);
         return 2;
     }
     sdft_bake_stats st;
     sdft_progress_bar bar;
-    sdft_progress_bar_init(&bar, !quiet);
-    p.progress = show_progress;
-    p.progress_user = &bar;
-    const sdft_error rc = sdft_bake(&scene->field, &p, out, NULL, &st, msg, sizeof msg);
+    sdft_progress_bar_init(&bar, !o.quiet);
+    o.p.progress = show_progress;
+    o.p.progress_user = &bar;
+    const sdft_error rc = sdft_bake(&scene->field, &o.p, o.out, NULL, &st, msg, sizeof msg);
     sdft_progress_bar_clear(&bar);
     if (rc) {
         cli_error("bake", msg);
         return 1;
     }
-    if (!quiet)
+    if (!o.quiet)
         printf("baked %s: %dx%dx%d voxels of %g, %llu active in %llu leaves, %llu evaluations, %.0f ms -> %s\n",
                scene->name, st.dims[0], st.dims[1], st.dims[2], st.voxel_size, (unsigned long long)st.active_voxels,
-               (unsigned long long)st.leaves, (unsigned long long)st.evaluations, st.ms, out);
+               (unsigned long long)st.leaves, (unsigned long long)st.evaluations, st.ms, o.out);
     return 0;
 }

@@ -2,17 +2,18 @@
  * to OpenEXR, with an optional PNG preview, count heatmaps and a JSON line
  * of statistics. The steps: parse the options, check them, open the field,
  * check the outputs can be written, render, write, report. */
+#include <math.h>
 #include <omp.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "args.h"
+#include "cmdline.h"
 #include "commands.h"
 #include "image_io.h"
 #include "json.h"
-#include "progress.h"
+#include "progress_bar.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
 #include "sdftrace/vdb.h"
@@ -26,13 +27,13 @@ typedef struct render_opts {
     sdft_method method;           /* --method */
     int omega_set;                /* --omega given; else the method's default */
     float omega, beta, eps;
-    long max_steps, width, height, threads;
-    long heatmap_max;        /* --heatmap-max: the scale's top; 0: the largest count, rounded up */
+    int max_steps, width, height, threads;
+    int heatmap_max;         /* --heatmap-max: the scale's top; 0: the largest count, rounded up */
     int camera_set, fov_set; /* override the scene's view */
     float camera[6], fov;
     int shadows, screen_space, cones, exact_root, depth_only, json, quiet, fp16;
-    const char *out, *png, *heatmap;
-    io_heatmap_kind heatmap_kind;
+    const char *out, *png;
+    const char *heatmap[2]; /* --heatmap KIND FILE */
 } render_opts;
 
 /* What is rendered: a field, its default view and light, and whatever must
@@ -45,52 +46,6 @@ typedef struct render_source {
     sdft_grid *grid;  /* --grid: owned, freed by close_field */
 } render_source;
 
-void cmd_render_help(FILE *out)
-{
-    sdft_render_params d = sdft_render_defaults();
-    fprintf(
-        out,
-        "usage: sdftrace render --scene NAME | --grid FILE -o OUT.exr [options]\n"
-        "  --scene NAME          procedural scene (sdftrace scenes lists them); required without --grid\n"
-        "  --grid FILE           render a level set (.vdb or .nvdb); with --scene, from that scene's camera and light\n"
-        "  --grid-name NAME      the grid of FILE to render (default: the first scalar level set)\n"
-        "  -o OUT.exr            OpenEXR output: R,G,B, Z, N.X,N.Y,N.Z, steps, fallbacks; required\n"
-        "  --method M            sphere | relaxed | enhanced | auto (default %s)\n"
-        "  --omega W             relaxed: [1, 2), default %g; enhanced: (0, 1], default %g\n"
-        "  --beta B              auto: (0, 1) (default %g)\n"
-        "  --eps E               convergence radius, world units (default %g)\n"
-        "  --max-steps N         most SDF evaluations per ray (default %u)\n"
-        "  --width W             image width, pixels (default %d)\n"
-        "  --height H            image height, pixels (default %d)\n"
-        "  --camera FX,FY,FZ,AX,AY,AZ  eye and look-at point (default: the scene's)\n"
-        "  --fov DEG             vertical field of view, (0, 180) (default: the scene's)\n"
-        "  --no-shadows          no shadow rays (default: a shadow ray per lit hit)\n"
-        "  --screen-space        Keinert's screen-space criterion: eps grows by half a pixel per unit t (default off)\n"
-        "  --no-cones            every primary ray from the eye. Default: on a grid, each primary ray is traced\n"
-        "                        only where it crosses the grid's hull (boxes around the cells the surface\n"
-        "                        crosses, each cut to a slab along the surface, found by ray-box and ray-slab\n"
-        "                        tests, no evaluation; boxes whose surface faces away from the eye left out);\n"
-        "                        on a scene, the rays of each 16x16 tile, then of each 4x4 block, first march\n"
-        "                        together as one cone, then each on its own from there (the cones' steps\n"
-        "                        counted apart: cone_steps). Faster, the same picture\n"
-        "  --no-exact-root       sphere steps to eps to the end. Default: near the surface of a grid, the exact\n"
-        "                        first root of its trilinear interpolant, cell by cell (each cell read counts\n"
-        "                        as one evaluation); procedural scenes always step to eps\n"
-        "  --papers              the papers' way of counting: --no-cones --no-exact-root (every ray from the\n"
-        "                        eye, every step to eps); what the method comparisons use\n"
-        "  --depth-only          primary rays only: depth (Z), status and counts; no normals, shading or shadows\n"
-        "  --fp16                load a .vdb grid as NanoVDB Fp16 (half the memory; values within 1/2048 of the band)\n"
-        "  --quiet               no progress line while loading, no summary line when done (both on stderr)\n"
-        "  --threads N           OpenMP threads, 0 = all cores (default 0)\n"
-        "  --png OUT.png         sRGB preview (default none)\n"
-        "  --heatmap steps|fallbacks OUT.png  false-colour map of the per-pixel counts (default none)\n"
-        "  --heatmap-max N       the heatmap's scale runs 0..N, larger counts are red, so that maps share a scale\n"
-        "                        (default: the largest count, rounded up to a multiple of 4)\n"
-        "  --json                print one JSON object of statistics on stdout (default off)\n",
-        sdft_method_name(d.trace.method), sdft_default_omega(SDFT_RELAXED), sdft_default_omega(SDFT_ENHANCED),
-        d.trace.beta, d.trace.eps, d.trace.max_steps, d.width, d.height);
-}
-
 static render_opts default_opts(void)
 {
     sdft_render_params d = sdft_render_defaults();
@@ -98,7 +53,7 @@ static render_opts default_opts(void)
         .method = d.trace.method,
         .beta = d.trace.beta,
         .eps = d.trace.eps,
-        .max_steps = d.trace.max_steps,
+        .max_steps = (int)d.trace.max_steps,
         .width = d.width,
         .height = d.height,
         .threads = 0,
@@ -108,136 +63,129 @@ static render_opts default_opts(void)
     };
 }
 
-/* Fills opts from argv; 0, 1 (--help printed), or -1 with msg. */
+static int set_method(void *target, const char *value, char *msg, size_t len)
+{
+    return sdft_method_parse(value, target, msg, len) ? -1 : 0;
+}
+
+/* --papers: the papers' way of counting, every ray from the eye, every step to eps. */
+static int set_papers(void *target, const char *value, char *msg, size_t len)
+{
+    (void)value, (void)msg, (void)len;
+    render_opts *o = target;
+    o->cones = 0, o->exact_root = 0;
+    return 0;
+}
+
+enum { RENDER_ROWS = 32 };
+
+/* The options of `sdftrace render`, over o (for the help, over the
+ * defaults), in rows; and the command line they make. */
+static cmdline_spec render_options(render_opts *o, cmdline_option rows[RENDER_ROWS])
+{
+    static char omega_def[64];
+    snprintf(omega_def, sizeof omega_def, "relaxed %g, enhanced %g", sdft_default_omega(SDFT_RELAXED),
+             sdft_default_omega(SDFT_ENHANCED));
+    const double inf = INFINITY;
+    const cmdline_option t[RENDER_ROWS] = {
+        {"scene", 0, "NAME", "procedural scene (sdftrace scenes lists them); required without --grid", CMDLINE_TEXT,
+         &o->scene, .def = ""},
+        {"grid", 0, "FILE", "render a level set (.vdb or .nvdb); with --scene, from that scene's camera and light",
+         CMDLINE_TEXT, &o->grid, .def = ""},
+        {"grid-name", 0, "NAME", "the grid of FILE to render", CMDLINE_TEXT, &o->grid_name,
+         .def = "the first scalar level set"},
+        {NULL, 'o', "OUT.exr", "OpenEXR output: R,G,B, Z, N.X,N.Y,N.Z, steps, fallbacks; required", CMDLINE_TEXT,
+         &o->out, .def = ""},
+        {"method", 0, "M", "sphere | relaxed | enhanced | auto", CMDLINE_CALL, &o->method,
+         .def = sdft_method_name(o->method), .handle = set_method},
+        {"omega", 0, "W", "relaxed: [1, 2); enhanced: (0, 1]", CMDLINE_FLOAT, &o->omega, .lo = -inf, .hi = inf,
+         .def = omega_def, .seen = &o->omega_set},
+        {"beta", 0, "B", "auto: (0, 1)", CMDLINE_FLOAT, &o->beta, .lo = -inf, .hi = inf},
+        {"eps", 0, "E", "convergence radius, world units", CMDLINE_FLOAT, &o->eps, .lo = 0.0, .hi = inf},
+        {"max-steps", 0, "N", "most SDF evaluations per ray", CMDLINE_INT, &o->max_steps, .lo = 1, .hi = MAX_STEPS},
+        {"width", 0, "W", "image width, pixels", CMDLINE_INT, &o->width, .lo = 1, .hi = MAX_SIDE},
+        {"height", 0, "H", "image height, pixels", CMDLINE_INT, &o->height, .lo = 1, .hi = MAX_SIDE},
+        {"camera", 0, "FX,FY,FZ,AX,AY,AZ", "eye and look-at point", CMDLINE_FLOATS, o->camera, .value = 6,
+         .def = "the scene's", .seen = &o->camera_set},
+        {"fov", 0, "DEG", "vertical field of view, (0, 180)", CMDLINE_FLOAT, &o->fov, .lo = 0.0, .hi = 180.0,
+         .open = CMDLINE_OPEN_LO | CMDLINE_OPEN_HI, .def = "the scene's", .seen = &o->fov_set},
+        {"no-shadows", 0, NULL, "no shadow rays", CMDLINE_SET, &o->shadows, .value = 0,
+         .def = "a shadow ray per lit hit"},
+        {"screen-space", 0, NULL, "Keinert's screen-space criterion: eps grows by half a pixel per unit t", CMDLINE_SET,
+         &o->screen_space, .value = 1, .def = "off"},
+        {"cones", 0, NULL, NULL, CMDLINE_SET, &o->cones, .value = 1}, /* the default; kept so that older scripts run */
+        {"no-cones", 0, NULL,
+         "every primary ray from the eye. Default: on a grid, each primary ray is traced\n"
+         "only where it crosses the grid's hull (boxes around the cells the surface\n"
+         "crosses, each cut to a slab along the surface, found by ray-box and ray-slab\n"
+         "tests, no evaluation; boxes whose surface faces away from the eye left out);\n"
+         "on a scene, the rays of each 16x16 tile, then of each 4x4 block, first march\n"
+         "together as one cone, then each on its own from there (the cones' steps\n"
+         "counted apart: cone_steps). Faster, the same picture",
+         CMDLINE_SET, &o->cones, .value = 0, .def = ""},
+        {"no-exact-root", 0, NULL,
+         "sphere steps to eps to the end. Default: near the surface of a grid, the exact\n"
+         "first root of its trilinear interpolant, cell by cell (each cell read counts\n"
+         "as one evaluation); procedural scenes always step to eps",
+         CMDLINE_SET, &o->exact_root, .value = 0, .def = ""},
+        {"papers", 0, NULL,
+         "the papers' way of counting: --no-cones --no-exact-root (every ray from the\n"
+         "eye, every step to eps); what the method comparisons use",
+         CMDLINE_CALL, o, .def = "", .handle = set_papers},
+        {"depth-only", 0, NULL, "primary rays only: depth (Z), status and counts; no normals, shading or shadows",
+         CMDLINE_SET, &o->depth_only, .value = 1, .def = ""},
+        {"fp16", 0, NULL, "load a .vdb grid as NanoVDB Fp16 (half the memory; values within 1/2048 of the band)",
+         CMDLINE_SET, &o->fp16, .value = 1, .def = ""},
+        {"quiet", 0, NULL, "no progress line while loading, no summary line when done (both on stderr)", CMDLINE_SET,
+         &o->quiet, .value = 1, .def = ""},
+        {"threads", 0, "N", "OpenMP threads, 0 = all cores", CMDLINE_INT, &o->threads, .lo = 0, .hi = MAX_THREADS},
+        {"png", 0, "OUT.png", "sRGB preview", CMDLINE_TEXT, &o->png, .value = 1},
+        {"heatmap", 0, "steps|fallbacks OUT.png", "false-colour map of the per-pixel counts", CMDLINE_TEXT, o->heatmap,
+         .value = 2, .def = "none"},
+        {"heatmap-max", 0, "N", "the heatmap's scale runs 0..N, larger counts are red, so that maps share a scale\n",
+         CMDLINE_INT, &o->heatmap_max, .lo = 1, .hi = MAX_STEPS,
+         .def = "the largest count, rounded up to a multiple of 4"},
+        {"json", 0, NULL, "print one JSON object of statistics on stdout", CMDLINE_SET, &o->json, .value = 1,
+         .def = "off"},
+        {"help", 'h', NULL, NULL, CMDLINE_HELP, NULL, .def = ""},
+        {0},
+    };
+    memcpy(rows, t, sizeof t);
+    return (cmdline_spec){
+        .program = "sdftrace render",
+        .usage = "usage: sdftrace render --scene NAME | --grid FILE -o OUT.exr [options]\n",
+        .rows = rows,
+        .column = 24,
+    };
+}
+
+void cmd_render_help(FILE *out)
+{
+    render_opts d = default_opts();
+    cmdline_option rows[RENDER_ROWS];
+    const cmdline_spec spec = render_options(&d, rows);
+    cmdline_help(&spec, out);
+}
+
+/* Fills opts from argv; CMDLINE_OK, _HELP_ASKED, or _ERROR with msg. */
 static int parse_opts(int argc, char **argv, render_opts *o, char *msg, size_t len)
 {
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0)
-            return 1;
-        if (strcmp(a, "--no-shadows") == 0) {
-            o->shadows = 0;
-            continue;
-        }
-        if (strcmp(a, "--screen-space") == 0) {
-            o->screen_space = 1;
-            continue;
-        }
-        if (strcmp(a, "--cones") == 0) { /* the default; kept so that older scripts run */
-            o->cones = 1;
-            continue;
-        }
-        if (strcmp(a, "--no-cones") == 0) {
-            o->cones = 0;
-            continue;
-        }
-        if (strcmp(a, "--no-exact-root") == 0) {
-            o->exact_root = 0;
-            continue;
-        }
-        if (strcmp(a, "--papers") == 0) {
-            o->cones = 0, o->exact_root = 0;
-            continue;
-        }
-        if (strcmp(a, "--fp16") == 0) {
-            o->fp16 = 1;
-            continue;
-        }
-        if (strcmp(a, "--quiet") == 0) {
-            o->quiet = 1;
-            continue;
-        }
-        if (strcmp(a, "--depth-only") == 0) {
-            o->depth_only = 1;
-            continue;
-        }
-        if (strcmp(a, "--json") == 0) {
-            o->json = 1;
-            continue;
-        }
-        int known = !strcmp(a, "--scene") || !strcmp(a, "-o") || !strcmp(a, "--method") || !strcmp(a, "--omega") ||
-                    !strcmp(a, "--beta") || !strcmp(a, "--eps") || !strcmp(a, "--max-steps") || !strcmp(a, "--width") ||
-                    !strcmp(a, "--height") || !strcmp(a, "--camera") || !strcmp(a, "--fov") ||
-                    !strcmp(a, "--threads") || !strcmp(a, "--png") || !strcmp(a, "--heatmap") || !strcmp(a, "--grid") ||
-                    !strcmp(a, "--grid-name") || !strcmp(a, "--heatmap-max");
-        if (!known) {
-            snprintf(msg, len, "unknown option '%s' (try: sdftrace render --help)", a);
-            return -1;
-        }
-        int needs = !strcmp(a, "--heatmap") ? 2 : 1;
-        if (i + needs >= argc) {
-            snprintf(msg, len, "%s needs %s", a, needs == 2 ? "a kind and a file" : "a value");
-            return -1;
-        }
-        const char *v = argv[++i];
-        long n = 0;
-        int rc = 0;
-        if (!strcmp(a, "--scene"))
-            o->scene = v;
-        else if (!strcmp(a, "-o"))
-            o->out = v;
-        else if (!strcmp(a, "--grid"))
-            o->grid = v;
-        else if (!strcmp(a, "--grid-name"))
-            o->grid_name = v;
-        else if (!strcmp(a, "--png"))
-            o->png = v;
-        else if (!strcmp(a, "--method"))
-            rc = sdft_method_parse(v, &o->method, msg, len) ? -1 : 0;
-        else if (!strcmp(a, "--omega")) {
-            rc = arg_float(a, v, -1e30f, 1e30f, &o->omega, msg, len);
-            o->omega_set = 1;
-        } else if (!strcmp(a, "--beta"))
-            rc = arg_float(a, v, -1e30f, 1e30f, &o->beta, msg, len);
-        else if (!strcmp(a, "--eps"))
-            rc = arg_float(a, v, 0.0f, 1e30f, &o->eps, msg, len);
-        else if (!strcmp(a, "--fov")) {
-            rc = arg_float(a, v, 0.0f, 180.0f, &o->fov, msg, len);
-            if (!rc && !(o->fov > 0.0f && o->fov < 180.0f)) {
-                snprintf(msg, len, "--fov must be in (0, 180) degrees, got %s", v);
-                rc = -1;
-            }
-            o->fov_set = 1;
-        } else if (!strcmp(a, "--camera")) {
-            rc = arg_floats(a, v, 6, o->camera, msg, len);
-            o->camera_set = 1;
-        } else if (!strcmp(a, "--max-steps")) {
-            rc = arg_long(a, v, 1, MAX_STEPS, &n, msg, len);
-            o->max_steps = n;
-        } else if (!strcmp(a, "--width")) {
-            rc = arg_long(a, v, 1, MAX_SIDE, &n, msg, len);
-            o->width = n;
-        } else if (!strcmp(a, "--height")) {
-            rc = arg_long(a, v, 1, MAX_SIDE, &n, msg, len);
-            o->height = n;
-        } else if (!strcmp(a, "--heatmap-max")) {
-            rc = arg_long(a, v, 1, MAX_STEPS, &n, msg, len);
-            o->heatmap_max = n;
-        } else if (!strcmp(a, "--threads")) {
-            rc = arg_long(a, v, 0, MAX_THREADS, &n, msg, len);
-            o->threads = n;
-        } else if (!strcmp(a, "--heatmap")) {
-            if (strcmp(v, "steps") && strcmp(v, "fallbacks")) {
-                snprintf(msg, len, "--heatmap needs 'steps' or 'fallbacks', got '%s'", v);
-                return -1;
-            }
-            o->heatmap_kind = strcmp(v, "steps") ? SDFT_HEATMAP_FALLBACKS : SDFT_HEATMAP_STEPS;
-            o->heatmap = argv[++i];
-        }
-        if (rc)
-            return -1;
-    }
-    return 0;
+    cmdline_option rows[RENDER_ROWS];
+    const cmdline_spec spec = render_options(o, rows);
+    return cmdline_parse(&spec, argc, argv, msg, len);
 }
 
 /* The checks that need all the options at once. */
 static int check_opts(const render_opts *o, char *msg, size_t len)
 {
-    if (!o->out)
+    const char *kind = o->heatmap[0];
+    if (kind && strcmp(kind, "steps") && strcmp(kind, "fallbacks"))
+        snprintf(msg, len, "--heatmap needs 'steps' or 'fallbacks', got '%s'", kind);
+    else if (!o->out)
         snprintf(msg, len, "-o OUT.exr is required");
-    else if (o->width * o->height > MAX_PIXELS)
-        snprintf(msg, len, "%ldx%ld is more than %ld pixels", o->width, o->height, MAX_PIXELS);
-    else if (o->heatmap_max && !o->heatmap)
+    else if ((long)o->width * o->height > MAX_PIXELS)
+        snprintf(msg, len, "%dx%d is more than %ld pixels", o->width, o->height, MAX_PIXELS);
+    else if (o->heatmap_max && !o->heatmap[1])
         snprintf(msg, len, "--heatmap-max needs --heatmap");
     else if (o->fp16 && !o->grid)
         snprintf(msg, len, "--fp16 applies to a --grid .vdb file");
@@ -369,7 +317,9 @@ static int write_outputs(const render_opts *o, const sdft_image *img, char *msg,
         remove(o->out);
         return -1;
     }
-    if (o->heatmap && io_write_heatmap(o->heatmap, img, o->heatmap_kind, (unsigned long)o->heatmap_max, msg, len)) {
+    const io_heatmap_kind kind =
+        o->heatmap[0] && strcmp(o->heatmap[0], "steps") ? SDFT_HEATMAP_FALLBACKS : SDFT_HEATMAP_STEPS;
+    if (o->heatmap[1] && io_write_heatmap(o->heatmap[1], img, kind, (unsigned long)o->heatmap_max, msg, len)) {
         remove(o->out);
         if (o->png)
             remove(o->png);
@@ -425,7 +375,7 @@ static void print_summary(const render_opts *o, const sdft_render_params *p, con
             "render: %dx%d, %.1f%% hit, %.1f evaluations per pixel, trace %.0f ms, %.2f s in all -> %s%s%s%s%s\n",
             p->width, p->height, 100.0 * (double)st->hits / (double)st->primary_rays,
             (double)(st->steps + st->cone_steps) / (double)st->primary_rays, st->ms, total_s, o->out,
-            o->png ? ", " : "", o->png ? o->png : "", o->heatmap ? ", " : "", o->heatmap ? o->heatmap : "");
+            o->png ? ", " : "", o->png ? o->png : "", o->heatmap[1] ? ", " : "", o->heatmap[1] ? o->heatmap[1] : "");
 }
 
 /* A deferred grid's leaves that could not be read from its file during the
@@ -446,8 +396,8 @@ int cmd_render(int argc, char **argv)
     const double start = omp_get_wtime();
     char msg[512] = "";
     render_opts o = default_opts();
-    int parsed = parse_opts(argc, argv, &o, msg, sizeof msg);
-    if (parsed == 1) {
+    const int parsed = parse_opts(argc, argv, &o, msg, sizeof msg);
+    if (parsed == CMDLINE_HELP_ASKED) {
         cmd_render_help(stdout);
         return 0;
     }
@@ -463,7 +413,7 @@ int cmd_render(int argc, char **argv)
     sdft_render_params p = make_params(&o, &src);
     if (sdft_trace_params_check(&p.trace, msg, sizeof msg) || atomic_file_check_writable(o.out, msg, sizeof msg) ||
         (o.png && atomic_file_check_writable(o.png, msg, sizeof msg)) ||
-        (o.heatmap && atomic_file_check_writable(o.heatmap, msg, sizeof msg))) {
+        (o.heatmap[1] && atomic_file_check_writable(o.heatmap[1], msg, sizeof msg))) {
         cli_error("render", msg);
         close_field(&src);
         return 2;

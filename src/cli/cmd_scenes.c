@@ -1,7 +1,6 @@
 /* sdftrace scenes — one line per procedural scene: name and description. */
 #include <string.h>
 
-#include "args.h"
 #include "commands.h"
 #include "sdftrace/scene.h"
 

@@ -24,4 +24,7 @@ void cmd_render_help(FILE *out);
 int cmd_bake(int argc, char **argv);
 void cmd_bake_help(FILE *out);
 
+/* Prints "sdftrace CMD: MSG" as one line on stderr (CMD NULL: "sdftrace: MSG"). */
+void cli_error(const char *cmd, const char *msg);
+
 #endif

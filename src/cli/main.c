@@ -2,7 +2,6 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "args.h"
 #include "commands.h"
 #include "sdftrace/error.h"
 
@@ -12,6 +11,11 @@ static const sdft_command commands[] = {
     {"bake", "sample a scene into an OpenVDB level set (.vdb) or NanoVDB grid (.nvdb)", cmd_bake, cmd_bake_help},
 };
 enum { COMMAND_COUNT = sizeof commands / sizeof commands[0] };
+
+void cli_error(const char *cmd, const char *msg)
+{
+    fprintf(stderr, "sdftrace%s%s: %s\n", cmd ? " " : "", cmd ? cmd : "", msg);
+}
 
 static void help(FILE *out)
 {

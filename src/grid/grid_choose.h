@@ -9,7 +9,7 @@
 #include <stddef.h>
 #include <string.h>
 
-#include "../core/fail.h"
+#include "fail.h"
 
 /* What a loader knows of each grid before reading it. */
 typedef struct grid_candidate {

@@ -8,7 +8,7 @@
 #define PNANOVDB_C
 #include <nanovdb/PNanoVDB.h>
 
-#include "../core/fail.h"
+#include "fail.h"
 #include "sdftrace/grid.h"
 
 /* The far bound (grid_bound.c): cells of `cell`^3 voxels over the active

@@ -3,7 +3,7 @@
  *
  * Every writer goes through a temporary file in the target's folder and
  * renames it into place only when the file is complete
- * (src/util/atomic_file.h), so a failure never leaves a half-written file,
+ * (src/common/atomic_file.h), so a failure never leaves a half-written file,
  * and the file gets the mode the umask gives. Each returns 0, or non-zero
  * with a one-line reason in msg. None of them prints. Internal to the
  * tools (not installed). */

@@ -29,7 +29,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "../util/atomic_file.h"
+#include "atomic_file.h"
 #include "vdb_internal.h"
 
 using LeafT = openvdb::FloatTree::LeafNodeType;

@@ -1,6 +1,6 @@
-// sdftrace — what the C++ seam's translation units share, and what mesh2sdf
-// borrows from them: NanoVDB conversion and the one NanoVDB / OpenVDB file
-// writer. Internal header; its symbols are hidden in libsdftrace_vdb.
+// sdftrace — what the C++ seam's translation units share (with the grid
+// file writer, src/gridfile/grid_file.h). Internal header; its symbols are
+// hidden in libsdftrace_vdb.
 #ifndef SDFTRACE_VDB_INTERNAL_H
 #define SDFTRACE_VDB_INTERNAL_H
 
@@ -13,7 +13,8 @@
 #include <nanovdb/util/GridHandle.h>
 #include <openvdb/openvdb.h>
 
-#include "../core/fail.h"
+#include "fail.h"
+#include "grid_file.h" /* nano_handle, write_grid: sdftrace_gridfile */
 #include "sdftrace/vdb.h"
 
 // sdft_vdb_open and sdft_vdb_bounds once their arguments are checked
@@ -47,20 +48,8 @@ template <typename Body> sdft_error guarded(const char *what, char *msg, size_t 
     }
 }
 
-// NanoVDB's own conversion of a float grid, leaves stored as `quant`.
-nanovdb::GridHandle<> nano_handle(const openvdb::FloatGrid &grid, sdft_quant quant);
-
 // NanoVDB copy of a float grid, leaves stored as `quant`, as an sdft_grid.
 sdft_error to_nano(const openvdb::FloatGrid &grid, sdft_quant quant, sdft_grid **out, char *msg, size_t msg_len);
-
-// Writes `grid` to `path`: NanoVDB (.nvdb, leaves as `quant`) or OpenVDB
-// (.vdb, halves when quant is SDFT_QUANT_FP16), chosen by `nvdb`. Writes in
-// place: callers write to a temporary file (src/util/atomic_file.h) and
-// rename it. SDFT_OK, or SDFT_EIO with "cannot write LABEL: reason" (label:
-// the name to report, the final path rather than the temporary one). May
-// throw std::bad_alloc.
-sdft_error write_grid(const openvdb::FloatGrid &grid, bool nvdb, sdft_quant quant, const std::string &path,
-                      const std::string &label, char *msg, size_t msg_len);
 
 // A delay-loaded float grid (read from `path`) streamed into a NanoVDB grid
 // of float or Fp16 leaves (vdb_stream.cpp); the grid's leaves are deleted

@@ -7,7 +7,6 @@
 #include <string>
 #include <vector>
 
-#include <nanovdb/util/OpenToNanoVDB.h>
 #include <openvdb/openvdb.h>
 
 #include "../grid/grid_choose.h"
@@ -15,27 +14,6 @@
 
 namespace sdft_vdb
 {
-
-template <typename BuildT> static nanovdb::GridHandle<> convert(const openvdb::FloatGrid &grid)
-{
-    return nanovdb::openToNanoVDB<nanovdb::HostBuffer, openvdb::FloatTree, BuildT>(grid);
-}
-
-nanovdb::GridHandle<> nano_handle(const openvdb::FloatGrid &grid, sdft_quant quant)
-{
-    switch (quant) {
-    case SDFT_QUANT_FP16:
-        return convert<nanovdb::Fp16>(grid);
-    case SDFT_QUANT_FP8:
-        return convert<nanovdb::Fp8>(grid);
-    case SDFT_QUANT_FP4:
-        return convert<nanovdb::Fp4>(grid);
-    case SDFT_QUANT_FPN:
-        return convert<nanovdb::FpN>(grid);
-    default:
-        return convert<float>(grid);
-    }
-}
 
 sdft_error to_nano(const openvdb::FloatGrid &grid, sdft_quant quant, sdft_grid **out, char *msg, size_t msg_len)
 {

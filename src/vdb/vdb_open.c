@@ -4,7 +4,7 @@
  * work. */
 #include <string.h>
 
-#include "../core/fail.h"
+#include "fail.h"
 #include "sdftrace/vdb.h"
 
 /* vdb_load.cpp */

@@ -30,7 +30,7 @@ char *tu_slurp(const char *path);
 int tu_readme_shows(const char *path);
 
 /* How many temporary files of an atomic write to `name` (".NAME.tmp-*",
- * src/util/atomic_file.h) are in folder `dir`. */
+ * src/common/atomic_file.h) are in folder `dir`. */
 int tu_temporaries(const char *dir, const char *name);
 #define tu_assert_no_temporaries(dir, name) assert_int_equal(tu_temporaries(dir, name), 0)
 

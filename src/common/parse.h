@@ -1,10 +1,10 @@
-/* sdftrace util — numbers on the command line, parsed strictly and the
+/* sdftrace common — numbers on the command line, parsed strictly and the
  * same way by both tools: the whole text must be the number, with no
  * leading blanks, no trailing junk, no "nan" or "inf", and no overflow.
  * (strtod and strtol alone accept all of those.) Range checks and
  * messages stay with each option. Internal header (C and C++). */
-#ifndef SDFTRACE_UTIL_PARSE_H
-#define SDFTRACE_UTIL_PARSE_H
+#ifndef SDFTRACE_COMMON_PARSE_H
+#define SDFTRACE_COMMON_PARSE_H
 
 #ifdef __cplusplus
 extern "C" {

@@ -1,7 +1,7 @@
-/* sdftrace util — JSON output for the tools: `sdftrace render --json` and
+/* sdftrace common — JSON output for the tools: `sdftrace render --json` and
  * mesh2sdf's .npy sidecar. Internal header (C and C++). */
-#ifndef SDFTRACE_UTIL_JSON_H
-#define SDFTRACE_UTIL_JSON_H
+#ifndef SDFTRACE_COMMON_JSON_H
+#define SDFTRACE_COMMON_JSON_H
 
 #include <stdio.h>
 

@@ -1,4 +1,4 @@
-/* sdftrace util — strict number parsing (see parse.h). */
+/* sdftrace common — strict number parsing (see parse.h). */
 #include "parse.h"
 
 #include <ctype.h>

@@ -1,10 +1,10 @@
-/* sdftrace util — a progress bar on stderr, for the tools: `sdftrace bake`
+/* sdftrace common — a progress bar on stderr, for the tools: `sdftrace bake`
  * draws the bake's progress callback with it, mesh2sdf its stages. One
  * line, redrawn in place, each whole percent once; drawn only when asked
  * and stderr is a terminal, so logs and pipes stay clean. Internal header
  * (C and C++). */
-#ifndef SDFTRACE_UTIL_PROGRESS_H
-#define SDFTRACE_UTIL_PROGRESS_H
+#ifndef SDFTRACE_COMMON_PROGRESS_BAR_H
+#define SDFTRACE_COMMON_PROGRESS_BAR_H
 
 #ifdef __cplusplus
 extern "C" {

@@ -1,8 +1,8 @@
 /* sdftrace — writing an error's one line into the caller's buffer.
  * Internal header, for the C and C++ code of every component. Header-only
  * (static), so that each library has its own copy and no symbol. */
-#ifndef SDFTRACE_FAIL_H
-#define SDFTRACE_FAIL_H
+#ifndef SDFTRACE_COMMON_FAIL_H
+#define SDFTRACE_COMMON_FAIL_H
 
 #include <stdarg.h>
 #include <stddef.h>

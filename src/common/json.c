@@ -1,4 +1,4 @@
-/* sdftrace util — JSON string literals (see json.h). */
+/* sdftrace common — JSON string literals (see json.h). */
 #include "json.h"
 
 int sdft_json_put_string(FILE *out, const char *s)

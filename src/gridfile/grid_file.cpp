@@ -1,13 +1,37 @@
 // sdftrace — the one writer of grid files, for `sdftrace bake` and mesh2sdf:
 // NanoVDB through NanoVDB's own converter and writer, OpenVDB through
-// OpenVDB's. See vdb_internal.h.
+// OpenVDB's. See grid_file.h.
+#include "grid_file.h"
+
 #include <nanovdb/util/IO.h>
+#include <nanovdb/util/OpenToNanoVDB.h>
 #include <openvdb/openvdb.h>
 
-#include "vdb_internal.h"
+#include "fail.h"
 
 namespace sdft_vdb
 {
+
+template <typename BuildT> static nanovdb::GridHandle<> convert(const openvdb::FloatGrid &grid)
+{
+    return nanovdb::openToNanoVDB<nanovdb::HostBuffer, openvdb::FloatTree, BuildT>(grid);
+}
+
+nanovdb::GridHandle<> nano_handle(const openvdb::FloatGrid &grid, sdft_quant quant)
+{
+    switch (quant) {
+    case SDFT_QUANT_FP16:
+        return convert<nanovdb::Fp16>(grid);
+    case SDFT_QUANT_FP8:
+        return convert<nanovdb::Fp8>(grid);
+    case SDFT_QUANT_FP4:
+        return convert<nanovdb::Fp4>(grid);
+    case SDFT_QUANT_FPN:
+        return convert<nanovdb::FpN>(grid);
+    default:
+        return convert<float>(grid);
+    }
+}
 
 sdft_error write_grid(const openvdb::FloatGrid &grid, bool nvdb, sdft_quant quant, const std::string &path,
                       const std::string &label, char *msg, size_t msg_len)
@@ -27,7 +51,7 @@ sdft_error write_grid(const openvdb::FloatGrid &grid, bool nvdb, sdft_quant quan
     } catch (const std::bad_alloc &) {
         throw;
     } catch (const std::exception &e) {
-        return fail(msg, msg_len, SDFT_EIO, "cannot write " + label + ": " + e.what());
+        return sdft_fail(msg, msg_len, SDFT_EIO, "cannot write %s: %s", label.c_str(), e.what());
     }
     return SDFT_OK;
 }

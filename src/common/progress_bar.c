@@ -1,6 +1,6 @@
-/* sdftrace util — the progress bar (see progress.h). */
+/* sdftrace common — the progress bar (see progress_bar.h). */
 #define _POSIX_C_SOURCE 200809L
-#include "progress.h"
+#include "progress_bar.h"
 
 #include <stdio.h>
 #include <unistd.h>

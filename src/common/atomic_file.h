@@ -1,10 +1,10 @@
-/* sdftrace util — writing a file whole or not at all: a temporary file
+/* sdftrace common — writing a file whole or not at all: a temporary file
  * beside the target, written, flushed to disk (fsync) and renamed onto the
  * target, with the mode a plain fopen would give it (0666 less the umask).
  * The one implementation for every output of sdftrace, sdftrace bake
  * (libsdftrace_vdb) and mesh2sdf. Internal header (C and C++). */
-#ifndef SDFTRACE_UTIL_ATOMIC_FILE_H
-#define SDFTRACE_UTIL_ATOMIC_FILE_H
+#ifndef SDFTRACE_COMMON_ATOMIC_FILE_H
+#define SDFTRACE_COMMON_ATOMIC_FILE_H
 
 #include <stddef.h>
 

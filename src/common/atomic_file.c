@@ -1,4 +1,4 @@
-/* sdftrace util — write beside, flush, rename: POSIX rename() within one
+/* sdftrace common — write beside, flush, rename: POSIX rename() within one
  * folder replaces the target atomically, so readers see the old file or the
  * whole new one, and after fsync a crash cannot leave a renamed but empty
  * file. */
@@ -13,7 +13,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "../core/fail.h"
+#include "fail.h"
 
 unsigned atomic_file_mode(void)
 {

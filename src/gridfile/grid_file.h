@@ -1,0 +1,32 @@
+// sdftrace — the one writer of grid files, shared by libsdftrace_vdb
+// (`sdftrace bake`) and mesh2sdf: NanoVDB through NanoVDB's own converter
+// and writer, OpenVDB through OpenVDB's. The interface of the internal
+// library sdftrace_gridfile; its symbols are hidden in libsdftrace_vdb.
+#ifndef SDFTRACE_GRIDFILE_GRID_FILE_H
+#define SDFTRACE_GRIDFILE_GRID_FILE_H
+
+#include <string>
+
+#include <nanovdb/util/GridHandle.h>
+#include <openvdb/openvdb.h>
+
+#include "sdftrace/vdb.h"
+
+namespace sdft_vdb
+{
+
+// NanoVDB's own conversion of a float grid, leaves stored as `quant`.
+nanovdb::GridHandle<> nano_handle(const openvdb::FloatGrid &grid, sdft_quant quant);
+
+// Writes `grid` to `path`: NanoVDB (.nvdb, leaves as `quant`) or OpenVDB
+// (.vdb, halves when quant is SDFT_QUANT_FP16), chosen by `nvdb`. Writes in
+// place: callers write to a temporary file (src/common/atomic_file.h) and
+// rename it. SDFT_OK, or SDFT_EIO with "cannot write LABEL: reason" (label:
+// the name to report, the final path rather than the temporary one). May
+// throw std::bad_alloc.
+sdft_error write_grid(const openvdb::FloatGrid &grid, bool nvdb, sdft_quant quant, const std::string &path,
+                      const std::string &label, char *msg, size_t msg_len);
+
+} // namespace sdft_vdb
+
+#endif
