@@ -51,7 +51,7 @@ sdft_error write_grid(const openvdb::FloatGrid &grid, bool nvdb, sdft_quant quan
     } catch (const std::bad_alloc &) {
         throw;
     } catch (const std::exception &e) {
-        return sdft_fail(msg, msg_len, SDFT_EIO, "cannot write %s: %s", label.c_str(), e.what());
+        return fail_with(msg, msg_len, SDFT_EIO, "cannot write %s: %s", label.c_str(), e.what());
     }
     return SDFT_OK;
 }
