@@ -38,7 +38,7 @@
 
 #include "atomic_file.h" /* src/common: atomic_file_check_writable */
 #include "cmdline.h"     /* src/common: the option table */
-#include "parse.h"       /* src/common: sdft_parse_integer, sdft_parse_number */
+#include "parse.h"       /* src/common: parse_integer, parse_number */
 #include "sdftrace/grid.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
@@ -122,7 +122,7 @@ static int set_caps(void *target, const char *value, char *msg, size_t len)
     o->ncaps = n < 0 ? 0 : n;
     for (int k = 0; k < n; k++) {
         long v;
-        if (sdft_parse_integer(items[k], &v) || v < 1 || v > 10000000) {
+        if (parse_integer(items[k], &v) || v < 1 || v > 10000000) {
             snprintf(msg, len, "--caps must be integers in [1, 10000000], got '%s'", items[k]);
             return -1;
         }
@@ -468,7 +468,7 @@ static int open_sources(const study_options *o, study_run *run)
 static float cli_float(const char *text)
 {
     double v = NAN;
-    (void)sdft_parse_number(text, &v);
+    (void)parse_number(text, &v);
     return (float)v;
 }
 

@@ -84,9 +84,9 @@ void printJson(const Options& opt, const MeshHealth& h, const OrientCounts* o, c
                const openvdb::FloatGrid& grid, const BuildStats& stats, double seconds)
 {
     std::printf("{\"mesh\": ");
-    sdft_json_put_string(stdout, opt.input.c_str());
+    json_put_string(stdout, opt.input.c_str());
     std::printf(", \"output\": ");
-    sdft_json_put_string(stdout, opt.output.c_str());
+    json_put_string(stdout, opt.output.c_str());
     std::printf(", \"vertices\": %zu, \"faces\": %zu, \"triangles\": %zu, \"degenerate_faces\": %zu, "
                 "\"boundary_edges\": %zu, \"non_manifold_edges\": %zu, \"orient\": \"%s\"",
                 h.vertices, h.faces, h.triangles, h.degenerateFaces, h.boundaryEdges, h.nonManifoldEdges,

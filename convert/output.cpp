@@ -146,7 +146,7 @@ bool writeNpyJson(const BoxGeometry& box, const std::string& npyName, const Prov
         return false;
     }
     std::fprintf(f, "{\n  \"array\": ");
-    sdft_json_put_string(f, npyName.c_str());
+    json_put_string(f, npyName.c_str());
     std::fprintf(f,
                  ",\n"
                  "  \"dtype\": \"float32\",\n"
@@ -162,9 +162,9 @@ bool writeNpyJson(const BoxGeometry& box, const std::string& npyName, const Prov
                  "  \"sign\": ",
                  box.dims[0], box.dims[1], box.dims[2], box.origin[0], box.origin[1], box.origin[2], box.voxelSize,
                  double(background), how.band, how.full ? "true" : "false");
-    sdft_json_put_string(f, how.sign.c_str());
+    json_put_string(f, how.sign.c_str());
     std::fprintf(f, ",\n  \"source_mesh\": ");
-    sdft_json_put_string(f, how.source.c_str());
+    json_put_string(f, how.source.c_str());
     std::fprintf(f, "\n}\n");
     const bool bad = std::ferror(f) != 0;
     const bool ok = (std::fclose(f) == 0) && !bad;

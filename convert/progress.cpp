@@ -3,7 +3,7 @@
 
 namespace mesh2sdf {
 
-Progress::Progress(bool enabled) { sdft_progress_bar_init(&mBar, enabled); }
+Progress::Progress(bool enabled) { progress_bar_init(&mBar, enabled); }
 
 Progress::~Progress() { finish(); }
 
@@ -27,9 +27,9 @@ bool Progress::wasInterrupted(int percent)
 void Progress::report(int percent)
 {
     percent = percent < 0 ? 0 : percent > 100 ? 100 : percent;
-    sdft_progress_bar_show(&mBar, mLabel, mFrom + (mTo - mFrom) * percent / 100);
+    progress_bar_show(&mBar, mLabel, mFrom + (mTo - mFrom) * percent / 100);
 }
 
-void Progress::finish() { sdft_progress_bar_clear(&mBar); }
+void Progress::finish() { progress_bar_clear(&mBar); }
 
 } // namespace mesh2sdf

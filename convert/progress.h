@@ -31,7 +31,7 @@ public:
     bool wasInterrupted(int percent = -1) override;
 
 private:
-    sdft_progress_bar mBar;
+    progress_bar mBar;
     const char* mLabel = "";
     int mFrom = 0, mTo = 100;
 };

@@ -12,7 +12,7 @@
 /* The bake's progress, drawn as the shared progress bar. */
 static int show_progress(void *user, float done)
 {
-    sdft_progress_bar_show(user, "baking", (int)(100.0f * done));
+    progress_bar_show(user, "baking", (int)(100.0f * done));
     return 0;
 }
 
@@ -108,12 +108,12 @@ int cmd_bake(int argc, char **argv)
         return 2;
     }
     sdft_bake_stats st;
-    sdft_progress_bar bar;
-    sdft_progress_bar_init(&bar, !o.quiet);
+    progress_bar bar;
+    progress_bar_init(&bar, !o.quiet);
     o.p.progress = show_progress;
     o.p.progress_user = &bar;
     const sdft_error rc = sdft_bake(&scene->field, &o.p, o.out, NULL, &st, msg, sizeof msg);
-    sdft_progress_bar_clear(&bar);
+    progress_bar_clear(&bar);
     if (rc) {
         cli_error("bake", msg);
         return 1;

@@ -221,7 +221,7 @@ static int open_field(const render_opts *o, render_source *src, char *msg, size_
 /* A .vdb file's loading, drawn as the shared progress bar. */
 static int show_loading(void *user, float done)
 {
-    sdft_progress_bar_show(user, "loading", (int)(100.0f * done));
+    progress_bar_show(user, "loading", (int)(100.0f * done));
     return 0;
 }
 
@@ -241,8 +241,8 @@ static int open_grid(const render_opts *o, render_source *src, char *msg, size_t
         snprintf(msg, len, "--fp16 converts a .vdb file; %s is loaded as it is stored", o->grid);
         return -1;
     }
-    sdft_progress_bar bar;
-    sdft_progress_bar_init(&bar, !o->quiet);
+    progress_bar bar;
+    progress_bar_init(&bar, !o->quiet);
     sdft_grid_options vo = sdft_grid_options_defaults();
     vo.path = o->grid, vo.name = o->grid_name;
     vo.quant = o->fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE;
@@ -251,7 +251,7 @@ static int open_grid(const render_opts *o, render_source *src, char *msg, size_t
                                           it shows */
     vo.progress_user = &bar;
     const sdft_error rc = sdft_vdb_open(&vo, &g, msg, len);
-    sdft_progress_bar_clear(&bar);
+    progress_bar_clear(&bar);
     if (rc)
         return -1;
     *src = (render_source){.field = sdft_grid_field(g, SDFT_GRID_BOUND_FAR), .name = sdft_grid_name(g), .grid = g};
@@ -346,7 +346,7 @@ static void print_json(const render_source *src, const sdft_render_params *p, co
     uint64_t leaves, filled, failed;
     grid_leaves(src, &leaves, &filled, &failed);
     printf("{\"scene\": ");
-    sdft_json_put_string(stdout, src->name);
+    json_put_string(stdout, src->name);
     printf(", \"method\": \"%s\", \"omega\": %.6g, \"beta\": %.6g, \"eps\": %.6g, \"max_steps\": %u, "
            "\"width\": %d, \"height\": %d, \"shadows\": %s, \"screen_space\": %s, \"cones\": %s, \"exact_root\": %s, "
            "\"threads\": %d, "

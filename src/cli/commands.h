@@ -8,12 +8,12 @@
 
 #include <stdio.h>
 
-typedef struct sdft_command {
+typedef struct cli_command {
     const char *name;
     const char *summary; /* one line for `sdftrace --help` */
     int (*run)(int argc, char **argv);
     void (*help)(FILE *out); /* usage and every option with its default */
-} sdft_command;
+} cli_command;
 
 int cmd_scenes(int argc, char **argv);
 void cmd_scenes_help(FILE *out);

@@ -5,7 +5,7 @@
 #include "commands.h"
 #include "sdftrace/error.h"
 
-static const sdft_command commands[] = {
+static const cli_command commands[] = {
     {"scenes", "list the procedural scenes, one per line", cmd_scenes, cmd_scenes_help},
     {"render", "render a scene to OpenEXR (and PNG, heatmaps, JSON statistics)", cmd_render, cmd_render_help},
     {"bake", "sample a scene into an OpenVDB level set (.vdb) or NanoVDB grid (.nvdb)", cmd_bake, cmd_bake_help},

@@ -67,7 +67,7 @@ static int store_number(const cmdline_option *row, const char *flag, const char 
     const int integer = row->kind == CMDLINE_INT;
     range_text(row, integer ? "%.0f" : "%g", range, sizeof range);
     snprintf(what, sizeof what, "%%s must be %s%s, got '%%s'", integer ? "an integer" : "a finite number", range);
-    if (integer ? sdft_parse_integer(text, &n) : sdft_parse_number(text, &v))
+    if (integer ? parse_integer(text, &n) : parse_number(text, &v))
         return fail(msg, msg_len, what, flag, text);
     if (integer)
         v = (double)n;
@@ -86,7 +86,7 @@ static int store_number(const cmdline_option *row, const char *flag, const char 
 static int store_floats(const cmdline_option *row, const char *flag, const char *text, char *msg, size_t msg_len)
 {
     double v[16];
-    if (row->value > 16 || sdft_parse_numbers(text, row->value, v)) {
+    if (row->value > 16 || parse_numbers(text, row->value, v)) {
         char what[96];
         snprintf(what, sizeof what, "%%s needs %d comma-separated finite numbers, got '%%s'", row->value);
         return fail(msg, msg_len, what, flag, text);

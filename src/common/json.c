@@ -1,7 +1,7 @@
 /* sdftrace common — JSON string literals (see json.h). */
 #include "json.h"
 
-int sdft_json_put_string(FILE *out, const char *s)
+int json_put_string(FILE *out, const char *s)
 {
     if (!s)
         return fputs("null", out) < 0 ? -1 : 0;

@@ -12,7 +12,7 @@ extern "C" {
 /* Writes s as a JSON string literal, quotes included: '"' and '\' escaped,
  * control characters as \u00XX, everything else (UTF-8 too) as it is. s
  * NULL writes null. Returns 0, or -1 when the stream reports an error. */
-int sdft_json_put_string(FILE *out, const char *s);
+int json_put_string(FILE *out, const char *s);
 
 #ifdef __cplusplus
 }

@@ -20,7 +20,7 @@ static int leading_number(const char *text, double *out, const char **end)
     return 0;
 }
 
-int sdft_parse_number(const char *text, double *out)
+int parse_number(const char *text, double *out)
 {
     const char *end;
     double v;
@@ -30,7 +30,7 @@ int sdft_parse_number(const char *text, double *out)
     return 0;
 }
 
-int sdft_parse_integer(const char *text, long *out)
+int parse_integer(const char *text, long *out)
 {
     if (!text || !*text || isspace((unsigned char)*text))
         return -1;
@@ -43,7 +43,7 @@ int sdft_parse_integer(const char *text, long *out)
     return 0;
 }
 
-int sdft_parse_numbers(const char *text, int n, double *out)
+int parse_numbers(const char *text, int n, double *out)
 {
     const char *p = text;
     for (int i = 0; i < n; i++) {

@@ -11,13 +11,13 @@ extern "C" {
 #endif
 
 /* A finite decimal or hexadecimal floating-point number: 0, or -1. */
-int sdft_parse_number(const char *text, double *out);
+int parse_number(const char *text, double *out);
 
 /* A decimal integer that fits a long: 0, or -1. */
-int sdft_parse_integer(const char *text, long *out);
+int parse_integer(const char *text, long *out);
 
 /* Exactly n comma-separated finite numbers ("1,2.5,-3"): 0, or -1. */
-int sdft_parse_numbers(const char *text, int n, double *out);
+int parse_numbers(const char *text, int n, double *out);
 
 #ifdef __cplusplus
 }

@@ -7,7 +7,7 @@
 
 enum { BAR_WIDTH = 40 };
 
-void sdft_progress_bar_init(sdft_progress_bar *bar, int enabled)
+void progress_bar_init(progress_bar *bar, int enabled)
 {
     bar->draw = enabled && isatty(STDERR_FILENO);
     bar->shown = bar->target = -1;
@@ -25,7 +25,7 @@ static void draw_frame(int percent, const char *label)
     fflush(stderr);
 }
 
-void sdft_progress_bar_show(sdft_progress_bar *bar, const char *label, int percent)
+void progress_bar_show(progress_bar *bar, const char *label, int percent)
 {
     if (!bar->draw)
         return;
@@ -52,7 +52,7 @@ void sdft_progress_bar_show(sdft_progress_bar *bar, const char *label, int perce
     }
 }
 
-void sdft_progress_bar_clear(sdft_progress_bar *bar)
+void progress_bar_clear(progress_bar *bar)
 {
     if (bar->draw && bar->shown >= 0) {
         fprintf(stderr, "\r%*s\r", BAR_WIDTH + 32, "");

@@ -10,25 +10,25 @@
 extern "C" {
 #endif
 
-typedef struct sdft_progress_bar {
+typedef struct progress_bar {
     int draw;          /* asked for, and stderr is a terminal */
     int shown;         /* the percent on screen, -1 for none (its drawer's) */
     int target;        /* the most asked for, -1 for none; atomic */
     int busy;          /* a thread is drawing; atomic */
     const char *label; /* the label of the latest rise; atomic */
-} sdft_progress_bar;
+} progress_bar;
 
 /* A bar that draws when `enabled` and stderr is a terminal. */
-void sdft_progress_bar_init(sdft_progress_bar *bar, int enabled);
+void progress_bar_init(progress_bar *bar, int enabled);
 
 /* Shows `percent` (clamped to 0..100) with a label of up to 24 characters,
  * if it is more than the bar was asked for so far. Safe from any thread:
  * one thread draws at a time, so the frames reach the terminal in order and
  * the last one is the most asked for. */
-void sdft_progress_bar_show(sdft_progress_bar *bar, const char *label, int percent);
+void progress_bar_show(progress_bar *bar, const char *label, int percent);
 
 /* Clears the bar's line, if anything was drawn. */
-void sdft_progress_bar_clear(sdft_progress_bar *bar);
+void progress_bar_clear(progress_bar *bar);
 
 #ifdef __cplusplus
 }
