@@ -430,15 +430,13 @@ bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
             used[v] = 1;
     for (size_t v = 0; v < mesh.points.size(); ++v)
         mesh.health.weldedVertices += used[v] && mesh.welded[v] != v;
-    countEdges(mesh, edgeUses(mesh));
     return true;
 }
 
 std::vector<EdgeUse> edgeUses(const TriangleMesh &mesh)
 {
     const size_t n = mesh.triangles.size() * 3;
-    // Counting sort on the smaller endpoint, then each run of one smaller
-    // endpoint by the larger (runs are a vertex's few edges), stably.
+    // Counting sort on the smaller endpoint.
     std::vector<uint32_t> start(mesh.points.size() + 1, 0);
     for (uint32_t h = 0; h < n; ++h)
         ++start[std::min(edgeFrom(mesh, h), edgeTo(mesh, h)) + 1];
@@ -449,9 +447,12 @@ std::vector<EdgeUse> edgeUses(const TriangleMesh &mesh)
         const uint32_t a = edgeFrom(mesh, h), b = edgeTo(mesh, h);
         edges[start[std::min(a, b)]++] = {(uint64_t(std::min(a, b)) << 32) | std::max(a, b), h};
     }
+    // Each bucket by key, insertion sort (a vertex has few edges; equal keys
+    // keep their half-edge order).
     for (size_t v = 0, begin = 0; v + 1 < start.size(); begin = start[v++])
-        std::stable_sort(edges.begin() + begin, edges.begin() + start[v],
-                         [](const EdgeUse &x, const EdgeUse &y) { return x.key < y.key; });
+        for (size_t i = begin + 1; i < start[v]; ++i)
+            for (size_t j = i; j > begin && edges[j].key < edges[j - 1].key; --j)
+                std::swap(edges[j], edges[j - 1]);
     return edges;
 }
 

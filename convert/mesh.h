@@ -36,9 +36,8 @@ struct TriangleMesh {
 /// Reads `path` (.obj .ply .off .stl .om) through OpenMesh's readers,
 /// keeping every face the file has on the file's vertices, whatever their
 /// orientation; triangulates its polygons (fans), drops zero-area triangles,
-/// welds the vertices by position and computes the health counts (edges are
-/// matched on the welded vertices, so a seam of duplicated vertices counts
-/// as closed). Returns false and sets `error` to one line on a missing or
+/// welds the vertices by position and computes the health counts but the
+/// edges' (countEdges, or orientMesh, gives those). Returns false and sets `error` to one line on a missing or
 /// unreadable file, an unknown extension, no faces, non-finite coordinates
 /// or a zero-size bounding box.
 bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error);
@@ -67,7 +66,9 @@ inline uint32_t edgeTo(const TriangleMesh &mesh, uint32_t halfEdge)
 }
 
 /// Sets health.boundaryEdges and health.nonManifoldEdges from `edges`
-/// (edgeUses(mesh)): runs of one use and of three or more.
+/// (edgeUses(mesh)): runs of one use and of three or more. Edges are
+/// matched on the welded vertices, so a seam of duplicated vertices counts
+/// as closed.
 void countEdges(TriangleMesh &mesh, const std::vector<EdgeUse> &edges);
 
 /// True if `path` ends in an extension loadMesh reads (case-insensitive).

@@ -52,9 +52,13 @@
 //    oriented so far, just off the patch on both sides at up to kProbes of
 //    its triangles (chosen along its cumulative area): a cavity wall sees 0
 //    in front of it and 1 behind it, as every correctly oriented face does;
-//    a reversed one in empty space sees -1 in front and 0 behind. Most
-//    probes consistent: keep it. Only meshes with an inward-facing patch pay
-//    for this (one winding tree); a well-oriented mesh never gets here.
+//    a reversed one in empty space sees -1 in front and 0 behind (the test
+//    weighs both choices' misfits, turnsOutward). Only a patch the file
+//    orients consistently (kCavityShare of its area) and that lies within
+//    another patch's bounds is asked: faces reversed at random are no
+//    evidence of a cavity, and a wall lies inside the solid around it. Only
+//    meshes with such a patch pay for the test (one winding tree); a
+//    well-oriented mesh never gets here.
 //
 // What is not decided: a patch facing outward inside another solid is kept
 // (a part inside a part, the winding number 2 there is still inside); a
@@ -122,6 +126,11 @@ size_t dropDuplicates(TriangleMesh &mesh, std::vector<EdgeUse> &edges)
             ++j;
         if (j - i < 2)
             continue;
+        if (j - i == 2) { // a manifold edge, most of them: no sort
+            if (third(edges[i].halfEdge) == third(edges[i + 1].halfEdge))
+                drop[std::max(edges[i].halfEdge, edges[i + 1].halfEdge) / 3] = 1;
+            continue;
+        }
         run.clear();
         for (size_t k = i; k < j; ++k)
             run.emplace_back(third(edges[k].halfEdge), edges[k].halfEdge / 3);
@@ -320,6 +329,38 @@ bool turnsOutward(const TriangleMesh &mesh, const Patches &p, uint32_t id, const
     return turn < keep;
 }
 
+struct Box {
+    Vec lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+};
+
+std::vector<Box> patchBounds(const TriangleMesh &mesh, const Patches &p)
+{
+    std::vector<Box> bounds(p.count());
+    for (uint32_t t = 0; t < mesh.triangles.size(); ++t)
+        for (int c = 0; c < 3; ++c) {
+            const Vec v = corner(mesh, t, c);
+            Box &b = bounds[p.of[t]];
+            for (int k = 0; k < 3; ++k) {
+                b.lo[k] = std::min(b.lo[k], v[k]);
+                b.hi[k] = std::max(b.hi[k], v[k]);
+            }
+        }
+    return bounds;
+}
+
+// Whether patch `id`'s bounds lie within another patch's.
+bool withinAnother(const std::vector<Box> &bounds, uint32_t id)
+{
+    for (uint32_t other = 0; other < bounds.size(); ++other) {
+        bool inside = other != id;
+        for (int k = 0; k < 3 && inside; ++k)
+            inside = bounds[other].lo[k] <= bounds[id].lo[k] && bounds[id].hi[k] <= bounds[other].hi[k];
+        if (inside)
+            return true;
+    }
+    return false;
+}
+
 } // namespace
 
 OrientCounts orientMesh(TriangleMesh &mesh, bool simd)
@@ -347,22 +388,31 @@ OrientCounts orientMesh(TriangleMesh &mesh, bool simd)
         if (side < 0)
             inward.push_back(id);
     }
-    if (!inward.empty()) {
-        // The mesh as oriented so far, for the cavity test.
-        std::vector<std::array<uint32_t, 3>> oriented = mesh.triangles;
-        for (uint32_t t = 0; t < n; ++t)
-            if (p.reversed[t])
-                std::swap(oriented[t][1], oriented[t][2]);
-        const FastWinding winding(mesh.points, oriented, 2.0, simd);
-        for (uint32_t id : inward) {
-            if (p.fileShare[id] >= kCavityShare && !turnsOutward(mesh, p, id, areaVec, area, winding)) {
-                ++counts.cavityPatches;
-                continue;
+    // The cavity test asks only of a patch that the file orients
+    // consistently and that lies within another patch's bounds (a cavity's
+    // wall lies inside the solid around it); the winding tree is built for
+    // the first such patch.
+    const std::vector<Box> bounds = patchBounds(mesh, p);
+    std::unique_ptr<FastWinding> winding;
+    for (uint32_t id : inward) {
+        bool cavity = false;
+        if (p.fileShare[id] >= kCavityShare && withinAnother(bounds, id)) {
+            if (!winding) {
+                std::vector<std::array<uint32_t, 3>> oriented = mesh.triangles; // as oriented so far
+                for (uint32_t t = 0; t < n; ++t)
+                    if (p.reversed[t])
+                        std::swap(oriented[t][1], oriented[t][2]);
+                winding.reset(new FastWinding(mesh.points, oriented, 2.0, simd));
             }
-            ++counts.outwardPatches;
-            for (uint32_t i = p.start[id]; i < p.start[id + 1]; ++i)
-                p.reversed[p.order[i]] ^= 1;
+            cavity = !turnsOutward(mesh, p, id, areaVec, area, *winding);
         }
+        if (cavity) {
+            ++counts.cavityPatches;
+            continue;
+        }
+        ++counts.outwardPatches;
+        for (uint32_t i = p.start[id]; i < p.start[id + 1]; ++i)
+            p.reversed[p.order[i]] ^= 1;
     }
     for (uint32_t t = 0; t < n; ++t)
         if (p.reversed[t]) {
