@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# mesh2sdf side by side with what it replaces, in two Markdown tables.
+# mesh2sdf side by side with what it replaces, in two Markdown tables;
+# writes bench/results/mesh2sdf.md (and prints it).
 #
 # Narrow band: mesh2sdf against OpenVDB's `vdb_tool -mesh2ls`: wall time,
 # peak memory (GNU time's maximum resident set) and the fraction of
@@ -30,10 +31,18 @@
 # env:   BUILD=build  MESHES="spot ..."  SAMPLES=10000  THREADS=0  REPEAT=3
 #        DENSE="128 256" (dense resolutions; empty: none)  NARROW=0 (no narrow-band table)
 #        ORIENT=128 (the orientation table's resolution; empty: no such table)
-# Prints the tables on stdout; grids go to $BUILD/bench-mesh2sdf/.
+#        PAGE_DIR (where the page goes; default bench/results)
+# Grids go to $BUILD/bench-mesh2sdf/.
 set -euo pipefail
 export LC_ALL=C # bash's EPOCHREALTIME and awk: a decimal point, not a comma
 cd "$(dirname "$0")/.."
+root=$PWD
+. bench/page.sh
+# The command that made the page, with the settings given in the environment.
+command="bench/mesh2sdf.sh${1:+ $*}"
+for var in NARROW ORIENT DENSE REPEAT THREADS SAMPLES MESHES BUILD; do
+    [ -z "${!var+set}" ] || command="$var=\"${!var}\" $command"
+done
 BUILD=${BUILD:-build}
 MESH_DIR=${MESH_DIR:-tests/data/meshes}
 MESHES=${MESHES:-"stanford-bunny spot teapot suzanne fandisk"}
@@ -123,7 +132,6 @@ for name in $MESHES; do
 done
 echo
 }
-[ "$NARROW" = 0 ] || narrow_table
 
 # The orientation table: each mesh as it is, inside out, with half its
 # faces reversed and as a soup of unwelded triangles (bench/mesh_variant.awk),
@@ -172,9 +180,7 @@ for name in $MESHES; do
 done
 echo
 }
-[ -z "$ORIENT" ] || orient_table
-
-[ -n "$DENSE" ] || exit 0
+dense_table() {
 echo "Dense (--full), against the per-point query on the same voxels:"
 echo
 echo "| mesh | N | box | mesh2sdf --full s | MiB | per-point s | × faster | largest difference, voxels | sign disagreements |"
@@ -199,3 +205,38 @@ for name in $MESHES; do
         echo "| $name | $n | $box | $t | $m | $p | $(ratio "$p" "$t") | $e | $d |"
     done
 done
+echo
+}
+
+page() {
+page_header "mesh2sdf against OpenVDB's vdb_tool and per-point queries" "$command"
+cat <<EOF
+Every time is wall-clock, the fastest of $REPEAT runs, the tools of a row run in turns; the ratios
+are side by side. Peak memory is GNU time's maximum resident set of that run.
+
+**Narrow band.** The meshes of \`$MESH_DIR\` converted by \`vdb_tool -mesh2ls\`, \`mesh2sdf --sign
+winding\` and \`mesh2sdf --sign flood\`, with the same voxel size (the mesh's longest side / N) and
+a 3-voxel band. *wrong sign* is the fraction of $SAMPLES uniform sample points that a brute-force
+winding number calls clearly inside (> 0.75) or outside (< 0.25) and the grid gets wrong
+(\`mesh2sdf --check-sign\`). *× vdb_tool* is the time over vdb_tool's.
+
+**Orientation.** Each mesh as it is, inside out, with half its faces reversed and as a soup of
+unwelded triangles (\`bench/mesh_variant.awk\`), converted by \`vdb_tool -mesh2ls\` and by mesh2sdf
+at $ORIENT voxels along the longest side, each judged against the ORIGINAL mesh's brute-force
+winding number: *wrong sign* as above, *3+ voxels off* how many of the wrong points lie 3 or more
+voxels from the surface. *× as is* is mesh2sdf's time over its time on the mesh as it is (the soup's
+file is about 3 times the size to read); *× none* its time over \`--orient none\` on the same file.
+
+**Dense grids.** \`mesh2sdf --full --npy\` (its whole run: loading, band, signs, dense pass,
+writing the \`.vdb\` and \`.npy\`) against the per-point signed distance query that libigl-style
+tools pay at every voxel (\`bench/mesh2sdf_points.cpp\`: nearest triangle through a bounding volume
+hierarchy searched from its root, and the fast winding number, nothing shared between points; its
+own time, one run, on the voxels of mesh2sdf's \`.npy\`); how far the two grids differ.
+
+EOF
+[ "$NARROW" = 0 ] || narrow_table
+[ -z "$ORIENT" ] || orient_table
+[ -z "$DENSE" ] || dense_table
+}
+
+page_write mesh2sdf.md page

@@ -9,9 +9,11 @@
 #  3. measures every configuration in one process (bench/study: results.csv
 #     with each row's `sdftrace render` command, table.md, the figures' data);
 #  4. draws Figs. 1-3 with gnuplot (bench/fig1.gp, fig2.gp, fig3.gp).
-# Everything is made in a staging folder and moved into place at the end;
-# bench/results/README.md (the written comparison) is never touched, and
-# nothing is committed.
+# table.md is the study's results page: it starts with the command that
+# made it, the date, the machine and the commit. Everything is made in a
+# staging folder and moved into place at the end; bench/results/README.md
+# (the written reading of these files) is never touched, and nothing is
+# committed.
 #
 # usage: bench/study.sh [--quick] [--out DIR] [--build DIR] [--grids DIR] [--keep-grids]
 #   --quick       the same pipeline at small sizes (320x180, 128^3, 2 repeats,
@@ -25,6 +27,13 @@
 set -eu
 
 root=$(cd "$(dirname "$0")/.." && pwd)
+. "$root/bench/page.sh"
+# The command that made the results, with the sizes given in the environment.
+command="bench/study.sh${1:+ $*}"
+for var in SCENES CAPS SWEEP REPEATS HEIGHT WIDTH RES; do
+    eval "val=\${$var:-}"
+    [ -z "$val" ] || command="$var=$val $command"
+done
 quick=0 out= build=$root/build grids= keep=0
 die() { echo "study.sh: $*" >&2; exit 2; }
 while [ $# -gt 0 ]; do
@@ -93,11 +102,12 @@ grids=$(rel "$(cd "$grids" && pwd)")
 started=$(date +%s)
 log() { echo "study.sh: $*" >&2; }
 
-# 1. The machine.
+# 1. The machine, and the results page's header (as the run starts).
+page_header "The study's tables" "$command" >"$stage/header.md"
 {
+    echo "command:         $command"
     echo "date (UTC):      $(date -u '+%Y-%m-%d %H:%M')"
-    echo "commit:          $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo '?')$(
-        [ -n "$(git -C "$root" status --porcelain --untracked-files=no 2>/dev/null)" ] && echo ' (with uncommitted changes)')"
+    echo "commit:          $(git -C "$root" describe --always --dirty 2>/dev/null || echo '?')"
     echo "CPU:             $(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo), $(nproc) cores"
     echo "memory:          $(awk '/^MemTotal/ { printf "%.1f GiB", $2 / 1048576 }' /proc/meminfo)"
     echo "kernel:          $(uname -srm)"
@@ -143,14 +153,19 @@ log "measuring (bench/study)"
 "$study" --out "$stage" --grids "$grids" --res "$res" --width "$width" --height "$height" --repeats "$repeats" \
     --sweep "$sweep" --caps "$caps" --scenes "$scenes" --cli "$bin" $([ "$quick" = 1 ] && echo --quiet)
 
-# The bakes' table goes below the study's.
+# The page: the header, the study's tables (bench/study's own title line
+# replaced by the header's), then the bakes' table.
 {
+    cat "$stage/header.md"
+    tail -n +2 "$stage/table.md"
     printf '\n## Bakes (`sdftrace bake`, timed with /usr/bin/time -v)\n\n'
     echo '| scene | representation | s | peak MiB | file MiB | what it made | command |'
     echo '|---|---|--:|--:|--:|---|---|'
     awk -F, 'NR > 1 { cmd = $0; sub(/^[^"]*"/, "", cmd); sub(/"$/, "", cmd)
                       printf "| %s | %s | %s | %s | %s | %s | `%s` |\n", $1, $2, $3, $4, $5, $6, cmd }' "$stage/bakes.csv"
-} >>"$stage/table.md"
+} >"$stage/page.md"
+mv -f "$stage/page.md" "$stage/table.md"
+rm -f "$stage/header.md"
 
 # 4. The figures.
 log "drawing the figures (gnuplot)"

@@ -363,6 +363,59 @@ static void table_counts(FILE *f, const study_options *o, const study_run *run, 
     fputc('\n', f);
 }
 
+/* The share of row c's primary rays not finished after k evaluations. */
+static double share_marching(const study_config *c, size_t k)
+{
+    uint64_t left = c->stats.primary_rays;
+    for (size_t j = 0; j <= k && j < c->hist_len; j++)
+        left -= c->hist[j];
+    return (double)left / (double)c->stats.primary_rays;
+}
+
+/* Fig. 2's rows (no shadows, 1000 steps) per method of the paper's table,
+ * for one scene and representation; -1 where a row or its counts are missing. */
+static int fig2_rows(const study_run *run, const sdft_scene *scene, int rep, int idx[STUDY_TABLE_ROWS])
+{
+    int any = 0;
+    for (int m = 0; m < STUDY_TABLE_ROWS; m++) {
+        idx[m] = find(run, scene, rep, &STUDY_TABLE_METHODS[m], 0, 1000, 0, 0);
+        if (idx[m] >= 0 && run->configs[idx[m]].hist)
+            any = 1;
+        else
+            idx[m] = -1;
+    }
+    return any;
+}
+
+static void table_fig2(FILE *f, const study_options *o, const study_run *run)
+{
+    static const size_t ks[] = {10, 20, 30, 50};
+    fprintf(f, "## Fig. 2's numbers: primary rays still marching after k evaluations, %%, no shadows, 1000 steps\n\n"
+               "| scene | representation | k |");
+    for (int m = 0; m < STUDY_TABLE_ROWS; m++)
+        fprintf(f, " %s |", STUDY_TABLE_METHODS[m].paper);
+    fprintf(f, "\n|---|---|--:|");
+    for (int m = 0; m < STUDY_TABLE_ROWS; m++)
+        fprintf(f, "--:|");
+    fputc('\n', f);
+    for (int s = 0; s < o->nscenes; s++)
+        for (int rep = 0; rep < STUDY_REPS; rep++) {
+            int idx[STUDY_TABLE_ROWS];
+            if (!fig2_rows(run, o->scenes[s], rep, idx))
+                continue;
+            for (size_t j = 0; j < sizeof ks / sizeof ks[0]; j++) {
+                fprintf(f, "| %s | %s | %zu |", o->scenes[s]->name, STUDY_REP_NAMES[rep], ks[j]);
+                for (int m = 0; m < STUDY_TABLE_ROWS; m++)
+                    if (idx[m] < 0)
+                        fputs(" |", f);
+                    else
+                        fprintf(f, " %.2f |", 100.0 * share_marching(&run->configs[idx[m]], ks[j]));
+                fputc('\n', f);
+            }
+        }
+    fputc('\n', f);
+}
+
 static void table_keinert(FILE *f, const study_options *o, const study_run *run)
 {
     fprintf(f,
@@ -511,6 +564,8 @@ static int write_table(const study_options *o, const study_run *run)
                 for (int s = 0; s < o->nscenes; s++)
                     table_counts(f, o, run, o->scenes[s], shadows, o->caps[k]);
             }
+    if (o->parts & STUDY_TABLE)
+        table_fig2(f, o, run);
     if (o->parts & STUDY_KEINERT)
         table_keinert(f, o, run);
     if (o->parts & STUDY_BEYOND)
@@ -564,19 +619,13 @@ static int write_fig2(const study_options *o, const study_run *run)
 {
     for (int s = 0; s < o->nscenes; s++)
         for (int rep = 0; rep < STUDY_REPS; rep++) {
-            int idx[STUDY_TABLE_ROWS], any = 0;
-            size_t len = 0;
-            for (int m = 0; m < STUDY_TABLE_ROWS; m++) {
-                idx[m] = find(run, o->scenes[s], rep, &STUDY_TABLE_METHODS[m], 0, 1000, 0, 0);
-                if (idx[m] >= 0 && run->configs[idx[m]].hist) {
-                    any = 1;
-                    len = run->configs[idx[m]].hist_len;
-                } else {
-                    idx[m] = -1;
-                }
-            }
-            if (!any)
+            int idx[STUDY_TABLE_ROWS];
+            if (!fig2_rows(run, o->scenes[s], rep, idx))
                 continue;
+            size_t len = 0;
+            for (int m = 0; m < STUDY_TABLE_ROWS; m++)
+                if (idx[m] >= 0)
+                    len = run->configs[idx[m]].hist_len;
             char name[256];
             snprintf(name, sizeof name, "fig2-%s-%s.dat", o->scenes[s]->name, STUDY_REP_NAMES[rep]);
             out_file f;
@@ -588,9 +637,6 @@ static int write_fig2(const study_options *o, const study_run *run)
             for (int m = 0; m < STUDY_TABLE_ROWS; m++)
                 fprintf(f.f, " \"%s\"", STUDY_TABLE_METHODS[m].paper);
             fputc('\n', f.f);
-            uint64_t left[STUDY_TABLE_ROWS];
-            for (int m = 0; m < STUDY_TABLE_ROWS; m++)
-                left[m] = idx[m] >= 0 ? run->configs[idx[m]].stats.primary_rays : 0;
             for (size_t k = 0; k < len; k++) {
                 int live = 0;
                 fprintf(f.f, "%zu", k);
@@ -599,9 +645,9 @@ static int write_fig2(const study_options *o, const study_run *run)
                         fputs(" NaN", f.f);
                         continue;
                     }
-                    left[m] -= run->configs[idx[m]].hist[k];
-                    live |= left[m] > 0;
-                    fprintf(f.f, " %.8f", (double)left[m] / (double)run->configs[idx[m]].stats.primary_rays);
+                    const double share = share_marching(&run->configs[idx[m]], k);
+                    live |= share > 0;
+                    fprintf(f.f, " %.8f", share);
                 }
                 fputc('\n', f.f);
                 if (!live)
