@@ -11,22 +11,24 @@
 #include <cstdio>
 #include <random>
 
-namespace mesh2sdf {
+namespace mesh2sdf
+{
 
-namespace {
+namespace
+{
 
-openvdb::FloatGrid::Ptr readFirstFloatGrid(const std::string& path, std::string& error)
+openvdb::FloatGrid::Ptr readFirstFloatGrid(const std::string &path, std::string &error)
 {
     try {
         openvdb::io::File file(path);
         file.open();
         openvdb::GridPtrVecPtr grids = file.getGrids();
         file.close();
-        for (const auto& g : *grids)
+        for (const auto &g : *grids)
             if (auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(g))
                 return f;
         error = "no float grid in " + path;
-    } catch (const std::exception& e) {
+    } catch (const std::exception &e) {
         error = "cannot read grid " + path + ": " + e.what();
     }
     return nullptr;
@@ -34,17 +36,17 @@ openvdb::FloatGrid::Ptr readFirstFloatGrid(const std::string& path, std::string&
 
 } // namespace
 
-bool checkSign(const TriangleMesh& mesh, const std::vector<std::string>& grids, int samples, std::string& error)
+bool checkSign(const TriangleMesh &mesh, const std::vector<std::string> &grids, int samples, std::string &error)
 {
     std::vector<openvdb::FloatGrid::Ptr> loaded;
-    for (const auto& path : grids) {
+    for (const auto &path : grids) {
         loaded.push_back(readFirstFloatGrid(path, error));
         if (!loaded.back())
             return false;
     }
     std::mt19937_64 rng(20240611);
     std::vector<Vec3> points(static_cast<size_t>(samples));
-    for (auto& p : points)
+    for (auto &p : points)
         for (int k = 0; k < 3; ++k) {
             const double grow = 0.05 * (mesh.hi[k] - mesh.lo[k]);
             std::uniform_real_distribution<double> u(mesh.lo[k] - grow, mesh.hi[k] + grow);
@@ -52,14 +54,14 @@ bool checkSign(const TriangleMesh& mesh, const std::vector<std::string>& grids, 
         }
     const FastWinding soup(mesh.points, mesh.triangles);
     std::vector<double> w(points.size()), dist(points.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 16), [&](const tbb::blocked_range<size_t> &r) {
         for (size_t i = r.begin(); i != r.end(); ++i) {
             w[i] = soup.bruteForce(points[i]);
             dist[i] = soup.distance(points[i]);
         }
     });
     for (size_t g = 0; g < loaded.size(); ++g) {
-        const openvdb::FloatGrid& grid = *loaded[g];
+        const openvdb::FloatGrid &grid = *loaded[g];
         openvdb::FloatGrid::ConstAccessor acc = grid.getConstAccessor();
         const double voxel = grid.voxelSize()[0];
         size_t clear = 0, wrong = 0, wrongFar = 0;

@@ -8,7 +8,8 @@
 #include <string>
 #include <vector>
 
-namespace mesh2sdf {
+namespace mesh2sdf
+{
 
 /// Samples `samples` points uniformly (fixed seed) in the mesh's bounding box
 /// grown by 5% per side, keeps those whose exact winding number is > 0.75
@@ -19,7 +20,7 @@ namespace mesh2sdf {
 /// A grid is read from its first float grid; its value at the nearest voxel
 /// (active or not) < 0 means inside. Returns false with one line in `error`
 /// if a grid cannot be read.
-bool checkSign(const TriangleMesh& mesh, const std::vector<std::string>& grids, int samples, std::string& error);
+bool checkSign(const TriangleMesh &mesh, const std::vector<std::string> &grids, int samples, std::string &error);
 
 } // namespace mesh2sdf
 

@@ -312,7 +312,7 @@ void fillBox(openvdb::FloatGrid &grid, const BoxGeometry &box, const NearestTria
         constexpr int kPackets = kBlockDim / kPacketDim; // per axis
         double best[NearestTriangle::kPacketSize];
         uint32_t seed[NearestTriangle::kPacketSize];
-        uint32_t blockNearest[kBlockSize];                // leaf order
+        uint32_t blockNearest[kBlockSize];                   // leaf order
         openvdb::Index offset[NearestTriangle::kPacketSize]; // of the packet's voxels in the leaf
         bool wanted[NearestTriangle::kPacketSize];           // in the box, and not in the band
         for (size_t b = r.begin(); b != r.end(); ++b) {

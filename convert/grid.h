@@ -33,7 +33,7 @@ struct BoxGeometry {
 bool planBox(const TriangleMesh &mesh, const Options &opt, BoxGeometry &box, std::string &error);
 
 struct BuildStats {
-    double windingSeconds = 0; // exact band distances and winding sign (not flood)
+    double windingSeconds = 0;    // exact band distances and winding sign (not flood)
     uint64_t ambiguousVoxels = 0; // voxels signed from a winding number in (0.25, 0.75)
 };
 

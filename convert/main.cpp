@@ -21,22 +21,23 @@
 #include <memory>
 #include <sys/resource.h>
 
-#include "sdftrace/error.h"
 #include "json.h"
+#include "sdftrace/error.h"
 
 using namespace mesh2sdf;
 
-namespace {
-
-int fail(const std::string& error, std::vector<PendingFile*> files = {})
+namespace
 {
-    for (PendingFile* f : files)
+
+int fail(const std::string &error, std::vector<PendingFile *> files = {})
+{
+    for (PendingFile *f : files)
         discardFile(*f);
     std::fprintf(stderr, "mesh2sdf: %s\n", error.c_str());
     return 1;
 }
 
-std::string fileStem(const std::string& path)
+std::string fileStem(const std::string &path)
 {
     const size_t slash = path.find_last_of('/');
     std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
@@ -51,12 +52,11 @@ double peakRssMiB()
     return double(ru.ru_maxrss) / 1024.0; // ru_maxrss is in KiB on Linux
 }
 
-void printHealth(const std::string& path, const MeshHealth& h, const OrientCounts* o)
+void printHealth(const std::string &path, const MeshHealth &h, const OrientCounts *o)
 {
     std::printf("mesh %s: %zu vertices, %zu faces (%zu triangles), %zu boundary edges, %zu non-manifold edges, "
                 "%zu degenerate faces skipped",
-                path.c_str(), h.vertices, h.faces, h.triangles, h.boundaryEdges, h.nonManifoldEdges,
-                h.degenerateFaces);
+                path.c_str(), h.vertices, h.faces, h.triangles, h.boundaryEdges, h.nonManifoldEdges, h.degenerateFaces);
     if (o) {
         std::printf("; %zu vertices welded, %zu duplicate faces dropped, %zu patches, %zu faces reoriented, %zu "
                     "patches turned outward",
@@ -73,15 +73,15 @@ void printHealth(const std::string& path, const MeshHealth& h, const OrientCount
 
 // Whether some active voxel is inside, by more than rounding (a voxel on a
 // face may come out -1e-17): a grid without one has no zero crossing to trace.
-bool hasSurface(const openvdb::FloatGrid& grid)
+bool hasSurface(const openvdb::FloatGrid &grid)
 {
     return grid.activeVoxelCount() > 0 &&
            openvdb::tools::minMax(grid.tree()).min() < -0.01 * float(grid.voxelSize()[0]);
 }
 
 // The --json object: the mesh's health, what orienting did, the grid.
-void printJson(const Options& opt, const MeshHealth& h, const OrientCounts* o, double orientSeconds, const BoxGeometry& box,
-               const openvdb::FloatGrid& grid, const BuildStats& stats, double seconds)
+void printJson(const Options &opt, const MeshHealth &h, const OrientCounts *o, double orientSeconds,
+               const BoxGeometry &box, const openvdb::FloatGrid &grid, const BuildStats &stats, double seconds)
 {
     std::printf("{\"mesh\": ");
     json_put_string(stdout, opt.input.c_str());
@@ -102,13 +102,13 @@ void printJson(const Options& opt, const MeshHealth& h, const OrientCounts* o, d
                 "\"seconds\": %.6f, \"peak_mib\": %.1f}\n",
                 box.dims[0], box.dims[1], box.dims[2], box.voxelSize,
                 static_cast<unsigned long long>(grid.activeVoxelCount()), signMethodName(opt.sign),
-                static_cast<unsigned long long>(stats.ambiguousVoxels),
-                hasSurface(grid) ? "true" : "false", orientSeconds, stats.windingSeconds, seconds, peakRssMiB());
+                static_cast<unsigned long long>(stats.ambiguousVoxels), hasSurface(grid) ? "true" : "false",
+                orientSeconds, stats.windingSeconds, seconds, peakRssMiB());
 }
 
 } // namespace
 
-int main(int argc, char** argv)
+int main(int argc, char **argv)
 {
     if (argc == 2 && std::strcmp(argv[1], "--version") == 0) {
         const int v = sdft_version();
@@ -144,7 +144,7 @@ int main(int argc, char** argv)
     // Reserve every destination first: an unwritable output fails before
     // any work, and nothing is ever written at a destination until the end.
     PendingFile vdbFile, nvdbFile, npyFile, jsonFile;
-    std::vector<PendingFile*> pending{&vdbFile};
+    std::vector<PendingFile *> pending{&vdbFile};
     if (!reserveFile(opt.output, vdbFile, error))
         return fail(error);
     if (!opt.nvdb.empty()) {
@@ -164,7 +164,7 @@ int main(int argc, char** argv)
     if (!loadMesh(opt.input, mesh, error) || !planBox(mesh, opt, box, error))
         return fail(error, pending);
     OrientCounts orientCounts;
-    const OrientCounts* oriented = nullptr;
+    const OrientCounts *oriented = nullptr;
     const auto orientStart = std::chrono::steady_clock::now();
     if (opt.orient == OrientMethod::Outward) {
         orientCounts = orientMesh(mesh, opt.simd);
@@ -172,8 +172,7 @@ int main(int argc, char** argv)
     } else {
         countEdges(mesh, edgeUses(mesh));
     }
-    const double orientSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - orientStart).count();
+    const double orientSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - orientStart).count();
     if (!opt.quiet && !opt.json)
         printHealth(opt.input, mesh.health, oriented);
     if (!mesh.health.closed() && opt.sign == SignMethod::Flood)
@@ -187,7 +186,7 @@ int main(int argc, char** argv)
     openvdb::FloatGrid::Ptr grid;
     try {
         grid = buildGrid(mesh, box, opt, progress, stats);
-    } catch (const std::exception& e) {
+    } catch (const std::exception &e) {
         progress.finish();
         return fail(std::string("conversion failed: ") + e.what(), pending);
     }
@@ -209,9 +208,9 @@ int main(int argc, char** argv)
                            (opt.nvdb.empty() || writeNvdb(*grid, opt.fp16, nvdbFile.tmp, gridError));
         },
         [&] {
-            arrayWritten = opt.npy.empty() ||
-                           (writeNpy(*grid, box, npyFile.tmp, arrayError) &&
-                            writeNpyJson(box, npyName, how, grid->background(), jsonFile.tmp, arrayError));
+            arrayWritten =
+                opt.npy.empty() || (writeNpy(*grid, box, npyFile.tmp, arrayError) &&
+                                    writeNpyJson(box, npyName, how, grid->background(), jsonFile.tmp, arrayError));
         });
     const bool written = gridsWritten && arrayWritten;
     error = gridsWritten ? arrayError : gridError;

@@ -140,7 +140,7 @@ class FaceRecorder : public OpenMesh::IO::ImporterT<PolyMesh>
 
     PolyMesh &mMesh;
     std::vector<OpenMesh::VertexHandle> mFileHandles; // the file's vertices, in order
-    std::vector<uint32_t> mFileVertex;                 // handle -> file vertex; kNotFromFile: a copy
+    std::vector<uint32_t> mFileVertex;                // handle -> file vertex; kNotFromFile: a copy
     Polygons mFaces;
 };
 
@@ -356,7 +356,8 @@ bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
         error = "cannot open mesh: " + path;
         return false;
     }
-    if (!checkTextCoordinates(path, lowerExtension(path), error) || !checkHeaderCounts(path, lowerExtension(path), error))
+    if (!checkTextCoordinates(path, lowerExtension(path), error) ||
+        !checkHeaderCounts(path, lowerExtension(path), error))
         return false;
     // OpenMesh reports complex edges and parse problems on its own streams;
     // the health line below says what matters, once.

@@ -223,9 +223,8 @@ __attribute__((target("avx2,fma"), flatten)) void NearestTriangle::searchAvx2(co
 }
 
 // The same with AVX-512 for the triangle distances, two rows at a time.
-__attribute__((target("avx512f,avx2,fma"), flatten)) void NearestTriangle::searchAvx512(const double *corner,
-                                                                                        double spacing, double *best,
-                                                                                        uint32_t *nearest) const
+__attribute__((target("avx512f,avx2,fma"), flatten)) void
+NearestTriangle::searchAvx512(const double *corner, double spacing, double *best, uint32_t *nearest) const
 {
     search<Avx512Rows>(corner, spacing, best, nearest);
 }

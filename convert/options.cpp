@@ -7,24 +7,29 @@
 
 #include "cmdline.h"
 
-namespace mesh2sdf {
+namespace mesh2sdf
+{
 
-const char* signMethodName(SignMethod m)
+const char *signMethodName(SignMethod m)
 {
     switch (m) {
-    case SignMethod::Winding: return "winding";
-    case SignMethod::Flood: return "flood";
-    case SignMethod::None: return "none";
+    case SignMethod::Winding:
+        return "winding";
+    case SignMethod::Flood:
+        return "flood";
+    case SignMethod::None:
+        return "none";
     }
     return "?";
 }
 
-namespace {
+namespace
+{
 
 // The rows of the option table (src/common/cmdline.h): the flag, its
 // value's name, its description and default for --help, and what it sets.
-cmdline_option row(const char* name, char letter, const char* arg, const char* help, cmdline_kind kind, void* target,
-                   const char* def = "")
+cmdline_option row(const char *name, char letter, const char *arg, const char *help, cmdline_kind kind, void *target,
+                   const char *def = "")
 {
     cmdline_option r{};
     r.name = name, r.letter = letter, r.arg = arg, r.help = help, r.kind = kind, r.target = target, r.def = def;
@@ -32,8 +37,8 @@ cmdline_option row(const char* name, char letter, const char* arg, const char* h
 }
 
 // A value handled by `set` (a std::string, an enum, ...).
-cmdline_option call(const char* name, char letter, const char* arg, const char* help, cmdline_handler set,
-                    void* target, const char* def = "")
+cmdline_option call(const char *name, char letter, const char *arg, const char *help, cmdline_handler set, void *target,
+                    const char *def = "")
 {
     cmdline_option r = row(name, letter, arg, help, CMDLINE_CALL, target, def);
     r.handle = set;
@@ -42,8 +47,8 @@ cmdline_option call(const char* name, char letter, const char* arg, const char* 
 
 // A number in [lo, hi] (open ends: open), parsed strictly (src/common/parse.h);
 // the help shows the target's default unless `def` says otherwise.
-cmdline_option number(const char* name, const char* arg, const char* help, cmdline_kind kind, void* target,
-                      double lo, double hi, int open = 0, const char* def = nullptr)
+cmdline_option number(const char *name, const char *arg, const char *help, cmdline_kind kind, void *target, double lo,
+                      double hi, int open = 0, const char *def = nullptr)
 {
     cmdline_option r = row(name, 0, arg, help, kind, target, def);
     r.lo = lo, r.hi = hi, r.open = open;
@@ -51,39 +56,39 @@ cmdline_option number(const char* name, const char* arg, const char* help, cmdli
 }
 
 // r, noting in *flag whether it was given.
-cmdline_option seen(cmdline_option r, int* flag)
+cmdline_option seen(cmdline_option r, int *flag)
 {
     r.seen = flag;
     return r;
 }
 
-int setString(void* target, const char* value, char*, size_t)
+int setString(void *target, const char *value, char *, size_t)
 {
-    static_cast<std::string*>(target)->assign(value);
+    static_cast<std::string *>(target)->assign(value);
     return 0;
 }
 
-int addString(void* target, const char* value, char*, size_t)
+int addString(void *target, const char *value, char *, size_t)
 {
-    static_cast<std::vector<std::string>*>(target)->push_back(value);
+    static_cast<std::vector<std::string> *>(target)->push_back(value);
     return 0;
 }
 
-int setTrue(void* target, const char*, char*, size_t)
+int setTrue(void *target, const char *, char *, size_t)
 {
-    *static_cast<bool*>(target) = true;
+    *static_cast<bool *>(target) = true;
     return 0;
 }
 
 // v as names[i], stored as E(i) (names in E's order); else one line,
 // "FLAG must be a, b or c, got 'v'".
 template <typename E, size_t n>
-int pick(const char* flag, const char* const (&names)[n], const char* v, void* target, char* msg, size_t len)
+int pick(const char *flag, const char *const (&names)[n], const char *v, void *target, char *msg, size_t len)
 {
     std::string list;
     for (size_t i = 0; i < n; ++i) {
         if (!std::strcmp(v, names[i])) {
-            *static_cast<E*>(target) = E(i);
+            *static_cast<E *>(target) = E(i);
             return 0;
         }
         list += std::string(i == 0 ? "" : i + 1 < n ? ", " : " or ") + names[i];
@@ -92,21 +97,21 @@ int pick(const char* flag, const char* const (&names)[n], const char* v, void* t
     return -1;
 }
 
-int setSign(void* target, const char* v, char* msg, size_t len)
+int setSign(void *target, const char *v, char *msg, size_t len)
 {
-    static const char* const names[] = {"winding", "flood", "none"};
+    static const char *const names[] = {"winding", "flood", "none"};
     return pick<SignMethod>("--sign", names, v, target, msg, len);
 }
 
-int setOrient(void* target, const char* v, char* msg, size_t len)
+int setOrient(void *target, const char *v, char *msg, size_t len)
 {
-    static const char* const names[] = {"outward", "none"};
+    static const char *const names[] = {"outward", "none"};
     return pick<OrientMethod>("--orient", names, v, target, msg, len);
 }
 
-int setSimd(void* target, const char* v, char* msg, size_t len)
+int setSimd(void *target, const char *v, char *msg, size_t len)
 {
-    Options& o = *static_cast<Options*>(target);
+    Options &o = *static_cast<Options *>(target);
     if (std::strcmp(v, "auto") && std::strcmp(v, "avx2") && std::strcmp(v, "none")) {
         std::snprintf(msg, len, "--simd must be auto, avx2 or none, got '%s'", v);
         return -1;
@@ -116,17 +121,17 @@ int setSimd(void* target, const char* v, char* msg, size_t len)
     return 0;
 }
 
-int setNoSimd(void* target, const char*, char*, size_t)
+int setNoSimd(void *target, const char *, char *, size_t)
 {
-    Options& o = *static_cast<Options*>(target);
+    Options &o = *static_cast<Options *>(target);
     o.simd = o.simd512 = false;
     return 0;
 }
 
 // The input mesh: the one word that is not an option.
-int setInput(void* target, const char* v, char* msg, size_t len)
+int setInput(void *target, const char *v, char *msg, size_t len)
 {
-    std::string& input = *static_cast<std::string*>(target);
+    std::string &input = *static_cast<std::string *>(target);
     if (!input.empty()) {
         std::snprintf(msg, len, "unexpected argument '%s' (one input mesh only)", v);
         return -1;
@@ -135,12 +140,11 @@ int setInput(void* target, const char* v, char* msg, size_t len)
     return 0;
 }
 
-const std::string kResHelp =
-    "voxels along the longest side of the padded box,\n1.." + std::to_string(kMaxResolution);
+const std::string kResHelp = "voxels along the longest side of the padded box,\n1.." + std::to_string(kMaxResolution);
 
 // Every option of mesh2sdf, over `o` (for --help, over the defaults);
 // *sawRes: --res given.
-std::vector<cmdline_option> optionRows(Options& o, int* sawRes)
+std::vector<cmdline_option> optionRows(Options &o, int *sawRes)
 {
     const double inf = HUGE_VAL, maxRes = kMaxResolution;
     std::vector<cmdline_option> rows = {
@@ -153,8 +157,8 @@ std::vector<cmdline_option> optionRows(Options& o, int* sawRes)
              "voxel size and shape go to OUT.json",
              setString, &o.npy, "none"),
         seen(number("res", "N", kResHelp.c_str(), CMDLINE_INT, &o.res, 1, maxRes), sawRes),
-        number("voxel-size", "H", "voxel size in world units, > 0; overrides --res\n", CMDLINE_DOUBLE, &o.voxelSize,
-               0, inf, CMDLINE_OPEN_LO, "from --res"),
+        number("voxel-size", "H", "voxel size in world units, > 0; overrides --res\n", CMDLINE_DOUBLE, &o.voxelSize, 0,
+               inf, CMDLINE_OPEN_LO, "from --res"),
         number("band", "W", "narrow-band half-width in voxels, > 0", CMDLINE_DOUBLE, &o.band, 0, maxRes,
                CMDLINE_OPEN_LO),
         call("full", 0, nullptr, "store a distance in every voxel of the padded box\n", setTrue, &o.full,
@@ -204,7 +208,7 @@ std::vector<cmdline_option> optionRows(Options& o, int* sawRes)
     return rows;
 }
 
-cmdline_spec optionSpec(const std::vector<cmdline_option>& rows, Options& o)
+cmdline_spec optionSpec(const std::vector<cmdline_option> &rows, Options &o)
 {
     cmdline_spec spec{};
     spec.program = "mesh2sdf";
@@ -238,7 +242,7 @@ void printHelp()
     cmdline_help(&spec, stdout);
 }
 
-bool parseOptions(int argc, char** argv, Options& opt, std::string& error)
+bool parseOptions(int argc, char **argv, Options &opt, std::string &error)
 {
     int sawRes = 0;
     const std::vector<cmdline_option> rows = optionRows(opt, &sawRes);

@@ -5,10 +5,11 @@
 #include <string>
 #include <vector>
 
-namespace mesh2sdf {
+namespace mesh2sdf
+{
 
 enum class SignMethod { Winding, Flood, None };
-const char* signMethodName(SignMethod m);
+const char *signMethodName(SignMethod m);
 
 /// --orient: outward (each patch consistent and facing outward, orient.h)
 /// or none (the faces as the file has them).
@@ -21,30 +22,30 @@ constexpr double kMaxDenseVoxels = 2147483648.0;
 
 struct Options {
     std::string input;
-    std::string output;       // .vdb (required unless --check-sign)
-    std::string nvdb, npy;    // optional extra outputs
-    int res = 256;            // longest side of the padded box, in voxels
-    double voxelSize = 0.0;   // world units; > 0 overrides res
-    double band = 3.0;        // narrow-band half-width, voxels
-    bool full = false;        // a distance in every voxel of the padded box
-    double padding = -1.0;    // voxels around the mesh bounds; < 0: band + 1
+    std::string output;     // .vdb (required unless --check-sign)
+    std::string nvdb, npy;  // optional extra outputs
+    int res = 256;          // longest side of the padded box, in voxels
+    double voxelSize = 0.0; // world units; > 0 overrides res
+    double band = 3.0;      // narrow-band half-width, voxels
+    bool full = false;      // a distance in every voxel of the padded box
+    double padding = -1.0;  // voxels around the mesh bounds; < 0: band + 1
     SignMethod sign = SignMethod::Winding;
     OrientMethod orient = OrientMethod::Outward;
-    bool json = false;        // one JSON object of counts on stdout instead of the text lines
-    bool fp16 = false;        // NanoVDB output as Fp16
-    std::string name;         // grid name; empty: the mesh's file stem
-    int threads = 0;          // 0: all cores
+    bool json = false; // one JSON object of counts on stdout instead of the text lines
+    bool fp16 = false; // NanoVDB output as Fp16
+    std::string name;  // grid name; empty: the mesh's file stem
+    int threads = 0;   // 0: all cores
     bool quiet = false;
-    bool simd = true;         // vector instructions where the processor has them
-    bool simd512 = true;      // and AVX-512 among them (--simd auto)
+    bool simd = true;                   // vector instructions where the processor has them
+    bool simd512 = true;                // and AVX-512 among them (--simd auto)
     std::vector<std::string> checkSign; // --check-sign GRID.vdb (repeatable): measure, don't convert
-    int samples = 10000;      // points for --check-sign
+    int samples = 10000;                // points for --check-sign
     bool help = false;
 };
 
 /// Parses argv into `opt`. Returns false with a one-line `error` on an
 /// unknown flag, a missing or malformed value, or a value out of range.
-bool parseOptions(int argc, char** argv, Options& opt, std::string& error);
+bool parseOptions(int argc, char **argv, Options &opt, std::string &error);
 
 void printHelp();
 

@@ -79,12 +79,12 @@ namespace mesh2sdf
 namespace
 {
 
-constexpr double kOpenClarity = 0.25;  // see THE STEPS, 3
+constexpr double kOpenClarity = 0.25;   // see THE STEPS, 3
 constexpr double kClosedClarity = 1e-6; // relative rounding of a closed patch's flux
-constexpr double kFlat = 1e-9;         // terms this small against |c_t - o| |N_t| are rounding
-constexpr int kProbes = 16;            // see THE STEPS, 4
-constexpr double kCavityShare = 0.9;   // see THE STEPS, 4
-constexpr double kProbeOffset = 1e-2;  // of a triangle's size: how far off it a probe stands
+constexpr double kFlat = 1e-9;          // terms this small against |c_t - o| |N_t| are rounding
+constexpr int kProbes = 16;             // see THE STEPS, 4
+constexpr double kCavityShare = 0.9;    // see THE STEPS, 4
+constexpr double kProbeOffset = 1e-2;   // of a triangle's size: how far off it a probe stands
 constexpr uint32_t kNone = UINT32_MAX;
 
 using Vec = std::array<double, 3>;
@@ -153,13 +153,13 @@ size_t dropDuplicates(TriangleMesh &mesh, std::vector<EdgeUse> &edges)
 }
 
 struct Patches {
-    std::vector<uint32_t> of;       // per triangle, its patch
-    std::vector<uint8_t> reversed;  // per triangle, 1: reverse it
-    std::vector<uint32_t> start;    // triangles of patch p: order[start[p] .. start[p + 1])
-    std::vector<uint32_t> order;    // triangles by patch, each patch in triangle order
-    std::vector<uint8_t> closed;    // per patch
+    std::vector<uint32_t> of;      // per triangle, its patch
+    std::vector<uint8_t> reversed; // per triangle, 1: reverse it
+    std::vector<uint32_t> start;   // triangles of patch p: order[start[p] .. start[p + 1])
+    std::vector<uint32_t> order;   // triangles by patch, each patch in triangle order
+    std::vector<uint8_t> closed;   // per patch
     std::vector<uint8_t> orientable;
-    std::vector<double> fileShare;  // per patch, the share of its area the file orients as chosen
+    std::vector<double> fileShare; // per patch, the share of its area the file orients as chosen
     size_t count() const { return start.size() - 1; }
 };
 
@@ -168,7 +168,7 @@ Patches findPatches(const TriangleMesh &mesh, const std::vector<EdgeUse> &edges,
 {
     const uint32_t n = uint32_t(mesh.triangles.size());
     std::vector<uint32_t> partner(size_t(n) * 3, kNone); // the other half-edge of a manifold edge
-    std::vector<uint8_t> open(n, 0);                      // on an edge not shared by exactly two
+    std::vector<uint8_t> open(n, 0);                     // on an edge not shared by exactly two
     for (size_t i = 0, j; i < edges.size(); i = j) {
         for (j = i + 1; j < edges.size() && edges[j].key == edges[i].key;)
             ++j;

@@ -9,12 +9,13 @@
 
 #include <tbb/parallel_for.h>
 
-#include "json.h"
 #include "grid_file.h"
+#include "json.h"
 
-namespace mesh2sdf {
+namespace mesh2sdf
+{
 
-bool reserveFile(const std::string& path, PendingFile& file, std::string& error)
+bool reserveFile(const std::string &path, PendingFile &file, std::string &error)
 {
     char msg[512];
     if (atomic_file_begin(&file.file, path.c_str(), msg, sizeof msg)) {
@@ -25,7 +26,7 @@ bool reserveFile(const std::string& path, PendingFile& file, std::string& error)
     return true;
 }
 
-bool commitFile(PendingFile& file, std::string& error)
+bool commitFile(PendingFile &file, std::string &error)
 {
     if (file.tmp.empty())
         return true;
@@ -38,14 +39,14 @@ bool commitFile(PendingFile& file, std::string& error)
     return true;
 }
 
-void discardFile(PendingFile& file)
+void discardFile(PendingFile &file)
 {
     if (!file.tmp.empty())
         atomic_file_abort(&file.file);
     file.tmp.clear();
 }
 
-void describeGrid(openvdb::FloatGrid& grid, const std::string& name, const Provenance& how)
+void describeGrid(openvdb::FloatGrid &grid, const std::string &name, const Provenance &how)
 {
     grid.setName(name);
     grid.insertMeta("mesh2sdf_source", openvdb::StringMetadata(how.source));
@@ -54,11 +55,11 @@ void describeGrid(openvdb::FloatGrid& grid, const std::string& name, const Prove
     grid.insertMeta("mesh2sdf_full", openvdb::BoolMetadata(how.full));
 }
 
-namespace {
+namespace
+{
 
 // The shared grid-file writer, its one line into `error`.
-bool writeGrid(const openvdb::FloatGrid& grid, bool nvdb, sdft_quant quant, const std::string& tmp,
-               std::string& error)
+bool writeGrid(const openvdb::FloatGrid &grid, bool nvdb, sdft_quant quant, const std::string &tmp, std::string &error)
 {
     char msg[1024];
     if (sdft_vdb::write_grid(grid, nvdb, quant, tmp, tmp, msg, sizeof msg)) {
@@ -70,19 +71,19 @@ bool writeGrid(const openvdb::FloatGrid& grid, bool nvdb, sdft_quant quant, cons
 
 } // namespace
 
-bool writeVdb(const openvdb::FloatGrid& grid, const std::string& tmp, std::string& error)
+bool writeVdb(const openvdb::FloatGrid &grid, const std::string &tmp, std::string &error)
 {
     return writeGrid(grid, false, SDFT_QUANT_NONE, tmp, error);
 }
 
-bool writeNvdb(const openvdb::FloatGrid& grid, bool fp16, const std::string& tmp, std::string& error)
+bool writeNvdb(const openvdb::FloatGrid &grid, bool fp16, const std::string &tmp, std::string &error)
 {
     return writeGrid(grid, true, fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE, tmp, error);
 }
 
-bool writeNpy(const openvdb::FloatGrid& grid, const BoxGeometry& box, const std::string& tmp, std::string& error)
+bool writeNpy(const openvdb::FloatGrid &grid, const BoxGeometry &box, const std::string &tmp, std::string &error)
 {
-    FILE* f = std::fopen(tmp.c_str(), "wb");
+    FILE *f = std::fopen(tmp.c_str(), "wb");
     if (!f) {
         error = "cannot write " + tmp + ": " + std::strerror(errno);
         return false;
@@ -97,8 +98,16 @@ bool writeNpy(const openvdb::FloatGrid& grid, const BoxGeometry& box, const std:
     header.append((64 - total % 64) % 64, ' ');
     header.push_back('\n');
     const unsigned short hlen = static_cast<unsigned short>(header.size());
-    const unsigned char preamble[10] = {0x93, 'N', 'U', 'M', 'P', 'Y', 1, 0,
-                                        static_cast<unsigned char>(hlen & 0xff), static_cast<unsigned char>(hlen >> 8)};
+    const unsigned char preamble[10] = {0x93,
+                                        'N',
+                                        'U',
+                                        'M',
+                                        'P',
+                                        'Y',
+                                        1,
+                                        0,
+                                        static_cast<unsigned char>(hlen & 0xff),
+                                        static_cast<unsigned char>(hlen >> 8)};
     bool ok = std::fwrite(preamble, 1, 10, f) == 10 && std::fwrite(header.data(), 1, header.size(), f) == header.size();
     // A slab of Leaf::DIM planes of x at a time: its leaf-sized blocks
     // copied in parallel from their leaves (or the tile holding them), the
@@ -106,7 +115,7 @@ bool writeNpy(const openvdb::FloatGrid& grid, const BoxGeometry& box, const std:
     // (0, 0, 0) of the box is the grid's index origin.
     using Leaf = openvdb::FloatTree::LeafNodeType;
     constexpr int n = int(Leaf::DIM);
-    const openvdb::FloatTree& tree = grid.tree();
+    const openvdb::FloatTree &tree = grid.tree();
     const size_t ny = size_t(box.dims[1]), nz = size_t(box.dims[2]);
     const int blocksY = (box.dims[1] + n - 1) / n, blocksZ = (box.dims[2] + n - 1) / n;
     std::vector<float> slab(size_t(n) * ny * nz);
@@ -116,12 +125,12 @@ bool writeNpy(const openvdb::FloatGrid& grid, const BoxGeometry& box, const std:
             const int y0 = b / blocksZ * n, z0 = b % blocksZ * n;
             const int ys = std::min(n, box.dims[1] - y0), zs = std::min(n, box.dims[2] - z0);
             const openvdb::Coord at(x0, y0, z0);
-            const Leaf* leaf = tree.probeConstLeaf(at);
-            const float* values = leaf ? leaf->buffer().data() : nullptr;
+            const Leaf *leaf = tree.probeConstLeaf(at);
+            const float *values = leaf ? leaf->buffer().data() : nullptr;
             const float tile = leaf ? 0.0f : tree.getValue(at);
             for (int i = 0; i < planes; ++i)
                 for (int j = 0; j < ys; ++j) {
-                    float* row = slab.data() + (size_t(i) * ny + size_t(y0 + j)) * nz + size_t(z0);
+                    float *row = slab.data() + (size_t(i) * ny + size_t(y0 + j)) * nz + size_t(z0);
                     if (values)
                         std::copy_n(values + Leaf::coordToOffset(openvdb::Coord(i, j, 0)), zs, row);
                     else
@@ -137,10 +146,10 @@ bool writeNpy(const openvdb::FloatGrid& grid, const BoxGeometry& box, const std:
     return ok;
 }
 
-bool writeNpyJson(const BoxGeometry& box, const std::string& npyName, const Provenance& how, float background,
-                  const std::string& tmp, std::string& error)
+bool writeNpyJson(const BoxGeometry &box, const std::string &npyName, const Provenance &how, float background,
+                  const std::string &tmp, std::string &error)
 {
-    FILE* f = std::fopen(tmp.c_str(), "w");
+    FILE *f = std::fopen(tmp.c_str(), "w");
     if (!f) {
         error = "cannot write " + tmp + ": " + std::strerror(errno);
         return false;
@@ -173,7 +182,7 @@ bool writeNpyJson(const BoxGeometry& box, const std::string& npyName, const Prov
     return ok;
 }
 
-std::string sidecarPath(const std::string& npyPath)
+std::string sidecarPath(const std::string &npyPath)
 {
     const size_t n = npyPath.size();
     if (n > 4 && npyPath.compare(n - 4, 4, ".npy") == 0)

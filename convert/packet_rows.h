@@ -293,10 +293,7 @@ struct Avx2Rows {
 #undef MESH2SDF_AVX2_INLINE
 
 /// Whether this processor runs Avx512Rows (AVX-512 F besides AVX2 and FMA).
-inline bool rowsVectorizable512()
-{
-    return rowsVectorizable() && __builtin_cpu_supports("avx512f");
-}
+inline bool rowsVectorizable512() { return rowsVectorizable() && __builtin_cpu_supports("avx512f"); }
 
 #define MESH2SDF_AVX512_INLINE __attribute__((target("avx512f,avx2,fma"))) inline
 /// Avx2Rows with its triangle distances two rows at a time: rows (x, y[0],
@@ -332,12 +329,12 @@ struct Avx512Rows : Avx2Rows {
             const __m512d rz = _mm512_fnmadd_pd(s, _mm512_set1_pd(e[2]), wz);
             const __m512d r2 = _mm512_fmadd_pd(rz, rz, _mm512_fmadd_pd(ry, ry, _mm512_mul_pd(rx, rx)));
             edges = _mm512_min_pd(edges, r2);
-            side = _mm512_min_pd(
-                side, _mm512_fmadd_pd(wz, _mm512_set1_pd(m[2]), halves(wx * m[0] + wy0 * m[1], wx * m[0] + wy1 * m[1])));
+            side = _mm512_min_pd(side, _mm512_fmadd_pd(wz, _mm512_set1_pd(m[2]),
+                                                       halves(wx * m[0] + wy0 * m[1], wx * m[0] + wy1 * m[1])));
             if (k == 0)
-                height = _mm512_fmadd_pd(
-                    wz, _mm512_set1_pd(t.normal[2]),
-                    halves(wx * t.normal[0] + wy0 * t.normal[1], wx * t.normal[0] + wy1 * t.normal[1]));
+                height =
+                    _mm512_fmadd_pd(wz, _mm512_set1_pd(t.normal[2]),
+                                    halves(wx * t.normal[0] + wy0 * t.normal[1], wx * t.normal[0] + wy1 * t.normal[1]));
         }
         const __mmask8 inside = _mm512_cmp_pd_mask(side, zero, _CMP_GT_OQ);
         _mm512_storeu_pd(d2, _mm512_mask_blend_pd(inside, edges, _mm512_mul_pd(height, height)));

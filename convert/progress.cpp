@@ -1,13 +1,14 @@
 // mesh2sdf — progress bar (see progress.h).
 #include "progress.h"
 
-namespace mesh2sdf {
+namespace mesh2sdf
+{
 
 Progress::Progress(bool enabled) { progress_bar_init(&mBar, enabled); }
 
 Progress::~Progress() { finish(); }
 
-void Progress::stage(const char* label, int from, int to)
+void Progress::stage(const char *label, int from, int to)
 {
     mLabel = label;
     mFrom = from;
@@ -15,7 +16,7 @@ void Progress::stage(const char* label, int from, int to)
     report(0);
 }
 
-void Progress::start(const char*) {}
+void Progress::start(const char *) {}
 
 bool Progress::wasInterrupted(int percent)
 {

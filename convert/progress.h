@@ -9,30 +9,32 @@
 
 #include "progress_bar.h"
 
-namespace mesh2sdf {
+namespace mesh2sdf
+{
 
-class Progress final : public openvdb::util::NullInterrupter {
-public:
+class Progress final : public openvdb::util::NullInterrupter
+{
+  public:
     /// enabled: draw at all (false for --quiet); the bar is also off when
     /// stderr is not a terminal.
     explicit Progress(bool enabled);
     ~Progress() override;
 
     /// Begins a stage that covers [from, to] percent of the whole run.
-    void stage(const char* label, int from, int to);
+    void stage(const char *label, int from, int to);
     /// Reports `percent` of the current stage. Safe from any thread.
     void report(int percent);
     /// Clears the bar's line.
     void finish();
 
     // openvdb::util::NullInterrupter
-    void start(const char* name = nullptr) override;
+    void start(const char *name = nullptr) override;
     void end() override {}
     bool wasInterrupted(int percent = -1) override;
 
-private:
+  private:
     progress_bar mBar;
-    const char* mLabel = "";
+    const char *mLabel = "";
     int mFrom = 0, mTo = 100;
 };
 

@@ -21,7 +21,7 @@ constexpr double kTanPi8 = 0.41421356237309503;
 
 // atan(t) - t for |t| <= tan(pi/8), as t * t^2 * p(t^2): the Taylor series
 // to t^21 (remainder below 0.4143^23 / 23 < 3e-10).
-constexpr double kAtanSeries[10] = {1.0 / 21, -1.0 / 19, 1.0 / 17, -1.0 / 15, 1.0 / 13,
+constexpr double kAtanSeries[10] = {1.0 / 21,  -1.0 / 19, 1.0 / 17, -1.0 / 15, 1.0 / 13,
                                     -1.0 / 11, 1.0 / 9,   -1.0 / 7, 1.0 / 5,   -1.0 / 3};
 
 // atan2(y, x) to within 1e-9 rad, about twice as fast as libm's (which was
@@ -125,11 +125,10 @@ __attribute__((target("avx2"))) double solidAnglesAvx2(const double *groups, int
         const __m256d crossY = _mm256_sub_pd(_mm256_mul_pd(bz, cx), _mm256_mul_pd(bx, cz));
         const __m256d crossZ = _mm256_sub_pd(_mm256_mul_pd(bx, cy), _mm256_mul_pd(by, cx));
         const __m256d det = dot3(ax, ay, az, crossX, crossY, crossZ);
-        const __m256d den = _mm256_add_pd(
-            _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_mul_pd(la, lb), lc),
-                                        _mm256_mul_pd(dot3(ax, ay, az, bx, by, bz), lc)),
-                          _mm256_mul_pd(dot3(bx, by, bz, cx, cy, cz), la)),
-            _mm256_mul_pd(dot3(cx, cy, cz, ax, ay, az), lb));
+        const __m256d den = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_mul_pd(la, lb), lc),
+                                                                      _mm256_mul_pd(dot3(ax, ay, az, bx, by, bz), lc)),
+                                                        _mm256_mul_pd(dot3(bx, by, bz, cx, cy, cz), la)),
+                                          _mm256_mul_pd(dot3(cx, cy, cz, ax, ay, az), lb));
         __m256d special;
         __m256d angle = fastAtan2x4(det, den, special);
         // Lanes past the last triangle count nothing; degenerate lanes are

@@ -14,8 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "sdftrace/config.h"
 #include "mesh_support.h"
+#include "sdftrace/config.h"
 #include "testutil.h"
 
 #define BAND 3.0
@@ -901,9 +901,9 @@ static void test_help(void **state)
     (void)state;
     char out[16384];
     assert_int_equal(tu_run(out, sizeof out, "%s --help", SDFT_MESH2SDF), 0);
-    const char *flags[] = {"-o",      "--nvdb",       "--npy",     "--res",    "--voxel-size", "--band",
-                           "--full",  "--padding",    "--sign",    "--fp16",   "--name",       "--threads",
-                           "--quiet", "--check-sign", "--samples", "--no-simd",    "--simd"};
+    const char *flags[] = {"-o",      "--nvdb",       "--npy",     "--res",     "--voxel-size", "--band",
+                           "--full",  "--padding",    "--sign",    "--fp16",    "--name",       "--threads",
+                           "--quiet", "--check-sign", "--samples", "--no-simd", "--simd"};
     for (size_t i = 0; i < sizeof flags / sizeof *flags; i++)
         if (!strstr(out, flags[i]))
             fail_msg("--help does not list %s", flags[i]);

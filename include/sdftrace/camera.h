@@ -25,9 +25,9 @@ SDFT_API sdft_ray sdft_camera_ray(const sdft_camera *c, int width, int height, f
  * height, px, py). Plain data; share it between threads. */
 typedef struct sdft_view {
     sdft_vec3 from;
-    sdft_vec3 right_per_px;   /* u * (image half-width at unit distance) * 2 / width */
-    sdft_vec3 down_per_px;    /* -v * (image half-height at unit distance) * 2 / height */
-    sdft_vec3 top_left;       /* w - u * half-width + v * half-height: image position (0, 0) */
+    sdft_vec3 right_per_px; /* u * (image half-width at unit distance) * 2 / width */
+    sdft_vec3 down_per_px;  /* -v * (image half-height at unit distance) * 2 / height */
+    sdft_vec3 top_left;     /* w - u * half-width + v * half-height: image position (0, 0) */
 } sdft_view;
 
 SDFT_API sdft_view sdft_camera_view(const sdft_camera *c, int width, int height);

@@ -36,13 +36,7 @@ typedef struct sdft_ray {
     float tfar;
 } sdft_ray;
 
-typedef enum sdft_method {
-    SDFT_SPHERE = 0,
-    SDFT_RELAXED,
-    SDFT_ENHANCED,
-    SDFT_AUTO,
-    SDFT_METHOD_COUNT
-} sdft_method;
+typedef enum sdft_method { SDFT_SPHERE = 0, SDFT_RELAXED, SDFT_ENHANCED, SDFT_AUTO, SDFT_METHOD_COUNT } sdft_method;
 
 typedef enum sdft_status {
     SDFT_HIT = 0,
@@ -69,16 +63,16 @@ typedef struct sdft_trace_params {
 
 /* What a trace found. */
 typedef struct sdft_hit {
-    float t;             /* hit: refined surface parameter; not converged: last point
-                          * (or, with pixel_radius > 0, the best screen-space candidate);
-                          * miss: the t where marching stopped */
-    float distance;      /* f at t */
+    float t;        /* hit: refined surface parameter; not converged: last point
+                     * (or, with pixel_radius > 0, the best screen-space candidate);
+                     * miss: the t where marching stopped */
+    float distance; /* f at t */
     sdft_status status;
-    uint32_t steps;      /* SDF evaluations, refinement included */
-    uint32_t fallbacks;  /* relaxed steps rejected: consecutive unbounding spheres disjoint */
-    sdft_vec3 normal;    /* hit at the field's exact root (exact_root, sdft_field_accel.root): the unit outward
-                          * normal there, as the root gives it; otherwise (0, 0, 0), and
-                          * sdft_field_normal gives one at the hit point */
+    uint32_t steps;     /* SDF evaluations, refinement included */
+    uint32_t fallbacks; /* relaxed steps rejected: consecutive unbounding spheres disjoint */
+    sdft_vec3 normal;   /* hit at the field's exact root (exact_root, sdft_field_accel.root): the unit outward
+                         * normal there, as the root gives it; otherwise (0, 0, 0), and
+                         * sdft_field_normal gives one at the hit point */
 } sdft_hit;
 
 /* The defaults of the papers' measurements: auto, beta 0.3, eps 1e-4, 1000

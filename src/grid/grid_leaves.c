@@ -116,8 +116,8 @@ static void visit_children(void *ctx, pnanovdb_lower_handle_t lower)
     const pnanovdb_coord_t o = pnanovdb_lower_get_bbox_min(g->buf, lower);
     for (uint32_t n = 0; n < 4096u; n++) {
         if ((n & 31u) == 0 &&
-            !pnanovdb_read_uint32(g->buf,
-                                  pnanovdb_address_offset(lower.address, PNANOVDB_LOWER_OFF_CHILD_MASK + 4u * (n >> 5)))) {
+            !pnanovdb_read_uint32(
+                g->buf, pnanovdb_address_offset(lower.address, PNANOVDB_LOWER_OFF_CHILD_MASK + 4u * (n >> 5)))) {
             n += 31u; /* 32 entries without a child */
             continue;
         }

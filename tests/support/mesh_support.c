@@ -241,4 +241,3 @@ void convert(const char *in, const char *name, const char *flags, dense *g)
         fail_msg("mesh2sdf failed (%d): %s", rc, out);
     read_dense(npy, g);
 }
-
