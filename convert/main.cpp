@@ -106,6 +106,124 @@ void printJson(const Options &opt, const MeshHealth &h, const OrientCounts *o, d
                 orientSeconds, stats.windingSeconds, seconds, peakRssMiB());
 }
 
+// Every destination, reserved first: an unwritable output fails before any
+// work, and nothing is ever written at a destination until the end.
+struct Outputs {
+    PendingFile vdb, nvdb, npy, json;
+    std::vector<PendingFile *> pending;
+};
+
+bool reserveOutputs(const Options &opt, Outputs &out, std::string &error)
+{
+    out.pending = {&out.vdb};
+    if (!reserveFile(opt.output, out.vdb, error))
+        return false;
+    if (!opt.nvdb.empty()) {
+        out.pending.push_back(&out.nvdb);
+        if (!reserveFile(opt.nvdb, out.nvdb, error))
+            return false;
+    }
+    if (!opt.npy.empty()) {
+        out.pending.push_back(&out.npy);
+        out.pending.push_back(&out.json);
+        if (!reserveFile(opt.npy, out.npy, error) || !reserveFile(sidecarPath(opt.npy), out.json, error))
+            return false;
+    }
+    return true;
+}
+
+// The mesh as the conversion takes it: read, its box planned, oriented
+// (--orient outward) or only its edges counted, and what that found.
+struct PreparedMesh {
+    TriangleMesh mesh;
+    BoxGeometry box;
+    OrientCounts counts;
+    const OrientCounts *oriented = nullptr; // &counts, or none with --orient none
+    double orientSeconds = 0;
+};
+
+bool prepareMesh(const Options &opt, PreparedMesh &m, std::string &error)
+{
+    if (!loadMesh(opt.input, m.mesh, error) || !planBox(m.mesh, opt, m.box, error))
+        return false;
+    const auto start = std::chrono::steady_clock::now();
+    if (opt.orient == OrientMethod::Outward) {
+        m.counts = orientMesh(m.mesh, opt.simd);
+        m.oriented = &m.counts;
+    } else {
+        countEdges(m.mesh, edgeUses(m.mesh));
+    }
+    m.orientSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return true;
+}
+
+// The grid files and the dense array written side by side (each reads the
+// finished tree only, and OpenVDB's writer runs on one thread), then renamed
+// into place side by side too (replacing a large old file frees its blocks
+// within rename()).
+bool writeOutputs(const Options &opt, const openvdb::FloatGrid &grid, const BoxGeometry &box, const Provenance &how,
+                  Outputs &out, std::string &error)
+{
+    const size_t slash = opt.npy.find_last_of('/');
+    const std::string npyName = slash == std::string::npos ? opt.npy : opt.npy.substr(slash + 1);
+    std::string gridError, arrayError;
+    bool gridsWritten = false, arrayWritten = false;
+    tbb::parallel_invoke(
+        [&] {
+            gridsWritten = writeVdb(grid, out.vdb.tmp, gridError) &&
+                           (opt.nvdb.empty() || writeNvdb(grid, opt.fp16, out.nvdb.tmp, gridError));
+        },
+        [&] {
+            arrayWritten =
+                opt.npy.empty() || (writeNpy(grid, box, out.npy.tmp, arrayError) &&
+                                    writeNpyJson(box, npyName, how, grid.background(), out.json.tmp, arrayError));
+        });
+    if (!gridsWritten || !arrayWritten) {
+        error = gridsWritten ? arrayError : gridError;
+        return false;
+    }
+    std::vector<std::string> commitErrors(out.pending.size());
+    std::vector<char> committed(out.pending.size(), 0);
+    tbb::parallel_for(size_t(0), out.pending.size(),
+                      [&](size_t i) { committed[i] = commitFile(*out.pending[i], commitErrors[i]); });
+    for (size_t i = 0; i < out.pending.size(); ++i)
+        if (!committed[i]) {
+            error = commitErrors[i];
+            return false;
+        }
+    return true;
+}
+
+// The closing line, or with --json the object; then, on stderr, what stays
+// uncertain: said, not written silently.
+void report(const Options &opt, const PreparedMesh &m, const openvdb::FloatGrid &grid, const BuildStats &stats,
+            double seconds)
+{
+    if (opt.json) {
+        printJson(opt, m.mesh.health, m.oriented, m.orientSeconds, m.box, grid, stats, seconds);
+    } else if (!opt.quiet) {
+        std::printf("wrote %s: %dx%dx%d box, voxel size %.6g, %llu active voxels, grid %.1f MiB, peak memory "
+                    "%.1f MiB, %.2f s, sign %s",
+                    opt.output.c_str(), m.box.dims[0], m.box.dims[1], m.box.dims[2], m.box.voxelSize,
+                    static_cast<unsigned long long>(grid.activeVoxelCount()),
+                    double(grid.memUsage()) / (1024.0 * 1024.0), peakRssMiB(), seconds, signMethodName(opt.sign));
+        if (opt.sign == SignMethod::Winding)
+            std::printf(" (%.2f s), %llu voxels signed from an ambiguous winding number", stats.windingSeconds,
+                        static_cast<unsigned long long>(stats.ambiguousVoxels));
+        std::printf("\n");
+    }
+    if (opt.sign != SignMethod::Winding)
+        return;
+    if (m.oriented && m.oriented->ambiguousPatches)
+        std::fprintf(stderr,
+                     "mesh2sdf: warning: %zu open patches have no clear outside and keep the file's "
+                     "orientation; %llu voxels were signed from a winding number between 0.25 and 0.75\n",
+                     m.oriented->ambiguousPatches, static_cast<unsigned long long>(stats.ambiguousVoxels));
+    if (!hasSurface(grid))
+        std::fprintf(stderr, "mesh2sdf: warning: no voxel of the band is inside the mesh, so the grid has no "
+                             "surface (an open sheet, or a mesh whose inside could not be told)\n");
+}
+
 } // namespace
 
 int main(int argc, char **argv)
@@ -141,121 +259,41 @@ int main(int argc, char **argv)
         return 0;
     }
 
-    // Reserve every destination first: an unwritable output fails before
-    // any work, and nothing is ever written at a destination until the end.
-    PendingFile vdbFile, nvdbFile, npyFile, jsonFile;
-    std::vector<PendingFile *> pending{&vdbFile};
-    if (!reserveFile(opt.output, vdbFile, error))
-        return fail(error);
-    if (!opt.nvdb.empty()) {
-        pending.push_back(&nvdbFile);
-        if (!reserveFile(opt.nvdb, nvdbFile, error))
-            return fail(error, pending);
-    }
-    if (!opt.npy.empty()) {
-        pending.push_back(&npyFile);
-        pending.push_back(&jsonFile);
-        if (!reserveFile(opt.npy, npyFile, error) || !reserveFile(sidecarPath(opt.npy), jsonFile, error))
-            return fail(error, pending);
-    }
-
-    TriangleMesh mesh;
-    BoxGeometry box;
-    if (!loadMesh(opt.input, mesh, error) || !planBox(mesh, opt, box, error))
-        return fail(error, pending);
-    OrientCounts orientCounts;
-    const OrientCounts *oriented = nullptr;
-    const auto orientStart = std::chrono::steady_clock::now();
-    if (opt.orient == OrientMethod::Outward) {
-        orientCounts = orientMesh(mesh, opt.simd);
-        oriented = &orientCounts;
-    } else {
-        countEdges(mesh, edgeUses(mesh));
-    }
-    const double orientSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - orientStart).count();
+    Outputs out;
+    if (!reserveOutputs(opt, out, error))
+        return fail(error, out.pending);
+    PreparedMesh m;
+    if (!prepareMesh(opt, m, error))
+        return fail(error, out.pending);
     if (!opt.quiet && !opt.json)
-        printHealth(opt.input, mesh.health, oriented);
-    if (!mesh.health.closed() && opt.sign == SignMethod::Flood)
+        printHealth(opt.input, m.mesh.health, m.oriented);
+    if (!m.mesh.health.closed() && opt.sign == SignMethod::Flood)
         std::fprintf(stderr,
                      "mesh2sdf: warning: the mesh is not closed (%zu boundary, %zu non-manifold edges) and --sign "
                      "flood assumes it is: inside and outside may be wrong; --sign winding handles open meshes\n",
-                     mesh.health.boundaryEdges, mesh.health.nonManifoldEdges);
+                     m.mesh.health.boundaryEdges, m.mesh.health.nonManifoldEdges);
 
     Progress progress(!opt.quiet && !opt.json);
     BuildStats stats;
     openvdb::FloatGrid::Ptr grid;
     try {
-        grid = buildGrid(mesh, box, opt, progress, stats);
+        grid = buildGrid(m.mesh, m.box, opt, progress, stats);
     } catch (const std::exception &e) {
         progress.finish();
-        return fail(std::string("conversion failed: ") + e.what(), pending);
+        return fail(std::string("conversion failed: ") + e.what(), out.pending);
     }
-    Provenance how{opt.input, signMethodName(opt.sign), opt.band, opt.full};
+    const Provenance how{opt.input, signMethodName(opt.sign), opt.band, opt.full};
     describeGrid(*grid, opt.name.empty() ? fileStem(opt.input) : opt.name, how);
 
     // Writing has no progress of its own: the bar waits at its start and
     // shows 100% once every file is in place.
     progress.stage("writing", buildGridEnd(opt), 100);
-    const size_t slash = opt.npy.find_last_of('/');
-    const std::string npyName = slash == std::string::npos ? opt.npy : opt.npy.substr(slash + 1);
-    // The grid files and the dense array side by side: each reads the
-    // finished tree only, and OpenVDB's writer runs on one thread.
-    std::string gridError, arrayError;
-    bool gridsWritten = false, arrayWritten = false;
-    tbb::parallel_invoke(
-        [&] {
-            gridsWritten = writeVdb(*grid, vdbFile.tmp, gridError) &&
-                           (opt.nvdb.empty() || writeNvdb(*grid, opt.fp16, nvdbFile.tmp, gridError));
-        },
-        [&] {
-            arrayWritten =
-                opt.npy.empty() || (writeNpy(*grid, box, npyFile.tmp, arrayError) &&
-                                    writeNpyJson(box, npyName, how, grid->background(), jsonFile.tmp, arrayError));
-        });
-    const bool written = gridsWritten && arrayWritten;
-    error = gridsWritten ? arrayError : gridError;
-    if (!written) {
+    if (!writeOutputs(opt, *grid, m.box, how, out, error)) {
         progress.finish();
-        return fail(error, pending);
+        return fail(error, out.pending);
     }
-    // Renamed side by side too: replacing a large old file frees its blocks
-    // within rename().
-    std::vector<std::string> commitErrors(pending.size());
-    std::vector<char> committed(pending.size(), 0);
-    tbb::parallel_for(size_t(0), pending.size(),
-                      [&](size_t i) { committed[i] = commitFile(*pending[i], commitErrors[i]); });
-    for (size_t i = 0; i < pending.size(); ++i)
-        if (!committed[i]) {
-            progress.finish();
-            return fail(commitErrors[i], pending);
-        }
     progress.report(100);
     progress.finish();
-
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (opt.json) {
-        printJson(opt, mesh.health, oriented, orientSeconds, box, *grid, stats, secs);
-    } else if (!opt.quiet) {
-        std::printf("wrote %s: %dx%dx%d box, voxel size %.6g, %llu active voxels, grid %.1f MiB, peak memory "
-                    "%.1f MiB, %.2f s, sign %s",
-                    opt.output.c_str(), box.dims[0], box.dims[1], box.dims[2], box.voxelSize,
-                    static_cast<unsigned long long>(grid->activeVoxelCount()),
-                    double(grid->memUsage()) / (1024.0 * 1024.0), peakRssMiB(), secs, signMethodName(opt.sign));
-        if (opt.sign == SignMethod::Winding)
-            std::printf(" (%.2f s), %llu voxels signed from an ambiguous winding number", stats.windingSeconds,
-                        static_cast<unsigned long long>(stats.ambiguousVoxels));
-        std::printf("\n");
-    }
-    // Uncertain answers are said, not written silently.
-    if (opt.sign == SignMethod::Winding) {
-        if (oriented && oriented->ambiguousPatches)
-            std::fprintf(stderr,
-                         "mesh2sdf: warning: %zu open patches have no clear outside and keep the file's "
-                         "orientation; %llu voxels were signed from a winding number between 0.25 and 0.75\n",
-                         oriented->ambiguousPatches, static_cast<unsigned long long>(stats.ambiguousVoxels));
-        if (!hasSurface(*grid))
-            std::fprintf(stderr, "mesh2sdf: warning: no voxel of the band is inside the mesh, so the grid has no "
-                                 "surface (an open sheet, or a mesh whose inside could not be told)\n");
-    }
+    report(opt, m, *grid, stats, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     return 0;
 }
