@@ -620,6 +620,12 @@ int WindingSign::cubeSide(const std::array<int, 3> &origin, int size) const
 // bound. Where that holds for every component the block is done, with one
 // evaluation per component; where not (open edges near the block make G
 // large), the walk above decides it, reusing the evaluations made.
+//
+// One function of about 200 lines, on purpose: its three phases (the cheap
+// way, the band walk, the off-band walk) share the block's per-voxel state
+// on the stack (evaluated values, anchors, drifts, margins, the near
+// edges' fields), which split functions would pass a dozen arrays of; the
+// lambdas name each step.
 void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) const
 {
     const double h = mVoxelSize;
