@@ -31,7 +31,7 @@
 // statistics zero, checksum "none", the root's bounding box the active
 // voxels'. Fp16 leaves are quantized as NanoVDB quantizes them (leaf
 // minimum, quantum (max - min) / 65535, codes rounded to nearest). Tested
-// voxel for voxel against openToNanoVDB's grid (tests/test_grid.c).
+// voxel for voxel against openToNanoVDB's grid (tests/test_vdb_stream.c).
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
