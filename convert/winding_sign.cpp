@@ -93,7 +93,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <unordered_map>
 #include <utility>
 
 namespace mesh2sdf
@@ -152,24 +151,20 @@ double segmentDistance(const OpenEdge &e, const double *p)
 // take them), so seams of duplicated vertices carry nothing.
 std::vector<OpenEdge> openEdges(const TriangleMesh &mesh)
 {
-    const std::vector<uint32_t> &id = mesh.welded;
-    std::unordered_map<uint64_t, int> net; // (min, max) -> uses min->max minus max->min
-    net.reserve(mesh.triangles.size() * 2);
-    for (const auto &t : mesh.triangles)
-        for (int e = 0; e < 3; ++e) {
-            const uint32_t a = id[t[e]], b = id[t[(e + 1) % 3]];
-            if (a == b)
-                continue;
-            const uint64_t key = (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
-            net[key] += a < b ? 1 : -1;
-        }
+    // Each edge's net current: uses from the smaller welded vertex to the
+    // larger, less those the other way (the runs of edgeUses).
+    const std::vector<EdgeUse> uses = edgeUses(mesh);
     std::vector<OpenEdge> edges;
-    for (const auto &kv : net) {
-        if (kv.second == 0)
+    for (size_t i = 0, j; i < uses.size(); i = j) {
+        int net = 0;
+        for (j = i; j < uses.size() && uses[j].key == uses[i].key; ++j)
+            net += edgeFrom(mesh, uses[j].halfEdge) < edgeTo(mesh, uses[j].halfEdge) ? 1 : -1;
+        if (net == 0)
             continue;
+        const uint64_t key = uses[i].key;
         // Directed along the net current: min -> max when positive.
-        const auto &p = mesh.points[uint32_t(kv.second > 0 ? kv.first >> 32 : kv.first & 0xffffffffu)];
-        const auto &q = mesh.points[uint32_t(kv.second > 0 ? kv.first & 0xffffffffu : kv.first >> 32)];
+        const auto &p = mesh.points[uint32_t(net > 0 ? key >> 32 : key & 0xffffffffu)];
+        const auto &q = mesh.points[uint32_t(net > 0 ? key & 0xffffffffu : key >> 32)];
         OpenEdge e;
         double len2 = 0;
         for (int k = 0; k < 3; ++k) {
@@ -180,7 +175,7 @@ std::vector<OpenEdge> openEdges(const TriangleMesh &mesh)
             len2 += (e.b[k] - e.a[k]) * (e.b[k] - e.a[k]);
         }
         e.length = std::sqrt(len2);
-        e.current = std::abs(kv.second);
+        e.current = std::abs(net);
         edges.push_back(e);
     }
     // A deterministic order, so that the bounds' rounding is the same each run.
