@@ -81,7 +81,8 @@ bool hasSurface(const openvdb::FloatGrid &grid)
 
 // The --json object: the mesh's health, what orienting did, the grid.
 void printJson(const Options &opt, const MeshHealth &h, const OrientCounts *o, double orientSeconds,
-               const BoxGeometry &box, const openvdb::FloatGrid &grid, const BuildStats &stats, double seconds)
+               const BoxGeometry &box, const openvdb::FloatGrid &grid, const BuildStats &stats, double seconds,
+               bool surface)
 {
     std::printf("{\"mesh\": ");
     json_put_string(stdout, opt.input.c_str());
@@ -102,8 +103,8 @@ void printJson(const Options &opt, const MeshHealth &h, const OrientCounts *o, d
                 "\"seconds\": %.6f, \"peak_mib\": %.1f}\n",
                 box.dims[0], box.dims[1], box.dims[2], box.voxelSize,
                 static_cast<unsigned long long>(grid.activeVoxelCount()), signMethodName(opt.sign),
-                static_cast<unsigned long long>(stats.ambiguousVoxels), hasSurface(grid) ? "true" : "false",
-                orientSeconds, stats.windingSeconds, seconds, peakRssMiB());
+                static_cast<unsigned long long>(stats.ambiguousVoxels), surface ? "true" : "false", orientSeconds,
+                stats.windingSeconds, seconds, peakRssMiB());
 }
 
 // Every destination, reserved first: an unwritable output fails before any
@@ -199,8 +200,9 @@ bool writeOutputs(const Options &opt, const openvdb::FloatGrid &grid, const BoxG
 void report(const Options &opt, const PreparedMesh &m, const openvdb::FloatGrid &grid, const BuildStats &stats,
             double seconds)
 {
+    const bool surface = hasSurface(grid); // one pass over the tree, for the object and the warning
     if (opt.json) {
-        printJson(opt, m.mesh.health, m.oriented, m.orientSeconds, m.box, grid, stats, seconds);
+        printJson(opt, m.mesh.health, m.oriented, m.orientSeconds, m.box, grid, stats, seconds, surface);
     } else if (!opt.quiet) {
         std::printf("wrote %s: %dx%dx%d box, voxel size %.6g, %llu active voxels, grid %.1f MiB, peak memory "
                     "%.1f MiB, %.2f s, sign %s",
@@ -219,7 +221,7 @@ void report(const Options &opt, const PreparedMesh &m, const openvdb::FloatGrid 
                      "mesh2sdf: warning: %zu open patches have no clear outside and keep the file's "
                      "orientation; %llu voxels were signed from a winding number between 0.25 and 0.75\n",
                      m.oriented->ambiguousPatches, static_cast<unsigned long long>(stats.ambiguousVoxels));
-    if (!hasSurface(grid))
+    if (!surface)
         std::fprintf(stderr, "mesh2sdf: warning: no voxel of the band is inside the mesh, so the grid has no "
                              "surface (an open sheet, or a mesh whose inside could not be told)\n");
 }
