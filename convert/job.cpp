@@ -48,9 +48,11 @@ struct Outputs {
 
 bool reserveOutputs(const Options &opt, Outputs &out, std::string &error)
 {
-    out.pending = {&out.vdb};
-    if (!reserveFile(opt.output, out.vdb, error))
-        return false;
+    if (!opt.output.empty()) {
+        out.pending.push_back(&out.vdb);
+        if (!reserveFile(opt.output, out.vdb, error))
+            return false;
+    }
     if (!opt.nvdb.empty()) {
         out.pending.push_back(&out.nvdb);
         if (!reserveFile(opt.nvdb, out.nvdb, error))
@@ -97,7 +99,7 @@ bool writeOutputs(const Options &opt, const openvdb::FloatGrid &grid, const BoxG
     bool gridsWritten = false, arrayWritten = false;
     tbb::parallel_invoke(
         [&] {
-            gridsWritten = writeVdb(grid, out.vdb.tmp, gridError) &&
+            gridsWritten = (opt.output.empty() || writeVdb(grid, out.vdb.tmp, gridError)) &&
                            (opt.nvdb.empty() || writeNvdb(grid, opt.fp16, out.nvdb.tmp, gridError));
         },
         [&] {
@@ -173,7 +175,9 @@ std::string fileStem(const std::string &path)
 
 std::vector<std::string> jobOutputs(const Options &opt)
 {
-    std::vector<std::string> files = {opt.output};
+    std::vector<std::string> files;
+    if (!opt.output.empty())
+        files.push_back(opt.output);
     if (!opt.nvdb.empty())
         files.push_back(opt.nvdb);
     if (!opt.npy.empty()) {

@@ -43,8 +43,8 @@ struct JobResult {
 /// name unless --name gives one, and a batch's output name.
 std::string fileStem(const std::string &path);
 
-/// The files a conversion writes: opt.output (.vdb), and opt.nvdb,
-/// opt.npy with its sidecar JSON where given. A batch asks whether all of
+/// The files a conversion writes: opt.output (.vdb), opt.nvdb, and opt.npy
+/// with its sidecar JSON, each where given (a batch may leave out the .vdb). A batch asks whether all of
 /// them exist before converting a mesh again.
 std::vector<std::string> jobOutputs(const Options &opt);
 

@@ -3,6 +3,7 @@
 // health line once the mesh is read, the summary at the end. Every failure
 // is one line on stderr and exit status 1, with no file left at a
 // destination.
+#include "batch.h"
 #include "check.h"
 #include "job.h"
 #include "options.h"
@@ -172,5 +173,5 @@ int main(int argc, char **argv)
         return 0;
     }
 
-    return convertOne(opt);
+    return opt.batch.empty() ? convertOne(opt) : runBatch(opt);
 }

@@ -40,6 +40,11 @@ struct Options {
     bool simd512 = true;                // and AVX-512 among them (--simd auto)
     std::vector<std::string> checkSign; // --check-sign GRID.vdb (repeatable): measure, don't convert
     int samples = 10000;                // points for --check-sign
+    // --batch LIST: every mesh of LIST converted into outDir (batch.h).
+    std::string batch;
+    std::string outDir;
+    bool batchVdb = true, batchNvdb = false, batchNpy = false; // --formats
+    int shard = 0, shards = 1;                                 // --shard K/N: this process does shard K of N
     bool help = false;
 };
 
