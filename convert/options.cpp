@@ -243,15 +243,16 @@ std::vector<cmdline_option> optionRows(Options &o, int *sawRes)
              "convert every mesh LIST names (one path a line,\n"
              "relative to LIST's folder; blank lines and # comments\n"
              "skipped) into --out-dir, with the other options;\n"
-             "meshes that fail are reported and skipped",
-             setString, &o.batch, "one mesh"),
+             "meshes that fail are reported and skipped; under\n"
+             "mpirun, spread over the ranks",
+             setString, &o.batch, "none"),
         call("out-dir", 0, "DIR",
              "--batch: the folder for the outputs and report.jsonl\n"
              "(created if missing); a mesh writes DIR/STEM.vdb ...,\n"
              "STEM its file name stem (STEM-2, -3 ... for a stem\n"
              "met again in LIST)",
              setString, &o.outDir),
-        call("formats", 0, "LIST",
+        call("formats", 0, "KINDS",
              "--batch: what to write per mesh, comma-separated:\n"
              "vdb, nvdb, npy (with its .json)",
              setFormats, &o, "vdb"),

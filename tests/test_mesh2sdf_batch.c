@@ -462,12 +462,62 @@ static void test_mpi_batch(void **state)
     }
 }
 
+/* On a terminal (script(1)), a progress line counts the meshes up with the
+ * time left; through a pipe, none; the help lists the batch's options. */
+static void test_batch_progress_and_help(void **state)
+{
+    (void)state;
+    static char out[65536];
+    assert_int_equal(tu_run(out, sizeof out, "%s --help", SDFT_MESH2SDF), 0);
+    const char *flags[] = {"--batch LIST", "--out-dir DIR", "--formats", "--shard K/N", "mpirun"};
+    for (size_t i = 0; i < sizeof flags / sizeof *flags; i++)
+        if (!strstr(out, flags[i]))
+            fail_msg("--help does not list %s", flags[i]);
+
+    char dir[PATH], list[PATH], path[PATH];
+    fresh_dir(dir, sizeof dir, "batch-progress");
+    path_of(list, "%s/list.txt", dir);
+    write_text(list, "a.obj\nb.obj\nc.obj\n");
+    for (int i = 0; i < 3; i++) {
+        path_of(path, "%s/%c.obj", dir, 'a' + i);
+        write_cube(path, 1.0 + i);
+    }
+    assert_int_equal(tu_run(out, sizeof out, "%s --batch '%s' --out-dir '%s/piped' --res 12", SDFT_MESH2SDF, list, dir),
+                     0);
+    assert_null(strstr(out, "\r["));
+    assert_int_equal(tu_lines(out), 4); /* a line a mesh, and the summary */
+    assert_non_null(strstr(out, "3 converted, 0 skipped, 0 failed"));
+
+    if (!tu_file_exists("/usr/bin/script") || tu_run(out, sizeof out, "script -qec true /dev/null") != 0) {
+        print_message("skipped: no script(1) or no pseudo-terminal to give mesh2sdf a terminal\n");
+        return;
+    }
+    assert_int_equal(tu_run(out, sizeof out, "script -qec \"%s --batch '%s' --out-dir '%s/tty' --res 12\" /dev/null",
+                            SDFT_MESH2SDF, list, dir),
+                     0);
+    int next = 0;
+    for (const char *f = strstr(out, "\r["); f; f = strstr(f + 2, "\r[")) {
+        int percent = -1, done = -1, total = -1;
+        const char *close = strchr(f, ']');
+        assert_non_null(close);
+        assert_true(sscanf(close + 1, " %d%% %d/%d meshes", &percent, &done, &total) == 3);
+        assert_int_equal(total, 3);
+        assert_int_equal(done, next); /* each count once, in order */
+        assert_int_equal(percent, 100 * done / 3);
+        if (done > 0)
+            assert_non_null(strstr(close, " left"));
+        next++;
+    }
+    assert_int_equal(next, 3); /* 0, 1 and 2 of 3; the bar is gone at the end */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_batch_report),
         cmocka_unit_test(test_shards),
         cmocka_unit_test(test_mpi_batch),
+        cmocka_unit_test(test_batch_progress_and_help),
     };
     return cmocka_run_group_tests_name("mesh2sdf_batch", tests, NULL, NULL);
 }
