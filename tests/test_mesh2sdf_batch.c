@@ -1,4 +1,4 @@
-/* mesh2sdf --batch tests: a batch with a corrupt and an empty mesh among
+/* mesh2sdf --batch tests: a batch with a corrupt, an empty and a NaN mesh among
  * good ones (the report's rows against the meshes' own counts, the exit
  * status, the good grids against the exact distance to a box and byte for
  * byte against one-mesh runs, a rerun that converts nothing), --shard
@@ -171,8 +171,8 @@ static int count_lines(const char *path)
 
 /* ---------------------------------------------------------------- setup */
 
-/* DIR/in: two cubes with the same stem (sides 1 and 2), a corrupt and an
- * empty mesh, and spot from the shared meshes by its absolute path; LIST
+/* DIR/in: two cubes with the same stem (sides 1 and 2), a corrupt mesh,
+ * an empty one, one with a NaN coordinate, and spot from the shared meshes by its absolute path; LIST
  * names them with a comment and a blank line between. */
 static void make_batch_input(const char *dir, char *list, size_t len)
 {
@@ -187,10 +187,12 @@ static void make_batch_input(const char *dir, char *list, size_t len)
     write_text(path, "v 0 0 0\nv 1 0 0\nthis is not an OBJ line\nf 1 2 9\n");
     path_of(path, "%s/in/empty.obj", dir);
     write_text(path, "");
+    path_of(path, "%s/in/nan.obj", dir);
+    write_text(path, "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n");
     snprintf(list, len, "%s/in/list.txt", dir);
     char text[2048];
     snprintf(text, sizeof text,
-             "# meshes of the batch test\ncube.obj\ncorrupt.obj\n\n  %s/spot.obj  \nempty.obj\nsub/cube.obj\n",
+             "# meshes of the batch test\ncube.obj\ncorrupt.obj\n\n  %s/spot.obj  \nempty.obj\nsub/cube.obj\nnan.obj\n",
              SDFT_MESH_DIR);
     write_text(list, text);
 }
@@ -228,15 +230,16 @@ static void test_batch_report(void **state)
     /* Some meshes failed: exit status 2, each failure one line on stderr. */
     const int rc = run_batch(list, out, "", log, sizeof log);
     assert_int_equal(rc, 2);
-    assert_int_equal(tu_lines(log), 2);
+    assert_int_equal(tu_lines(log), 3);
     assert_non_null(strstr(log, "corrupt.obj"));
     assert_non_null(strstr(log, "empty.obj"));
-    assert_int_equal(count_lines(report), 5);
+    assert_non_null(strstr(log, "nan.obj"));
+    assert_int_equal(count_lines(report), 6);
     tu_assert_no_temporaries(out, "report.jsonl");
 
     /* The failed rows: status, an error naming the file, no outputs. */
-    const char *bad[] = {"corrupt.obj", "empty.obj"};
-    for (int i = 0; i < 2; i++) {
+    const char *bad[] = {"corrupt.obj", "empty.obj", "nan.obj"};
+    for (int i = 0; i < 3; i++) {
         char *row = report_row(report, bad[i]);
         assert_non_null(row);
         char value[PATH];
@@ -249,6 +252,7 @@ static void test_batch_report(void **state)
     }
     assert_outputs(out, "corrupt", 0);
     assert_outputs(out, "empty", 0);
+    assert_outputs(out, "nan", 0);
 
     /* The cubes: one stem, two names; their rows' counts are the cube's
      * (8 vertices, 6 quads, 12 triangles, closed); their grids are the
@@ -323,7 +327,7 @@ static void test_batch_report(void **state)
         before[i] = report_row(report, good[i]);
     }
     assert_int_equal(run_batch(list, out, "", log, sizeof log), 2);
-    assert_int_equal(count_lines(report), 5);
+    assert_int_equal(count_lines(report), 6);
     for (int i = 0; i < 3; i++) {
         char npy[PATH];
         path_of(npy, "%s/%s.npy", out, outs[i]);
@@ -434,12 +438,12 @@ static void test_mpi_batch(void **state)
     char r1[PATH], r2[PATH];
     path_of(r1, "%s/report.jsonl", one);
     path_of(r2, "%s/report.jsonl", two);
-    assert_int_equal(count_lines(r2), 5);
+    assert_int_equal(count_lines(r2), 6);
     char spot[PATH];
     path_of(spot, "%s/spot.obj", SDFT_MESH_DIR);
-    const char *meshes[] = {"cube.obj", "corrupt.obj", spot, "empty.obj", "sub/cube.obj"};
-    const char *names[] = {"cube", "corrupt", "spot", "empty", "cube-2"};
-    for (int i = 0; i < 5; i++) {
+    const char *meshes[] = {"cube.obj", "corrupt.obj", spot, "empty.obj", "sub/cube.obj", "nan.obj"};
+    const char *names[] = {"cube", "corrupt", "spot", "empty", "cube-2", "nan"};
+    for (int i = 0; i < 6; i++) {
         char *a = report_row(r1, meshes[i]), *b = report_row(r2, meshes[i]);
         assert_non_null(a);
         assert_non_null(b);
