@@ -285,6 +285,8 @@ folder) and the two ranks of \`mpirun -np 2\` have $half each (\`--threads $half
 split LIST before they start (positions 0, 2, 4 ... and 1, 3, 5 ...); the ranks take the next
 mesh, largest file first, as each is free. Open MPI binds each of 2 ranks to a core of its own;
 the row with \`--bind-to none\` leaves them free to move, as the shards are.
+On a machine other work shares, wall time also counts the waits for a core: the CPU time is the
+work itself.
 
 | run | processes | threads each | s | meshes per minute | × one process | CPU s |
 |---|--:|--:|--:|--:|--:|--:|
