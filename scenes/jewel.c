@@ -18,6 +18,7 @@
 #define CENTRE_Y 1.45f
 #define RADIUS 1.0f    /* the girdle's, to its facets */
 #define CIRCUM 1.035f  /* a girdle corner's distance from the centre, the farthest point: 1 / cos(pi / 16), y 0.03 */
+#define TOP 0.6f       /* above the centre, the tilted gem's highest point (0.53, a corner of its table) and a margin */
 #define TILT_C 0.9397f /* cos and sin of the gem's 20 degree tilt about x */
 #define TILT_S 0.3420f
 
@@ -94,7 +95,7 @@ const sdft_scene scene_jewel = {
     .name = "jewel",
     .description = "a glass brilliant over a checker floor, a red bead and a mirror ball (Keinert Fig. 1)",
     .field = {.distance = jewel_distance,
-              .bounds = {{-5.02f, -0.12f, -5.02f}, {5.02f, CENTRE_Y + CIRCUM + 0.05f, 5.02f}},
+              .bounds = {{-5.02f, -0.12f, -5.02f}, {5.02f, CENTRE_Y + TOP, 5.02f}},
               .feature_size = 1e-3f,
               .accel = &jewel_accel,
               .material = jewel_material},
