@@ -29,7 +29,9 @@ static void bad_flag_values_are_one_line_and_no_output(void **state)
         {"--eps-min nan", "--eps-min"},
         {"--bounces 3", "--bounces"},
         {"--bounces 17,0", "--bounces"},
+        {"--bounces 0,17", "--bounces"},
         {"--bounces 2,-1", "--bounces"},
+        {"--bounces -1,2", "--bounces"},
         {"--bounces 2,8,1", "--bounces"},
         {"--bounces nan,1", "--bounces"},
         {"--smooth-iters -1", "--smooth-iters"},
@@ -54,6 +56,57 @@ static void bad_flag_values_are_one_line_and_no_output(void **state)
             fail_msg("case '%s': rc %d, output '%s' (want one line naming '%s')", cases[i][0], rc, out, cases[i][1]);
         tu_assert_no_temporaries(SDFT_TEST_TMP, "secondary_bad.exr");
     }
+}
+
+/* The library refuses the same values through sdft_render, whoever calls it. */
+static void render_refuses_bad_shading_parameters(void **state)
+{
+    (void)state;
+    const sdft_scene *sc = sdft_scene_find("jewel");
+    sdft_image img;
+    char msg[256];
+    assert_int_equal(sdft_image_alloc(&img, 8, 8, msg, sizeof msg), SDFT_OK);
+    for (int k = 0; k < 10; k++) {
+        sdft_render_params p = sdft_render_defaults();
+        p.width = p.height = 8;
+        p.camera = sc->camera;
+        switch (k) {
+        case 0:
+            p.eps_min = -1e-3f;
+            break;
+        case 1:
+            p.eps_min = NAN;
+            break;
+        case 2:
+            p.reflect_bounces = SDFT_MAX_BOUNCES + 1;
+            break;
+        case 3:
+            p.refract_bounces = -1;
+            break;
+        case 4:
+            p.smooth_iters = -1;
+            break;
+        case 5:
+            p.smooth_iters = SDFT_MAX_SMOOTH_ITERS + 1;
+            break;
+        case 6:
+            p.soft_shadows = NAN;
+            break;
+        case 7:
+            p.soft_shadows = -8.0f;
+            break;
+        case 8:
+            p.material.reflectance = 1.5f;
+            break;
+        default:
+            p.material.ior = 0.5f;
+            break;
+        }
+        msg[0] = '\0';
+        assert_int_equal(sdft_render(&sc->field, &p, &img, NULL, msg, sizeof msg), SDFT_EINVAL);
+        assert_true(strlen(msg) > 10);
+    }
+    sdft_image_free(&img);
 }
 
 static sdft_render_stats render_jewel(int convex)
@@ -113,6 +166,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(bad_flag_values_are_one_line_and_no_output),
+        cmocka_unit_test(render_refuses_bad_shading_parameters),
         cmocka_unit_test(jewel_counts_add_up_and_convex_takes_fewer),
         cmocka_unit_test(grid_renders_with_every_technique),
     };
