@@ -57,10 +57,12 @@ static sdft_hit trace_secondary(const path *pa, const sdft_ray *ray, int inside,
     const sdft_field_accel *a = fr->f->accel;
     const int part =
         inside && fr->rp->convex && a && a->convex_count ? secondary_convex_part_at(a, pa->s, ray->org, steps) : -1;
-    if (part >= 0)
+    if (part >= 0) {
         h = secondary_trace_convex(&a->convex[part], pa->s, ray, &fr->tp);
-    else
+        h.distance = -h.distance; /* found from outside the part: -f, as the inside trace would give */
+    } else {
         h = sdft_trace(inside ? fr->inside : fr->f, pa->s, ray, &fr->tp);
+    }
     *steps += h.steps;
     return h;
 }
