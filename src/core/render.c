@@ -56,7 +56,6 @@
 
 /* Shading constants: a warm grey surface, a blue sky. */
 static const sdft_vec3 ALBEDO = {0.80f, 0.76f, 0.70f};
-static const float AMBIENT = 0.12f;
 static const sdft_vec3 SKY_HORIZON = {0.78f, 0.85f, 0.95f};
 static const sdft_vec3 SKY_ZENITH = {0.30f, 0.50f, 0.85f};
 
@@ -143,7 +142,7 @@ sdft_vec3 render_miss_colour(const sdft_render_params *rp, float up)
 }
 
 /* The surface's colour under diffuse light of cosine `diffuse` (0: in shadow). */
-static sdft_vec3 lit(float diffuse) { return sdft_scale(ALBEDO, AMBIENT + (1.0f - AMBIENT) * diffuse); }
+static sdft_vec3 lit(float diffuse) { return sdft_scale(ALBEDO, RENDER_AMBIENT + (1.0f - RENDER_AMBIENT) * diffuse); }
 
 /* The shadow ray from surface point p (normal n) to the point light: its
  * origin lifted off the surface by `lift`. 0 when p is at the light. */

@@ -7,6 +7,9 @@
 #include "render_hull.h"
 #include "sdftrace/render.h"
 
+/* The ambient share of the light on every surface. */
+#define RENDER_AMBIENT 0.12f
+
 /* What every pixel of one frame shares, set up once. */
 typedef struct frame {
     const sdft_field *f;

@@ -18,17 +18,14 @@
 
 #include "secondary.h"
 
-/* The surface of a field without materials, and of every field with
- * materials off: render.c's grey. */
-static const float AMBIENT = 0.12f;
-
 int render_whitted_wanted(const sdft_render_params *rp)
 {
     return !rp->depth_only &&
            (rp->materials || rp->eps_min > 0.0f || rp->smooth_iters > 0 || rp->soft_shadows > 0.0f || rp->ao);
 }
 
-/* Where one path's counts go: the ray class being traced. */
+/* What one pixel's paths share: the frame, the thread's scratch, and the
+ * pixel whose counts they add to. */
 typedef struct path {
     const frame *fr;
     sdft_scratch *s;
@@ -97,7 +94,7 @@ static sdft_vec3 local_colour(const path *pa, sdft_material m, sdft_vec3 p, sdft
     if (diffuse > 0.0f && fr->rp->shadows)
         diffuse *= light_seen(pa, p, n, eps, l, dist);
     const float occ = fr->rp->ao ? secondary_occlusion(fr->f, pa->s, p, n, fr->ao_reach, &pa->px->shadow_steps) : 1.0f;
-    return sdft_scale(m.colour, (AMBIENT + (1.0f - AMBIENT) * diffuse) * occ);
+    return sdft_scale(m.colour, (RENDER_AMBIENT + (1.0f - RENDER_AMBIENT) * diffuse) * occ);
 }
 
 static sdft_vec3 radiance(const path *pa, sdft_ray ray, int inside, int reflections, int refractions);
