@@ -1,7 +1,8 @@
 /* Tests of Keinert et al.'s dynamic epsilon (3.3, src/core/secondary.h):
  * every hit of the jewel scene's glass, traced with the screen-space
  * criterion (hits up to half a pixel's footprint off the surface), sends a
- * refraction ray in and a reflection ray out; offset by eps_dynamic = 2
+ * refraction ray in and a reflection ray out, and where the refraction ray
+ * leaves the glass, a ray out and one reflected back in; offset by eps_dynamic = 2
  * max(eps_min, |f(p)|), none of them meets its own surface again before
  * it has travelled 2 eps_min, where a fixed, tiny offset lets many do so
  * at once. */
@@ -24,6 +25,20 @@ typedef struct tally {
     int self_hits;  /* secondary rays that met a surface before travelling 2 eps_min */
     float most_f;   /* the largest |f(p)| at a glass hit */
 } tally;
+
+/* Where the refraction ray r leaves the glass (its hit e inside), the two
+ * rays from there: out through the surface, and reflected back in. How
+ * many meet their own surface before travelling 2 eps_min. */
+static int leave_exit(const sdft_field *f, const sdft_field *in, sdft_scratch *s, const sdft_trace_params *tp,
+                      const sdft_ray *r, sdft_hit e, int dynamic)
+{
+    const sdft_vec3 q = sdft_madd(r->org, r->dir, e.t), n = sdft_field_normal(f, s, q); /* outward */
+    const float eps = dynamic ? secondary_eps(EPS_MIN, e.distance) : 1e-6f;
+    const sdft_ray out = {sdft_madd(q, n, eps), 0.0f, r->dir, INFINITY};
+    const sdft_ray back = {sdft_madd(q, n, -eps), 0.0f, secondary_reflect(r->dir, sdft_scale(n, -1.0f)), INFINITY};
+    const sdft_hit ho = sdft_trace(f, s, &out, tp), hb = sdft_trace(in, s, &back, tp);
+    return (ho.status == SDFT_HIT && ho.t < 2.0f * EPS_MIN) + (hb.status == SDFT_HIT && hb.t < 2.0f * EPS_MIN);
+}
 
 /* Sends each glass hit's two rays from `offset(|f(p)|)` off the surface. */
 static tally count_self_hits(int dynamic)
@@ -55,6 +70,8 @@ static tally count_self_hits(int dynamic)
                 const sdft_ray r = {sdft_madd(p, n, -eps), 0.0f, refracted, INFINITY};
                 const sdft_hit e = sdft_trace(&in, &s, &r, &tp);
                 t.self_hits += e.status == SDFT_HIT && e.t < 2.0f * EPS_MIN;
+                if (e.status == SDFT_HIT)
+                    t.self_hits += leave_exit(f, &in, &s, &tp, &r, e, dynamic);
             }
             const sdft_ray r = {sdft_madd(p, n, eps), 0.0f, secondary_reflect(ray.dir, n), INFINITY};
             const sdft_hit e = sdft_trace(f, &s, &r, &tp);
