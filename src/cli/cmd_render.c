@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "cmdline.h"
 #include "commands.h"
@@ -407,7 +408,20 @@ static void grid_leaves(const render_source *src, uint64_t *leaves, uint64_t *fi
         sdft_grid_leaf_counts(src->grid, leaves, filled, failed);
 }
 
-static void print_json(const render_source *src, const sdft_render_params *p, const sdft_render_stats *st)
+/* sdft_render, and the processor time its threads took together, in
+ * *cpu_ms: on a machine shared with other work it moves less than the
+ * wall time (the stats' ms). */
+static sdft_error render_timed(const render_source *src, const sdft_render_params *p, sdft_image *img,
+                               sdft_render_stats *st, double *cpu_ms, char *msg, size_t len)
+{
+    const clock_t c0 = clock();
+    const sdft_error rc = sdft_render(&src->field, p, img, st, msg, len);
+    *cpu_ms = 1000.0 * (double)(clock() - c0) / CLOCKS_PER_SEC;
+    return rc;
+}
+
+static void print_json(const render_source *src, const sdft_render_params *p, const sdft_render_stats *st,
+                       double cpu_ms)
 {
     double primary = (double)st->primary_rays;
     uint64_t leaves, filled, failed;
@@ -431,10 +445,11 @@ static void print_json(const render_source *src, const sdft_render_params *p, co
            (double)st->shadow_steps / primary, (double)st->cone_steps / primary, (double)st->fallbacks / primary,
            (double)st->primary_fallbacks / primary, (double)st->nonconverged / primary, (double)st->hits / primary,
            grid_bytes(src), (unsigned long long)leaves, (unsigned long long)filled);
-    printf("\"materials\": %s, \"bounces\": [%d, %d], \"eps_min\": %.6g, \"smooth_iters\": %d, \"convex\": %s, "
+    printf("\"cpu_ms\": %.3f, \"materials\": %s, \"bounces\": [%d, %d], \"eps_min\": %.6g, \"smooth_iters\": %d, "
+           "\"convex\": %s, "
            "\"soft_shadows\": %.6g, \"ao\": %s, \"shadow_steps\": %llu, \"secondary_rays\": %llu, "
            "\"secondary_steps\": %llu, \"mean_secondary_steps\": %.4f}\n",
-           p->materials ? "true" : "false", p->reflect_bounces, p->refract_bounces, p->eps_min, p->smooth_iters,
+           cpu_ms, p->materials ? "true" : "false", p->reflect_bounces, p->refract_bounces, p->eps_min, p->smooth_iters,
            p->convex ? "true" : "false", p->soft_shadows, p->ao ? "true" : "false",
            (unsigned long long)st->shadow_steps, (unsigned long long)st->secondary_rays,
            (unsigned long long)st->secondary_steps, (double)st->secondary_steps / primary);
@@ -495,10 +510,11 @@ int cmd_render(int argc, char **argv)
 
     sdft_image img;
     sdft_render_stats st;
+    double cpu_ms = 0.0;
     int rc = 0;
     if (sdft_image_alloc(&img, p.width, p.height, msg, sizeof msg)) {
         rc = 1;
-    } else if (sdft_render(&src.field, &p, &img, &st, msg, sizeof msg)) {
+    } else if (render_timed(&src, &p, &img, &st, &cpu_ms, msg, sizeof msg)) {
         rc = 2; /* parameters the renderer rejects, e.g. a degenerate camera */
     } else if (leaves_unreadable(&o, &src, msg, sizeof msg) || write_outputs(&o, &img, msg, sizeof msg)) {
         rc = 1;
@@ -506,7 +522,7 @@ int cmd_render(int argc, char **argv)
     if (rc)
         cli_error("render", msg);
     else if (o.json)
-        print_json(&src, &p, &st);
+        print_json(&src, &p, &st, cpu_ms);
     sdft_image_free(&img);
     if (FREE_AT_EXIT)
         close_field(&src);
