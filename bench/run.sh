@@ -3,7 +3,8 @@
 # variant row of the papers' tables (sphere; relaxed omega 1.2 and 1.5;
 # enhanced omega 0.88; auto beta 0.3 and 0.2), rendered with shadows at
 # 1280x720, counted the papers' way, through `sdftrace render --papers
-# --json`. Writes bench/results/variants.md (and prints it): the frame's
+# --json` (grey, so that every scene, the jewel too, is a primary and a
+# shadow ray per pixel). Writes bench/results/variants.md (and prints it): the frame's
 # trace time, mean SDF evaluations and fallbacks per pixel (primary + shadow
 # ray), the non-converged fraction of primary rays, and ratios to `enhanced`
 # measured in the same run.
@@ -46,7 +47,7 @@ measure() {
     for scene in $scenes; do
         printf '%s\n' "$variants" | while IFS='|' read -r label opts; do
             # shellcheck disable=SC2086 # opts is a list of words
-            json=$("$bin" render --scene "$scene" $opts --papers --width "$width" --height "$height" \
+            json=$("$bin" render --scene "$scene" $opts --papers --no-materials --width "$width" --height "$height" \
                 --threads "$threads" -o "$tmp/out.exr" --json --quiet)
             echo "$scene $label $(field "$json" ms) $(field "$json" mean_steps) $(field "$json" mean_fallbacks)" \
                 "$(field "$json" nonconverged)" >>"$tmp/rows"

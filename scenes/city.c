@@ -66,12 +66,19 @@ static float city_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
     return sdft_minf(buildings(p), ground(p));
 }
 
+/* With materials: the ground a checker floor, the rest grey. */
+static sdft_material city_material(const void *ctx, sdft_vec3 p)
+{
+    return ground(p) <= city_distance(ctx, NULL, p) ? scene_checker(p, 1.0f) : scene_grey();
+}
+
 const sdft_scene scene_city = {
     .name = "city",
     .description = "81 x 81 blocks of hashed-height buildings receding to the horizon, seen from a street",
     .field = {.distance = city_distance,
               .bounds = {{-EXTENT - 0.02f, -0.12f, -EXTENT - 0.02f}, {EXTENT + 0.02f, TALLEST, EXTENT + 0.02f}},
-              .feature_size = 1e-3f},
+              .feature_size = 1e-3f,
+              .material = city_material},
     .camera = {.from = {1.0f, 4.2f, 79.0f}, .at = {1.0f, 2.0f, 0.0f}, .up = {0, 1, 0}, .fov_deg = 50.0f},
     .light = {60.0f, 120.0f, 90.0f},
 };

@@ -4,10 +4,7 @@
 #include "scenes.h"
 
 static const sdft_scene *const all_scenes[] = {
-    &scene_temple,
-    &scene_figure,
-    &scene_dodecahedron,
-    &scene_city,
+    &scene_temple, &scene_figure, &scene_dodecahedron, &scene_city, &scene_jewel,
 };
 
 const sdft_scene *const *sdft_scenes(size_t *count)

@@ -9,5 +9,12 @@ extern const sdft_scene scene_temple;
 extern const sdft_scene scene_figure;
 extern const sdft_scene scene_dodecahedron;
 extern const sdft_scene scene_city;
+extern const sdft_scene scene_jewel;
+
+/* The renderer's grey, opaque (materials.c). */
+sdft_material scene_grey(void);
+
+/* A checker floor of `square`-wide squares, light and dark, at p (x, z). */
+sdft_material scene_checker(sdft_vec3 p, float square);
 
 #endif

@@ -127,12 +127,19 @@ static float temple_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
     return sdft_minf(sdft_minf(within(building_box, 0.5f, building, p), within(fence_box, 0.2f, fence, p)), ground(p));
 }
 
+/* With materials: the ground a checker floor, the rest grey. */
+static sdft_material temple_material(const void *ctx, sdft_vec3 p)
+{
+    return ground(p) <= temple_distance(ctx, NULL, p) ? scene_checker(p, 1.0f) : scene_grey();
+}
+
 const sdft_scene scene_temple = {
     .name = "temple",
     .description = "a temple of 32 fluted columns, stairs, a gabled roof, thin plates, rods and a fence",
     .field = {.distance = temple_distance,
               .bounds = {{-14.02f, -1.42f, -18.02f}, {14.02f, RIDGE + 0.2f, 18.02f}},
-              .feature_size = 1e-3f},
+              .feature_size = 1e-3f,
+              .material = temple_material},
     .camera = {.from = {12.0f, 3.0f, 24.0f}, .at = {0.0f, 2.0f, 0.0f}, .up = {0, 1, 0}, .fov_deg = 42.0f},
     .light = {20.0f, 30.0f, 25.0f},
 };

@@ -42,9 +42,9 @@ static void test_scenes(void **state)
 {
     (void)state;
     assert_int_equal(tu_run(out, sizeof out, "%s scenes", SDFT_CLI), 0);
-    assert_int_equal(tu_lines(out), 4);
-    static const char *const names[] = {"temple", "figure", "dodecahedron", "city"};
-    for (int i = 0; i < 4; i++)
+    assert_int_equal(tu_lines(out), 5);
+    static const char *const names[] = {"temple", "figure", "dodecahedron", "city", "jewel"};
+    for (int i = 0; i < 5; i++)
         assert_non_null(strstr(out, names[i]));
 }
 

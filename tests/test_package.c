@@ -236,8 +236,8 @@ static void test_shared_libraries_export_the_api(void **state)
 
 /* What an internal name may start with: its module. sdft_ is the public
  * API's alone. */
-static const char *const internal_prefixes[] = {"grid_",  "march_", "render_",     "vdb_",
-                                                "scene_", "fail_",  "atomic_file_"};
+static const char *const internal_prefixes[] = {"grid_", "march_", "render_", "secondary_",
+                                                "vdb_",  "scene_", "fail_",   "atomic_file_"};
 
 static int has_internal_prefix(const char *name)
 {

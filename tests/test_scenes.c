@@ -82,9 +82,9 @@ static void test_registry(void **state)
     (void)state;
     size_t n;
     const sdft_scene *const *s = all(&n);
-    assert_int_equal(n, 4);
-    const char *wanted[] = {"temple", "figure", "dodecahedron", "city"};
-    for (size_t w = 0; w < 4; w++) {
+    assert_int_equal(n, 5);
+    const char *wanted[] = {"temple", "figure", "dodecahedron", "city", "jewel"};
+    for (size_t w = 0; w < 5; w++) {
         const sdft_scene *found = sdft_scene_find(wanted[w]);
         assert_non_null(found);
         assert_string_equal(found->name, wanted[w]);

@@ -60,6 +60,30 @@ typedef struct sdft_scratch {
     sdft_scratch_owner owner;
 } sdft_scratch;
 
+/* How a surface looks (Whitted shading, Keinert et al. Section 4): its
+ * colour; the fraction of light an opaque surface mirrors; and its index of
+ * refraction, 0 for an opaque surface, > 1 for a clear dielectric (glass
+ * 1.5), whose reflection and refraction Fresnel's term weighs (Schlick's
+ * approximation), its colour tinting the light that passes through. */
+typedef struct sdft_material {
+    sdft_vec3 colour;  /* linear RGB, each in [0, 1] */
+    float reflectance; /* opaque: [0, 1]; ignored for a dielectric */
+    float ior;         /* 0: opaque; else >= 1 */
+} sdft_material;
+
+/* One convex part of a field (Keinert et al. Section 3.5): its own signed
+ * distance bound, negative inside, whose surface is the field's within
+ * `radius` of `centre` (the part's convex bounding volume, a sphere holding
+ * the part and nothing else of the field's surface). A ray
+ * that starts inside the part then finds its way out from the sphere's far
+ * side, tracing backwards, instead of marching through the inside. */
+typedef struct sdft_convex_part {
+    float (*distance)(const void *ctx, sdft_scratch *scratch, sdft_vec3 p); /* required */
+    const void *ctx; /* handed to distance; owned by whoever made the field */
+    sdft_vec3 centre;
+    float radius; /* world units, > 0 */
+} sdft_convex_part;
+
 /* What a field may add where it knows its own form (a grid does): its
  * exact first root along a ray, memory hints, and a hull around its
  * surface. The tracer and the renderer use each member that is set and do
@@ -122,6 +146,12 @@ typedef struct sdft_field_accel {
      * narrow where the surface is smooth, so the boxes on the far side of
      * an object drop out of a view). NULL: no such bounds. */
     const sdft_aabb *hull_gradients;
+    /* Optional: the field's convex parts (above), convex_count of them, for
+     * Keinert's convex-object optimization of rays that start inside one (a
+     * refraction ray through a gem). NULL: none (a grid: convexity is never
+     * assumed). */
+    const sdft_convex_part *convex;
+    size_t convex_count;
 } sdft_field_accel;
 
 /* Nothing provided: every member NULL or 0. */
@@ -152,6 +182,10 @@ typedef struct sdft_field {
     /* Optional: what the field adds where it knows its own form (above; a
      * grid's). NULL: nothing, as for a procedural field. */
     const sdft_field_accel *accel;
+    /* Optional: the material at surface point p (a scene's glass, its
+     * checker floor). `ctx` as for distance. NULL: one material for the
+     * whole field, the renderer's (sdft_render_params.material). */
+    sdft_material (*material)(const void *ctx, sdft_vec3 p);
 } sdft_field;
 
 /* A field with nothing set yet: every member NULL or 0 (no distance, so

@@ -16,6 +16,11 @@
 extern "C" {
 #endif
 
+/* Most reflections, and most refractions, along one path (--bounces). */
+#define SDFT_MAX_BOUNCES 16
+/* Most discontinuity-reduction iterations per hit (--smooth-iters). */
+#define SDFT_MAX_SMOOTH_ITERS 64
+
 /* How to render. It will grow: make one with sdft_render_defaults() and set
  * the fields you change, never with an aggregate initializer alone. */
 typedef struct sdft_render_params {
@@ -33,6 +38,22 @@ typedef struct sdft_render_params {
     int depth_only;   /* 1: primary rays only, for depth, status and counts: no normal, shading or
                        * shadow ray (rgb and normal planes 0) */
     int threads;      /* 0: OpenMP's default */
+    /* Beyond one hard shadow ray (Keinert et al. 2014, the primer's shading).
+     * Each is off by default, and with all of them off the picture is the one
+     * above; any of them on, every hit is shaded by Whitted's rules with the
+     * chosen variant tracing every secondary ray. */
+    int materials;          /* 1: the field's materials (sdft_field.material; a field without: `material`),
+                             * their reflections and refractions; 0: one grey opaque surface */
+    sdft_material material; /* the one material of a field without materials (a grid); default grey, opaque */
+    int reflect_bounces;    /* most mirror reflections along a path, [0, SDFT_MAX_BOUNCES]; default 2 */
+    int refract_bounces;    /* most refractions along a path, [0, SDFT_MAX_BOUNCES]; default 8 */
+    float eps_min;          /* Keinert 3.3: a secondary ray leaves hit p along the normal by 2 max(eps_min, |f(p)|),
+                             * world units; 0: eps_min is the normal's difference step plus eps(t) at the hit */
+    int smooth_iters;       /* Keinert 3.4: fixed-point iterations onto f(p) = eps(t) per hit, [0, 64] */
+    int convex;             /* Keinert 3.5: a ray that starts inside a convex part the field declares
+                             * (sdft_field_accel.convex) leaves it from its bounding sphere's far side; default 1 */
+    float soft_shadows;     /* k of the primer's penumbra min k d / t, > 0; 0: hard shadows */
+    int ao;                 /* 1: ambient occlusion, five samples along the normal (the primer's) */
 } sdft_render_params;
 
 /* One image's planes, row-major, y down. The planes are owned by the image:
@@ -42,7 +63,7 @@ typedef struct sdft_image {
     float *rgb;      /* linear RGB, 3 floats per pixel */
     float *depth;    /* Z: ray parameter t of the primary hit (distance from the eye); INFINITY where nothing is hit */
     float *normal;   /* unit world-space normal, 3 floats per pixel; 0 where nothing is hit */
-    uint32_t *steps; /* SDF evaluations, primary + shadow ray (not the shared cones') */
+    uint32_t *steps; /* SDF evaluations, primary + shadow + secondary rays (not the shared cones') */
     uint32_t *fallbacks;     /* fallbacks, primary + shadow ray */
     uint32_t *primary_steps; /* SDF evaluations of the primary ray alone (Bán–Valasek Fig. 2) */
     uint8_t *status;         /* sdft_status of the primary ray (never SDFT_INVALID: sdft_render checks first) */
@@ -59,12 +80,17 @@ typedef struct sdft_render_stats {
     uint64_t primary_fallbacks; /* of them, the primary rays' */
     uint64_t hits;              /* primary rays that hit */
     uint64_t nonconverged;      /* primary rays that did not converge */
+    uint64_t shadow_steps;      /* of steps, the shadow rays' and the occlusion samples' */
+    uint64_t secondary_rays;    /* reflection and refraction rays (not in rays) */
+    uint64_t secondary_steps;   /* of steps, theirs: steps = primary + shadow + secondary */
 } sdft_render_stats;
 
 /* Defaults: sdft_trace_defaults(), 1280x720, a camera at (0, 1, 5) looking
  * at the origin with a 45 degree field of view, a light at (5, 10, 5),
  * shadows on, no screen-space, depth and shading, all threads, and cones
- * on: the fastest settings that give the same picture. sdft_render_papers
+ * on: the fastest settings that give the same picture; no materials,
+ * smoothing, soft shadows or occlusion, the convex optimization on, 2
+ * reflections and 8 refractions where materials are on. sdft_render_papers
  * turns cones and the exact root off. */
 SDFT_API sdft_render_params sdft_render_defaults(void);
 
@@ -86,7 +112,7 @@ SDFT_API void sdft_image_free(sdft_image *img);
  * a scratch per thread of its own (the caller's scratch is not used).
  * stats may be NULL. SDFT_OK; SDFT_EINVAL with the reason for a NULL
  * argument or a bad parameter (the image's size, the camera, the light,
- * sdft_trace_params_check); SDFT_ENOMEM. */
+ * sdft_trace_params_check, the shading's ranges above); SDFT_ENOMEM. */
 SDFT_API sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_image *img,
                                 sdft_render_stats *stats, char *msg, size_t msg_len);
 

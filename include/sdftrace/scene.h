@@ -16,11 +16,13 @@ extern "C" {
 #endif
 
 typedef struct sdft_scene {
-    const char *name;        /* "temple", "figure", "dodecahedron", "city" */
+    const char *name;        /* "temple", "figure", "dodecahedron", "city", "jewel" */
     const char *description; /* one line, for `sdftrace scenes` */
     sdft_field field;        /* procedural: ctx NULL, no scratch */
     sdft_camera camera;      /* default view */
     sdft_vec3 light;         /* point light position, world units */
+    int materials;           /* 1: rendered with its materials (field.material) unless told otherwise;
+                              * 0: grey unless asked for them (sdft_render_params.materials) */
 } sdft_scene;
 
 /* All scenes, in listing order; *count (if not NULL) receives their number.

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "cmdline.h"
 #include "commands.h"
@@ -32,6 +33,12 @@ typedef struct render_opts {
     int camera_set, fov_set; /* override the scene's view */
     float camera[6], fov;
     int shadows, screen_space, cones, exact_root, depth_only, json, quiet, fp16;
+    int materials;     /* --materials 1, --no-materials 0; -1: the scene's own choice */
+    int material_set;  /* --material given */
+    float material[5]; /* R, G, B, reflectance, index of refraction */
+    int bounces[2];    /* --bounces R,T */
+    float eps_min, soft_shadows;
+    int smooth_iters, convex, ao;
     const char *out, *png;
     const char *heatmap[2]; /* --heatmap KIND FILE */
 } render_opts;
@@ -44,6 +51,7 @@ typedef struct render_source {
     sdft_vec3 light;
     const char *name; /* for the JSON report */
     sdft_grid *grid;  /* --grid: owned, freed by close_field */
+    int materials;    /* the scene is made to be seen with its materials */
 } render_source;
 
 static render_opts default_opts(void)
@@ -60,7 +68,29 @@ static render_opts default_opts(void)
         .shadows = 1,
         .cones = d.cones,
         .exact_root = d.trace.exact_root,
+        .materials = -1,
+        .material = {d.material.colour.x, d.material.colour.y, d.material.colour.z, d.material.reflectance,
+                     d.material.ior},
+        .bounces = {d.reflect_bounces, d.refract_bounces},
+        .eps_min = d.eps_min,
+        .soft_shadows = d.soft_shadows,
+        .smooth_iters = d.smooth_iters,
+        .convex = d.convex,
+        .ao = d.ao,
     };
+}
+
+/* --bounces R,T: two whole numbers in [0, SDFT_MAX_BOUNCES]. */
+static int set_bounces(void *target, const char *value, char *msg, size_t len)
+{
+    int *b = target, used = 0;
+    if (!value || sscanf(value, "%d,%d%n", &b[0], &b[1], &used) != 2 || value[used] != '\0' || b[0] < 0 ||
+        b[0] > SDFT_MAX_BOUNCES || b[1] < 0 || b[1] > SDFT_MAX_BOUNCES) {
+        snprintf(msg, len, "--bounces needs R,T, two whole numbers in [0, %d] (reflections, refractions), got '%s'",
+                 SDFT_MAX_BOUNCES, value ? value : "");
+        return -1;
+    }
+    return 0;
 }
 
 static int set_method(void *target, const char *value, char *msg, size_t len)
@@ -77,7 +107,7 @@ static int set_papers(void *target, const char *value, char *msg, size_t len)
     return 0;
 }
 
-enum { RENDER_ROWS = 32 };
+enum { RENDER_ROWS = 44 };
 
 /* The options of `sdftrace render`, over o (for the help, over the
  * defaults), in rows; and the command line they make. */
@@ -134,6 +164,29 @@ static cmdline_spec render_options(render_opts *o, cmdline_option rows[RENDER_RO
          CMDLINE_CALL, o, .def = "", .handle = set_papers},
         {"depth-only", 0, NULL, "primary rays only: depth (Z), status and counts; no normals, shading or shadows",
          CMDLINE_SET, &o->depth_only, .value = 1, .def = ""},
+        {"materials", 0, NULL,
+         "the scene's materials: colours, a checker floor, mirrors and glass, with\n"
+         "reflections and refractions (Whitted); on for scenes made for them (jewel)",
+         CMDLINE_SET, &o->materials, .value = 1, .def = "the scene's"},
+        {"no-materials", 0, NULL, "one grey, opaque surface", CMDLINE_SET, &o->materials, .value = 0, .def = ""},
+        {"material", 0, "R,G,B,REFL,IOR",
+         "the one material of a field without its own (a grid): colour in [0, 1],\n"
+         "reflectance in [0, 1], index of refraction (0 opaque, else >= 1; glass 1.5)",
+         CMDLINE_FLOATS, o->material, .value = 5, .def = "grey, opaque", .seen = &o->material_set},
+        {"bounces", 0, "R,T", "most reflections and refractions along a path, each in [0, 16]", CMDLINE_CALL,
+         o->bounces, .def = "2,8", .handle = set_bounces},
+        {"eps-min", 0, "E",
+         "secondary rays leave a hit p by 2 max(E, |f(p)|) along the normal (Keinert's\n"
+         "dynamic epsilon), world units",
+         CMDLINE_FLOAT, &o->eps_min, .lo = 0.0, .hi = inf, .def = "the normal's step + eps"},
+        {"smooth-iters", 0, "K", "discontinuity reduction: K fixed-point iterations per hit (the paper: 3)",
+         CMDLINE_INT, &o->smooth_iters, .lo = 0, .hi = SDFT_MAX_SMOOTH_ITERS},
+        {"no-convex", 0, NULL, "rays inside a convex part march through it, not back from its bounding sphere",
+         CMDLINE_SET, &o->convex, .value = 0, .def = "from the sphere's far side"},
+        {"soft-shadows", 0, "K", "soft shadows, the penumbra min K d / t (sharper as K grows; 8 is soft)",
+         CMDLINE_FLOAT, &o->soft_shadows, .lo = 0.0, .hi = inf, .open = CMDLINE_OPEN_LO, .def = "hard shadows"},
+        {"ao", 0, NULL, "ambient occlusion, five samples along the normal", CMDLINE_SET, &o->ao, .value = 1,
+         .def = "off"},
         {"fp16", 0, NULL, "load a .vdb grid as NanoVDB Fp16 (half the memory; values within 1/2048 of the band)",
          CMDLINE_SET, &o->fp16, .value = 1, .def = ""},
         {"quiet", 0, NULL, "no progress line while loading, no summary line when done (both on stderr)", CMDLINE_SET,
@@ -214,7 +267,11 @@ static int open_field(const render_opts *o, render_source *src, char *msg, size_
         snprintf(msg, len, "unknown scene '%s' (sdftrace scenes lists them)", o->scene);
         return -1;
     }
-    *src = (render_source){.field = scene->field, .camera = scene->camera, .light = scene->light, .name = scene->name};
+    *src = (render_source){.field = scene->field,
+                           .camera = scene->camera,
+                           .light = scene->light,
+                           .name = scene->name,
+                           .materials = scene->materials};
     return 0;
 }
 
@@ -304,6 +361,17 @@ static sdft_render_params make_params(const render_opts *o, const render_source 
     p.trace.exact_root = o->exact_root;
     p.depth_only = o->depth_only;
     p.threads = (int)o->threads;
+    p.materials = o->materials >= 0 ? o->materials : (src->materials || o->material_set);
+    if (o->material_set)
+        p.material = (sdft_material){.colour = sdft_v3(o->material[0], o->material[1], o->material[2]),
+                                     .reflectance = o->material[3],
+                                     .ior = o->material[4]};
+    p.reflect_bounces = o->bounces[0], p.refract_bounces = o->bounces[1];
+    p.eps_min = o->eps_min;
+    p.smooth_iters = o->smooth_iters;
+    p.convex = o->convex;
+    p.soft_shadows = o->soft_shadows;
+    p.ao = o->ao;
     return p;
 }
 
@@ -340,7 +408,20 @@ static void grid_leaves(const render_source *src, uint64_t *leaves, uint64_t *fi
         sdft_grid_leaf_counts(src->grid, leaves, filled, failed);
 }
 
-static void print_json(const render_source *src, const sdft_render_params *p, const sdft_render_stats *st)
+/* sdft_render, and the processor time its threads took together, in
+ * *cpu_ms: on a machine shared with other work it moves less than the
+ * wall time (the stats' ms). */
+static sdft_error render_timed(const render_source *src, const sdft_render_params *p, sdft_image *img,
+                               sdft_render_stats *st, double *cpu_ms, char *msg, size_t len)
+{
+    const clock_t c0 = clock();
+    const sdft_error rc = sdft_render(&src->field, p, img, st, msg, len);
+    *cpu_ms = 1000.0 * (double)(clock() - c0) / CLOCKS_PER_SEC;
+    return rc;
+}
+
+static void print_json(const render_source *src, const sdft_render_params *p, const sdft_render_stats *st,
+                       double cpu_ms)
 {
     double primary = (double)st->primary_rays;
     uint64_t leaves, filled, failed;
@@ -354,16 +435,24 @@ static void print_json(const render_source *src, const sdft_render_params *p, co
            "\"cone_steps\": %llu, \"fallbacks\": %llu, \"primary_fallbacks\": %llu, \"mean_steps\": %.4f, "
            "\"mean_primary_steps\": %.4f, \"mean_shadow_steps\": %.4f, \"mean_cone_steps\": %.4f, "
            "\"mean_fallbacks\": %.4f, \"mean_primary_fallbacks\": %.4f, \"nonconverged\": %.6f, "
-           "\"hit_fraction\": %.6f, \"grid_bytes\": %zu, \"grid_leaves\": %llu, \"grid_leaves_read\": %llu}\n",
+           "\"hit_fraction\": %.6f, \"grid_bytes\": %zu, \"grid_leaves\": %llu, \"grid_leaves_read\": %llu, ",
            sdft_method_name(p->trace.method), p->trace.omega, p->trace.beta, p->trace.eps, p->trace.max_steps, p->width,
            p->height, p->shadows ? "true" : "false", p->screen_space ? "true" : "false", p->cones ? "true" : "false",
            p->trace.exact_root ? "true" : "false", p->threads, st->ms, (unsigned long long)st->rays,
            (unsigned long long)st->primary_rays, (unsigned long long)st->steps, (unsigned long long)st->primary_steps,
            (unsigned long long)st->cone_steps, (unsigned long long)st->fallbacks,
            (unsigned long long)st->primary_fallbacks, (double)st->steps / primary, (double)st->primary_steps / primary,
-           (double)(st->steps - st->primary_steps) / primary, (double)st->cone_steps / primary,
-           (double)st->fallbacks / primary, (double)st->primary_fallbacks / primary, (double)st->nonconverged / primary,
-           (double)st->hits / primary, grid_bytes(src), (unsigned long long)leaves, (unsigned long long)filled);
+           (double)st->shadow_steps / primary, (double)st->cone_steps / primary, (double)st->fallbacks / primary,
+           (double)st->primary_fallbacks / primary, (double)st->nonconverged / primary, (double)st->hits / primary,
+           grid_bytes(src), (unsigned long long)leaves, (unsigned long long)filled);
+    printf("\"cpu_ms\": %.3f, \"materials\": %s, \"bounces\": [%d, %d], \"eps_min\": %.6g, \"smooth_iters\": %d, "
+           "\"convex\": %s, "
+           "\"soft_shadows\": %.6g, \"ao\": %s, \"shadow_steps\": %llu, \"secondary_rays\": %llu, "
+           "\"secondary_steps\": %llu, \"mean_secondary_steps\": %.4f}\n",
+           cpu_ms, p->materials ? "true" : "false", p->reflect_bounces, p->refract_bounces, p->eps_min, p->smooth_iters,
+           p->convex ? "true" : "false", p->soft_shadows, p->ao ? "true" : "false",
+           (unsigned long long)st->shadow_steps, (unsigned long long)st->secondary_rays,
+           (unsigned long long)st->secondary_steps, (double)st->secondary_steps / primary);
 }
 
 /* The one line on stderr when a render is done: what was made, how much
@@ -421,10 +510,11 @@ int cmd_render(int argc, char **argv)
 
     sdft_image img;
     sdft_render_stats st;
+    double cpu_ms = 0.0;
     int rc = 0;
     if (sdft_image_alloc(&img, p.width, p.height, msg, sizeof msg)) {
         rc = 1;
-    } else if (sdft_render(&src.field, &p, &img, &st, msg, sizeof msg)) {
+    } else if (render_timed(&src, &p, &img, &st, &cpu_ms, msg, sizeof msg)) {
         rc = 2; /* parameters the renderer rejects, e.g. a degenerate camera */
     } else if (leaves_unreadable(&o, &src, msg, sizeof msg) || write_outputs(&o, &img, msg, sizeof msg)) {
         rc = 1;
@@ -432,7 +522,7 @@ int cmd_render(int argc, char **argv)
     if (rc)
         cli_error("render", msg);
     else if (o.json)
-        print_json(&src, &p, &st);
+        print_json(&src, &p, &st, cpu_ms);
     sdft_image_free(&img);
     if (FREE_AT_EXIT)
         close_field(&src);

@@ -46,12 +46,16 @@
 #endif
 
 #include "fail.h"
-#include "render_hull.h"
+#include "render_frame.h"
+#include "render_whitted.h"
 #include "sdftrace/render.h"
+#include "secondary.h"
+
+#define RENDER_STR_(x) #x
+#define RENDER_STR(x) RENDER_STR_(x)
 
 /* Shading constants: a warm grey surface, a blue sky. */
 static const sdft_vec3 ALBEDO = {0.80f, 0.76f, 0.70f};
-static const float AMBIENT = 0.12f;
 static const sdft_vec3 SKY_HORIZON = {0.78f, 0.85f, 0.95f};
 static const sdft_vec3 SKY_ZENITH = {0.30f, 0.50f, 0.85f};
 
@@ -67,6 +71,15 @@ sdft_render_params sdft_render_defaults(void)
         .screen_space = 0,
         .cones = 1,
         .threads = 0,
+        .materials = 0,
+        .material = {.colour = ALBEDO, .reflectance = 0.0f, .ior = 0.0f},
+        .reflect_bounces = 2,
+        .refract_bounces = 8,
+        .eps_min = 0.0f,
+        .smooth_iters = 0,
+        .convex = 1,
+        .soft_shadows = 0.0f,
+        .ao = 0,
     };
 }
 
@@ -120,7 +133,7 @@ void sdft_image_free(sdft_image *img)
 
 /* What a ray that hits nothing shows: the sky at its direction's height
  * `up` (the unit direction's y), or black for depth alone. */
-static sdft_vec3 miss_colour(const sdft_render_params *rp, float up)
+sdft_vec3 render_miss_colour(const sdft_render_params *rp, float up)
 {
     if (rp->depth_only)
         return sdft_v3(0, 0, 0);
@@ -128,17 +141,8 @@ static sdft_vec3 miss_colour(const sdft_render_params *rp, float up)
     return sdft_add(sdft_scale(SKY_HORIZON, 1.0f - k), sdft_scale(SKY_ZENITH, k));
 }
 
-/* What one pixel contributes to the image and the counts. */
-typedef struct pixel_result {
-    sdft_vec3 rgb, normal;
-    float depth;
-    uint32_t steps, fallbacks, rays;
-    uint32_t primary_steps, primary_fallbacks; /* the primary ray's share of steps and fallbacks */
-    sdft_status status;
-} pixel_result;
-
 /* The surface's colour under diffuse light of cosine `diffuse` (0: in shadow). */
-static sdft_vec3 lit(float diffuse) { return sdft_scale(ALBEDO, AMBIENT + (1.0f - AMBIENT) * diffuse); }
+static sdft_vec3 lit(float diffuse) { return sdft_scale(ALBEDO, RENDER_AMBIENT + (1.0f - RENDER_AMBIENT) * diffuse); }
 
 /* The shadow ray from surface point p (normal n) to the point light: its
  * origin lifted off the surface by `lift`. 0 when p is at the light. */
@@ -152,18 +156,6 @@ static int shadow_ray(sdft_vec3 p, sdft_vec3 n, float lift, sdft_vec3 light, sdf
     *ray = (sdft_ray){.org = org, .tnear = 0.0f, .dir = sdft_scale(to_light, 1.0f / dist), .tfar = dist};
     return 1;
 }
-
-/* What every pixel of one frame shares, set up once. */
-typedef struct frame {
-    const sdft_field *f;
-    const sdft_render_params *rp;
-    sdft_trace_params tp; /* with the screen-space pixel radius, if asked */
-    float feature;        /* the field's feature size: the normal's step */
-    sdft_view view;
-    float cone_tfar;       /* with cones: beyond it every primary ray has left the field's box */
-    float cone_tnear;      /* the eye's distance to the field's box: no primary ray meets the surface before it */
-    const hull_bins *bins; /* the field's hull boxes binned to tiles; NULL: not used */
-} frame;
 
 /* The directions of the tile whose first pixel is (x0, y0) into td, all
  * TILE x TILE of them (a tile at the image's edge has some that are never
@@ -209,7 +201,7 @@ static int shade_pixel(const frame *fr, sdft_scratch *s, sdft_ray ray, sdft_hit 
      * criterion, whose best candidate is meant to be used (Keinert §3.2). */
     int surface = h.status == SDFT_HIT || (h.status == SDFT_NOT_CONVERGED && tp->pixel_radius > 0.0f);
     if (!surface) {
-        out->rgb = miss_colour(rp, ray.dir.y);
+        out->rgb = render_miss_colour(rp, ray.dir.y);
         return 0;
     }
     out->depth = h.t;
@@ -236,6 +228,7 @@ static int shade_pixel(const frame *fr, sdft_scratch *s, sdft_ray ray, sdft_hit 
 static void shadow_pixel(sdft_hit h, pixel_result *out)
 {
     out->steps += h.steps;
+    out->shadow_steps += h.steps;
     out->fallbacks += h.fallbacks;
     out->rays++;
     if (h.status == SDFT_HIT)
@@ -264,6 +257,7 @@ static float farthest_corner(sdft_aabb b, sdft_vec3 p)
 typedef struct tile_stats {
     uint64_t rays, steps, fallbacks, hits, nonconverged;
     uint64_t primary_steps, primary_fallbacks;
+    uint64_t shadow_steps, secondary_steps, secondary_rays;
     uint32_t cone_steps;
 } tile_stats;
 
@@ -281,6 +275,8 @@ static void store_pixel(const frame *fr, int x, int y, const pixel_result *px, s
     img->status[i] = (uint8_t)px->status;
     ts->rays += px->rays, ts->steps += px->steps, ts->fallbacks += px->fallbacks;
     ts->primary_steps += px->primary_steps, ts->primary_fallbacks += px->primary_fallbacks;
+    ts->shadow_steps += px->shadow_steps;
+    ts->secondary_steps += px->secondary_steps, ts->secondary_rays += px->secondary_rays;
     ts->hits += px->status == SDFT_HIT;
     ts->nonconverged += px->status == SDFT_NOT_CONVERGED;
 }
@@ -322,12 +318,17 @@ static void render_block(const frame *fr, sdft_scratch *s, int x0, int y0, int x
     if (n == 0) /* never, as blocks are not empty; saying so spares GCC a false "may be uninitialized" */
         return;
     sdft_trace_stream(fr->f, s, rays, hits, n, &fr->tp);
-    for (size_t k = 0; k < n; k++)
-        if (shade_pixel(fr, s, rays[k], hits[k], &px[k], &shadows[m]))
-            shadow_of[m++] = k;
-    sdft_trace_stream(fr->f, s, shadows, hits, m, &fr->tp);
-    for (size_t j = 0; j < m; j++)
-        shadow_pixel(hits[j], &px[shadow_of[j]]);
+    if (fr->whitted) {
+        for (size_t k = 0; k < n; k++)
+            render_whitted_pixel(fr, s, rays[k], hits[k], &px[k]);
+    } else {
+        for (size_t k = 0; k < n; k++)
+            if (shade_pixel(fr, s, rays[k], hits[k], &px[k], &shadows[m]))
+                shadow_of[m++] = k;
+        sdft_trace_stream(fr->f, s, shadows, hits, m, &fr->tp);
+        for (size_t j = 0; j < m; j++)
+            shadow_pixel(hits[j], &px[shadow_of[j]]);
+    }
     n = 0;
     for (int y = y0; y < y1; y++)
         for (int x = x0; x < x1; x++, n++)
@@ -413,7 +414,7 @@ static void miss_rect(const frame *fr, const tile_dirs *td, int tx, int ty, int 
         const float *restrict dy = td->d[1] + (y - ty) * TILE + (x0 - tx);
         float rgb[3 * TILE];
         for (size_t i = 0; i < n; i++) {
-            const sdft_vec3 c = miss_colour(fr->rp, dy[i]);
+            const sdft_vec3 c = render_miss_colour(fr->rp, dy[i]);
             rgb[3 * i] = c.x, rgb[3 * i + 1] = c.y, rgb[3 * i + 2] = c.z;
         }
         stream_words(img->rgb + 3 * row, rgb, 3 * n, 0);
@@ -529,6 +530,29 @@ static int eye_outside(const frame *fr)
     return sdft_field_distance(fr->f, &s, fr->rp->camera.from) > 0.0f;
 }
 
+/* What is wrong with the shading beyond the hard shadow, or NULL. */
+static const char *shading_problem(const sdft_render_params *rp)
+{
+    const sdft_material *m = &rp->material;
+    if (rp->reflect_bounces < 0 || rp->reflect_bounces > SDFT_MAX_BOUNCES || rp->refract_bounces < 0 ||
+        rp->refract_bounces > SDFT_MAX_BOUNCES)
+        return "reflect and refract bounces must be in [0, " RENDER_STR(SDFT_MAX_BOUNCES) "]";
+    if (!(rp->eps_min >= 0.0f) || !isfinite(rp->eps_min))
+        return "eps_min must be a finite number >= 0";
+    if (rp->smooth_iters < 0 || rp->smooth_iters > SDFT_MAX_SMOOTH_ITERS)
+        return "smoothing iterations must be in [0, " RENDER_STR(SDFT_MAX_SMOOTH_ITERS) "]";
+    if (!(rp->soft_shadows >= 0.0f) || !isfinite(rp->soft_shadows))
+        return "the soft shadows' k must be a finite number >= 0";
+    if (!(sdft_minf(m->colour.x, sdft_minf(m->colour.y, m->colour.z)) >= 0.0f) ||
+        !(sdft_maxf(m->colour.x, sdft_maxf(m->colour.y, m->colour.z)) <= 1.0f))
+        return "the material's colour must be in [0, 1]";
+    if (!(m->reflectance >= 0.0f && m->reflectance <= 1.0f))
+        return "the material's reflectance must be in [0, 1]";
+    if (!(m->ior == 0.0f || (m->ior >= 1.0f && isfinite(m->ior))))
+        return "the material's index of refraction must be 0 (opaque) or a finite number >= 1";
+    return NULL;
+}
+
 static const char *render_params_problem(const sdft_field *f, const sdft_render_params *rp, const sdft_image *img)
 {
     if (!f || !f->distance)
@@ -550,7 +574,7 @@ static const char *render_params_problem(const sdft_field *f, const sdft_render_
         return "light position must be finite";
     if (rp->threads < 0)
         return "threads must be >= 0";
-    return NULL;
+    return shading_problem(rp);
 }
 
 sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_image *img, sdft_render_stats *stats,
@@ -578,6 +602,10 @@ sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sd
                 .view = sdft_camera_view(&params->camera, params->width, params->height),
                 .cone_tfar = farthest_corner(f->bounds, params->camera.from),
                 .cone_tnear = box_distance(f->bounds, params->camera.from)};
+    const sdft_field inside = secondary_inside(f);
+    fr.whitted = render_whitted_wanted(params);
+    fr.inside = &inside;
+    fr.ao_reach = 0.02f * sdft_length(sdft_sub(f->bounds.hi, f->bounds.lo));
     int threads = params->threads > 0 ? params->threads : omp_get_max_threads();
 
     double t0 = omp_get_wtime();
@@ -616,6 +644,9 @@ sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sd
         st.hits += per_tile[tile].hits;
         st.nonconverged += per_tile[tile].nonconverged;
         st.cone_steps += per_tile[tile].cone_steps;
+        st.shadow_steps += per_tile[tile].shadow_steps;
+        st.secondary_steps += per_tile[tile].secondary_steps;
+        st.secondary_rays += per_tile[tile].secondary_rays;
     }
     free(per_tile);
     if (stats)
