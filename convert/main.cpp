@@ -9,6 +9,8 @@
 #include "orient.h"
 #include "output.h"
 #include "progress.h"
+#include "query.h"
+#include "samples.h"
 
 #include <openvdb/tools/Count.h>
 #include <tbb/global_control.h>
@@ -256,10 +258,12 @@ int main(int argc, char **argv)
 
     if (!opt.checkSign.empty()) {
         TriangleMesh mesh;
-        if (!loadMesh(opt.input, mesh, error) || !checkSign(mesh, opt.checkSign, opt.samples, error))
+        if (!loadMesh(opt.input, mesh, error) || !checkSign(mesh, opt.checkSign, opt.checkPoints, error))
             return fail(error);
         return 0;
     }
+    if (opt.samples > 0 || !opt.queryOut.empty())
+        return (opt.samples > 0 ? runSamples(opt, error) : runQuery(opt, error)) ? 0 : fail(error);
 
     Outputs out;
     if (!reserveOutputs(opt, out, error))
