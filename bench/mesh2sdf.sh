@@ -124,7 +124,7 @@ for name in $MESHES; do
     declare -A W=()
     while read -r grid _ _ frac _; do
         W[$grid]=${frac#wrong_fraction=}
-    done < <("$M2S" "$mesh" "${grids[@]}" --samples "$SAMPLES")
+    done < <("$M2S" "$mesh" "${grids[@]}" --check-points "$SAMPLES")
     for n in "${RESOLUTIONS[@]}"; do
         echo "| $name | $n | ${T[vdb$n]} | ${M[vdb$n]} | ${W[$OUT/$name-$n-vdbtool.vdb]} | ${T[wind$n]} | ${M[wind$n]} | ${W[$OUT/$name-$n-winding.vdb]} | $(ratio "${T[wind$n]}" "${T[vdb$n]}") | ${T[flood$n]} | ${M[flood$n]} | ${W[$OUT/$name-$n-flood.vdb]} | $(ratio "${T[flood$n]}" "${T[vdb$n]}") |"
     done
@@ -170,7 +170,7 @@ for name in $MESHES; do
     done
     while read -r grid _ _ frac far; do
         W[$grid]=${frac#wrong_fraction=} F[$grid]=${far#wrong_far=}
-    done < <("$M2S" "$mesh" "${grids[@]}" --samples "$SAMPLES")
+    done < <("$M2S" "$mesh" "${grids[@]}" --check-points "$SAMPLES")
     faces=$(grep -c '^f ' "$mesh")
     for kind in as-is inside-out reversed soup; do
         v=$OUT/$name-$kind-vdbtool.vdb m=$OUT/$name-$kind-winding.vdb

@@ -204,7 +204,7 @@ bool runSamples(const Options &opt, std::string &error)
                "  \"columns\": [\"x\", \"y\", \"z\", \"distance\"],\n"
                "  \"rows\": \"near the surface first, alternating the two sigmas, then uniform\",\n"
                "  \"near_samples\": [%zu, %zu],\n  \"uniform_samples\": %zu,\n"
-               "  \"near_sigma\": [%.17g, %.17g],\n  \"near_sigma_units\": \"radius\",\n"
+               "  \"near_sigma\": [%.17g, %.17g],\n  \"near_sigma_units\": \"times the sphere's radius\",\n"
                "  \"uniform_share\": %.17g,\n  \"uniform_region\": \"centre +- radius on each axis\",\n"
                "  \"seed\": %d,\n",
                opt.samples, c.near[0], c.near[1], c.uniform, opt.nearSigma[0], opt.nearSigma[1], opt.uniformShare,
