@@ -95,9 +95,9 @@ class DictReader
         out = 0;
         const size_t from = mAt;
         while (mAt < mText.size() && mText[mAt] >= '0' && mText[mAt] <= '9') {
-            out = out * 10 + uint64_t(mText[mAt++] - '0');
-            if (out >= (uint64_t(1) << 62))
+            if (out >= (uint64_t(1) << 62) / 10)
                 return fail("a dimension too large");
+            out = out * 10 + uint64_t(mText[mAt++] - '0');
         }
         return mAt > from || fail("a dimension expected");
     }

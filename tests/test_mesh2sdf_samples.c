@@ -453,6 +453,8 @@ static void test_bad_npy(void **state)
         {"bad-short.npy", good, 1, xyz, 20},
         {"bad-long.npy", good, 2, xyz, 28},
         {"bad-lying.npy", "{'descr': '<f4', 'fortran_order': False, 'shape': (4611686018427387000, 3), }", 1, xyz, 24},
+        {"bad-huge.npy", "{'descr': '<f4', 'fortran_order': False, 'shape': (99999999999999999999999, 3), }", 1, xyz,
+         24},
         {"bad-key.npy", "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 3), 'extra': 1, }", 1, xyz, 24},
         {"bad-twice.npy", "{'descr': '<f4', 'descr': '<f4', 'shape': (2, 3), }", 1, xyz, 24},
         {"bad-missing.npy", "{'descr': '<f4', 'shape': (2, 3), }", 1, xyz, 24},
