@@ -4,6 +4,8 @@
 #include "job.h"
 #ifdef MESH2SDF_WITH_MPI
 #include "mpi_batch.h"
+#include "output.h"
+#include "samples.h"
 #endif
 
 #include <cerrno>
@@ -28,7 +30,21 @@ Options meshOptions(const Options &opt, const BatchEntry &entry)
     one.output = opt.batchVdb ? base + ".vdb" : "";
     one.nvdb = opt.batchNvdb ? base + ".nvdb" : "";
     one.npy = opt.batchNpy ? base + ".npy" : "";
+    one.samples = opt.batchSamples ? size_t(opt.batchSampleCount) : 0;
+    one.samplesOut = opt.batchSamples ? base + ".samples.npy" : "";
     return one;
+}
+
+// Every file one mesh of the batch writes: the conversion's (job.h), then
+// the training samples and their sidecar.
+std::vector<std::string> entryOutputs(const Options &one)
+{
+    std::vector<std::string> files = jobOutputs(one);
+    if (!one.samplesOut.empty()) {
+        files.push_back(one.samplesOut);
+        files.push_back(sidecarPath(one.samplesOut));
+    }
+    return files;
 }
 
 bool allExist(const std::vector<std::string> &files)
@@ -83,7 +99,7 @@ bool planBatch(const Options &opt, bool withReport, BatchPlan &plan, std::string
         return false;
     plan.entries = batchShard(all, opt.shard, opt.shards);
     for (size_t i = 0; i < plan.entries.size(); ++i)
-        if (!allExist(jobOutputs(meshOptions(opt, plan.entries[i]))))
+        if (!allExist(entryOutputs(meshOptions(opt, plan.entries[i]))))
             plan.pending.push_back(i);
     if (!withReport)
         return true;
@@ -93,8 +109,25 @@ bool planBatch(const Options &opt, bool withReport, BatchPlan &plan, std::string
 
 BatchRow convertEntry(const Options &opt, const BatchEntry &entry)
 {
+    const Options one = meshOptions(opt, entry);
     Progress quiet(false);
-    return jobRow(entry, convertMesh(meshOptions(opt, entry), quiet));
+    JobResult r;
+    if (!jobOutputs(one).empty())
+        r = convertMesh(one, quiet);
+    else
+        r.ok = true; // samples alone
+    if (r.ok && one.samples > 0) {
+        SampleRun run;
+        if (sampleMesh(one, run, r.error)) {
+            r.outputs.push_back(one.samplesOut);
+            r.outputs.push_back(sidecarPath(one.samplesOut));
+            r.samples = one.samples;
+        } else {
+            r.ok = false;
+        }
+        r.seconds += run.seconds;
+    }
+    return jobRow(entry, r);
 }
 
 BatchSink::BatchSink(const Options &opt, BatchPlan &plan)
@@ -113,7 +146,7 @@ bool BatchSink::start(std::string &error)
             continue;
         }
         const BatchEntry &e = mPlan.entries[i];
-        const BatchRow row = skippedRow(e, jobOutputs(meshOptions(mOpt, e)), mPlan.report->earlier(e.line));
+        const BatchRow row = skippedRow(e, entryOutputs(meshOptions(mOpt, e)), mPlan.report->earlier(e.line));
         mPlan.report->set(i, row.json);
         ++mSkipped;
         show(row);

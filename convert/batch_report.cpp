@@ -15,15 +15,6 @@ namespace mesh2sdf
 namespace
 {
 
-// printf into a std::string.
-template <typename... Args> std::string format(const char *fmt, Args... args)
-{
-    const int n = std::snprintf(nullptr, 0, fmt, args...);
-    std::string s(size_t(n), '\0');
-    std::snprintf(&s[0], size_t(n) + 1, fmt, args...);
-    return s;
-}
-
 std::string jsonList(const std::vector<std::string> &items)
 {
     std::string list = "[";
@@ -68,37 +59,28 @@ std::string rowMesh(const std::string &row)
 
 } // namespace
 
-std::string jsonString(const std::string &s)
-{
-    char *text = nullptr;
-    size_t size = 0;
-    FILE *f = open_memstream(&text, &size);
-    if (!f)
-        throw std::bad_alloc();
-    json_put_string(f, s.c_str());
-    std::fclose(f);
-    std::string out(text, size);
-    std::free(text);
-    return out;
-}
-
 BatchRow jobRow(const BatchEntry &entry, const JobResult &r)
 {
     BatchRow row;
     row.status = r.ok ? RowStatus::Ok : RowStatus::Failed;
     row.json = "{\"mesh\": " + jsonString(entry.line) + ", \"status\": \"" + (r.ok ? "ok" : "failed") +
                "\", \"error\": " + (r.ok ? "null" : jsonString(r.error)) + format(", \"seconds\": %.3f", r.seconds);
-    if (r.ok)
+    const bool grid = r.ok && r.box.voxelSize > 0; // a grid was written, not samples alone
+    if (grid)
         row.json += format(", \"voxels\": %llu, \"dims\": [%d, %d, %d], \"voxel_size\": %.9g, \"ambiguous_voxels\": "
                            "%llu, \"surface\": %s",
                            static_cast<unsigned long long>(r.activeVoxels), r.box.dims[0], r.box.dims[1], r.box.dims[2],
                            r.box.voxelSize, static_cast<unsigned long long>(r.stats.ambiguousVoxels),
                            r.surface ? "true" : "false");
+    if (r.ok && r.samples)
+        row.json += format(", \"samples\": %zu", r.samples);
     if (r.meshRead)
         row.json += healthFields(r);
     row.json += ", \"outputs\": " + jsonList(r.outputs) + "}";
-    row.text = r.ok ? format("ok %s: %llu active voxels, %.2f s", entry.line.c_str(),
-                             static_cast<unsigned long long>(r.activeVoxels), r.seconds)
+    const std::string what =
+        (grid ? format("%llu active voxels", static_cast<unsigned long long>(r.activeVoxels)) : std::string()) +
+        (grid && r.samples ? ", " : "") + (r.samples ? format("%zu samples", r.samples) : "");
+    row.text = r.ok ? format("ok %s: %s, %.2f s", entry.line.c_str(), what.c_str(), r.seconds)
                     : "failed " + entry.line + ": " + r.error;
     return row;
 }

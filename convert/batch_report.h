@@ -8,6 +8,7 @@
 
 #include "batch_list.h"
 #include "job.h"
+#include "text.h"
 
 #include <chrono>
 #include <string>
@@ -32,9 +33,6 @@ BatchRow jobRow(const BatchEntry &entry, const JobResult &r);
 /// the earlier report (`earlier`, kept as it was) or, without one, a row
 /// with status "skipped".
 BatchRow skippedRow(const BatchEntry &entry, const std::vector<std::string> &outputs, const std::string &earlier);
-
-/// The JSON string literal of s, quotes included.
-std::string jsonString(const std::string &s);
 
 class BatchReport
 {

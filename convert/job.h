@@ -35,6 +35,7 @@ struct JobResult {
     double gridMiB = 0;               // the grid's memory
     BuildStats stats;                 // winding time, ambiguous voxels
     bool surface = false;             // some active voxel is inside (a zero crossing)
+    size_t samples = 0;               // training samples written (a batch's --formats samples)
     double seconds = 0;               // the whole job, wall clock
     std::vector<std::string> outputs; // the files in place, in the order reserved
 };

@@ -7,6 +7,9 @@
 #include "check.h"
 #include "job.h"
 #include "options.h"
+#include "query.h"
+#include "samples.h"
+#include "text.h"
 
 #include <tbb/global_control.h>
 
@@ -27,13 +30,6 @@ int fail(const std::string &error)
 {
     std::fprintf(stderr, "mesh2sdf: %s\n", error.c_str());
     return 1;
-}
-
-double peakRssMiB()
-{
-    struct rusage ru;
-    getrusage(RUSAGE_SELF, &ru);
-    return double(ru.ru_maxrss) / 1024.0; // ru_maxrss is in KiB on Linux
 }
 
 void printHealth(const std::string &path, const JobResult &r)
@@ -83,7 +79,7 @@ void printJson(const Options &opt, const JobResult &r)
                 r.box.dims[0], r.box.dims[1], r.box.dims[2], r.box.voxelSize,
                 static_cast<unsigned long long>(r.activeVoxels), signMethodName(opt.sign),
                 static_cast<unsigned long long>(r.stats.ambiguousVoxels), r.surface ? "true" : "false", r.orientSeconds,
-                r.stats.windingSeconds, r.seconds, peakRssMiB());
+                r.stats.windingSeconds, r.seconds, peakMiB());
 }
 
 // The closing line, or with --json the object; then, on stderr, what stays
@@ -96,7 +92,7 @@ void report(const Options &opt, const JobResult &r)
         std::printf("wrote %s: %dx%dx%d box, voxel size %.6g, %llu active voxels, grid %.1f MiB, peak memory "
                     "%.1f MiB, %.2f s, sign %s",
                     opt.output.c_str(), r.box.dims[0], r.box.dims[1], r.box.dims[2], r.box.voxelSize,
-                    static_cast<unsigned long long>(r.activeVoxels), r.gridMiB, peakRssMiB(), r.seconds,
+                    static_cast<unsigned long long>(r.activeVoxels), r.gridMiB, peakMiB(), r.seconds,
                     signMethodName(opt.sign));
         if (opt.sign == SignMethod::Winding)
             std::printf(" (%.2f s), %llu voxels signed from an ambiguous winding number", r.stats.windingSeconds,
@@ -168,10 +164,12 @@ int main(int argc, char **argv)
     openvdb::initialize();
     if (!opt.checkSign.empty()) {
         TriangleMesh mesh;
-        if (!loadMesh(opt.input, mesh, error) || !checkSign(mesh, opt.checkSign, opt.samples, error))
+        if (!loadMesh(opt.input, mesh, error) || !checkSign(mesh, opt.checkSign, opt.checkPoints, error))
             return fail(error);
         return 0;
     }
+    if (opt.samples > 0 || !opt.queryOut.empty())
+        return (opt.samples > 0 ? runSamples(opt, error) : runQuery(opt, error)) ? 0 : fail(error);
 
     return opt.batch.empty() ? convertOne(opt) : runBatch(opt);
 }

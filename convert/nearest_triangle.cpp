@@ -77,6 +77,20 @@ constexpr double kShrink = 1 - 1e-12;
 // disc itself is grown by as much when it is built.
 constexpr double kCancel = 1e-14;
 
+// A node on a search's stack, with its lower bound.
+struct Entry {
+    uint32_t node;
+    double bound;
+};
+
+// Pushes both children, the nearer last so that it is searched first.
+inline void pushChildren(Entry *stack, int &top, Entry left, Entry right)
+{
+    const bool leftFirst = left.bound < right.bound;
+    stack[top++] = leftFirst ? right : left;
+    stack[top++] = leftFirst ? left : right;
+}
+
 } // namespace
 
 NearestTriangle::NearestTriangle(const TriangleMesh &mesh, bool vectorized, bool wide)
@@ -213,6 +227,33 @@ void NearestTriangle::packetDistance2(const double *corner, double spacing, doub
     search<ScalarRows>(corner, spacing, best, nearest);
 }
 
+// One point: the packet's node bounds over a box of no size (lo = hi =
+// centre = p, radius 0), and each triangle of a leaf the bounds reach.
+// Exact by the same argument as the packet search.
+double NearestTriangle::pointDistance2(const double *p, double best) const
+{
+    if (mNodes.empty())
+        return best;
+    Entry stack[64];
+    int top = 0;
+    stack[top++] = {0, packetLowerBound2(mNodes[0], p, p, p, 0, best)};
+    while (top > 0) {
+        const Entry e = stack[--top];
+        if (e.bound >= best)
+            continue;
+        const Node &node = mNodes[e.node];
+        if (node.count > 0) {
+            for (uint32_t t = node.first; t < node.first + node.count; ++t)
+                best = std::min(best, preparedDistance2(mTriangles[t], p));
+            continue;
+        }
+        const uint32_t left = e.node + 1, right = node.right;
+        pushChildren(stack, top, {left, packetLowerBound2(mNodes[left], p, p, p, 0, best)},
+                     {right, packetLowerBound2(mNodes[right], p, p, p, 0, best)});
+    }
+    return best;
+}
+
 #ifdef MESH2SDF_ROWS_AVX2
 // The search compiled for AVX2 and FMA, everything it calls inlined
 // (flatten), so that Avx2Rows's intrinsics run in its body.
@@ -266,10 +307,6 @@ void NearestTriangle::search(const double *corner, double spacing, double *best,
     }
     const double radius = 0.5 * std::sqrt(3.0) * (n - 1) * spacing * (1 + 1e-12);
     double worst = *std::max_element(best, best + kPacketSize);
-    struct Entry {
-        uint32_t node;
-        double bound;
-    };
     Entry stack[64];
     int top = 0;
     stack[top++] = {0, packetLowerBound2(mNodes[0], lo, hi, centre, radius, worst)};
@@ -309,15 +346,8 @@ void NearestTriangle::search(const double *corner, double spacing, double *best,
             continue;
         // The nearer child is searched first: pushed last.
         const uint32_t left = e.node + 1, right = node.right;
-        const double bl = packetLowerBound2(mNodes[left], lo, hi, centre, radius, worst);
-        const double br = packetLowerBound2(mNodes[right], lo, hi, centre, radius, worst);
-        if (bl < br) {
-            stack[top++] = {right, br};
-            stack[top++] = {left, bl};
-        } else {
-            stack[top++] = {left, bl};
-            stack[top++] = {right, br};
-        }
+        pushChildren(stack, top, {left, packetLowerBound2(mNodes[left], lo, hi, centre, radius, worst)},
+                     {right, packetLowerBound2(mNodes[right], lo, hi, centre, radius, worst)});
     }
 }
 

@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "cmdline.h"
+#include "parse.h"
 
 namespace mesh2sdf
 {
@@ -133,16 +134,19 @@ int setNoSimd(void *target, const char *, char *, size_t)
 int setFormats(void *target, const char *v, char *msg, size_t len)
 {
     Options &o = *static_cast<Options *>(target);
-    o.batchVdb = o.batchNvdb = o.batchNpy = false;
+    o.batchVdb = o.batchNvdb = o.batchNpy = o.batchSamples = false;
     std::string list = v;
     for (size_t at = 0; at <= list.size();) {
         size_t comma = list.find(',', at);
         if (comma == std::string::npos)
             comma = list.size();
         const std::string word = list.substr(at, comma - at);
-        bool &format = word == "vdb" ? o.batchVdb : word == "nvdb" ? o.batchNvdb : o.batchNpy;
-        if (word != "vdb" && word != "nvdb" && word != "npy") {
-            std::snprintf(msg, len, "--formats takes vdb, nvdb and npy, comma-separated, got '%s'", v);
+        bool &format = word == "vdb"    ? o.batchVdb
+                       : word == "nvdb" ? o.batchNvdb
+                       : word == "npy"  ? o.batchNpy
+                                        : o.batchSamples;
+        if (word != "vdb" && word != "nvdb" && word != "npy" && word != "samples") {
+            std::snprintf(msg, len, "--formats takes vdb, nvdb, npy and samples, comma-separated, got '%s'", v);
             return -1;
         }
         format = true;
@@ -178,11 +182,38 @@ int setInput(void *target, const char *v, char *msg, size_t len)
     return 0;
 }
 
+// --near-sigma A,B: two finite numbers > 0.
+int setSigmas(void *target, const char *v, char *msg, size_t len)
+{
+    double *sigma = static_cast<double *>(target), got[2];
+    if (parse_numbers(v, 2, got) || !(got[0] > 0) || !(got[1] > 0)) {
+        std::snprintf(msg, len, "--near-sigma must be two numbers > 0 joined by a comma, got '%s'", v);
+        return -1;
+    }
+    sigma[0] = got[0], sigma[1] = got[1];
+    return 0;
+}
+
+// The words after --samples and --query, checked by parseOptions.
+struct PointWords {
+    const char *samples[2] = {nullptr, nullptr}; // N, OUT.npy
+    const char *query[2] = {nullptr, nullptr};   // POINTS.npy, OUT.npy
+    int sampleFlags = 0;                         // --near-sigma, --uniform-share or --seed given
+};
+
+// A row of two words (CMDLINE_TEXT with value 2).
+cmdline_option twoWords(const char *name, const char *arg, const char *help, const char **target)
+{
+    cmdline_option r = row(name, 0, arg, help, CMDLINE_TEXT, target, "");
+    r.value = 2;
+    return r;
+}
+
 const std::string kResHelp = "voxels along the longest side of the padded box,\n1.." + std::to_string(kMaxResolution);
 
 // Every option of mesh2sdf, over `o` (for --help, over the defaults);
-// *sawRes: --res given.
-std::vector<cmdline_option> optionRows(Options &o, int *sawRes)
+// *sawRes: --res given; `words`: the values of --samples and --query.
+std::vector<cmdline_option> optionRows(Options &o, int *sawRes, PointWords &words)
 {
     const double inf = HUGE_VAL, maxRes = kMaxResolution;
     std::vector<cmdline_option> rows = {
@@ -238,7 +269,43 @@ std::vector<cmdline_option> optionRows(Options &o, int *sawRes)
              "fraction of clearly inside (> 0.75) or outside\n"
              "(< 0.25) points where GRID's sign is wrong",
              addString, &o.checkSign),
-        number("samples", "N", "points for --check-sign", CMDLINE_INT, &o.samples, 1, 100000000),
+        number("check-points", "N", "points for --check-sign", CMDLINE_INT, &o.checkPoints, 1, 100000000),
+        twoWords("samples", "N OUT.npy",
+                 "do not convert: write N training samples, float32\n"
+                 "rows (x, y, z, d), shape (N, 4), as DeepSDF samples\n"
+                 "them: a share of uniform points in the cube of the\n"
+                 "mesh's sphere (centre and radius as --normalize\n"
+                 "takes them), the rest on the surface (area-weighted\n"
+                 "random triangles) moved by a Gaussian of either\n"
+                 "sigma, half each; d exact to the triangles, signed\n"
+                 "by the winding number; OUT.json gets the sphere\n"
+                 "and the settings; the same bytes for any --threads",
+                 words.samples),
+        seen(call("near-sigma", 0, "A,B",
+                  "--samples: the two Gaussians' standard deviations,\n"
+                  "per axis, in units of the sphere's radius (that is,\n"
+                  "of the unit sphere after --normalize)\n",
+                  setSigmas, o.nearSigma, "0.0707,0.0224: DeepSDF's"),
+             &words.sampleFlags),
+        seen(number("uniform-share", "S", "--samples: the share of uniform points, 0..1\n", CMDLINE_DOUBLE,
+                    &o.uniformShare, 0, 1, 0, "0.06: DeepSDF's"),
+             &words.sampleFlags),
+        seen(number("seed", "N", "--samples: the random seed, >= 0", CMDLINE_INT, &o.seed, 0, 2147483647),
+             &words.sampleFlags),
+        twoWords("query", "POINTS.npy OUT.npy",
+                 "do not convert: the signed distance at each point of\n"
+                 "POINTS.npy, shape (N, 3), float32 or float64, C or\n"
+                 "Fortran order; OUT.npy is float32, shape (N,), or\n"
+                 "(N, 2) with --winding",
+                 words.query),
+        call("winding", 0, nullptr, "--query: each row d, w: the winding number beside\nthe distance", setTrue,
+             &o.winding, "distance only"),
+        call("normalize", 0, nullptr,
+             "--samples, --query: first map the mesh into the unit\n"
+             "sphere, (x - centre) / radius with DeepSDF's centre\n"
+             "(the bounding box's) and radius (1.03 times the\n"
+             "farthest vertex); OUT.json records both\n",
+             setTrue, &o.normalize, "the mesh's own units"),
         call("batch", 0, "LIST",
              "convert every mesh LIST names (one path a line,\n"
              "relative to LIST's folder; blank lines and # comments\n"
@@ -254,8 +321,12 @@ std::vector<cmdline_option> optionRows(Options &o, int *sawRes)
              setString, &o.outDir),
         call("formats", 0, "KINDS",
              "--batch: what to write per mesh, comma-separated:\n"
-             "vdb, nvdb, npy (with its .json)",
+             "vdb, nvdb, npy (with its .json), samples (training\n"
+             "samples as --samples writes them, STEM.samples.npy\n"
+             "and its .json)",
              setFormats, &o, "vdb"),
+        number("sample-count", "N", "--batch --formats samples: rows per mesh", CMDLINE_INT, &o.batchSampleCount, 1,
+               kMaxSamples),
         call("shard", 0, "K/N",
              "--batch: convert only shard K of N (K from 0 to N-1):\n"
              "the meshes at positions K, K+N, K+2N ... of LIST;\n"
@@ -268,14 +339,56 @@ std::vector<cmdline_option> optionRows(Options &o, int *sawRes)
     return rows;
 }
 
+// --samples and --query: their words, and the options that go with them.
+bool pointModes(Options &opt, const PointWords &words, std::string &error)
+{
+    if (words.samples[0]) {
+        double n;
+        if (parse_number(words.samples[0], &n) || n != std::floor(n) || n < 1 || n > kMaxSamples) {
+            error =
+                std::string("--samples N must be a whole number from 1 to 100000000, got '") + words.samples[0] + "'";
+            return false;
+        }
+        opt.samples = size_t(n);
+        opt.samplesOut = words.samples[1];
+    }
+    if (words.query[0]) {
+        opt.queryIn = words.query[0];
+        opt.queryOut = words.query[1];
+    }
+    const bool points = words.samples[0] || words.query[0];
+    const bool batchSamples = !opt.batch.empty() && opt.batchSamples;
+    if (!opt.batch.empty() && points)
+        error = "--batch writes samples with --formats samples (and --sample-count N), points with no --query";
+    else if (opt.batch.empty() && opt.batchSamples)
+        error = "--formats goes with --batch";
+    else if (words.samples[0] && words.query[0])
+        error = "give --samples or --query, not both";
+    else if (points && (!opt.output.empty() || !opt.nvdb.empty() || !opt.npy.empty() || !opt.checkSign.empty()))
+        error = std::string(words.samples[0] ? "--samples" : "--query") +
+                " writes its own OUT.npy: give no -o, --nvdb, --npy or --check-sign";
+    else if (points && opt.sign != SignMethod::Winding)
+        error = "--samples and --query sign by the winding number: --sign does not apply";
+    else if (words.sampleFlags && !words.samples[0] && !batchSamples)
+        error = "--near-sigma, --uniform-share and --seed go with --samples (or --batch --formats samples)";
+    else if (opt.winding && !words.query[0])
+        error = "--winding goes with --query";
+    else if (opt.normalize && !points && !batchSamples)
+        error = "--normalize goes with --samples, --query or --batch --formats samples";
+    return error.empty();
+}
+
 cmdline_spec optionSpec(const std::vector<cmdline_option> &rows, Options &o)
 {
     cmdline_spec spec{};
     spec.program = "mesh2sdf";
     spec.usage = "usage: mesh2sdf IN.{obj,ply,off,stl,om} -o OUT.vdb [options]\n"
-                 "       mesh2sdf --batch LIST --out-dir DIR [--formats vdb,nvdb,npy] [--shard K/N] [options]\n"
+                 "       mesh2sdf --batch LIST --out-dir DIR [--formats vdb,nvdb,npy,samples] [--shard K/N] [options]\n"
                  "       mpirun -np N mesh2sdf --batch LIST --out-dir DIR [options]\n"
-                 "       mesh2sdf IN.obj --check-sign GRID.vdb [--check-sign GRID2.vdb ...] [--samples N]\n"
+                 "       mesh2sdf IN.obj --samples N OUT.npy [--near-sigma A,B] [--uniform-share S] [--seed N]\n"
+                 "                       [--normalize]\n"
+                 "       mesh2sdf IN.obj --query POINTS.npy OUT.npy [--winding] [--normalize]\n"
+                 "       mesh2sdf IN.obj --check-sign GRID.vdb [--check-sign GRID2.vdb ...] [--check-points N]\n"
                  "\n"
                  "Converts a triangle mesh to a signed distance grid (OpenVDB level set).\n"
                  "Polygons are triangulated; zero-area triangles are skipped and counted.\n"
@@ -320,7 +433,8 @@ void printHelp()
 {
     Options defaults;
     int sawRes = 0;
-    const std::vector<cmdline_option> rows = optionRows(defaults, &sawRes);
+    PointWords words;
+    const std::vector<cmdline_option> rows = optionRows(defaults, &sawRes, words);
     const cmdline_spec spec = optionSpec(rows, defaults);
     cmdline_help(&spec, stdout);
 }
@@ -328,7 +442,8 @@ void printHelp()
 bool parseOptions(int argc, char **argv, Options &opt, std::string &error)
 {
     int sawRes = 0;
-    const std::vector<cmdline_option> rows = optionRows(opt, &sawRes);
+    PointWords words;
+    const std::vector<cmdline_option> rows = optionRows(opt, &sawRes, words);
     const cmdline_spec spec = optionSpec(rows, opt);
     char msg[512];
     const int parsed = cmdline_parse(&spec, argc, argv, msg, sizeof msg);
@@ -346,7 +461,10 @@ bool parseOptions(int argc, char **argv, Options &opt, std::string &error)
         error = "no input mesh (see --help)";
         return false;
     }
-    if (opt.checkSign.empty() && opt.output.empty() && opt.batch.empty()) {
+    if (!pointModes(opt, words, error))
+        return false;
+    if (opt.checkSign.empty() && opt.output.empty() && opt.batch.empty() && opt.samplesOut.empty() &&
+        opt.queryOut.empty()) {
         error = "no output: give -o OUT.vdb (see --help)";
         return false;
     }

@@ -19,6 +19,8 @@ enum class OrientMethod { Outward, None };
 constexpr int kMaxResolution = 4096;
 /// Largest dense output (--full, --npy) in voxels: 2^31 (8 GiB of float32).
 constexpr double kMaxDenseVoxels = 2147483648.0;
+/// Most training samples one run writes (--samples): 1.6 GB of rows.
+constexpr double kMaxSamples = 1e8;
 
 struct Options {
     std::string input;
@@ -39,11 +41,23 @@ struct Options {
     bool simd = true;                   // vector instructions where the processor has them
     bool simd512 = true;                // and AVX-512 among them (--simd auto)
     std::vector<std::string> checkSign; // --check-sign GRID.vdb (repeatable): measure, don't convert
-    int samples = 10000;                // points for --check-sign
+    int checkPoints = 10000;            // points for --check-sign
+    // --samples N OUT.npy: training samples instead of a grid (samples.h)
+    size_t samples = 0;
+    std::string samplesOut;
+    double nearSigma[2] = {0.070710678118654752, 0.022360679774997897}; // DeepSDF's sqrt(0.005), sqrt(0.0005)
+    double uniformShare = 0.06;                                         // DeepSDF's 3/50
+    int seed = 1;
+    // --query POINTS.npy OUT.npy: signed distances at given points (query.h)
+    std::string queryIn, queryOut;
+    bool winding = false;   // --query: the winding number beside each distance
+    bool normalize = false; // --samples, --query: the mesh mapped into the unit sphere first (unit_sphere.h)
     // --batch LIST: every mesh of LIST converted into outDir (batch.h).
     std::string batch;
     std::string outDir;
     bool batchVdb = true, batchNvdb = false, batchNpy = false; // --formats
+    bool batchSamples = false;                                 // --formats samples: DIR/STEM.samples.npy
+    int batchSampleCount = 250000;                             // --sample-count N (DeepSDF's count)
     int shard = 0, shards = 1;                                 // --shard K/N: this process does shard K of N
     bool help = false;
 };

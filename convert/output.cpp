@@ -81,19 +81,11 @@ bool writeNvdb(const openvdb::FloatGrid &grid, bool fp16, const std::string &tmp
     return writeGrid(grid, true, fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE, tmp, error);
 }
 
-bool writeNpy(const openvdb::FloatGrid &grid, const BoxGeometry &box, const std::string &tmp, std::string &error)
+// NPY format 1.0: magic, version, little-endian header length, a Python
+// dict literal padded with spaces to a multiple of 64 bytes, newline.
+bool writeNpyHeader(FILE *f, const std::string &shape)
 {
-    FILE *f = std::fopen(tmp.c_str(), "wb");
-    if (!f) {
-        error = "cannot write " + tmp + ": " + std::strerror(errno);
-        return false;
-    }
-    // NPY format 1.0: magic, version, little-endian header length, a Python
-    // dict literal padded with spaces to a multiple of 64 bytes, newline.
-    char dict[256];
-    int len = std::snprintf(dict, sizeof dict, "{'descr': '<f4', 'fortran_order': False, 'shape': (%d, %d, %d), }",
-                            box.dims[0], box.dims[1], box.dims[2]);
-    std::string header(dict, size_t(len));
+    std::string header = "{'descr': '<f4', 'fortran_order': False, 'shape': " + shape + ", }";
     const size_t total = 10 + header.size() + 1;
     header.append((64 - total % 64) % 64, ' ');
     header.push_back('\n');
@@ -108,7 +100,33 @@ bool writeNpy(const openvdb::FloatGrid &grid, const BoxGeometry &box, const std:
                                         0,
                                         static_cast<unsigned char>(hlen & 0xff),
                                         static_cast<unsigned char>(hlen >> 8)};
-    bool ok = std::fwrite(preamble, 1, 10, f) == 10 && std::fwrite(header.data(), 1, header.size(), f) == header.size();
+    return std::fwrite(preamble, 1, 10, f) == 10 && std::fwrite(header.data(), 1, header.size(), f) == header.size();
+}
+
+bool writeNpyArray(const std::string &tmp, const std::string &shape, const float *values, size_t count,
+                   std::string &error)
+{
+    FILE *f = std::fopen(tmp.c_str(), "wb");
+    if (!f) {
+        error = "cannot write " + tmp + ": " + std::strerror(errno);
+        return false;
+    }
+    bool ok = writeNpyHeader(f, shape) && std::fwrite(values, sizeof(float), count, f) == count;
+    ok = (std::fclose(f) == 0) && ok;
+    if (!ok)
+        error = "cannot write " + tmp + ": " + std::strerror(errno);
+    return ok;
+}
+
+bool writeNpy(const openvdb::FloatGrid &grid, const BoxGeometry &box, const std::string &tmp, std::string &error)
+{
+    FILE *f = std::fopen(tmp.c_str(), "wb");
+    if (!f) {
+        error = "cannot write " + tmp + ": " + std::strerror(errno);
+        return false;
+    }
+    bool ok = writeNpyHeader(f, "(" + std::to_string(box.dims[0]) + ", " + std::to_string(box.dims[1]) + ", " +
+                                    std::to_string(box.dims[2]) + ")");
     // A slab of Leaf::DIM planes of x at a time: its leaf-sized blocks
     // copied in parallel from their leaves (or the tile holding them), the
     // slab then written whole. Leaves are aligned to Leaf::DIM, and voxel

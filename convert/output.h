@@ -11,6 +11,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include <cstdio>
 #include <string>
 
 #include "atomic_file.h"
@@ -48,6 +49,12 @@ bool writeVdb(const openvdb::FloatGrid &grid, const std::string &tmp, std::strin
 bool writeNvdb(const openvdb::FloatGrid &grid, bool fp16, const std::string &tmp, std::string &error);
 /// The box densely, float32, C order, shape (nx, ny, nz): z varies fastest.
 bool writeNpy(const openvdb::FloatGrid &grid, const BoxGeometry &box, const std::string &tmp, std::string &error);
+/// The NumPy format 1.0 preamble and header of a float32 C-order array of
+/// `shape` (a Python tuple, "(n, 4)").
+bool writeNpyHeader(FILE *f, const std::string &shape);
+/// A whole float32 C-order array of `count` values and `shape` at `tmp`.
+bool writeNpyArray(const std::string &tmp, const std::string &shape, const float *values, size_t count,
+                   std::string &error);
 /// Sidecar JSON: origin (world centre of voxel [0,0,0]), voxel size, shape,
 /// axis order and provenance. `npyName` is the array's final file name.
 bool writeNpyJson(const BoxGeometry &box, const std::string &npyName, const Provenance &how, float background,

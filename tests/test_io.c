@@ -1,17 +1,21 @@
 /* sdftrace tests — image output: the EXR read back with OpenEXR's own
  * reader (OpenEXRCore), the PNG preview and heatmap read back with libpng,
  * and no file (half-written or temporary) left behind by a failed write. */
+#define _POSIX_C_SOURCE 200809L /* mkfifo, fork, waitpid, kill */
 #include <dirent.h>
 #include <math.h>
 #include <openexr.h>
 #include <png.h>
 #include <setjmp.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmocka.h>
 
@@ -332,12 +336,56 @@ static void test_failed_writes_leave_nothing(void **state)
     sdft_image_free(&img);
 }
 
+/* A target that is a named pipe (as /dev/null is a device) is written in
+ * place: renaming a temporary file onto it would replace it with a file. */
+static void test_pipe_target_written_in_place(void **state)
+{
+    (void)state;
+    char fifo[512], copy[512], msg[256] = "";
+    tu_tmp(fifo, sizeof fifo, "io_fifo.png");
+    tu_tmp(copy, sizeof copy, "io_fifo_copy.png");
+    unlink(fifo);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    const pid_t reader = fork();
+    assert_true(reader >= 0);
+    if (reader == 0) { /* copies what comes through the pipe */
+        FILE *in = fopen(fifo, "rb"), *out = fopen(copy, "wb");
+        int c;
+        while (in && out && (c = fgetc(in)) != EOF)
+            fputc(c, out);
+        _exit(in && out && fclose(out) == 0 ? 0 : 1);
+    }
+    sdft_image img;
+    fill_image(&img);
+    const int written = io_write_png(fifo, &img, msg, sizeof msg);
+    struct stat st;
+    const int still_a_pipe = stat(fifo, &st) == 0 && S_ISFIFO(st.st_mode);
+    if (!still_a_pipe) /* nobody will open the pipe: the reader would wait forever */
+        kill(reader, SIGKILL);
+    int status = 0;
+    assert_int_equal(waitpid(reader, &status, 0), reader);
+    assert_int_equal(written, 0);
+    assert_true(still_a_pipe);
+    assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+    tu_assert_no_temporaries(SDFT_TEST_TMP, "io_fifo.png");
+    int w, h;
+    unsigned char *px = read_png(copy, &w, &h);
+    assert_true(w == img.width && h == img.height);
+    free(px);
+    unlink(fifo);
+    sdft_image_free(&img);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_exr_round_trip), cmocka_unit_test(test_exr_read_floats),
-        cmocka_unit_test(test_png_is_srgb),    cmocka_unit_test(test_heatmap),
-        cmocka_unit_test(test_colour_scale),   cmocka_unit_test(test_failed_writes_leave_nothing),
+        cmocka_unit_test(test_exr_round_trip),
+        cmocka_unit_test(test_exr_read_floats),
+        cmocka_unit_test(test_png_is_srgb),
+        cmocka_unit_test(test_heatmap),
+        cmocka_unit_test(test_colour_scale),
+        cmocka_unit_test(test_failed_writes_leave_nothing),
+        cmocka_unit_test(test_pipe_target_written_in_place),
     };
     return cmocka_run_group_tests_name("io", tests, NULL, NULL);
 }

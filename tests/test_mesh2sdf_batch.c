@@ -468,6 +468,64 @@ static void test_mpi_batch(void **state)
 
 /* On a terminal (script(1)), a progress line counts the meshes up with the
  * time left; through a pipe, none; the help lists the batch's options. */
+/* --formats samples: each mesh's training samples, the same bytes as a
+ * one-mesh --samples run, beside its grid or alone; a rerun skips them. */
+static void test_batch_samples(void **state)
+{
+    (void)state;
+    char dir[PATH], list[PATH], out[PATH], single[PATH], path[PATH], log[8192];
+    fresh_dir(dir, sizeof dir, "batch_samples");
+    path_of(path, "%s/cube.obj", dir);
+    write_cube(path, 1.0);
+    path_of(list, "%s/list.txt", dir);
+    char text[PATH];
+    path_of(text, "cube.obj\n%s/spot.obj\n", SDFT_MESH_DIR);
+    write_text(list, text);
+    for (int both = 0; both < 2; both++) {
+        path_of(out, "%s/out%d", dir, both);
+        const char *formats = both ? "vdb,samples" : "samples";
+        int rc = tu_run(log, sizeof log,
+                        "%s --batch '%s' --out-dir '%s' --res %d --formats %s --sample-count 700 --seed 5 --quiet",
+                        SDFT_MESH2SDF, list, out, RES, formats);
+        assert_int_equal(rc, 0);
+        const char *const names[2] = {"cube", "spot"};
+        for (int m = 0; m < 2; m++) {
+            path_of(single, "%s/single-%s.npy", dir, names[m]);
+            if (both == 0) {
+                path_of(path, m ? "%s/spot.obj" : "%s/cube.obj", m ? SDFT_MESH_DIR : dir);
+                assert_int_equal(
+                    tu_run(log, sizeof log, "%s '%s' --samples 700 '%s' --seed 5 --quiet", SDFT_MESH2SDF, path, single),
+                    0);
+            }
+            path_of(path, "%s/%s.samples.npy", out, names[m]);
+            assert_true(same_bytes(path, single));
+            path_of(path, "%s/%s.samples.json", out, names[m]);
+            assert_true(tu_file_exists(path));
+            path_of(path, "%s/%s.vdb", out, names[m]);
+            assert_int_equal(tu_file_exists(path), both);
+        }
+        char report[PATH], *row;
+        path_of(report, "%s/report.jsonl", out);
+        path_of(path, "%s/spot.obj", SDFT_MESH_DIR);
+        row = report_row(report, path);
+        assert_non_null(row);
+        assert_true(row_number(row, "samples") == 700);
+        assert_int_equal(strstr(row, "\"voxels\"") != NULL, both);
+        free(row);
+        /* A rerun converts nothing: the samples stay as they were. */
+        path_of(path, "%s/cube.samples.npy", out);
+        const long long before = mtime_ns(path);
+        rc = tu_run(log, sizeof log, "%s --batch '%s' --out-dir '%s' --res %d --formats %s --sample-count 700 --quiet",
+                    SDFT_MESH2SDF, list, out, RES, formats);
+        assert_int_equal(rc, 0);
+        assert_true(mtime_ns(path) == before);
+    }
+    /* Samples in a batch are asked for with --formats, not --samples. */
+    assert_int_not_equal(
+        tu_run(log, sizeof log, "%s --batch '%s' --out-dir '%s' --samples 10 x.npy", SDFT_MESH2SDF, list, out), 0);
+    assert_non_null(strstr(log, "--formats samples"));
+}
+
 static void test_batch_progress_and_help(void **state)
 {
     (void)state;
@@ -521,6 +579,7 @@ int main(void)
         cmocka_unit_test(test_batch_report),
         cmocka_unit_test(test_shards),
         cmocka_unit_test(test_mpi_batch),
+        cmocka_unit_test(test_batch_samples),
         cmocka_unit_test(test_batch_progress_and_help),
     };
     return cmocka_run_group_tests_name("mesh2sdf_batch", tests, NULL, NULL);

@@ -39,6 +39,7 @@ unsigned atomic_file_mode(void)
 sdft_error atomic_file_begin(atomic_file *af, const char *path, char *msg, size_t msg_len)
 {
     af->fd = -1;
+    af->direct = 0;
     af->path[0] = af->tmp_path[0] = '\0';
     if (!path || !*path)
         return fail_with(msg, msg_len, SDFT_EINVAL, "empty output path");
@@ -48,6 +49,14 @@ sdft_error atomic_file_begin(atomic_file *af, const char *path, char *msg, size_
     if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
         return fail_with(msg, msg_len, SDFT_EIO, "cannot write %s: it is a folder", path);
     strcpy(af->path, path);
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        af->fd = open(path, O_WRONLY | O_CLOEXEC);
+        if (af->fd < 0)
+            return fail_with(msg, msg_len, SDFT_EIO, "cannot write %s: %s", path, strerror(errno));
+        strcpy(af->tmp_path, path);
+        af->direct = 1;
+        return SDFT_OK;
+    }
     /* "<folder>/.<name>.tmp-XXXXXX": same folder, so the rename stays atomic. */
     const char *slash = strrchr(path, '/');
     const int dir_len = slash ? (int)(slash - path + 1) : 0;
@@ -84,6 +93,13 @@ static void sync_folder(const char *path)
 sdft_error atomic_file_commit(atomic_file *af, char *msg, size_t msg_len)
 {
     int err = 0;
+    if (af->direct) {
+        if (af->fd >= 0 && close(af->fd) != 0)
+            err = errno;
+        af->fd = -1;
+        af->tmp_path[0] = '\0';
+        return err ? fail_with(msg, msg_len, SDFT_EIO, "cannot write %s: %s", af->path, strerror(err)) : SDFT_OK;
+    }
     if (af->fd >= 0) {
         if (fsync(af->fd) != 0 && errno != EINVAL && errno != EROFS)
             err = errno;
@@ -108,7 +124,7 @@ void atomic_file_abort(atomic_file *af)
     if (af->fd >= 0)
         close(af->fd);
     af->fd = -1;
-    if (af->tmp_path[0])
+    if (af->tmp_path[0] && !af->direct)
         unlink(af->tmp_path);
     af->tmp_path[0] = '\0';
 }

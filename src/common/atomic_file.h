@@ -18,11 +18,14 @@ typedef struct atomic_file {
     char path[4096];     /* the target */
     char tmp_path[4112]; /* "<folder>/.<name>.tmp-XXXXXX", beside it; "" when none */
     int fd;              /* open descriptor of tmp_path, or -1 */
+    int direct;          /* 1: the target is a device or a pipe (/dev/null, a FIFO), written in place */
 } atomic_file;
 
 /* Creates the empty temporary file beside `path` (mode from the umask), so
  * that a missing folder, a folder in the target's place or a read-only
- * folder fails here, before any work. Write to af->tmp_path (by name, or
+ * folder fails here, before any work. A target that exists and is neither
+ * a regular file nor a folder (/dev/null, a named pipe) is opened and
+ * written in place: renaming onto it would replace the device with a file. Write to af->tmp_path (by name, or
  * through af->fd). SDFT_OK; SDFT_EINVAL (empty or too long a path); SDFT_EIO
  * with the reason. On failure nothing is left behind. */
 sdft_error atomic_file_begin(atomic_file *af, const char *path, char *msg, size_t msg_len);
