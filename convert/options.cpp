@@ -212,11 +212,13 @@ cmdline_spec optionSpec(const std::vector<cmdline_option> &rows, Options &o)
 {
     cmdline_spec spec{};
     spec.program = "mesh2sdf";
-    spec.usage = "usage: mesh2sdf IN.{obj,ply,off,stl,om} -o OUT.vdb [options]\n"
+    spec.usage = "usage: mesh2sdf IN.{obj,ply,off,stl,om,gltf,glb,fbx,dae,3mf} -o OUT.vdb [options]\n"
                  "       mesh2sdf IN.obj --check-sign GRID.vdb [--check-sign GRID2.vdb ...] [--samples N]\n"
                  "\n"
                  "Converts a triangle mesh to a signed distance grid (OpenVDB level set).\n"
                  "Polygons are triangulated; zero-area triangles are skipped and counted.\n"
+                 "PLY faces may be polygons or tristrips; glTF, FBX, Collada and 3MF scenes\n"
+                 "are flattened: every mesh of every node, moved by the node's transform.\n"
                  "\n";
     spec.footer = "\n"
                   "Dense outputs (--full, --npy) are limited to 2^31 voxels.\n"
