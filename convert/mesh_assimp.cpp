@@ -1,5 +1,6 @@
 // mesh2sdf — the interchange formats through assimp (see mesh_assimp.h).
 #include "mesh_assimp.h"
+#include "reader_process.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/config.h>
@@ -7,6 +8,7 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <fstream>
 #include <limits>
 #include <sstream>
 
@@ -139,19 +141,8 @@ bool flattenScene(const aiScene &scene, PolygonSoup &soup, const std::string &pa
     return true;
 }
 
-} // namespace
-
-bool isAssimpExtension(const std::string &ext)
-{
-    std::istringstream names(kAssimpExtensions);
-    std::string name;
-    while (names >> name)
-        if (ext == name)
-            return true;
-    return false;
-}
-
-bool readAssimp(const std::string &path, PolygonSoup &soup, std::string &error)
+// The import itself, run in the child process.
+bool importScene(const std::string &path, PolygonSoup &soup, std::string &error)
 {
     Assimp::Importer importer;
     // The coordinates as the file stores them, as for every other format:
@@ -175,8 +166,31 @@ bool readAssimp(const std::string &path, PolygonSoup &soup, std::string &error)
         error = "cannot read mesh (the scene is incomplete): " + path;
         return false;
     }
-    soup = PolygonSoup{};
     return flattenScene(*scene, soup, path, error);
+}
+
+} // namespace
+
+bool isAssimpExtension(const std::string &ext)
+{
+    std::istringstream names(kAssimpExtensions);
+    std::string name;
+    while (names >> name)
+        if (ext == name)
+            return true;
+    return false;
+}
+
+bool readAssimp(const std::string &path, PolygonSoup &soup, std::string &error)
+{
+    // assimp 5.2 aborts on some malformed files (its asserts are on in
+    // Debian's build: a 3MF whose zip CRC is wrong), crashes on others and
+    // loops on some Collada: it reads in a child process, given a minute
+    // and ten seconds a MiB (its readers parse several MiB a second).
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    const double mib = in ? double(in.tellg()) / (1 << 20) : 0.0;
+    return readInChildProcess([&path](PolygonSoup &s, std::string &e) { return importScene(path, s, e); },
+                              60.0 + 10.0 * mib, path, soup, error);
 }
 
 } // namespace mesh2sdf

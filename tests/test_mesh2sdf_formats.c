@@ -14,6 +14,7 @@
  * rotations in degrees), assimp composes it in float while this test places
  * the vertices in double, so the vertices differ by float rounding and the
  * grids are compared within 1e-5 world units. */
+#define _GNU_SOURCE /* memmem */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -379,11 +380,12 @@ static void test_gltf(void **state)
 
 /* The box (quads, a polylist) at x = 2; under a matrix node (90 degrees
  * about x, up z) the box again and a child node with the tetrahedron
- * translated and halved. Z_UP is declared and must not turn anything. */
-static void test_collada(void **state)
+ * translated and halved. Z_UP is declared and must not turn anything.
+ * `count` names the float arrays' count attribute ("count"; anything else
+ * makes assimp 5.2 crash). */
+static void write_dae(const char *name, const char *count)
 {
-    (void)state;
-    FILE *f = open_tmp("scene.dae", "w");
+    FILE *f = open_tmp(name, "w");
     fprintf(f, "<?xml version=\"1.0\" encoding=\"utf-8\"?>\n"
                "<COLLADA xmlns=\"http://www.collada.org/2005/11/COLLADASchema\" version=\"1.4.1\">\n"
                "<asset><up_axis>Z_UP</up_axis></asset>\n<library_geometries>\n");
@@ -391,8 +393,8 @@ static void test_collada(void **state)
     const char *names[2] = {"box", "tet"};
     for (int g = 0; g < 2; g++) {
         const part *p = parts[g];
-        fprintf(f, "<geometry id=\"%s\"><mesh><source id=\"%s-pos\"><float_array id=\"%s-arr\" count=\"%d\">", names[g],
-                names[g], names[g], 3 * p->nv);
+        fprintf(f, "<geometry id=\"%s\"><mesh><source id=\"%s-pos\"><float_array id=\"%s-arr\" %s=\"%d\">", names[g],
+                names[g], names[g], count, 3 * p->nv);
         for (int v = 0; v < p->nv; v++)
             fprintf(f, " %g %g %g", p->v[v][0], p->v[v][1], p->v[v][2]);
         fprintf(f,
@@ -419,6 +421,12 @@ static void test_collada(void **state)
                "</visual_scene></library_visual_scenes>\n"
                "<scene><instance_visual_scene url=\"#s\"/></scene>\n</COLLADA>\n");
     fclose(f);
+}
+
+static void test_collada(void **state)
+{
+    (void)state;
+    write_dae("scene.dae", "count");
     placed world[3] = {{&box, {{1, 0, 0, 2}, {0, 1, 0, 0}, {0, 0, 1, 0}}}, {&box, {{0}}}, {&tet, {{0}}}};
     double local[3][4];
     memcpy(world[1].m, g_m2, sizeof g_m2);
@@ -483,9 +491,8 @@ static void write_zip(const char *path, const char *const *names, const char *co
 /* Objects box and tetrahedron (triangles); build items: the box at x = 2,
  * the tetrahedron turned 90 degrees about x and moved up z. 3MF's matrices
  * act on row vectors: the rows are the columns of ours. */
-static void test_3mf(void **state)
+static void write_3mf(const char *name)
 {
-    (void)state;
     char model[8192], path[512];
     size_t at = (size_t)snprintf(model, sizeof model,
                                  "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<model unit=\"millimeter\" "
@@ -518,7 +525,13 @@ static void test_3mf(void **state)
         "Target=\"/3D/3dmodel.model\" Id=\"rel0\" "
         "Type=\"http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel\"/></Relationships>\n",
         model};
-    write_zip(tu_tmp(path, sizeof path, "scene.3mf"), names, texts, 3);
+    write_zip(tu_tmp(path, sizeof path, name), names, texts, 3);
+}
+
+static void test_3mf(void **state)
+{
+    (void)state;
+    write_3mf("scene.3mf");
     placed world[2] = {{&box, {{1, 0, 0, 2}, {0, 1, 0, 0}, {0, 0, 1, 0}}}, {&tet, {{0}}}};
     memcpy(world[1].m, g_m2, sizeof g_m2);
     write_world("3mf_world.obj", world, 2);
@@ -940,6 +953,19 @@ static void test_bad_scene(void **state)
     expect_clean_failure("garbage.fbx", NULL);
     write_text("garbage.3mf", "PK\003\004 not really a zip");
     expect_clean_failure("garbage.3mf", "cannot read mesh");
+    /* Files assimp 5.2 aborts or crashes on: a 3MF whose zip entry does not
+     * match its CRC (an assertion), a Collada float array without its count
+     * (a segmentation fault). The reader's process ends; mesh2sdf says so. */
+    write_3mf("crc.3mf");
+    unsigned char *zip = read_bytes(tu_tmp(path, sizeof path, "crc.3mf"), &size);
+    unsigned char *x = memmem(zip, size, "<vertex x=\"0\"", 13);
+    assert_non_null(x);
+    x[11] = '7'; /* the CRC stays that of the 0 */
+    write_file("crc.3mf", zip, size);
+    free(zip);
+    expect_clean_failure("crc.3mf", "the reader crashed on it");
+    write_dae("nocount.dae", "coun9");
+    expect_clean_failure("nocount.dae", "the reader crashed on it");
 }
 
 static void test_help_lists_formats(void **state)
