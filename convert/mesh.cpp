@@ -220,9 +220,10 @@ class LineWords
 // every later index, the OFF reader stops and finds no faces, the STL
 // reader goes on with a wrong vertex. So the coordinates of text files are
 // checked here first: OBJ "v" lines, every number after OFF's keyword line,
-// and STL "vertex" lines (PLY's reader is our own and checks its numbers). Binary formats carry NaN and
-// Inf through and are caught after reading. Each line's words are scanned
-// in place (a string stream per line cost more than the reading).
+// and STL "vertex" lines (PLY's reader is our own and checks its numbers).
+// Binary formats carry NaN and Inf through and are caught after reading.
+// Each line's words are scanned in place (a string stream per line cost
+// more than the reading).
 bool checkTextCoordinates(const std::string &path, const std::string &ext, std::string &error)
 {
     if (ext != "obj" && ext != "off" && ext != "stl")

@@ -189,7 +189,8 @@ static void assert_close_grid(const char *in, const char *reference, double tole
  * (uint32 indices); node 0 the box moved along x; node 1 the box again,
  * translated, turned 180 degrees about z and scaled by 2 (TRS); node 2 a
  * matrix (90 degrees about x, then up z) over node 3, the tetrahedron
- * translated and halved. With `turn30`, node 1 turns 30 degrees about the
+ * translated and halved, with the tetrahedron's corners also as points and
+ * as lines (left out). With `turn30`, node 1 turns 30 degrees about the
  * axis (1,1,0)/sqrt(2) instead. */
 #define GLTF_BYTES 264
 static const double g_t0[3] = {2, 0, 0}, g_t1[3] = {-1, .5, 0}, g_s1[3] = {2, 2, 2}, g_t3[3] = {.5, 0, 0},
@@ -273,7 +274,8 @@ static void gltf_json(char *json, size_t len, int turn30, const char *uri)
              "{\"matrix\":[1,0,0,0, 0,0,1,0, 0,-1,0,0, 0,0,3,1],\"children\":[3]},"
              "{\"mesh\":1,\"translation\":[0.5,0,0],\"scale\":[0.5,0.5,0.5]}],"
              "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]},"
-             "{\"primitives\":[{\"attributes\":{\"POSITION\":2},\"indices\":3,\"mode\":4}]}],"
+             "{\"primitives\":[{\"attributes\":{\"POSITION\":2},\"indices\":3,\"mode\":4},"
+             "{\"attributes\":{\"POSITION\":2},\"mode\":0},{\"attributes\":{\"POSITION\":2},\"mode\":1}]}],"
              "\"buffers\":[%s],"
              "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":96},"
              "{\"buffer\":0,\"byteOffset\":96,\"byteLength\":72},"
