@@ -71,6 +71,10 @@ std::string oneLine(const char *message)
 bool addInstance(const aiMesh &mesh, const Affine &world, PolygonSoup &soup, const std::string &path,
                  std::string &error)
 {
+    // A mesh of points or lines only (glTF's POINTS and LINES primitives)
+    // adds nothing, not even its vertices.
+    if (!(mesh.mPrimitiveTypes & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_POLYGON)))
+        return true;
     const size_t base = soup.points.size();
     // Indices are uint32_t with UINT32_MAX kept free for "none".
     if (mesh.mNumVertices >= std::numeric_limits<uint32_t>::max() - base) {

@@ -183,6 +183,16 @@ static void assert_close_grid(const char *in, const char *reference, double tole
     free(gb.data);
 }
 
+/* mesh2sdf's health line for test-folder file `name` must hold `counts`. */
+static void assert_health(const char *name, const char *counts)
+{
+    char in[512], vdb[512], out[4096];
+    const int rc = tu_run(out, sizeof out, "%s '%s' -o '%s' --res 16 2>&1", SDFT_MESH2SDF, tu_tmp(in, sizeof in, name),
+                          tu_tmp(vdb, sizeof vdb, "health.vdb"));
+    if (rc != 0 || !strstr(out, counts))
+        fail_msg("%s: want '%s' in the health line, got: %s", name, counts, out);
+}
+
 /* ------------------------------------------------------------------ glTF */
 
 /* The glTF scene: mesh 0 the box (uint16 indices), mesh 1 the tetrahedron
@@ -370,6 +380,8 @@ static void test_gltf(void **state)
     write_gltf("scene_data_uri.gltf", NULL);
     write_gltf("scene_file.gltf", "scene_file.bin");
     assert_same_grid("scene.glb", "gltf_world.obj");
+    /* the points and lines add no vertex */
+    assert_health("scene.glb", "20 vertices, 28 faces (28 triangles)");
     assert_same_grid("scene_data_uri.gltf", "gltf_world.obj");
     assert_same_grid("scene_file.gltf", "gltf_world.obj");
     /* A rotation assimp composes in float: within rounding. */
@@ -671,7 +683,6 @@ static void write_strip_ply(const char *name, ply_encoding e, const char *index_
 static void test_strip_ply(void **state)
 {
     (void)state;
-    char path[512];
     FILE *f = open_tmp("strips.obj", "w");
     for (int v = 0; v < 8; v++)
         fprintf(f, "v %g %g %g\n", box_v[v][0], box_v[v][1], box_v[v][2]);
@@ -688,11 +699,7 @@ static void test_strip_ply(void **state)
     assert_same_grid("strips_be.ply", "strips.obj");
     /* The health line counts the strips' triangles as faces, not the
      * stitching ones. */
-    char out[4096];
-    assert_int_equal(tu_run(out, sizeof out, "%s '%s' -o /dev/null --res 16 2>&1", SDFT_MESH2SDF,
-                            tu_tmp(path, sizeof path, "strips_ascii.ply")),
-                     0);
-    assert_non_null(strstr(out, "8 vertices, 11 faces (12 triangles)"));
+    assert_health("strips_ascii.ply", "8 vertices, 11 faces (12 triangles)");
 }
 
 /* A box scaled to integers, coordinates as `coord` ("short", "double" ...)
