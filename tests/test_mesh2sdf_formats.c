@@ -762,6 +762,43 @@ static void test_ply_other_properties(void **state)
         }
 }
 
+/* Indices of one byte: 252 unused vertices, then the tetrahedron's at
+ * 252..255, so that its faces use 255, the largest uchar (a vertex, not a
+ * restart: only strips restart). */
+static void test_ply_byte_indices(void **state)
+{
+    (void)state;
+    FILE *obj = open_tmp("bytes.obj", "w");
+    for (int v = 0; v < 256; v++) {
+        const double *p = v < 252 ? tet_v[0] : tet_v[v - 252];
+        fprintf(obj, "v %g %g %g\n", p[0], p[1], p[2]);
+    }
+    for (int t = 0; t < 4; t++)
+        fprintf(obj, "f %d %d %d\n", 253 + tet_f[t][0], 253 + tet_f[t][1], 253 + tet_f[t][2]);
+    fclose(obj);
+    for (int e = ASCII; e <= BIG; e++) {
+        char name[64];
+        snprintf(name, sizeof name, "bytes_%d.ply", e);
+        FILE *f = ply_open(name, (ply_encoding)e,
+                           "element vertex 256\nproperty float x\nproperty float y\nproperty float z\n"
+                           "element face 4\nproperty list uchar uchar vertex_indices\n");
+        for (int v = 0; v < 256; v++) {
+            const double *p = v < 252 ? tet_v[0] : tet_v[v - 252];
+            for (int k = 0; k < 3; k++)
+                ply_value(f, (ply_encoding)e, "float", p[k]);
+            ply_end(f, (ply_encoding)e);
+        }
+        for (int t = 0; t < 4; t++) {
+            ply_value(f, (ply_encoding)e, "uchar", 3);
+            for (int k = 0; k < 3; k++)
+                ply_value(f, (ply_encoding)e, "uchar", 252 + tet_f[t][k]);
+            ply_end(f, (ply_encoding)e);
+        }
+        fclose(f);
+        assert_same_grid(name, "bytes.obj");
+    }
+}
+
 /* One of the shared meshes as its OBJ gives it: the coordinates' words and
  * the polygons' vertex numbers (before any '/'), from 0. */
 typedef struct obj_text {
@@ -999,6 +1036,7 @@ int main(void)
         cmocka_unit_test(test_fbx),
         cmocka_unit_test(test_strip_ply),
         cmocka_unit_test(test_ply_other_properties),
+        cmocka_unit_test(test_ply_byte_indices),
         cmocka_unit_test(test_ply_matches_obj),
         cmocka_unit_test(test_bad_ply),
         cmocka_unit_test(test_bad_scene),
