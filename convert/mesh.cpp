@@ -1,5 +1,10 @@
-// mesh2sdf — mesh loading and health check (see mesh.h).
+// mesh2sdf — mesh loading and health check (see mesh.h): OpenMesh's readers
+// for OBJ, OFF, STL and OM, our own for PLY (ply_read.h), assimp for the
+// interchange formats (mesh_assimp.h); every reader hands over a polygon
+// soup, which is triangulated and checked here the same way for all.
 #include "mesh.h"
+#include "mesh_assimp.h"
+#include "ply_read.h"
 
 // GCC 12 with sanitizers flags OpenMesh's property vectors (VectorT copies
 // in PropertyT::push_back) as maybe-uninitialized; a false positive in its
@@ -60,11 +65,6 @@ double doubleArea2(const std::array<float, 3> &a, const std::array<float, 3> &b,
 // readers ask it for handles) but never read. Readers that rebuild a mesh
 // from stored half-edges (.om with topology) add no face through
 // add_face(VHandles): for those the half-edge mesh's faces are read.
-struct Polygons {
-    std::vector<uint32_t> corners; // every face's corners, face after face
-    std::vector<size_t> ends;      // where each face's corners end
-};
-
 class FaceRecorder : public OpenMesh::IO::ImporterT<PolyMesh>
 {
   public:
@@ -105,7 +105,7 @@ class FaceRecorder : public OpenMesh::IO::ImporterT<PolyMesh>
 
     /// The file's faces on points()'s numbering; for a reader that added
     /// none through add_face(VHandles), the half-edge mesh's.
-    const Polygons &faces()
+    PolygonSoup &faces()
     {
         if (mFaces.ends.empty())
             for (const auto fh : mMesh.faces()) {
@@ -141,7 +141,7 @@ class FaceRecorder : public OpenMesh::IO::ImporterT<PolyMesh>
     PolyMesh &mMesh;
     std::vector<OpenMesh::VertexHandle> mFileHandles; // the file's vertices, in order
     std::vector<uint32_t> mFileVertex;                // handle -> file vertex; kNotFromFile: a copy
-    Polygons mFaces;
+    PolygonSoup mFaces;                               // corners and ends only
 };
 
 // TriangleMesh::welded for `points`.
@@ -215,27 +215,22 @@ class LineWords
     const char *mAt, *mEnd;
 };
 
-bool startsWith(const char *begin, const char *end, const char *prefix)
-{
-    const size_t n = std::strlen(prefix);
-    return size_t(end - begin) >= n && std::memcmp(begin, prefix, n) == 0;
-}
-
 // OpenMesh's text readers do not report a coordinate they cannot parse
 // ("nan", "inf", 1e999): the OBJ reader drops the vertex line, shifting
-// every later index, the OFF and PLY readers stop and find no faces, the STL
+// every later index, the OFF reader stops and finds no faces, the STL
 // reader goes on with a wrong vertex. So the coordinates of text files are
-// checked here first: OBJ "v" lines, every number after OFF's keyword line
-// or PLY's end_header, and STL "vertex" lines. Binary formats carry NaN and
-// Inf through and are caught after reading. Each line's words are scanned
-// in place (a string stream per line cost more than the reading).
+// checked here first: OBJ "v" lines, every number after OFF's keyword line,
+// and STL "vertex" lines (PLY's reader is our own and checks its numbers).
+// Binary formats carry NaN and Inf through and are caught after reading.
+// Each line's words are scanned in place (a string stream per line cost
+// more than the reading).
 bool checkTextCoordinates(const std::string &path, const std::string &ext, std::string &error)
 {
-    if (ext != "obj" && ext != "off" && ext != "ply" && ext != "stl")
+    if (ext != "obj" && ext != "off" && ext != "stl")
         return true;
     std::ifstream in(path);
     std::string text, word; // a line at a time: a binary file is left after its header
-    bool data = false;      // OFF, PLY: past the header
+    bool data = false;      // OFF: past the header
     for (size_t number = 1; std::getline(in, text); ++number) {
         const char *line = text.data(), *end = line + text.size();
         if (ext == "off") { // comments run from '#' to the end of the line
@@ -271,14 +266,6 @@ bool checkTextCoordinates(const std::string &path, const std::string &ext, std::
                 data = true;
             }
             check = -1;
-        } else if (ext == "ply") {
-            if (!data) {
-                if (startsWith(line, end, "format") && text.find("ascii") == std::string::npos)
-                    return true; // binary
-                data = startsWith(line, end, "end_header");
-                continue;
-            }
-            check = -1;
         } else { // stl
             if (!words.next(word) || word != "vertex")
                 continue;
@@ -293,40 +280,31 @@ bool checkTextCoordinates(const std::string &path, const std::string &ext, std::
     return true;
 }
 
-// The element counts of a PLY or OFF header, checked against the file's
-// length before OpenMesh reserves room for them: its readers allocate what
-// a header claims (2^40 vertices: killed for memory, or std::bad_alloc).
-// Every element takes at least one byte of the file, in any encoding.
+// The element counts of an OFF header, checked against the file's length
+// before OpenMesh reserves room for them: its reader allocates what a header
+// claims (2^40 vertices: killed for memory, or std::bad_alloc). Every
+// element takes at least one byte of the file, in any encoding. (PLY's
+// reader checks its own header the same way, and more closely.)
 bool checkHeaderCounts(const std::string &path, const std::string &ext, std::string &error)
 {
-    if (ext != "ply" && ext != "off")
+    if (ext != "off")
         return true;
     std::ifstream in(path, std::ios::binary | std::ios::ate);
     const double length = double(in.tellg());
     in.seekg(0);
     std::string line, word;
     double claimed = 0;
-    if (ext == "ply") {
-        for (int n = 0; n < 10000 && std::getline(in, line) && line.compare(0, 10, "end_header") != 0; ++n) {
-            LineWords words(line.data(), line.data() + line.size());
-            double count;
-            if (words.next(word) && word == "element" && words.next(word) && words.next(word) &&
-                wholeNumber(word, &count))
-                claimed += count;
-        }
-    } else {
-        // The keyword line (OFF, COFF, NOFF, ... or "OFF nv nf ne"), comments,
-        // then the counts: the first line with three numbers.
-        for (int n = 0; n < 10000 && std::getline(in, line); ++n) {
-            const size_t hash = line.find('#');
-            LineWords words(line.data(), line.data() + (hash == std::string::npos ? line.size() : hash));
-            double v, f;
-            if (words.next(word) && word.find("OFF") != std::string::npos && !words.next(word))
-                continue;
-            if (wholeNumber(word, &v) && words.next(word) && wholeNumber(word, &f)) {
-                claimed = v + f;
-                break;
-            }
+    // The keyword line (OFF, COFF, NOFF, ... or "OFF nv nf ne"), comments,
+    // then the counts: the first line with three numbers.
+    for (int n = 0; n < 10000 && std::getline(in, line); ++n) {
+        const size_t hash = line.find('#');
+        LineWords words(line.data(), line.data() + (hash == std::string::npos ? line.size() : hash));
+        double v, f;
+        if (words.next(word) && word.find("OFF") != std::string::npos && !words.next(word))
+            continue;
+        if (wholeNumber(word, &v) && words.next(word) && wholeNumber(word, &f)) {
+            claimed = v + f;
+            break;
         }
     }
     if (claimed > length) {
@@ -338,29 +316,13 @@ bool checkHeaderCounts(const std::string &path, const std::string &ext, std::str
     return true;
 }
 
-} // namespace
-
-bool isMeshExtension(const std::string &path)
+// OpenMesh's readers (.obj .off .stl .om) into `soup`.
+bool readWithOpenMesh(const std::string &path, const std::string &ext, PolygonSoup &soup, std::string &error)
 {
-    const std::string ext = lowerExtension(path);
-    return ext == "obj" || ext == "ply" || ext == "off" || ext == "stl" || ext == "om";
-}
-
-bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
-{
-    if (!isMeshExtension(path)) {
-        error = "unknown mesh extension '" + lowerExtension(path) + "' (use .obj .ply .off .stl .om): " + path;
-        return false;
-    }
-    if (!std::ifstream(path).good()) {
-        error = "cannot open mesh: " + path;
-        return false;
-    }
-    if (!checkTextCoordinates(path, lowerExtension(path), error) ||
-        !checkHeaderCounts(path, lowerExtension(path), error))
+    if (!checkTextCoordinates(path, ext, error) || !checkHeaderCounts(path, ext, error))
         return false;
     // OpenMesh reports complex edges and parse problems on its own streams;
-    // the health line below says what matters, once.
+    // the health line says what matters, once.
     omerr().disable();
     omlog().disable();
     omout().disable();
@@ -368,26 +330,45 @@ bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
     PolyMesh poly;
     FaceRecorder recorder(poly);
     OpenMesh::IO::Options options;
-    bool read = false;
-    try {
-        read = OpenMesh::IO::IOManager().read(path, recorder, options);
-    } catch (const std::bad_alloc &) {
-        error = "mesh is larger than memory allows: " + path;
+    if (!OpenMesh::IO::IOManager().read(path, recorder, options)) {
+        error = "cannot read mesh (not a valid " + ext + " file?): " + path;
         return false;
     }
-    if (!read) {
-        error = "cannot read mesh (not a valid " + lowerExtension(path) + " file?): " + path;
+    PolygonSoup &faces = recorder.faces();
+    soup.points = recorder.points();
+    soup.corners = std::move(faces.corners);
+    soup.ends = std::move(faces.ends);
+    return true;
+}
+
+// True if the n corners are a polygon: three or more, all distinct.
+// OpenMesh's importer refuses the others, and every reader is held to that.
+// A long polygon is checked sorted, so that a face of a million corners
+// costs n log n, not n^2.
+bool isPolygon(const uint32_t *corners, size_t n)
+{
+    if (n < 3)
         return false;
+    if (n <= 16) {
+        for (size_t i = 0; i < n; ++i)
+            for (size_t j = i + 1; j < n; ++j)
+                if (corners[i] == corners[j])
+                    return false;
+        return true;
     }
+    std::vector<uint32_t> sorted(corners, corners + n);
+    std::sort(sorted.begin(), sorted.end());
+    return std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
+}
+
+// The soup's polygons as fans of triangles, zero-area ones skipped and
+// counted, the box and the welding: the loader's checks, the same for every
+// reader. Corner indices are within soup.points (each reader's promise).
+bool finishMesh(const std::string &path, PolygonSoup &soup, TriangleMesh &mesh, std::string &error)
+{
     mesh = TriangleMesh{};
-    const Polygons &faces = recorder.faces();
-    mesh.points = recorder.points();
+    mesh.points = std::move(soup.points);
     mesh.health.vertices = mesh.points.size();
-    mesh.health.faces = faces.ends.size();
-    if (faces.ends.empty()) {
-        error = "mesh has no faces: " + path;
-        return false;
-    }
     for (size_t v = 0; v < mesh.points.size(); ++v) {
         const auto &p = mesh.points[v];
         if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
@@ -395,9 +376,13 @@ bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
             return false;
         }
     }
-    for (size_t f = 0, begin = 0; f < faces.ends.size(); begin = faces.ends[f++]) {
-        const uint32_t *corners = faces.corners.data() + begin;
-        for (size_t k = 1; k + 1 < faces.ends[f] - begin; ++k) {
+    for (size_t f = 0, begin = 0; f < soup.ends.size(); begin = soup.ends[f++]) {
+        const uint32_t *corners = soup.corners.data() + begin;
+        const size_t n = soup.ends[f] - begin;
+        if (!isPolygon(corners, n))
+            continue;
+        ++mesh.health.faces;
+        for (size_t k = 1; k + 1 < n; ++k) {
             const std::array<uint32_t, 3> t{corners[0], corners[k], corners[k + 1]};
             if (doubleArea2(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]) <= 0.0) {
                 ++mesh.health.degenerateFaces;
@@ -405,6 +390,10 @@ bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
             }
             mesh.triangles.push_back(t);
         }
+    }
+    if (mesh.health.faces == 0) {
+        error = "mesh has no faces: " + path;
+        return false;
     }
     mesh.health.triangles = mesh.triangles.size();
     if (mesh.triangles.empty()) {
@@ -432,6 +421,40 @@ bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
     for (size_t v = 0; v < mesh.points.size(); ++v)
         mesh.health.weldedVertices += used[v] && mesh.welded[v] != v;
     return true;
+}
+
+} // namespace
+
+bool isMeshExtension(const std::string &path)
+{
+    const std::string ext = lowerExtension(path);
+    return ext == "obj" || ext == "ply" || ext == "off" || ext == "stl" || ext == "om" || isAssimpExtension(ext);
+}
+
+bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
+{
+    const std::string ext = lowerExtension(path);
+    if (!isMeshExtension(path)) {
+        std::string known = std::string("obj ply off stl om ") + kAssimpExtensions;
+        for (size_t at = 0; (at = known.find(' ', at)) != std::string::npos; at += 2)
+            known.replace(at, 1, " .");
+        error = "unknown mesh extension '" + ext + "' (use ." + known + "): " + path;
+        return false;
+    }
+    if (!std::ifstream(path).good()) {
+        error = "cannot open mesh: " + path;
+        return false;
+    }
+    PolygonSoup soup;
+    try {
+        const bool read = ext == "ply"             ? readPly(path, soup, error)
+                          : isAssimpExtension(ext) ? readAssimp(path, soup, error)
+                                                   : readWithOpenMesh(path, ext, soup, error);
+        return read && finishMesh(path, soup, mesh, error);
+    } catch (const std::bad_alloc &) {
+        error = "mesh is larger than memory allows: " + path;
+        return false;
+    }
 }
 
 std::vector<EdgeUse> edgeUses(const TriangleMesh &mesh)

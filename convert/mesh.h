@@ -1,5 +1,5 @@
-// mesh2sdf — reading a mesh through OpenMesh into a triangle soup, and the
-// health check printed before converting.
+// mesh2sdf — reading a mesh (OpenMesh, our PLY reader, assimp) into a
+// triangle soup, and the health check printed before converting.
 #ifndef MESH2SDF_MESH_H
 #define MESH2SDF_MESH_H
 
@@ -33,7 +33,9 @@ struct TriangleMesh {
     std::vector<uint32_t> welded;
 };
 
-/// Reads `path` (.obj .ply .off .stl .om) through OpenMesh's readers,
+/// Reads `path`: .obj .off .stl .om through OpenMesh's readers, .ply
+/// through ply_read.h (faces and tristrips), .gltf .glb .fbx .dae .3mf
+/// through assimp (mesh_assimp.h: a scene flattened in world space),
 /// keeping every face the file has on the file's vertices, whatever their
 /// orientation; triangulates its polygons (fans), drops zero-area triangles,
 /// welds the vertices by position and computes the health counts but the

@@ -382,7 +382,7 @@ cmdline_spec optionSpec(const std::vector<cmdline_option> &rows, Options &o)
 {
     cmdline_spec spec{};
     spec.program = "mesh2sdf";
-    spec.usage = "usage: mesh2sdf IN.{obj,ply,off,stl,om} -o OUT.vdb [options]\n"
+    spec.usage = "usage: mesh2sdf IN.{obj,ply,off,stl,om,gltf,glb,fbx,dae,3mf} -o OUT.vdb [options]\n"
                  "       mesh2sdf --batch LIST --out-dir DIR [--formats vdb,nvdb,npy,samples] [--shard K/N] [options]\n"
                  "       mpirun -np N mesh2sdf --batch LIST --out-dir DIR [options]\n"
                  "       mesh2sdf IN.obj --samples N OUT.npy [--near-sigma A,B] [--uniform-share S] [--seed N]\n"
@@ -392,6 +392,8 @@ cmdline_spec optionSpec(const std::vector<cmdline_option> &rows, Options &o)
                  "\n"
                  "Converts a triangle mesh to a signed distance grid (OpenVDB level set).\n"
                  "Polygons are triangulated; zero-area triangles are skipped and counted.\n"
+                 "PLY faces may be polygons or tristrips; glTF, FBX, Collada and 3MF scenes\n"
+                 "are flattened: every mesh of every node, moved by the node's transform.\n"
                  "\n";
     spec.footer = "\n"
                   "Dense outputs (--full, --npy) are limited to 2^31 voxels.\n"
