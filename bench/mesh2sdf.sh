@@ -27,11 +27,22 @@
 # the ratio side by side. The per-point queries run once (they time
 # themselves and take ten times longer).
 #
+# Batches (a page of its own, bench/results/mesh2sdf-batch.md): meshes per
+# minute of `mesh2sdf --batch` at BATCH voxels along the longest side, over
+# every mesh of MESH_DIR listed BATCH_COPIES times (so that a process's
+# start is not the whole of the time), in three ways: one process with all
+# cores, two --shard processes at once with half the cores each, and
+# `mpirun -np 2` with half the cores per rank; fastest of REPEAT runs each,
+# every run into a fresh folder.
+#
 # usage: bench/mesh2sdf.sh [RES...]   (narrow band; default: 256 512 1024)
 # env:   BUILD=build  MESHES="spot ..."  SAMPLES=10000  THREADS=0  REPEAT=3
 #        DENSE="128 256" (dense resolutions; empty: none)  NARROW=0 (no narrow-band table)
 #        ORIENT=128 (the orientation table's resolution; empty: no such table)
-#        PAGE_DIR (where the page goes; default bench/results)
+#        BATCH=256 (the batch page's resolution; empty: no batch page)  BATCH_COPIES=4
+#        PAGE_DIR (where the pages go; default bench/results)
+# With NARROW=0 and ORIENT and DENSE empty, mesh2sdf.md is left as it is:
+# NARROW=0 ORIENT= DENSE= bench/mesh2sdf.sh makes the batch page alone.
 # Grids go to $BUILD/bench-mesh2sdf/.
 set -euo pipefail
 export LC_ALL=C # bash's EPOCHREALTIME and awk: a decimal point, not a comma
@@ -40,7 +51,7 @@ root=$PWD
 . bench/page.sh
 # The command that made the page, with the settings given in the environment.
 command="bench/mesh2sdf.sh${1:+ $*}"
-for var in NARROW ORIENT DENSE REPEAT THREADS SAMPLES MESHES BUILD; do
+for var in BATCH_COPIES BATCH NARROW ORIENT DENSE REPEAT THREADS SAMPLES MESHES BUILD; do
     [ -z "${!var+set}" ] || command="$var=\"${!var}\" $command"
 done
 BUILD=${BUILD:-build}
@@ -51,6 +62,8 @@ THREADS=${THREADS:-0}
 DENSE=${DENSE-"128 256"}
 ORIENT=${ORIENT-128}
 NARROW=${NARROW:-1}
+BATCH=${BATCH-256}
+BATCH_COPIES=${BATCH_COPIES:-4}
 REPEAT=${REPEAT:-3}
 [[ $REPEAT =~ ^[1-9][0-9]*$ ]] || { echo "bench/mesh2sdf.sh: REPEAT must be a positive integer" >&2; exit 1; }
 RESOLUTIONS=("$@")
@@ -60,7 +73,7 @@ POINTS=$BUILD/bench/mesh2sdf_points
 OUT=$BUILD/bench-mesh2sdf
 [ -x "$M2S" ] || { echo "bench/mesh2sdf.sh: build $M2S first (cmake --build $BUILD --target mesh2sdf)" >&2; exit 1; }
 [ -z "$DENSE" ] || [ -x "$POINTS" ] || { echo "bench/mesh2sdf.sh: build $POINTS first (cmake --build $BUILD --target mesh2sdf_points)" >&2; exit 1; }
-command -v vdb_tool >/dev/null || { echo "bench/mesh2sdf.sh: vdb_tool not found (libopenvdb-tools)" >&2; exit 1; }
+[ "$NARROW" = 0 ] && [ -z "$ORIENT" ] || command -v vdb_tool >/dev/null || { echo "bench/mesh2sdf.sh: vdb_tool not found (libopenvdb-tools)" >&2; exit 1; }
 [ -x /usr/bin/time ] || { echo "bench/mesh2sdf.sh: /usr/bin/time not found (package time)" >&2; exit 1; }
 mkdir -p "$OUT"
 
@@ -239,4 +252,51 @@ EOF
 [ -z "$DENSE" ] || dense_table
 }
 
-page_write mesh2sdf.md page
+# The batch page: one row per way of running the batch.
+# The two shards at once, as one command for measure; fails if either does.
+shards_at_once='"$0" "$@" --shard 0/2 & a=$!; "$0" "$@" --shard 1/2 & b=$!; s=0; wait $a || s=1; wait $b || s=1; exit $s'
+batch_page() {
+local cores half list=$OUT/batch-list.txt count=0 mpi=() args=(--res "$BATCH" --quiet)
+cores=$(nproc)
+half=$((cores > 1 ? cores / 2 : 1))
+: >"$list"
+for ((c = 0; c < BATCH_COPIES; c++)); do
+    for mesh in "$MESH_DIR"/*.obj; do readlink -f "$mesh" >>"$list"; count=$((count + 1)); done
+done
+[ "$(id -u)" != 0 ] || mpi=(--allow-run-as-root)
+page_header "mesh2sdf --batch: meshes per minute" "$command"
+cat <<EOF
+The $((count / BATCH_COPIES)) meshes of \`$MESH_DIR\`, each listed $BATCH_COPIES times ($count conversions, each into files
+of its own), converted by \`mesh2sdf --batch\` at $BATCH voxels along the longest side, each run
+into a fresh folder: the wall time of the whole run (processes started, every mesh read,
+converted and written, the report written), the fastest of $REPEAT, and meshes per minute. One
+process has all $cores cores; the two shards (\`--shard 0/2\` and \`1/2\` at once, into one
+folder) and the two ranks of \`mpirun -np 2\` have $half each (\`--threads $half\`).
+
+| run | processes | threads each | s | meshes per minute | × one process |
+|---|--:|--:|--:|--:|--:|
+EOF
+local one="" shards="" ranks=""
+for ((r = 0; r < REPEAT; r++)); do
+    rm -rf "$OUT"/batch-[12m]*/
+    one=$(faster "$one" "$M2S" --batch "$list" --out-dir "$OUT/batch-1" "${args[@]}" --threads "$cores")
+    shards=$(faster "$shards" bash -c "$shards_at_once" "$M2S" --batch "$list" --out-dir "$OUT/batch-2" "${args[@]}" --threads "$half")
+    if command -v mpirun >/dev/null; then
+        ranks=$(faster "$ranks" mpirun -np 2 --oversubscribe "${mpi[@]}" "$M2S" --batch "$list" --out-dir "$OUT/batch-mpi" "${args[@]}" --threads "$half")
+    fi
+done
+local t1=${one%% *} name procs threads best t
+for row in "one process|1|$cores|$one" "two shards at once|2|$half|$shards" "mpirun -np 2|2|$half|$ranks"; do
+    IFS='|' read -r name procs threads best <<<"$row"
+    if [ -z "$best" ]; then
+        echo "| $name | $procs | $threads | (no mpirun) | | |"
+        continue
+    fi
+    t=${best%% *}
+    echo "| $name | $procs | $threads | $t | $(awk -v n="$count" -v t="$t" 'BEGIN { printf "%.1f", 60 * n / t }') | $(ratio "$t1" "$t") |"
+done
+echo
+}
+
+[ "$NARROW" = 0 ] && [ -z "$ORIENT" ] && [ -z "$DENSE" ] || page_write mesh2sdf.md page
+[ -z "$BATCH" ] || page_write mesh2sdf-batch.md batch_page

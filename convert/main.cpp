@@ -1,23 +1,17 @@
 // mesh2sdf — a triangle mesh in, a signed distance grid out. See --help.
-// Order of work: options, output folders, mesh, box, health line, grid,
-// files (temporary names, renamed at the end), summary. Every failure is one
-// line on stderr and exit status 1, with no file left at a destination.
+// Options, then the conversion (job.h) and what it found, printed: the
+// health line once the mesh is read, the summary at the end. Every failure
+// is one line on stderr and exit status 1, with no file left at a
+// destination.
+#include "batch.h"
 #include "check.h"
-#include "grid.h"
-#include "mesh.h"
+#include "job.h"
 #include "options.h"
-#include "orient.h"
-#include "output.h"
-#include "progress.h"
 #include "query.h"
 #include "samples.h"
 
-#include <openvdb/tools/Count.h>
 #include <tbb/global_control.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
 
-#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <memory>
@@ -31,20 +25,10 @@ using namespace mesh2sdf;
 namespace
 {
 
-int fail(const std::string &error, std::vector<PendingFile *> files = {})
+int fail(const std::string &error)
 {
-    for (PendingFile *f : files)
-        discardFile(*f);
     std::fprintf(stderr, "mesh2sdf: %s\n", error.c_str());
     return 1;
-}
-
-std::string fileStem(const std::string &path)
-{
-    const size_t slash = path.find_last_of('/');
-    std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
-    const size_t dot = base.find_last_of('.');
-    return dot == std::string::npos || dot == 0 ? base : base.substr(0, dot);
 }
 
 double peakRssMiB()
@@ -54,12 +38,14 @@ double peakRssMiB()
     return double(ru.ru_maxrss) / 1024.0; // ru_maxrss is in KiB on Linux
 }
 
-void printHealth(const std::string &path, const MeshHealth &h, const OrientCounts *o)
+void printHealth(const std::string &path, const JobResult &r)
 {
+    const MeshHealth &h = r.health;
     std::printf("mesh %s: %zu vertices, %zu faces (%zu triangles), %zu boundary edges, %zu non-manifold edges, "
                 "%zu degenerate faces skipped",
                 path.c_str(), h.vertices, h.faces, h.triangles, h.boundaryEdges, h.nonManifoldEdges, h.degenerateFaces);
-    if (o) {
+    if (r.oriented) {
+        const OrientCounts *o = &r.orient;
         std::printf("; %zu vertices welded, %zu duplicate faces dropped, %zu patches, %zu faces reoriented, %zu "
                     "patches turned outward",
                     o->weldedVertices, o->duplicateFaces, o->patches, o->reorientedFaces, o->outwardPatches);
@@ -73,19 +59,10 @@ void printHealth(const std::string &path, const MeshHealth &h, const OrientCount
     std::printf("\n");
 }
 
-// Whether some active voxel is inside, by more than rounding (a voxel on a
-// face may come out -1e-17): a grid without one has no zero crossing to trace.
-bool hasSurface(const openvdb::FloatGrid &grid)
-{
-    return grid.activeVoxelCount() > 0 &&
-           openvdb::tools::minMax(grid.tree()).min() < -0.01 * float(grid.voxelSize()[0]);
-}
-
 // The --json object: the mesh's health, what orienting did, the grid.
-void printJson(const Options &opt, const MeshHealth &h, const OrientCounts *o, double orientSeconds,
-               const BoxGeometry &box, const openvdb::FloatGrid &grid, const BuildStats &stats, double seconds,
-               bool surface)
+void printJson(const Options &opt, const JobResult &r)
 {
+    const MeshHealth &h = r.health;
     std::printf("{\"mesh\": ");
     json_put_string(stdout, opt.input.c_str());
     std::printf(", \"output\": ");
@@ -93,139 +70,76 @@ void printJson(const Options &opt, const MeshHealth &h, const OrientCounts *o, d
     std::printf(", \"vertices\": %zu, \"faces\": %zu, \"triangles\": %zu, \"degenerate_faces\": %zu, "
                 "\"boundary_edges\": %zu, \"non_manifold_edges\": %zu, \"orient\": \"%s\"",
                 h.vertices, h.faces, h.triangles, h.degenerateFaces, h.boundaryEdges, h.nonManifoldEdges,
-                o ? "outward" : "none");
-    if (o)
+                r.oriented ? "outward" : "none");
+    if (r.oriented) {
+        const OrientCounts *o = &r.orient;
         std::printf(", \"welded_vertices\": %zu, \"duplicate_faces\": %zu, \"patches\": %zu, "
                     "\"reoriented_faces\": %zu, \"outward_patches\": %zu, \"cavity_patches\": %zu, "
                     "\"ambiguous_patches\": %zu, \"non_orientable_patches\": %zu",
                     o->weldedVertices, o->duplicateFaces, o->patches, o->reorientedFaces, o->outwardPatches,
                     o->cavityPatches, o->ambiguousPatches, o->nonOrientablePatches);
+    }
     std::printf(", \"dims\": [%d, %d, %d], \"voxel_size\": %.9g, \"active_voxels\": %llu, \"sign\": \"%s\", "
                 "\"ambiguous_voxels\": %llu, \"surface\": %s, \"orient_seconds\": %.6f, \"winding_seconds\": %.6f, "
                 "\"seconds\": %.6f, \"peak_mib\": %.1f}\n",
-                box.dims[0], box.dims[1], box.dims[2], box.voxelSize,
-                static_cast<unsigned long long>(grid.activeVoxelCount()), signMethodName(opt.sign),
-                static_cast<unsigned long long>(stats.ambiguousVoxels), surface ? "true" : "false", orientSeconds,
-                stats.windingSeconds, seconds, peakRssMiB());
-}
-
-// Every destination, reserved first: an unwritable output fails before any
-// work, and nothing is ever written at a destination until the end.
-struct Outputs {
-    PendingFile vdb, nvdb, npy, json;
-    std::vector<PendingFile *> pending;
-};
-
-bool reserveOutputs(const Options &opt, Outputs &out, std::string &error)
-{
-    out.pending = {&out.vdb};
-    if (!reserveFile(opt.output, out.vdb, error))
-        return false;
-    if (!opt.nvdb.empty()) {
-        out.pending.push_back(&out.nvdb);
-        if (!reserveFile(opt.nvdb, out.nvdb, error))
-            return false;
-    }
-    if (!opt.npy.empty()) {
-        out.pending.push_back(&out.npy);
-        out.pending.push_back(&out.json);
-        if (!reserveFile(opt.npy, out.npy, error) || !reserveFile(sidecarPath(opt.npy), out.json, error))
-            return false;
-    }
-    return true;
-}
-
-// The mesh as the conversion takes it: read, its box planned, oriented
-// (--orient outward) or only its edges counted, and what that found.
-struct PreparedMesh {
-    TriangleMesh mesh;
-    BoxGeometry box;
-    OrientCounts counts;
-    const OrientCounts *oriented = nullptr; // &counts, or none with --orient none
-    double orientSeconds = 0;
-};
-
-bool prepareMesh(const Options &opt, PreparedMesh &m, std::string &error)
-{
-    if (!loadMesh(opt.input, m.mesh, error) || !planBox(m.mesh, opt, m.box, error))
-        return false;
-    const auto start = std::chrono::steady_clock::now();
-    if (opt.orient == OrientMethod::Outward) {
-        m.counts = orientMesh(m.mesh, opt.simd);
-        m.oriented = &m.counts;
-    } else {
-        countEdges(m.mesh, edgeUses(m.mesh));
-    }
-    m.orientSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return true;
-}
-
-// The grid files and the dense array written side by side (each reads the
-// finished tree only, and OpenVDB's writer runs on one thread), then renamed
-// into place side by side too (replacing a large old file frees its blocks
-// within rename()).
-bool writeOutputs(const Options &opt, const openvdb::FloatGrid &grid, const BoxGeometry &box, const Provenance &how,
-                  Outputs &out, std::string &error)
-{
-    const size_t slash = opt.npy.find_last_of('/');
-    const std::string npyName = slash == std::string::npos ? opt.npy : opt.npy.substr(slash + 1);
-    std::string gridError, arrayError;
-    bool gridsWritten = false, arrayWritten = false;
-    tbb::parallel_invoke(
-        [&] {
-            gridsWritten = writeVdb(grid, out.vdb.tmp, gridError) &&
-                           (opt.nvdb.empty() || writeNvdb(grid, opt.fp16, out.nvdb.tmp, gridError));
-        },
-        [&] {
-            arrayWritten =
-                opt.npy.empty() || (writeNpy(grid, box, out.npy.tmp, arrayError) &&
-                                    writeNpyJson(box, npyName, how, grid.background(), out.json.tmp, arrayError));
-        });
-    if (!gridsWritten || !arrayWritten) {
-        error = gridsWritten ? arrayError : gridError;
-        return false;
-    }
-    std::vector<std::string> commitErrors(out.pending.size());
-    std::vector<char> committed(out.pending.size(), 0);
-    tbb::parallel_for(size_t(0), out.pending.size(),
-                      [&](size_t i) { committed[i] = commitFile(*out.pending[i], commitErrors[i]); });
-    for (size_t i = 0; i < out.pending.size(); ++i)
-        if (!committed[i]) {
-            error = commitErrors[i];
-            return false;
-        }
-    return true;
+                r.box.dims[0], r.box.dims[1], r.box.dims[2], r.box.voxelSize,
+                static_cast<unsigned long long>(r.activeVoxels), signMethodName(opt.sign),
+                static_cast<unsigned long long>(r.stats.ambiguousVoxels), r.surface ? "true" : "false", r.orientSeconds,
+                r.stats.windingSeconds, r.seconds, peakRssMiB());
 }
 
 // The closing line, or with --json the object; then, on stderr, what stays
 // uncertain: said, not written silently.
-void report(const Options &opt, const PreparedMesh &m, const openvdb::FloatGrid &grid, const BuildStats &stats,
-            double seconds)
+void report(const Options &opt, const JobResult &r)
 {
-    const bool surface = hasSurface(grid); // one pass over the tree, for the object and the warning
     if (opt.json) {
-        printJson(opt, m.mesh.health, m.oriented, m.orientSeconds, m.box, grid, stats, seconds, surface);
+        printJson(opt, r);
     } else if (!opt.quiet) {
         std::printf("wrote %s: %dx%dx%d box, voxel size %.6g, %llu active voxels, grid %.1f MiB, peak memory "
                     "%.1f MiB, %.2f s, sign %s",
-                    opt.output.c_str(), m.box.dims[0], m.box.dims[1], m.box.dims[2], m.box.voxelSize,
-                    static_cast<unsigned long long>(grid.activeVoxelCount()),
-                    double(grid.memUsage()) / (1024.0 * 1024.0), peakRssMiB(), seconds, signMethodName(opt.sign));
+                    opt.output.c_str(), r.box.dims[0], r.box.dims[1], r.box.dims[2], r.box.voxelSize,
+                    static_cast<unsigned long long>(r.activeVoxels), r.gridMiB, peakRssMiB(), r.seconds,
+                    signMethodName(opt.sign));
         if (opt.sign == SignMethod::Winding)
-            std::printf(" (%.2f s), %llu voxels signed from an ambiguous winding number", stats.windingSeconds,
-                        static_cast<unsigned long long>(stats.ambiguousVoxels));
+            std::printf(" (%.2f s), %llu voxels signed from an ambiguous winding number", r.stats.windingSeconds,
+                        static_cast<unsigned long long>(r.stats.ambiguousVoxels));
         std::printf("\n");
     }
     if (opt.sign != SignMethod::Winding)
         return;
-    if (m.oriented && m.oriented->ambiguousPatches)
+    if (r.oriented && r.orient.ambiguousPatches)
         std::fprintf(stderr,
                      "mesh2sdf: warning: %zu open patches have no clear outside and keep the file's "
                      "orientation; %llu voxels were signed from a winding number between 0.25 and 0.75\n",
-                     m.oriented->ambiguousPatches, static_cast<unsigned long long>(stats.ambiguousVoxels));
-    if (!surface)
+                     r.orient.ambiguousPatches, static_cast<unsigned long long>(r.stats.ambiguousVoxels));
+    if (!r.surface)
         std::fprintf(stderr, "mesh2sdf: warning: no voxel of the band is inside the mesh, so the grid has no "
                              "surface (an open sheet, or a mesh whose inside could not be told)\n");
+}
+
+// Once the mesh is read: its health line, and a warning when the sign
+// method assumes a closed mesh and this one is not.
+void meshReady(const Options &opt, const JobResult &r)
+{
+    if (!opt.quiet && !opt.json)
+        printHealth(opt.input, r);
+    if (!r.health.closed() && opt.sign == SignMethod::Flood)
+        std::fprintf(stderr,
+                     "mesh2sdf: warning: the mesh is not closed (%zu boundary, %zu non-manifold edges) and --sign "
+                     "flood assumes it is: inside and outside may be wrong; --sign winding handles open meshes\n",
+                     r.health.boundaryEdges, r.health.nonManifoldEdges);
+}
+
+// One mesh, the command line's way: its lines on stdout, its failure as
+// one line on stderr and exit status 1.
+int convertOne(const Options &opt)
+{
+    Progress progress(!opt.quiet && !opt.json);
+    const JobResult r = convertMesh(opt, progress, [&](const JobResult &ready) { meshReady(opt, ready); });
+    if (!r.ok)
+        return fail(r.error);
+    report(opt, r);
+    return 0;
 }
 
 } // namespace
@@ -254,8 +168,6 @@ int main(int argc, char **argv)
     if (opt.threads > 0)
         threads.reset(new tbb::global_control(tbb::global_control::max_allowed_parallelism, size_t(opt.threads)));
     openvdb::initialize();
-    const auto t0 = std::chrono::steady_clock::now();
-
     if (!opt.checkSign.empty()) {
         TriangleMesh mesh;
         if (!loadMesh(opt.input, mesh, error) || !checkSign(mesh, opt.checkSign, opt.checkPoints, error))
@@ -265,41 +177,5 @@ int main(int argc, char **argv)
     if (opt.samples > 0 || !opt.queryOut.empty())
         return (opt.samples > 0 ? runSamples(opt, error) : runQuery(opt, error)) ? 0 : fail(error);
 
-    Outputs out;
-    if (!reserveOutputs(opt, out, error))
-        return fail(error, out.pending);
-    PreparedMesh m;
-    if (!prepareMesh(opt, m, error))
-        return fail(error, out.pending);
-    if (!opt.quiet && !opt.json)
-        printHealth(opt.input, m.mesh.health, m.oriented);
-    if (!m.mesh.health.closed() && opt.sign == SignMethod::Flood)
-        std::fprintf(stderr,
-                     "mesh2sdf: warning: the mesh is not closed (%zu boundary, %zu non-manifold edges) and --sign "
-                     "flood assumes it is: inside and outside may be wrong; --sign winding handles open meshes\n",
-                     m.mesh.health.boundaryEdges, m.mesh.health.nonManifoldEdges);
-
-    Progress progress(!opt.quiet && !opt.json);
-    BuildStats stats;
-    openvdb::FloatGrid::Ptr grid;
-    try {
-        grid = buildGrid(m.mesh, m.box, opt, progress, stats);
-    } catch (const std::exception &e) {
-        progress.finish();
-        return fail(std::string("conversion failed: ") + e.what(), out.pending);
-    }
-    const Provenance how{opt.input, signMethodName(opt.sign), opt.band, opt.full};
-    describeGrid(*grid, opt.name.empty() ? fileStem(opt.input) : opt.name, how);
-
-    // Writing has no progress of its own: the bar waits at its start and
-    // shows 100% once every file is in place.
-    progress.stage("writing", buildGridEnd(opt), 100);
-    if (!writeOutputs(opt, *grid, m.box, how, out, error)) {
-        progress.finish();
-        return fail(error, out.pending);
-    }
-    progress.report(100);
-    progress.finish();
-    report(opt, m, *grid, stats, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    return 0;
+    return opt.batch.empty() ? convertOne(opt) : runBatch(opt);
 }

@@ -1,6 +1,7 @@
 // mesh2sdf — command line parsing (see options.h).
 #include "options.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -126,6 +127,43 @@ int setNoSimd(void *target, const char *, char *, size_t)
 {
     Options &o = *static_cast<Options *>(target);
     o.simd = o.simd512 = false;
+    return 0;
+}
+
+// --formats vdb,nvdb,npy: the files a batch writes per mesh.
+int setFormats(void *target, const char *v, char *msg, size_t len)
+{
+    Options &o = *static_cast<Options *>(target);
+    o.batchVdb = o.batchNvdb = o.batchNpy = false;
+    std::string list = v;
+    for (size_t at = 0; at <= list.size();) {
+        size_t comma = list.find(',', at);
+        if (comma == std::string::npos)
+            comma = list.size();
+        const std::string word = list.substr(at, comma - at);
+        bool &format = word == "vdb" ? o.batchVdb : word == "nvdb" ? o.batchNvdb : o.batchNpy;
+        if (word != "vdb" && word != "nvdb" && word != "npy") {
+            std::snprintf(msg, len, "--formats takes vdb, nvdb and npy, comma-separated, got '%s'", v);
+            return -1;
+        }
+        format = true;
+        at = comma + 1;
+    }
+    return 0;
+}
+
+// --shard K/N: 0 <= K < N.
+int setShard(void *target, const char *v, char *msg, size_t len)
+{
+    Options &o = *static_cast<Options *>(target);
+    int k = -1, n = 0, end = 0;
+    if (std::sscanf(v, "%d/%d%n", &k, &n, &end) != 2 || v[end] != '\0' || n < 1 || k < 0 || k >= n ||
+        !std::isdigit(static_cast<unsigned char>(v[0]))) {
+        std::snprintf(msg, len, "--shard takes K/N with 0 <= K < N (K from 0, as SLURM_ARRAY_TASK_ID), got '%s'", v);
+        return -1;
+    }
+    o.shard = k;
+    o.shards = n;
     return 0;
 }
 
@@ -265,6 +303,28 @@ std::vector<cmdline_option> optionRows(Options &o, int *sawRes, PointWords &word
              "(the bounding box's) and radius (1.03 times the\n"
              "farthest vertex); OUT.json records both",
              setTrue, &o.normalize, "the mesh's own units"),
+        call("batch", 0, "LIST",
+             "convert every mesh LIST names (one path a line,\n"
+             "relative to LIST's folder; blank lines and # comments\n"
+             "skipped) into --out-dir, with the other options;\n"
+             "meshes that fail are reported and skipped; under\n"
+             "mpirun, spread over the ranks",
+             setString, &o.batch, "none"),
+        call("out-dir", 0, "DIR",
+             "--batch: the folder for the outputs and report.jsonl\n"
+             "(created if missing); a mesh writes DIR/STEM.vdb ...,\n"
+             "STEM its file name stem (STEM-2, -3 ... for a stem\n"
+             "met again in LIST)",
+             setString, &o.outDir),
+        call("formats", 0, "KINDS",
+             "--batch: what to write per mesh, comma-separated:\n"
+             "vdb, nvdb, npy (with its .json)",
+             setFormats, &o, "vdb"),
+        call("shard", 0, "K/N",
+             "--batch: convert only shard K of N (K from 0 to N-1):\n"
+             "the meshes at positions K, K+N, K+2N ... of LIST;\n"
+             "its report is DIR/report.K-of-N.jsonl",
+             setShard, &o, "all"),
         row("help", 'h', nullptr, "this help", CMDLINE_HELP, nullptr),
         row("version", 0, nullptr, "the version, sdftrace's", CMDLINE_NOTE, nullptr), // main.cpp answers it
     };
@@ -312,6 +372,8 @@ cmdline_spec optionSpec(const std::vector<cmdline_option> &rows, Options &o)
                  "       mesh2sdf IN.obj --samples N OUT.npy [--near-sigma A,B] [--uniform-share S] [--seed N]\n"
                  "                       [--normalize]\n"
                  "       mesh2sdf IN.obj --query POINTS.npy OUT.npy [--winding] [--normalize]\n"
+                 "       mesh2sdf --batch LIST --out-dir DIR [--formats vdb,nvdb,npy] [--shard K/N] [options]\n"
+                 "       mpirun -np N mesh2sdf --batch LIST --out-dir DIR [options]\n"
                  "       mesh2sdf IN.obj --check-sign GRID.vdb [--check-sign GRID2.vdb ...] [--check-points N]\n"
                  "\n"
                  "Converts a triangle mesh to a signed distance grid (OpenVDB level set).\n"
@@ -321,13 +383,34 @@ cmdline_spec optionSpec(const std::vector<cmdline_option> &rows, Options &o)
                   "Dense outputs (--full, --npy) are limited to 2^31 voxels.\n"
                   "Exit status: 0 on success, 1 on bad input or a failed write (one line on\n"
                   "stderr; no partial output is left: files are written to a temporary name\n"
-                  "and renamed).\n";
+                  "and renamed). --batch: 0 when every mesh was converted or skipped (its\n"
+                  "outputs were there), 2 when some failed (each has its row in the report),\n"
+                  "1 when the batch could not run (bad options, unreadable LIST, unwritable\n"
+                  "DIR).\n";
     spec.rows = rows.data();
     spec.column = 25;
     spec.default_format = "(default: %s)";
     spec.operand = setInput;
     spec.operand_target = &o.input;
     return spec;
+}
+
+// --batch and its options: together, and without the one-mesh outputs.
+bool checkBatch(const Options &opt, std::string &error)
+{
+    const bool batchOnly = !opt.outDir.empty() || opt.shards > 1 || opt.batchNvdb || opt.batchNpy || !opt.batchVdb;
+    if (opt.batch.empty()) {
+        if (batchOnly)
+            error = "--out-dir, --formats and --shard go with --batch LIST";
+        return !batchOnly;
+    }
+    if (!opt.input.empty() || !opt.output.empty() || !opt.nvdb.empty() || !opt.npy.empty() || !opt.name.empty() ||
+        !opt.checkSign.empty())
+        error = "--batch takes its meshes from LIST and names the outputs itself: no mesh, -o, --nvdb, --npy, "
+                "--name or --check-sign beside it";
+    else if (opt.outDir.empty())
+        error = "--batch needs --out-dir DIR";
+    return error.empty();
 }
 
 } // namespace
@@ -358,13 +441,16 @@ bool parseOptions(int argc, char **argv, Options &opt, std::string &error)
         error = msg;
         return false;
     }
-    if (opt.input.empty()) {
+    if (!checkBatch(opt, error))
+        return false;
+    if (opt.input.empty() && opt.batch.empty()) {
         error = "no input mesh (see --help)";
         return false;
     }
     if (!pointModes(opt, words, error))
         return false;
-    if (opt.checkSign.empty() && opt.output.empty() && opt.samplesOut.empty() && opt.queryOut.empty()) {
+    if (opt.checkSign.empty() && opt.output.empty() && opt.samplesOut.empty() && opt.queryOut.empty() &&
+        opt.batch.empty()) {
         error = "no output: give -o OUT.vdb (see --help)";
         return false;
     }

@@ -52,6 +52,11 @@ struct Options {
     std::string queryIn, queryOut;
     bool winding = false;   // --query: the winding number beside each distance
     bool normalize = false; // --samples, --query: the mesh mapped into the unit sphere first (unit_sphere.h)
+    // --batch LIST: every mesh of LIST converted into outDir (batch.h).
+    std::string batch;
+    std::string outDir;
+    bool batchVdb = true, batchNvdb = false, batchNpy = false; // --formats
+    int shard = 0, shards = 1;                                 // --shard K/N: this process does shard K of N
     bool help = false;
 };
 

@@ -1,0 +1,200 @@
+// mesh2sdf --batch (see batch.h).
+#include "batch.h"
+
+#include "job.h"
+#ifdef MESH2SDF_WITH_MPI
+#include "mpi_batch.h"
+#endif
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <sys/stat.h>
+
+namespace mesh2sdf
+{
+
+namespace
+{
+
+// The options of one mesh: the batch's, with the input and DIR/NAME.* as
+// --formats asks.
+Options meshOptions(const Options &opt, const BatchEntry &entry)
+{
+    Options one = opt;
+    const std::string base = opt.outDir + "/" + entry.name;
+    one.input = entry.path;
+    one.output = opt.batchVdb ? base + ".vdb" : "";
+    one.nvdb = opt.batchNvdb ? base + ".nvdb" : "";
+    one.npy = opt.batchNpy ? base + ".npy" : "";
+    return one;
+}
+
+bool allExist(const std::vector<std::string> &files)
+{
+    struct stat st;
+    for (const std::string &f : files)
+        if (stat(f.c_str(), &st) != 0 || !S_ISREG(st.st_mode))
+            return false;
+    return true;
+}
+
+bool makeFolder(const std::string &dir, std::string &error)
+{
+    struct stat st;
+    if (mkdir(dir.c_str(), 0777) == 0 || (errno == EEXIST && stat(dir.c_str(), &st) == 0 && S_ISDIR(st.st_mode)))
+        return true;
+    error = "cannot create the output folder " + dir + ": " + std::strerror(errno == EEXIST ? ENOTDIR : errno);
+    return false;
+}
+
+std::string reportPath(const Options &opt)
+{
+    if (opt.shards == 1)
+        return opt.outDir + "/report.jsonl";
+    return opt.outDir + "/report." + std::to_string(opt.shard) + "-of-" + std::to_string(opt.shards) + ".jsonl";
+}
+
+// "1:05" or "2:03:07".
+std::string clock(double seconds)
+{
+    const long s = long(seconds + 0.5);
+    char text[32];
+    if (s >= 3600)
+        std::snprintf(text, sizeof text, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+    else
+        std::snprintf(text, sizeof text, "%ld:%02ld", s / 60, s % 60);
+    return text;
+}
+
+int fail(const std::string &error)
+{
+    std::fprintf(stderr, "mesh2sdf: %s\n", error.c_str());
+    return 1;
+}
+
+} // namespace
+
+bool planBatch(const Options &opt, bool withReport, BatchPlan &plan, std::string &error)
+{
+    std::vector<BatchEntry> all;
+    if (!readBatchList(opt.batch, all, error) || !makeFolder(opt.outDir, error))
+        return false;
+    plan.entries = batchShard(all, opt.shard, opt.shards);
+    for (size_t i = 0; i < plan.entries.size(); ++i)
+        if (!allExist(jobOutputs(meshOptions(opt, plan.entries[i]))))
+            plan.pending.push_back(i);
+    if (!withReport)
+        return true;
+    plan.report.reset(new BatchReport(reportPath(opt), plan.entries.size()));
+    return plan.report->loadEarlier(error);
+}
+
+BatchRow convertEntry(const Options &opt, const BatchEntry &entry)
+{
+    Progress quiet(false);
+    return jobRow(entry, convertMesh(meshOptions(opt, entry), quiet));
+}
+
+BatchSink::BatchSink(const Options &opt, BatchPlan &plan)
+    : mOpt(opt), mPlan(plan), mProgress(!opt.quiet && !opt.json), mStart(std::chrono::steady_clock::now())
+{
+    for (size_t i : plan.pending)
+        mBytesTotal += plan.entries[i].bytes;
+}
+
+bool BatchSink::start(std::string &error)
+{
+    size_t next = 0; // in pending
+    for (size_t i = 0; i < mPlan.entries.size(); ++i) {
+        if (next < mPlan.pending.size() && mPlan.pending[next] == i) {
+            ++next;
+            continue;
+        }
+        const BatchEntry &e = mPlan.entries[i];
+        const BatchRow row = skippedRow(e, jobOutputs(meshOptions(mOpt, e)), mPlan.report->earlier(e.line));
+        mPlan.report->set(i, row.json);
+        ++mSkipped;
+        show(row);
+    }
+    showProgress();
+    return mPlan.report->write(true, error);
+}
+
+bool BatchSink::add(size_t index, const BatchRow &row, std::string &error)
+{
+    mPlan.report->set(index, row.json);
+    ++mDone;
+    mBytesDone += mPlan.entries[index].bytes;
+    ++(row.status == RowStatus::Ok ? mConverted : mFailed);
+    mProgress.finish();
+    show(row);
+    showProgress();
+    return mPlan.report->write(false, error);
+}
+
+void BatchSink::show(const BatchRow &row)
+{
+    if (row.status == RowStatus::Failed)
+        std::fprintf(stderr, "mesh2sdf: %s\n", row.text.c_str());
+    if (mOpt.json)
+        std::printf("%s\n", row.json.c_str());
+    else if (!mOpt.quiet && row.status != RowStatus::Failed)
+        std::printf("%s\n", row.text.c_str());
+    std::fflush(stdout);
+}
+
+// "12/40 meshes, 3:10 left": the time so far, scaled by the bytes of mesh
+// still to convert over those converted.
+void BatchSink::showProgress()
+{
+    const size_t total = mPlan.pending.size();
+    if (total == 0 || mDone == total)
+        return;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - mStart).count();
+    mLabel = std::to_string(mDone) + "/" + std::to_string(total) + " meshes";
+    if (mBytesDone > 0)
+        mLabel += ", " + clock(elapsed * double(mBytesTotal - mBytesDone) / double(mBytesDone)) + " left";
+    const int percent = int(100 * mDone / total);
+    mProgress.stage(mLabel.c_str(), percent, percent);
+}
+
+int BatchSink::finish()
+{
+    mProgress.finish();
+    std::string error;
+    if (!mPlan.report->write(true, error))
+        return fail(error);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - mStart).count();
+    if (!mOpt.quiet && !mOpt.json)
+        std::printf("batch: %zu meshes, %zu converted, %zu skipped, %zu failed, %.2f s; report %s\n",
+                    mPlan.entries.size(), mConverted, mSkipped, mFailed, seconds, mPlan.report->path().c_str());
+    return mFailed ? kBatchSomeFailed : 0;
+}
+
+int runBatch(const Options &opt)
+{
+#ifdef MESH2SDF_WITH_MPI
+    if (mpiLaunched())
+        return runMpiBatch(opt);
+#else
+    const char *ranks = std::getenv("OMPI_COMM_WORLD_SIZE");
+    if (ranks && std::atoi(ranks) > 1)
+        return fail("this mesh2sdf was built without MPI, so its ranks would each convert the whole list: run "
+                    "one process, or give each --shard $OMPI_COMM_WORLD_RANK/$OMPI_COMM_WORLD_SIZE");
+#endif
+    BatchPlan plan;
+    std::string error;
+    if (!planBatch(opt, true, plan, error))
+        return fail(error);
+    BatchSink sink(opt, plan);
+    if (!sink.start(error))
+        return fail(error);
+    for (size_t i : plan.pending)
+        if (!sink.add(i, convertEntry(opt, plan.entries[i]), error))
+            return fail(error);
+    return sink.finish();
+}
+
+} // namespace mesh2sdf

@@ -1,0 +1,182 @@
+// mesh2sdf --batch — the report (see batch_report.h).
+#include "batch_report.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <new>
+
+#include "atomic_file.h"
+#include "json.h"
+
+namespace mesh2sdf
+{
+
+namespace
+{
+
+// printf into a std::string.
+template <typename... Args> std::string format(const char *fmt, Args... args)
+{
+    const int n = std::snprintf(nullptr, 0, fmt, args...);
+    std::string s(size_t(n), '\0');
+    std::snprintf(&s[0], size_t(n) + 1, fmt, args...);
+    return s;
+}
+
+std::string jsonList(const std::vector<std::string> &items)
+{
+    std::string list = "[";
+    for (size_t i = 0; i < items.size(); ++i)
+        list += (i ? ", " : "") + jsonString(items[i]);
+    return list + "]";
+}
+
+// The counts of a mesh that was read: the names of mesh2sdf --json.
+std::string healthFields(const JobResult &r)
+{
+    const MeshHealth &h = r.health;
+    std::string s = format(", \"vertices\": %zu, \"faces\": %zu, \"triangles\": %zu, \"degenerate_faces\": %zu, "
+                           "\"boundary_edges\": %zu, \"non_manifold_edges\": %zu",
+                           h.vertices, h.faces, h.triangles, h.degenerateFaces, h.boundaryEdges, h.nonManifoldEdges);
+    if (r.oriented) {
+        const OrientCounts &o = r.orient;
+        s += format(", \"welded_vertices\": %zu, \"duplicate_faces\": %zu, \"patches\": %zu, \"reoriented_faces\": "
+                    "%zu, \"outward_patches\": %zu, \"cavity_patches\": %zu, \"ambiguous_patches\": %zu, "
+                    "\"non_orientable_patches\": %zu",
+                    o.weldedVertices, o.duplicateFaces, o.patches, o.reorientedFaces, o.outwardPatches, o.cavityPatches,
+                    o.ambiguousPatches, o.nonOrientablePatches);
+    }
+    return s;
+}
+
+// The escaped "mesh" of a row this report wrote: the text between the
+// quotes after {"mesh": , or "" for a line of another shape.
+std::string rowMesh(const std::string &row)
+{
+    static const std::string head = "{\"mesh\": \"";
+    if (row.compare(0, head.size(), head) != 0)
+        return "";
+    for (size_t i = head.size(); i < row.size(); ++i) {
+        if (row[i] == '\\')
+            ++i;
+        else if (row[i] == '"')
+            return row.substr(head.size() - 1, i - head.size() + 2);
+    }
+    return "";
+}
+
+} // namespace
+
+std::string jsonString(const std::string &s)
+{
+    char *text = nullptr;
+    size_t size = 0;
+    FILE *f = open_memstream(&text, &size);
+    if (!f)
+        throw std::bad_alloc();
+    json_put_string(f, s.c_str());
+    std::fclose(f);
+    std::string out(text, size);
+    std::free(text);
+    return out;
+}
+
+BatchRow jobRow(const BatchEntry &entry, const JobResult &r)
+{
+    BatchRow row;
+    row.status = r.ok ? RowStatus::Ok : RowStatus::Failed;
+    row.json = "{\"mesh\": " + jsonString(entry.line) + ", \"status\": \"" + (r.ok ? "ok" : "failed") +
+               "\", \"error\": " + (r.ok ? "null" : jsonString(r.error)) + format(", \"seconds\": %.3f", r.seconds);
+    if (r.ok)
+        row.json += format(", \"voxels\": %llu, \"dims\": [%d, %d, %d], \"voxel_size\": %.9g, \"ambiguous_voxels\": "
+                           "%llu, \"surface\": %s",
+                           static_cast<unsigned long long>(r.activeVoxels), r.box.dims[0], r.box.dims[1], r.box.dims[2],
+                           r.box.voxelSize, static_cast<unsigned long long>(r.stats.ambiguousVoxels),
+                           r.surface ? "true" : "false");
+    if (r.meshRead)
+        row.json += healthFields(r);
+    row.json += ", \"outputs\": " + jsonList(r.outputs) + "}";
+    row.text = r.ok ? format("ok %s: %llu active voxels, %.2f s", entry.line.c_str(),
+                             static_cast<unsigned long long>(r.activeVoxels), r.seconds)
+                    : "failed " + entry.line + ": " + r.error;
+    return row;
+}
+
+BatchRow skippedRow(const BatchEntry &entry, const std::vector<std::string> &outputs, const std::string &earlier)
+{
+    BatchRow row;
+    row.status = RowStatus::Skipped;
+    row.json = !earlier.empty()
+                   ? earlier
+                   : "{\"mesh\": " + jsonString(entry.line) +
+                         ", \"status\": \"skipped\", \"error\": null, \"outputs\": " + jsonList(outputs) + "}";
+    row.text = "skipped " + entry.line + ": its outputs are there";
+    return row;
+}
+
+BatchReport::BatchReport(std::string path, size_t slots) : mPath(std::move(path)), mRows(slots) {}
+
+bool BatchReport::loadEarlier(std::string &error)
+{
+    std::ifstream in(mPath);
+    if (!in)
+        return true; // no earlier run
+    std::string line;
+    while (std::getline(in, line)) {
+        const std::string mesh = rowMesh(line);
+        if (!mesh.empty())
+            mEarlier[mesh] = line;
+    }
+    if (in.bad()) {
+        error = "cannot read the earlier report " + mPath;
+        return false;
+    }
+    return true;
+}
+
+std::string BatchReport::earlier(const std::string &line) const
+{
+    const auto row = mEarlier.find(jsonString(line));
+    return row == mEarlier.end() ? "" : row->second;
+}
+
+void BatchReport::set(size_t slot, const std::string &json)
+{
+    mRows[slot] = json;
+    mDirty = true;
+}
+
+bool BatchReport::write(bool now, std::string &error)
+{
+    const auto t = std::chrono::steady_clock::now();
+    if (!now && (!mDirty || t - mWritten < std::chrono::seconds(1)))
+        return true;
+    atomic_file file;
+    char msg[512];
+    if (atomic_file_begin(&file, mPath.c_str(), msg, sizeof msg)) {
+        error = msg;
+        return false;
+    }
+    FILE *f = std::fopen(file.tmp_path, "w");
+    bool written = f != nullptr;
+    for (size_t i = 0; written && i < mRows.size(); ++i)
+        if (!mRows[i].empty())
+            written = std::fprintf(f, "%s\n", mRows[i].c_str()) >= 0;
+    if (f && std::fclose(f) != 0)
+        written = false;
+    if (!written) {
+        atomic_file_abort(&file);
+        error = "cannot write the report " + mPath;
+        return false;
+    }
+    if (atomic_file_commit(&file, msg, sizeof msg)) {
+        error = msg;
+        return false;
+    }
+    mWritten = t;
+    mDirty = false;
+    return true;
+}
+
+} // namespace mesh2sdf
