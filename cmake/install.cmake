@@ -6,6 +6,8 @@
 #   find_package(sdftrace CONFIG REQUIRED)                          sdftrace::sdftrace, sdftrace::sdftrace_static
 #   find_package(sdftrace CONFIG REQUIRED COMPONENTS vdb)           also sdftrace::vdb (shared)
 #   find_package(sdftrace CONFIG REQUIRED COMPONENTS vdb_static)    also sdftrace::vdb_static (needs OpenVDB, C++)
+#   find_package(sdftrace CONFIG REQUIRED COMPONENTS mesh)          also sdftrace::mesh (shared, sdftrace/mesh.h)
+#   find_package(sdftrace CONFIG REQUIRED COMPONENTS mesh_static)   also sdftrace::mesh_static (needs OpenVDB, OpenMesh, TBB)
 #   find_package(sdftrace CONFIG REQUIRED COMPONENTS scenes)        also sdftrace::scenes (static, the demo scenes)
 #   pkg-config --cflags --libs sdftrace  (sdftrace_vdb; --static for the static libraries)
 
@@ -34,6 +36,17 @@ if(TARGET sdftrace_vdb)
   install(EXPORT sdftrace_vdb_staticTargets NAMESPACE sdftrace:: DESTINATION ${SDFT_CMAKE_DIR})
 endif()
 
+if(TARGET sdftrace_mesh)
+  # The mesh component, as the OpenVDB one: the shared library needs nothing
+  # at build time, the static one brings OpenVDB, OpenMesh and TBB.
+  set_target_properties(sdftrace_mesh PROPERTIES EXPORT_NAME mesh)
+  set_target_properties(sdftrace_mesh_static PROPERTIES EXPORT_NAME mesh_static)
+  install(TARGETS sdftrace_mesh EXPORT sdftrace_meshTargets LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(TARGETS sdftrace_mesh_static EXPORT sdftrace_mesh_staticTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(EXPORT sdftrace_meshTargets NAMESPACE sdftrace:: DESTINATION ${SDFT_CMAKE_DIR})
+  install(EXPORT sdftrace_mesh_staticTargets NAMESPACE sdftrace:: DESTINATION ${SDFT_CMAKE_DIR})
+endif()
+
 configure_package_config_file(cmake/sdftraceConfig.cmake.in ${CMAKE_CURRENT_BINARY_DIR}/sdftraceConfig.cmake
                               INSTALL_DESTINATION ${SDFT_CMAKE_DIR})
 write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/sdftraceConfigVersion.cmake
@@ -51,4 +64,8 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/sdftrace.pc DESTINATION ${CMAKE_INSTAL
 if(TARGET sdftrace_vdb)
   configure_file(cmake/sdftrace_vdb.pc.in ${CMAKE_CURRENT_BINARY_DIR}/sdftrace_vdb.pc @ONLY)
   install(FILES ${CMAKE_CURRENT_BINARY_DIR}/sdftrace_vdb.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+endif()
+if(TARGET sdftrace_mesh)
+  configure_file(cmake/sdftrace_mesh.pc.in ${CMAKE_CURRENT_BINARY_DIR}/sdftrace_mesh.pc @ONLY)
+  install(FILES ${CMAKE_CURRENT_BINARY_DIR}/sdftrace_mesh.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 endif()

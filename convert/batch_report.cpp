@@ -68,20 +68,6 @@ std::string rowMesh(const std::string &row)
 
 } // namespace
 
-std::string jsonString(const std::string &s)
-{
-    char *text = nullptr;
-    size_t size = 0;
-    FILE *f = open_memstream(&text, &size);
-    if (!f)
-        throw std::bad_alloc();
-    json_put_string(f, s.c_str());
-    std::fclose(f);
-    std::string out(text, size);
-    std::free(text);
-    return out;
-}
-
 BatchRow jobRow(const BatchEntry &entry, const JobResult &r)
 {
     BatchRow row;

@@ -33,7 +33,8 @@ BatchRow jobRow(const BatchEntry &entry, const JobResult &r);
 /// with status "skipped".
 BatchRow skippedRow(const BatchEntry &entry, const std::vector<std::string> &outputs, const std::string &earlier);
 
-/// The JSON string literal of s, quotes included.
+/// The JSON string literal of s, quotes included (query.cpp has the one
+/// definition).
 std::string jsonString(const std::string &s);
 
 class BatchReport
