@@ -9,8 +9,8 @@
 # then grid.save(OUT.vdb)), both reading the mesh from its file. The
 # command line's time is its process's wall time (its start included); the
 # Python call's is timed inside one interpreter, after `import sdftrace`
-# (which a training script pays once). Each side runs REPEAT times and keeps its
-# fastest run. Target: Python within +5% of the command line.
+# (which a training script pays once). The sides run in turns, REPEAT times
+# each, and each keeps its fastest run. Target: Python within +5% of the command line.
 #
 # usage: bench/python.sh
 # env:   BUILD=build  MESH=tests/data/meshes/stanford-bunny.obj  REPEAT=5
@@ -31,56 +31,51 @@ PYTHON=${PYTHON:-/usr/bin/python3}
 work=$BUILD/bench-python
 mkdir -p "$work"
 
-# Fastest wall time of REPEAT runs of a command, seconds.
-cli_best() {
-    local best=1e9 start end
-    for _ in $(seq "$REPEAT"); do
-        start=$EPOCHREALTIME
-        "$@" >/dev/null
-        end=$EPOCHREALTIME
-        best=$(awk -v a="$best" -v b="$(awk -v s="$start" -v e="$end" 'BEGIN { print e - s }')" \
-            'BEGIN { print (b < a ? b : a) }')
-    done
-    echo "$best"
-}
-
-# Fastest time of REPEAT Python calls, seconds: KIND samples or grid.
-python_best() {
-    PYTHONPATH=$BUILD/python "$PYTHON" - "$1" "$MESH" "$work" "$REPEAT" <<'PY'
-import sys, time
+# The table, from one Python driver that alternates the two sides (CLI,
+# Python, CLI, ...), so that a change in the machine's load falls on both,
+# and keeps each side's fastest run.
+table() {
+    PYTHONPATH=$BUILD/python "$PYTHON" - "$BUILD/mesh2sdf" "$MESH" "$work" "$REPEAT" <<'PY'
+import subprocess, sys, time
 import numpy as np
 import sdftrace
-kind, mesh, work, repeat = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4])
-best = float("inf")
-for _ in range(repeat):
-    start = time.perf_counter()
-    if kind == "samples":
-        points, sdf = sdftrace.sample_near_surface(sdftrace.Mesh(mesh), 250000, seed=1)
-        np.save(work + "/py-samples.npy", np.column_stack([points, sdf]))
-    else:
-        sdftrace.mesh_to_grid(mesh, res=256).save(work + "/py-grid.vdb")
-    best = min(best, time.perf_counter() - start)
-print(best)
-PY
-}
+cli, mesh, work, repeat = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4])
 
-table() {
-    echo "| work | mesh2sdf (s) | Python (s) | Python over the CLI | target |"
-    echo "|---|---:|---:|---:|---|"
-    local cli py
-    cli=$(cli_best "$BUILD/mesh2sdf" "$MESH" --samples 250000 "$work/cli-samples.npy" --seed 1 --quiet)
-    py=$(python_best samples)
-    awk -v c="$cli" -v p="$py" 'BEGIN { printf "| 250,000 samples | %.3f | %.3f | %+.1f%% | %s |\n",
-        c, p, 100 * (p / c - 1), (p <= 1.05 * c ? "met (<= +5%)" : "missed (> +5%)") }'
-    cli=$(cli_best "$BUILD/mesh2sdf" "$MESH" -o "$work/cli-grid.vdb" --res 256 --quiet)
-    py=$(python_best grid)
-    awk -v c="$cli" -v p="$py" 'BEGIN { printf "| 256^3 grid, written as .vdb | %.3f | %.3f | %+.1f%% | %s |\n",
-        c, p, 100 * (p / c - 1), (p <= 1.05 * c ? "met (<= +5%)" : "missed (> +5%)") }'
+def timed(run):
+    start = time.perf_counter()
+    run()
+    return time.perf_counter() - start
+
+def samples_cli():
+    subprocess.run([cli, mesh, "--samples", "250000", work + "/cli-samples.npy", "--seed", "1", "--quiet"], check=True)
+
+def samples_python():
+    points, sdf = sdftrace.sample_near_surface(mesh, 250000, seed=1)
+    np.save(work + "/py-samples.npy", np.column_stack([points, sdf]))
+
+def grid_cli():
+    subprocess.run([cli, mesh, "-o", work + "/cli-grid.vdb", "--res", "256", "--quiet"], check=True)
+
+def grid_python():
+    sdftrace.mesh_to_grid(mesh, res=256).save(work + "/py-grid.vdb")
+
+print("| work | mesh2sdf (s) | Python (s) | Python over the CLI | target |")
+print("|---|---:|---:|---:|---|")
+for label, a, b in (("250,000 samples", samples_cli, samples_python),
+                    ("256^3 grid, written as .vdb", grid_cli, grid_python)):
+    best_cli = best_py = float("inf")
+    for _ in range(repeat):
+        best_cli = min(best_cli, timed(a))
+        best_py = min(best_py, timed(b))
+    over = best_py / best_cli - 1
+    verdict = "met (<= +5%)" if over <= 0.05 else "missed (> +5%)"
+    print(f"| {label} | {best_cli:.3f} | {best_py:.3f} | {100 * over:+.1f}% | {verdict} |")
+PY
 }
 
 page() {
     page_header "The Python module against the command line" "$command"
-    echo "Mesh: \`$MESH\`; fastest of $REPEAT runs each. The command line's"
+    echo "Mesh: \`$MESH\`; fastest of $REPEAT runs each, the two sides in turns. The command line's"
     echo "time includes its process start; the Python call's excludes \`import sdftrace\`."
     echo
     table
