@@ -581,18 +581,9 @@ static PyObject *nano_grid_info(NanoGridObject *self, PyObject *unused)
                          b.hi.x, b.hi.y, b.hi.z);
 }
 
-static PyObject *nano_grid_bytes(NanoGridObject *self, PyObject *unused)
-{
-    (void)unused;
-    size_t size = 0;
-    const void *data = sdft_grid_data(self->grid, &size);
-    return PyBytes_FromStringAndSize(data, (Py_ssize_t)size);
-}
-
 static PyMethodDef nano_grid_methods[] = {{"sample", (PyCFunction)nano_grid_sample, METH_O, NULL},
                                           {"dense", (PyCFunction)nano_grid_dense, METH_NOARGS, NULL},
                                           {"info", (PyCFunction)nano_grid_info, METH_NOARGS, NULL},
-                                          {"nvdb_bytes", (PyCFunction)nano_grid_bytes, METH_NOARGS, NULL},
                                           {NULL, NULL, 0, NULL}};
 
 static PyTypeObject NanoGridType = {
@@ -613,28 +604,34 @@ static int vec3_of(PyObject *o, sdft_vec3 *v)
     return PyArg_ParseTuple(o, "fff", &v->x, &v->y, &v->z);
 }
 
-static PyObject *image_planes(const sdft_image *img)
+/* The image's planes as numpy arrays, which sdft_render fills in place:
+ * a dict of them, with *img pointing into them, or NULL with an exception. */
+static PyObject *image_planes(int width, int height, sdft_image *img)
 {
-    npy_intp one[2] = {img->height, img->width}, three[3] = {img->height, img->width, 3};
-    PyArrayObject *depth = new_floats(2, one), *normal = new_floats(3, three), *rgb = new_floats(3, three);
-    PyArrayObject *steps = (PyArrayObject *)PyArray_SimpleNew(2, one, NPY_UINT32);
-    PyArrayObject *status = (PyArrayObject *)PyArray_SimpleNew(2, one, NPY_UINT8);
-    if (!depth || !normal || !rgb || !steps || !status) {
-        Py_XDECREF(depth);
-        Py_XDECREF(normal);
-        Py_XDECREF(rgb);
-        Py_XDECREF(steps);
-        Py_XDECREF(status);
-        return NULL;
+    npy_intp one[2] = {height, width}, three[3] = {height, width, 3};
+    PyObject *planes = PyDict_New();
+    const struct {
+        const char *name;
+        int ndim, type;
+        void **plane;
+    } rows[] = {{"depth", 2, NPY_FLOAT32, (void **)&img->depth},
+                {"normal", 3, NPY_FLOAT32, (void **)&img->normal},
+                {"rgb", 3, NPY_FLOAT32, (void **)&img->rgb},
+                {"steps", 2, NPY_UINT32, (void **)&img->steps},
+                {"primary_steps", 2, NPY_UINT32, (void **)&img->primary_steps},
+                {"fallbacks", 2, NPY_UINT32, (void **)&img->fallbacks},
+                {"status", 2, NPY_UINT8, (void **)&img->status}};
+    for (size_t i = 0; planes && i < sizeof rows / sizeof *rows; i++) {
+        PyObject *a = PyArray_SimpleNew(rows[i].ndim, rows[i].ndim == 2 ? one : three, rows[i].type);
+        if (!a || PyDict_SetItemString(planes, rows[i].name, a) < 0)
+            Py_CLEAR(planes);
+        else
+            *rows[i].plane = PyArray_DATA((PyArrayObject *)a);
+        Py_XDECREF(a);
     }
-    const size_t px = (size_t)img->width * (size_t)img->height;
-    memcpy(PyArray_DATA(depth), img->depth, px * sizeof(float));
-    memcpy(PyArray_DATA(normal), img->normal, px * 3 * sizeof(float));
-    memcpy(PyArray_DATA(rgb), img->rgb, px * 3 * sizeof(float));
-    memcpy(PyArray_DATA(steps), img->steps, px * sizeof(uint32_t));
-    memcpy(PyArray_DATA(status), img->status, px);
-    return Py_BuildValue("{sNsNsNsNsN}", "depth", depth, "normal", normal, "rgb", rgb, "steps", steps, "status",
-                         status);
+    img->width = width;
+    img->height = height;
+    return planes;
 }
 
 static PyObject *render(PyObject *module, PyObject *args, PyObject *kw)
@@ -678,16 +675,20 @@ static PyObject *render(PyObject *module, PyObject *args, PyObject *kw)
     if (e != SDFT_OK)
         return raise_error(e, msg);
     p.trace.omega = sdft_default_omega(p.trace.method);
+    if (p.width < 1 || p.height < 1 || p.width > 16384 || p.height > 16384)
+        return raise_error(SDFT_EINVAL, "width and height must be 1..16384");
     sdft_image img;
     memset(&img, 0, sizeof img);
-    e = sdft_image_alloc(&img, p.width, p.height, msg, sizeof msg);
-    if (e != SDFT_OK)
-        return raise_error(e, msg);
+    PyObject *planes = image_planes(p.width, p.height, &img);
+    if (!planes)
+        return NULL;
     PyThreadState *ts = PyEval_SaveThread();
     e = sdft_render(&field, &p, &img, NULL, msg, sizeof msg);
     PyEval_RestoreThread(ts);
-    PyObject *planes = e == SDFT_OK ? image_planes(&img) : raise_error(e, msg);
-    sdft_image_free(&img);
+    if (e != SDFT_OK) {
+        Py_DECREF(planes);
+        return raise_error(e, msg);
+    }
     return planes;
 }
 

@@ -193,18 +193,11 @@ class Grid:
 
     def save(self, path: Union[str, os.PathLike], fp16: bool = False) -> None:
         """Writes ``.vdb``, ``.nvdb`` (``fp16``: half-float leaves) or ``.npy`` (with its
-        sidecar ``.json``), the bytes ``mesh2sdf`` writes, whole or not at all. A loaded grid
-        saves as ``.nvdb`` only."""
-        if self._converted is not None:
-            self._converted.write(os.fspath(path), fp16)
-            return
-        if not os.fspath(path).endswith(".nvdb") or fp16:
-            raise ValueError("a loaded grid saves as .nvdb (float) only")
-        raw = self._nano.nvdb_bytes()
-        tmp = os.fspath(path) + ".tmp"
-        with open(tmp, "wb") as f:
-            f.write(raw)
-        os.replace(tmp, path)
+        sidecar ``.json``), the bytes ``mesh2sdf`` writes, whole or not at all. For grids
+        from :func:`mesh_to_grid`."""
+        if self._converted is None:
+            raise ValueError("a loaded grid is saved by the file it came from; save converts grids")
+        self._converted.write(os.fspath(path), fp16)
 
     def sample(self, points: Any) -> np.ndarray:
         """Trilinear values at world points (n, 3), float32 (n,): the tracer's sampler;
@@ -252,9 +245,10 @@ def render(
     threads: int = 0,
 ) -> Dict[str, np.ndarray]:
     """Sphere-traces a grid or a procedural scene (by name, :func:`scenes`) into image
-    planes, row-major, y down: depth (h, w) float32 (inf where nothing is hit), normal
-    (h, w, 3), rgb (h, w, 3) linear, steps (h, w) uint32 (evaluations per pixel), status
-    (h, w) uint8. ``camera``: a dict of eye, target, up (3 floats each) and fov (degrees);
+    planes, row-major, y down, filled in place by the tracer: depth (h, w) float32 (inf
+    where nothing is hit), normal (h, w, 3), rgb (h, w, 3) linear, steps, primary_steps and
+    fallbacks (h, w) uint32 (evaluations per pixel, all rays and the primary ray's), status
+    (h, w) uint8 (sdftrace/trace.h's sdft_status). ``camera``: a dict of eye, target, up (3 floats each) and fov (degrees);
     by default the scene's camera, or for a grid one in front of it. ``method``: sphere,
     relaxed, enhanced or auto."""
     camera = camera or {}

@@ -200,6 +200,12 @@ def test_grid_against_the_cli_and_the_sampler(tmp_path):
         loaded = sdftrace.Grid.load(tmp_path / path)
         np.testing.assert_allclose(loaded.sample(centres), dense[tuple(idx.T)], atol=1e-5 * info["voxel_size"])
     assert sdftrace.Grid.load(tmp_path / "g.nvdb").to_numpy().size > 0
+    with pytest.raises(ValueError):
+        sdftrace.Grid.load(tmp_path / "g.nvdb").save(tmp_path / "again.nvdb")
+    broken = tmp_path / "broken.nvdb"
+    broken.write_bytes(b"NanoVDB0" + bytes(100))
+    with pytest.raises(ValueError):
+        sdftrace.Grid.load(broken)
 
 
 def test_render_planes():
@@ -210,6 +216,7 @@ def test_render_planes():
     assert 0 < hit.sum() < hit.size
     np.testing.assert_allclose(np.linalg.norm(image["normal"][hit], axis=1), 1, atol=1e-3)
     assert image["steps"].dtype == np.uint32 and image["steps"][hit].min() > 0
+    assert np.all(image["primary_steps"] <= image["steps"])
     scene = sdftrace.render("temple", width=32, height=24, method="sphere")
     assert np.isfinite(scene["depth"]).any()
     assert "temple" in sdftrace.scenes()
