@@ -1,9 +1,10 @@
 /* The mesh component's C API (sdftrace/mesh.h), held to truth computed
  * here and to the converter's own files: distances against brute force
- * over every triangle, winding numbers against summed solid angles, the
- * samples' rows and the grids' .npy and .nvdb bytes against what mesh2sdf
- * writes for the same options; bad arguments refused with their code and a
- * line; long calls cancelled from their progress callback. */
+ * over every triangle, winding numbers against summed solid angles, one
+ * mesh queried from several threads at once, the samples' rows and the
+ * grids' .npy and .nvdb bytes against what mesh2sdf writes for the same
+ * options; bad arguments refused with their code and a line; long calls
+ * cancelled from their progress callback. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -154,6 +155,32 @@ static void arrays_as_the_file(void **state)
     free(faces);
     sdft_mesh_free(a);
     sdft_mesh_free(f);
+    mesh_free(&b);
+}
+
+/* One mesh queried from several threads at once, its hierarchies built
+ * by whichever query comes first: each thread's answers are the ones a
+ * lone query gives. */
+static void queried_from_threads(void **state)
+{
+    (void)state;
+    mesh b = read_mesh(SUZANNE);
+    sdft_mesh *m = load(SUZANNE);
+    enum { N = 512, THREADS = 8 };
+    double *p = random_points(&b, N, 4);
+    float alone[N], together[N];
+    int failures = 0;
+#pragma omp parallel for num_threads(THREADS) reduction(+ : failures)
+    for (int t = 0; t < THREADS; t++) {
+        sdft_points part = {.data = p + t * (N / THREADS) * 3, .type = SDFT_FLOAT64, .count = N / THREADS};
+        failures += sdft_mesh_signed_distance(m, &part, together + t * (N / THREADS), NULL, NULL, 0) != SDFT_OK;
+    }
+    assert_int_equal(failures, 0);
+    sdft_points all = {.data = p, .type = SDFT_FLOAT64, .count = N};
+    assert_int_equal(sdft_mesh_signed_distance(m, &all, alone, NULL, NULL, 0), SDFT_OK);
+    assert_memory_equal(alone, together, sizeof alone);
+    free(p);
+    sdft_mesh_free(m);
     mesh_free(&b);
 }
 
@@ -498,6 +525,7 @@ int main(void)
         cmocka_unit_test(distances_match_brute_force),
         cmocka_unit_test(strided_points),
         cmocka_unit_test(arrays_as_the_file),
+        cmocka_unit_test(queried_from_threads),
         cmocka_unit_test(samples_as_the_cli),
         cmocka_unit_test(grid_as_the_cli),
         cmocka_unit_test(bad_arrays),
