@@ -16,6 +16,7 @@ DATA = os.environ.get("SDFT_TEST_DATA", os.path.join(os.path.dirname(__file__), 
 SUZANNE = os.path.join(DATA, "meshes", "suzanne.obj")
 BUNNY = os.path.join(DATA, "meshes", "stanford-bunny.obj")
 MESH2SDF = os.environ.get("MESH2SDF")
+ROOT = os.path.abspath(os.path.join(DATA, "..", ".."))
 
 
 def read_obj(path):
@@ -220,6 +221,18 @@ def test_render_planes():
     scene = sdftrace.render("temple", width=32, height=24, method="sphere")
     assert np.isfinite(scene["depth"]).any()
     assert "temple" in sdftrace.scenes()
+
+
+def test_readme_example_runs(tmp_path, monkeypatch):
+    """The README's Python example, as printed there, from a folder with the
+    repository's tests/ in it."""
+    with open(os.path.join(ROOT, "README.md")) as f:
+        code = f.read().split("```python\n", 1)[1].split("```", 1)[0]
+    monkeypatch.chdir(tmp_path)
+    os.symlink(os.path.join(ROOT, "tests"), tmp_path / "tests")
+    exec(compile(code, "README.md", "exec"), {})
+    saved = np.load(tmp_path / "spot-samples.npz")
+    assert saved["points"].shape == (250_000, 3)
 
 
 def test_errors_raise(tmp_path):
