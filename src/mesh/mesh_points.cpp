@@ -61,8 +61,11 @@ sdft_error evaluate(const char *what, const sdft_mesh *m, const sdft_points *pts
             for (size_t i = r.begin(); i != r.end(); ++i) {
                 double p[3], w = NAN, d = NAN;
                 pointAt(*pts, i, p);
-                if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]))
+                const bool finite = std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+                if (finite && distance)
                     d = query.signedDistance(p, INFINITY, &w);
+                else if (finite)
+                    w = query.winding(p); // the winding number alone: no nearest triangle
                 if (distance)
                     distance[i] = float(d);
                 if (winding)
