@@ -35,14 +35,27 @@
 # `mpirun -np 2` with half the cores per rank; fastest of REPEAT runs each,
 # every run into a fresh folder.
 #
+# Training samples (--samples, its own page, bench/results/mesh2sdf-samples.md):
+# the sampling's own rate (--json's samples_per_second: drawing the points,
+# their exact distances and winding-number signs, not reading or indexing)
+# with 1 and 2 threads, and the whole run's wall time for POINT_ROWS
+# samples with 2 threads (reading the mesh, orienting, indexing, sampling,
+# writing), on the repository's meshes and on spot split twice into four
+# (bench/mesh_subdivide.awk: 93,696 faces); beside them the per-point query
+# (bench/mesh2sdf_points.cpp) on the same points with 2 threads, and how
+# far its distances and signs are from the samples'. Each rate is the best
+# of REPEAT runs.
+#
 # usage: bench/mesh2sdf.sh [RES...]   (narrow band; default: 256 512 1024)
 # env:   BUILD=build  MESHES="spot ..."  SAMPLES=10000  THREADS=0  REPEAT=3
 #        DENSE="128 256" (dense resolutions; empty: none)  NARROW=0 (no narrow-band table)
 #        ORIENT=128 (the orientation table's resolution; empty: no such table)
 #        BATCH=256 (the batch page's resolution; empty: no batch page)  BATCH_COPIES=4
+#        POINT_ROWS=250000 (training samples per run; empty: no samples page)
 #        PAGE_DIR (where the pages go; default bench/results)
 # With NARROW=0 and ORIENT and DENSE empty, mesh2sdf.md is left as it is:
-# NARROW=0 ORIENT= DENSE= bench/mesh2sdf.sh makes the batch page alone.
+# NARROW=0 ORIENT= DENSE= bench/mesh2sdf.sh makes the batch and samples pages alone
+# (add BATCH= or POINT_ROWS= for one of them).
 # Grids go to $BUILD/bench-mesh2sdf/.
 set -euo pipefail
 export LC_ALL=C # bash's EPOCHREALTIME and awk: a decimal point, not a comma
@@ -51,7 +64,7 @@ root=$PWD
 . bench/page.sh
 # The command that made the page, with the settings given in the environment.
 command="bench/mesh2sdf.sh${1:+ $*}"
-for var in BATCH_COPIES BATCH NARROW ORIENT DENSE REPEAT THREADS SAMPLES MESHES BUILD; do
+for var in POINT_ROWS BATCH_COPIES BATCH NARROW ORIENT DENSE REPEAT THREADS SAMPLES MESHES BUILD; do
     [ -z "${!var+set}" ] || command="$var=\"${!var}\" $command"
 done
 BUILD=${BUILD:-build}
@@ -64,6 +77,7 @@ ORIENT=${ORIENT-128}
 NARROW=${NARROW:-1}
 BATCH=${BATCH-256}
 BATCH_COPIES=${BATCH_COPIES:-4}
+POINT_ROWS=${POINT_ROWS-250000}
 REPEAT=${REPEAT:-3}
 [[ $REPEAT =~ ^[1-9][0-9]*$ ]] || { echo "bench/mesh2sdf.sh: REPEAT must be a positive integer" >&2; exit 1; }
 RESOLUTIONS=("$@")
@@ -72,8 +86,8 @@ M2S=$BUILD/mesh2sdf
 POINTS=$BUILD/bench/mesh2sdf_points
 OUT=$BUILD/bench-mesh2sdf
 [ -x "$M2S" ] || { echo "bench/mesh2sdf.sh: build $M2S first (cmake --build $BUILD --target mesh2sdf)" >&2; exit 1; }
-[ -z "$DENSE" ] || [ -x "$POINTS" ] || { echo "bench/mesh2sdf.sh: build $POINTS first (cmake --build $BUILD --target mesh2sdf_points)" >&2; exit 1; }
-[ "$NARROW" = 0 ] && [ -z "$ORIENT" ] || command -v vdb_tool >/dev/null || { echo "bench/mesh2sdf.sh: vdb_tool not found (libopenvdb-tools)" >&2; exit 1; }
+[ -z "$DENSE$POINT_ROWS" ] || [ -x "$POINTS" ] || { echo "bench/mesh2sdf.sh: build $POINTS first (cmake --build $BUILD --target mesh2sdf_points)" >&2; exit 1; }
+{ [ "$NARROW" = 0 ] && [ -z "$ORIENT" ]; } || command -v vdb_tool >/dev/null || { echo "bench/mesh2sdf.sh: vdb_tool not found (libopenvdb-tools)" >&2; exit 1; }
 [ -x /usr/bin/time ] || { echo "bench/mesh2sdf.sh: /usr/bin/time not found (package time)" >&2; exit 1; }
 mkdir -p "$OUT"
 
@@ -221,6 +235,67 @@ done
 echo
 }
 
+# The training samples' table: rates, end to end, the per-point query.
+samples_table() {
+local big=$OUT/spot-x16.obj rows=$POINT_ROWS name mesh npy r1 r2 wall line p e d big_rate=0 big_wall=""
+awk -f bench/mesh_subdivide.awk "$MESH_DIR/spot.obj" | awk -f bench/mesh_subdivide.awk >"$big"
+echo "| mesh | faces | samples/s, 1 thread | samples/s, 2 threads | $rows samples end to end, s | per-point query, s | × faster | largest difference | sign disagreements |"
+echo "|---|---|---|---|---|---|---|---|---|"
+for name in $MESHES spot-x16; do
+    mesh=$MESH_DIR/$name.obj
+    [ "$name" != spot-x16 ] || mesh=$big
+    npy=$OUT/$name-samples.npy
+    r1=0 r2=0 wall=""
+    for ((r = 0; r < REPEAT; r++)); do
+        r1=$(rate "$r1" "$M2S" "$mesh" --samples "$rows" "$npy" --threads 1 --json)
+        wall=$(faster "$wall" "$M2S" "$mesh" --samples "$rows" "$npy" --threads 2 --json)
+        r2=$(rate "$r2" cat "$OUT/stdout.log")
+    done
+    line=$("$POINTS" "$mesh" --samples "$npy" 2)
+    p=$(sed -n 's/.*seconds=\([^ ]*\).*/\1/p' <<<"$line")
+    e=$(sed -n 's/.*max_error=\([^ ]*\).*/\1/p' <<<"$line")
+    d=$(sed -n 's/.*sign_disagreements=\([^ ]*\) clear=\([^ ]*\).*/\1 of \2/p' <<<"$line")
+    echo "| $name | $(faces "$mesh") | $r1 | $r2 | ${wall%% *} | $p | $(ratio "$p" "${wall%% *}") | $e | $d |"
+    [ "$name" != spot-x16 ] || { big_rate=$r2; big_wall=${wall%% *}; }
+done
+echo
+echo "Targets, on the $(faces "$big")-face mesh with 2 threads: at least 500,000 samples/s for the sampling:" \
+    "$(awk -v r="$big_rate" 'BEGIN { print (r >= 500000 ? "met" : "missed") }') ($big_rate);" \
+    "$rows samples end to end in at most 1 s:" \
+    "$(awk -v s="$big_wall" 'BEGIN { print (s <= 1 ? "met" : "missed") }') ($big_wall s)."
+echo
+}
+
+# The larger of $1 and the samples_per_second of the --json line a command prints.
+rate() {
+    local best=$1
+    shift
+    "$@" >"$OUT/rate.txt"
+    sed -n 's/.*"samples_per_second": \([0-9]*\).*/\1/p' "$OUT/rate.txt" |
+        awk -v b="$best" '{ print ($1 + 0 > b + 0) ? $1 : b }'
+}
+
+# The faces of an OBJ, after fanning its polygons.
+faces() { awk '$1 == "f" { n += NF - 3 } END { print n }' "$1"; }
+
+samples_page() {
+page_header "mesh2sdf --samples: training samples against per-point queries" "$command"
+cat <<EOF
+**Training samples.** \`mesh2sdf MESH --samples $POINT_ROWS OUT.npy\` on the meshes of \`$MESH_DIR\` and on
+spot split twice into four (\`bench/mesh_subdivide.awk\`). *samples/s* is the sampling's own rate
+(\`--json\`'s \`samples_per_second\`: drawing the points, their exact distances and winding-number
+signs; not reading, orienting or indexing the mesh), the best of $REPEAT runs. *end to end* is the
+whole run's wall time with 2 threads (reading, orienting, indexing, sampling, writing the \`.npy\`
+and its \`.json\`), the fastest of $REPEAT. *per-point query* is \`bench/mesh2sdf_points.cpp\` on the
+same points with 2 threads (nearest triangle through a bounding volume hierarchy from its root and
+the fast winding number, per point; its queries' own time, one run); *× faster* its time over
+mesh2sdf's whole run. *largest difference* is between its distances and the samples' (mesh
+units), *sign disagreements* where its winding number is clearly inside or outside.
+
+EOF
+samples_table
+}
+
 page() {
 page_header "mesh2sdf against OpenVDB's vdb_tool and per-point queries" "$command"
 cat <<EOF
@@ -298,5 +373,6 @@ done
 echo
 }
 
-[ "$NARROW" = 0 ] && [ -z "$ORIENT" ] && [ -z "$DENSE" ] || page_write mesh2sdf.md page
+{ [ "$NARROW" = 0 ] && [ -z "$ORIENT$DENSE" ]; } || page_write mesh2sdf.md page
+[ -z "$POINT_ROWS" ] || page_write mesh2sdf-samples.md samples_page
 [ -z "$BATCH" ] || page_write mesh2sdf-batch.md batch_page

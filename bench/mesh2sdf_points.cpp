@@ -8,6 +8,7 @@
 // compares the two.
 //
 // usage: mesh2sdf_points MESH GRID.npy [THREADS]
+//        mesh2sdf_points MESH --samples SAMPLES.npy [THREADS]
 // Reads GRID.json (origin, voxel size, shape) beside GRID.npy, evaluates
 // every voxel centre with all cores (or THREADS) and prints one line:
 //   points=N seconds=S max_error_voxels=E sign_disagreements=K clear=C
@@ -15,7 +16,10 @@
 // max_error_voxels: the largest |value - per-point value| over the points
 // whose signs agree; sign_disagreements: points where the winding number is
 // clearly on one side (below 0.25 or above 0.75) and the grid's sign is not.
+// With --samples, the points are the rows (x, y, z, d) of mesh2sdf
+// --samples, and the line has max_error (in the mesh's units) instead.
 #include "mesh.h"
+#include "npy_read.h"
 #include "winding.h"
 
 #include <tbb/blocked_range.h>
@@ -66,21 +70,80 @@ bool readNpy(const std::string &path, size_t count, std::vector<float> &values)
 
 } // namespace
 
+// The per-point query at `count` points (point(i, q) fills q), timed, and
+// compared with `expected` (the grid's or the samples' values): the line.
+template <class Point>
+void compare(const TriangleMesh &mesh, size_t count, Point point, const std::vector<float> &expected, double unit,
+             const char *errorName)
+{
+    const FastWinding tree(mesh.points, mesh.triangles);
+    std::vector<float> value(count);
+    std::vector<float> winding(count);
+    const auto t0 = std::chrono::steady_clock::now();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1024), [&](const tbb::blocked_range<size_t> &r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+            Vec3 q;
+            point(i, q);
+            const double w = tree(q);
+            const float d = float(tree.distance(q));
+            value[i] = w > 0.5 ? -d : d;
+            winding[i] = float(w);
+        }
+    });
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+    double worst = 0;
+    size_t disagree = 0, clear = 0;
+    for (size_t i = 0; i < count; ++i) {
+        const bool sure = winding[i] < 0.25f || winding[i] > 0.75f;
+        clear += sure;
+        // Sign bits: a voxel on the surface holds -0 when it is inside.
+        if (std::signbit(expected[i]) != std::signbit(value[i])) {
+            disagree += sure;
+            continue;
+        }
+        worst = std::max(worst, std::abs(double(expected[i]) - value[i]) / unit);
+    }
+    std::printf("points=%zu seconds=%.3f %s=%.3g sign_disagreements=%zu clear=%zu\n", count, seconds, errorName, worst,
+                disagree, clear);
+}
+
 int main(int argc, char **argv)
 {
-    if (argc < 3) {
-        std::fprintf(stderr, "usage: mesh2sdf_points MESH GRID.npy [THREADS]\n");
+    const bool samples = argc > 2 && std::string(argv[2]) == "--samples";
+    if (argc < 3 || (samples && argc < 4)) {
+        std::fprintf(stderr, "usage: mesh2sdf_points MESH GRID.npy [THREADS]\n"
+                             "       mesh2sdf_points MESH --samples SAMPLES.npy [THREADS]\n");
         return 2;
     }
+    const int threadArg = samples ? 4 : 3;
     std::unique_ptr<tbb::global_control> threads;
-    if (argc > 3 && std::atoi(argv[3]) > 0)
+    if (argc > threadArg && std::atoi(argv[threadArg]) > 0)
         threads.reset(
-            new tbb::global_control(tbb::global_control::max_allowed_parallelism, size_t(std::atoi(argv[3]))));
+            new tbb::global_control(tbb::global_control::max_allowed_parallelism, size_t(std::atoi(argv[threadArg]))));
     TriangleMesh mesh;
     std::string error;
     if (!loadMesh(argv[1], mesh, error)) {
         std::fprintf(stderr, "mesh2sdf_points: %s\n", error.c_str());
         return 1;
+    }
+    if (samples) {
+        std::vector<double> rows;
+        if (!readNpyRows(argv[3], 4, rows, error)) {
+            std::fprintf(stderr, "mesh2sdf_points: %s\n", error.c_str());
+            return 1;
+        }
+        const size_t count = rows.size() / 4;
+        std::vector<float> d(count);
+        for (size_t i = 0; i < count; ++i)
+            d[i] = float(rows[i * 4 + 3]);
+        compare(
+            mesh, count,
+            [&](size_t i, Vec3 &q) {
+                q = {rows[i * 4], rows[i * 4 + 1], rows[i * 4 + 2]};
+            },
+            d, 1.0, "max_error");
+        return 0;
     }
     const std::string npy = argv[2];
     std::ifstream sidecar(npy.substr(0, npy.size() - 4) + ".json");
@@ -99,36 +162,12 @@ int main(int argc, char **argv)
         std::fprintf(stderr, "mesh2sdf_points: cannot read %s and its .json\n", npy.c_str());
         return 1;
     }
-
-    const FastWinding tree(mesh.points, mesh.triangles);
-    std::vector<float> value(count);
-    std::vector<float> winding(count);
-    const auto t0 = std::chrono::steady_clock::now();
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1024), [&](const tbb::blocked_range<size_t> &r) {
-        for (size_t i = r.begin(); i != r.end(); ++i) {
+    compare(
+        mesh, count,
+        [&](size_t i, Vec3 &q) {
             const size_t x = i / (size_t(n[1]) * n[2]), y = i / n[2] % n[1], z = i % n[2];
-            const Vec3 q{origin[0] + x * h, origin[1] + y * h, origin[2] + z * h};
-            const double w = tree(q);
-            const float d = float(tree.distance(q));
-            value[i] = w > 0.5 ? -d : d;
-            winding[i] = float(w);
-        }
-    });
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-
-    double worst = 0;
-    size_t disagree = 0, clear = 0;
-    for (size_t i = 0; i < count; ++i) {
-        const bool sure = winding[i] < 0.25f || winding[i] > 0.75f;
-        clear += sure;
-        // Sign bits: a voxel on the surface holds -0 when it is inside.
-        if (std::signbit(grid[i]) != std::signbit(value[i])) {
-            disagree += sure;
-            continue;
-        }
-        worst = std::max(worst, std::abs(double(grid[i]) - value[i]) / h);
-    }
-    std::printf("points=%zu seconds=%.3f max_error_voxels=%.3g sign_disagreements=%zu clear=%zu\n", count, seconds,
-                worst, disagree, clear);
+            q = {origin[0] + x * h, origin[1] + y * h, origin[2] + z * h};
+        },
+        grid, h, "max_error_voxels");
     return 0;
 }

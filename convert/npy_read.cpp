@@ -95,9 +95,9 @@ class DictReader
         out = 0;
         const size_t from = mAt;
         while (mAt < mText.size() && mText[mAt] >= '0' && mText[mAt] <= '9') {
-            out = out * 10 + uint64_t(mText[mAt++] - '0');
-            if (out >= (uint64_t(1) << 62))
+            if (out >= (uint64_t(1) << 62) / 10)
                 return fail("a dimension too large");
+            out = out * 10 + uint64_t(mText[mAt++] - '0');
         }
         return mAt > from || fail("a dimension expected");
     }
@@ -252,19 +252,20 @@ std::string shapeText(const std::vector<uint64_t> &shape)
     return s + (shape.size() == 1 ? ",)" : ")");
 }
 
-// Fills xyz from the data: `count` points, `item` bytes per value.
-bool readValues(FILE *f, const Header &h, size_t item, uint64_t count, std::vector<double> &xyz, std::string &error)
+// Fills `values` from the data: `count` rows of `columns`, `item` bytes per value.
+bool readValues(FILE *f, const Header &h, size_t item, uint64_t count, size_t columns, std::vector<double> &values,
+                std::string &error)
 {
-    std::vector<unsigned char> raw(size_t(count) * 3 * item);
+    std::vector<unsigned char> raw(size_t(count) * columns * item);
     if (std::fread(raw.data(), 1, raw.size(), f) != raw.size()) {
         error = "cannot read its data";
         return false;
     }
-    xyz.resize(size_t(count) * 3);
+    values.resize(size_t(count) * columns);
     for (uint64_t i = 0; i < count; ++i)
-        for (int k = 0; k < 3; ++k) {
-            // C order: row i holds x, y, z; Fortran order: all x, all y, all z.
-            const size_t at = h.fortran ? size_t(k) * count + i : size_t(i) * 3 + k;
+        for (size_t k = 0; k < columns; ++k) {
+            // C order: row by row; Fortran order: column by column.
+            const size_t at = h.fortran ? k * count + i : size_t(i) * columns + k;
             double v;
             if (item == 4) {
                 float x;
@@ -274,17 +275,17 @@ bool readValues(FILE *f, const Header &h, size_t item, uint64_t count, std::vect
                 std::memcpy(&v, &raw[at * 8], 8);
             }
             if (!std::isfinite(v)) {
-                error = "point " + std::to_string(i) + " has a coordinate that is not finite";
+                error = "row " + std::to_string(i) + " has a value that is not finite";
                 return false;
             }
-            xyz[size_t(i) * 3 + k] = v;
+            values[size_t(i) * columns + k] = v;
         }
     return true;
 }
 
 } // namespace
 
-bool readNpyPoints(const std::string &path, std::vector<double> &xyz, std::string &error)
+bool readNpyRows(const std::string &path, size_t columns, std::vector<double> &values, std::string &error)
 {
     struct stat st;
     if (stat(path.c_str(), &st) != 0) {
@@ -313,19 +314,20 @@ bool readNpyPoints(const std::string &path, std::vector<double> &xyz, std::strin
         error = "points " + path + ": dtype '" + h.descr + "' is not float32 or float64 ('<f4' or '<f8')";
         return false;
     }
-    if (h.shape.size() != 2 || h.shape[1] != 3 || h.shape[0] == 0) {
-        error = "points " + path + ": shape " + shapeText(h.shape) + " is not (N, 3) with N >= 1";
+    if (h.shape.size() != 2 || h.shape[1] != columns || h.shape[0] == 0) {
+        error = "points " + path + ": shape " + shapeText(h.shape) + " is not (N, " + std::to_string(columns) +
+                ") with N >= 1";
         return false;
     }
-    const uint64_t count = h.shape[0], data = size - offset;
-    // count < 2^62: count * 3 * item could wrap; compare by division first.
-    if (count > data / (3 * item) || count * 3 * item != data) {
+    const uint64_t count = h.shape[0], data = size - offset, row = columns * item;
+    // count < 2^62: count * row could wrap; compare by division first.
+    if (count > data / row || count * row != data) {
         error = "points " + path + ": the shape " + shapeText(h.shape) + " needs " +
-                (count > data / (3 * item) ? "more than " + std::to_string(data) : std::to_string(count * 3 * item)) +
+                (count > data / row ? "more than " + std::to_string(data) : std::to_string(count * row)) +
                 " bytes of data, the file has " + std::to_string(data);
         return false;
     }
-    if (!readValues(f.get(), h, item, count, xyz, why)) {
+    if (!readValues(f.get(), h, item, count, columns, values, why)) {
         error = "points " + path + ": " + why;
         return false;
     }

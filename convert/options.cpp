@@ -276,12 +276,12 @@ std::vector<cmdline_option> optionRows(Options &o, int *sawRes, PointWords &word
                  "random triangles) moved by a Gaussian of either\n"
                  "sigma, half each; d exact to the triangles, signed\n"
                  "by the winding number; OUT.json gets the sphere\n"
-                 "and the settings. The same bytes for any --threads",
+                 "and the settings; the same bytes for any --threads",
                  words.samples),
         seen(call("near-sigma", 0, "A,B",
                   "--samples: the two Gaussians' standard deviations,\n"
                   "per axis, in units of the sphere's radius (that is,\n"
-                  "of the unit sphere after --normalize)",
+                  "of the unit sphere after --normalize)\n",
                   setSigmas, o.nearSigma, "0.0707,0.0224: DeepSDF's"),
              &words.sampleFlags),
         seen(number("uniform-share", "S", "--samples: the share of uniform points, 0..1\n", CMDLINE_DOUBLE,
@@ -301,7 +301,7 @@ std::vector<cmdline_option> optionRows(Options &o, int *sawRes, PointWords &word
              "--samples, --query: first map the mesh into the unit\n"
              "sphere, (x - centre) / radius with DeepSDF's centre\n"
              "(the bounding box's) and radius (1.03 times the\n"
-             "farthest vertex); OUT.json records both",
+             "farthest vertex); OUT.json records both\n",
              setTrue, &o.normalize, "the mesh's own units"),
         call("batch", 0, "LIST",
              "convert every mesh LIST names (one path a line,\n"
@@ -355,6 +355,8 @@ bool pointModes(Options &opt, const PointWords &words, std::string &error)
     else if (points && (!opt.output.empty() || !opt.nvdb.empty() || !opt.npy.empty() || !opt.checkSign.empty()))
         error = std::string(words.samples[0] ? "--samples" : "--query") +
                 " writes its own OUT.npy: give no -o, --nvdb, --npy or --check-sign";
+    else if (points && opt.sign != SignMethod::Winding)
+        error = "--samples and --query sign by the winding number: --sign does not apply";
     else if (words.sampleFlags && !words.samples[0])
         error = "--near-sigma, --uniform-share and --seed go with --samples";
     else if (opt.winding && !words.query[0])

@@ -8,6 +8,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -26,6 +27,43 @@ PointQuery::PointQuery(const TriangleMesh &mesh, bool simd, bool wide)
 {
     tbb::parallel_invoke([&] { mNearest.reset(new NearestTriangle(mesh, simd, wide)); },
                          [&] { mWinding.reset(new FastWinding(mesh.points, mesh.triangles, 2.0, simd)); });
+}
+
+namespace
+{
+
+// Spreads the low 21 bits of x to every third bit (a Morton code's axis).
+uint64_t spread(uint64_t x)
+{
+    x &= 0x1fffff;
+    x = (x | x << 32) & 0x1f00000000ffffull;
+    x = (x | x << 16) & 0x1f0000ff0000ffull;
+    x = (x | x << 8) & 0x100f00f00f00f00full;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+    return (x | x << 2) & 0x1249249249249249ull;
+}
+
+} // namespace
+
+std::vector<size_t> mortonOrder(const std::vector<double> &xyz, const MeshSphere &cube)
+{
+    const size_t n = xyz.size() / 3;
+    std::vector<std::pair<uint64_t, size_t>> keyed(n);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t> &r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+            uint64_t code = 0;
+            for (int k = 0; k < 3; ++k) {
+                const double at = std::clamp((xyz[i * 3 + k] - cube.centre[k]) / (2 * cube.radius) + 0.5, 0.0, 1.0);
+                code |= spread(uint64_t(at * 2097151.0)) << k;
+            }
+            keyed[i] = {code, i};
+        }
+    });
+    tbb::parallel_sort(keyed.begin(), keyed.end());
+    std::vector<size_t> order(n);
+    for (size_t j = 0; j < n; ++j)
+        order[j] = keyed[j].second;
+    return order;
 }
 
 bool loadPointMesh(const Options &opt, TriangleMesh &mesh, MeshSphere &sphere, double &orientSeconds,
@@ -154,8 +192,10 @@ bool runQuery(const Options &opt, std::string &error)
     const size_t count = xyz.size() / 3, columns = opt.winding ? 2 : 1;
     std::vector<float> out(count * columns);
     const auto t1 = std::chrono::steady_clock::now();
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1024), [&](const tbb::blocked_range<size_t> &r) {
-        for (size_t i = r.begin(); i != r.end(); ++i) {
+    const std::vector<size_t> order = mortonOrder(xyz, opt.normalize ? MeshSphere{} : sphere);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t> &r) {
+        for (size_t j = r.begin(); j != r.end(); ++j) {
+            const size_t i = order[j];
             double w;
             out[i * columns] = float(query.signedDistance(&xyz[i * 3], INFINITY, &w));
             if (opt.winding)

@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace mesh2sdf
 {
@@ -46,6 +47,12 @@ class PointQuery
     std::unique_ptr<NearestTriangle> mNearest;
     std::unique_ptr<FastWinding> mWinding;
 };
+
+/// The indices of the points `xyz` (3 doubles each) in Morton order in the
+/// cube centre ± radius of `cube` (points outside it on its faces):
+/// neighbours in this order are near in space, so that evaluating them in
+/// it finds the hierarchies' nodes in cache. Runs in parallel.
+std::vector<size_t> mortonOrder(const std::vector<double> &xyz, const MeshSphere &cube);
 
 /// The mesh of --samples and --query: read, its sphere taken, mapped into
 /// the unit sphere with --normalize, oriented as --orient says. `sphere` is

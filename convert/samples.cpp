@@ -6,7 +6,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <chrono>
@@ -114,17 +113,6 @@ double triangleBound2(const TriangleMesh &mesh, size_t t, const double *p)
     return triangleDistance2(corners, p);
 }
 
-// Spreads the low 21 bits of x to every third bit (a Morton code's axis).
-uint64_t spread(uint64_t x)
-{
-    x &= 0x1fffff;
-    x = (x | x << 32) & 0x1f00000000ffffull;
-    x = (x | x << 16) & 0x1f0000ff0000ffull;
-    x = (x | x << 8) & 0x100f00f00f00f00full;
-    x = (x | x << 4) & 0x10c30c30c30c30c3ull;
-    return (x | x << 2) & 0x1249249249249249ull;
-}
-
 } // namespace
 
 void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const PointQuery &query, const Options &opt,
@@ -136,9 +124,8 @@ void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const Point
     const double sigma[2] = {opt.nearSigma[0] * sphere.radius, opt.nearSigma[1] * sphere.radius};
     // The points, chunk by chunk, each with a bound on its squared distance
     // (to the triangle it left, grown past rounding; none for a uniform
-    // point) and its Morton code in the cube.
+    // point).
     std::vector<double> points(n * 3), bounds(n, INFINITY);
-    std::vector<std::pair<uint64_t, uint32_t>> order(n);
     const size_t chunks = (n + kSampleChunk - 1) / kSampleChunk;
     tbb::parallel_for(size_t(0), chunks, [&](size_t chunk) {
         ChunkRandom random(uint64_t(opt.seed), chunk);
@@ -153,21 +140,14 @@ void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const Point
                 for (int k = 0; k < 3; ++k)
                     p[k] = sphere.centre[k] + sphere.radius * (2 * random.uniform() - 1);
             }
-            uint64_t code = 0;
-            for (int k = 0; k < 3; ++k) {
-                const double cell = std::clamp((p[k] - sphere.centre[k]) / (2 * sphere.radius) + 0.5, 0.0, 1.0);
-                code |= spread(uint64_t(cell * 2097151.0)) << k;
-            }
-            order[i] = {code, uint32_t(i)};
         }
     });
-    // Evaluated in Morton order, so that neighbouring points share the
-    // hierarchies' nodes in cache; each row's value is the same in any order.
-    tbb::parallel_sort(order.begin(), order.end());
+    // Each row's value is the same in any order.
+    const std::vector<size_t> order = mortonOrder(points, sphere);
     rows.assign(n * 4, 0.0f);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t> &r) {
         for (size_t j = r.begin(); j != r.end(); ++j) {
-            const size_t i = order[j].second;
+            const size_t i = order[j];
             double w;
             const double d = query.signedDistance(&points[i * 3], bounds[i], &w);
             float *row = &rows[i * 4];

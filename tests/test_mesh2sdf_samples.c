@@ -453,6 +453,8 @@ static void test_bad_npy(void **state)
         {"bad-short.npy", good, 1, xyz, 20},
         {"bad-long.npy", good, 2, xyz, 28},
         {"bad-lying.npy", "{'descr': '<f4', 'fortran_order': False, 'shape': (4611686018427387000, 3), }", 1, xyz, 24},
+        {"bad-huge.npy", "{'descr': '<f4', 'fortran_order': False, 'shape': (99999999999999999999999, 3), }", 1, xyz,
+         24},
         {"bad-key.npy", "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 3), 'extra': 1, }", 1, xyz, 24},
         {"bad-twice.npy", "{'descr': '<f4', 'descr': '<f4', 'shape': (2, 3), }", 1, xyz, 24},
         {"bad-missing.npy", "{'descr': '<f4', 'shape': (2, 3), }", 1, xyz, 24},
@@ -513,6 +515,8 @@ static void test_bad_flags(void **state)
         {"--samples 10 '%s' -o x.vdb", "-o"},
         {"--query in.npy '%s' --seed 3", "--seed"},
         {"--query in.npy '%s' --samples 10 y.npy", "not both"},
+        {"--query in.npy '%s' --sign flood", "--sign"},
+        {"--query in.npy", "--query"},
     };
     for (size_t c = 0; c < sizeof cases / sizeof *cases; c++) {
         snprintf(args, sizeof args, cases[c][0], out);
@@ -520,9 +524,32 @@ static void test_bad_flags(void **state)
     }
 }
 
+/* --help lists the flags of both modes, and the renamed count of
+ * --check-sign. */
+static void test_help(void **state)
+{
+    (void)state;
+    char out[16384];
+    assert_int_equal(tu_run(out, sizeof out, "%s --help", SDFT_MESH2SDF), 0);
+    const char *flags[] = {"--samples N OUT.npy",
+                           "--query POINTS.npy OUT.npy",
+                           "--near-sigma",
+                           "--uniform-share",
+                           "--seed",
+                           "--normalize",
+                           "--winding",
+                           "--check-points",
+                           "0.0707,0.0224",
+                           "0.06"};
+    for (size_t i = 0; i < sizeof flags / sizeof *flags; i++)
+        if (!strstr(out, flags[i]))
+            fail_msg("--help does not show %s", flags[i]);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_help),
         cmocka_unit_test(test_bad_flags),
         cmocka_unit_test(test_bad_npy),
         cmocka_unit_test_prestate(test_samples_exact, "suzanne"),
