@@ -112,12 +112,13 @@ longest_side() {
 
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.2f", (b > 0 ? a / b : 0) }'; }
 
-# Runs a command as measure does, in this shell (so that a failure stops
-# the bench), and prints the faster of its "seconds peak_MiB" and $1's.
+# Runs a command as measure does (or as $MEASURE names), in this shell (so
+# that a failure stops the bench), and prints the faster of its "seconds
+# peak_MiB ..." and $1's.
 faster() {
     local best=$1
     shift
-    measure "$@" >"$OUT/measure.txt"
+    ${MEASURE:-measure} "$@" >"$OUT/measure.txt"
     awk -v b="$best" '{ split(b, y, " "); print (b == "" || $1 + 0 <= y[1] + 0) ? $0 : b }' "$OUT/measure.txt"
 }
 
@@ -328,10 +329,18 @@ EOF
 }
 
 # The batch page: one row per way of running the batch.
+# measure, and after its "seconds peak_MiB" the CPU seconds (user and
+# system, the children's included): on a shared machine a process waits for
+# a core, and the CPU time shows the work apart from the wait.
+measure_cpu() {
+    local m
+    m=$(measure "$@")
+    awk -F': ' -v m="$m" '/User time|System time/ { c += $2 } END { printf "%s %.2f\n", m, c }' "$OUT/time.log"
+}
 # The two shards at once, as one command for measure; fails if either does.
 shards_at_once='"$0" "$@" --shard 0/2 & a=$!; "$0" "$@" --shard 1/2 & b=$!; s=0; wait $a || s=1; wait $b || s=1; exit $s'
 batch_page() {
-local cores half list=$OUT/batch-list.txt count=0 mpi=() args=(--res "$BATCH" --quiet)
+local cores half list=$OUT/batch-list.txt count=0 mpi=() args=(--res "$BATCH" --quiet) MEASURE=measure_cpu
 cores=$(nproc)
 half=$((cores > 1 ? cores / 2 : 1))
 : >"$list"
@@ -344,31 +353,38 @@ cat <<EOF
 The $((count / BATCH_COPIES)) meshes of \`$MESH_DIR\`, each listed $BATCH_COPIES times ($count conversions, each into files
 of its own), converted by \`mesh2sdf --batch\` at $BATCH voxels along the longest side, each run
 into a fresh folder: the wall time of the whole run (processes started, every mesh read,
-converted and written, the report written), the fastest of $REPEAT, and meshes per minute. One
+converted and written, the report written), the fastest of $REPEAT, and meshes per minute, and
+that run's CPU time (user and system, every process of it). One
 process has all $cores cores; the two shards (\`--shard 0/2\` and \`1/2\` at once, into one
-folder) and the two ranks of \`mpirun -np 2\` have $half each (\`--threads $half\`).
+folder) and the two ranks of \`mpirun -np 2\` have $half each (\`--threads $half\`). The shards
+split LIST before they start (positions 0, 2, 4 ... and 1, 3, 5 ...); the ranks take the next
+mesh, largest file first, as each is free. Open MPI binds each of 2 ranks to a core of its own;
+the row with \`--bind-to none\` leaves them free to move, as the shards are.
+On a machine other work shares, wall time also counts the waits for a core: the CPU time is the
+work itself.
 
-| run | processes | threads each | s | meshes per minute | × one process |
-|---|--:|--:|--:|--:|--:|
+| run | processes | threads each | s | meshes per minute | × one process | CPU s |
+|---|--:|--:|--:|--:|--:|--:|
 EOF
-local one="" shards="" ranks=""
+local one="" shards="" ranks="" free=""
 for ((r = 0; r < REPEAT; r++)); do
     rm -rf "$OUT"/batch-[12m]*/
     one=$(faster "$one" "$M2S" --batch "$list" --out-dir "$OUT/batch-1" "${args[@]}" --threads "$cores")
     shards=$(faster "$shards" bash -c "$shards_at_once" "$M2S" --batch "$list" --out-dir "$OUT/batch-2" "${args[@]}" --threads "$half")
     if command -v mpirun >/dev/null; then
         ranks=$(faster "$ranks" mpirun -np 2 --oversubscribe "${mpi[@]}" "$M2S" --batch "$list" --out-dir "$OUT/batch-mpi" "${args[@]}" --threads "$half")
+        free=$(faster "$free" mpirun -np 2 --oversubscribe --bind-to none "${mpi[@]}" "$M2S" --batch "$list" --out-dir "$OUT/batch-mpi-free" "${args[@]}" --threads "$half")
     fi
 done
 local t1=${one%% *} name procs threads best t
-for row in "one process|1|$cores|$one" "two shards at once|2|$half|$shards" "mpirun -np 2|2|$half|$ranks"; do
+for row in "one process|1|$cores|$one" "two shards at once|2|$half|$shards" "mpirun -np 2|2|$half|$ranks" "mpirun -np 2 --bind-to none|2|$half|$free"; do
     IFS='|' read -r name procs threads best <<<"$row"
     if [ -z "$best" ]; then
-        echo "| $name | $procs | $threads | (no mpirun) | | |"
+        echo "| $name | $procs | $threads | (no mpirun) | | | |"
         continue
     fi
-    t=${best%% *}
-    echo "| $name | $procs | $threads | $t | $(awk -v n="$count" -v t="$t" 'BEGIN { printf "%.1f", 60 * n / t }') | $(ratio "$t1" "$t") |"
+    read -r t _ cpu <<<"$best"
+    echo "| $name | $procs | $threads | $t | $(awk -v n="$count" -v t="$t" 'BEGIN { printf "%.1f", 60 * n / t }') | $(ratio "$t1" "$t") | $cpu |"
 done
 echo
 }

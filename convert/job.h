@@ -44,7 +44,9 @@ struct JobResult {
 std::string fileStem(const std::string &path);
 
 /// The files a conversion writes: opt.output (.vdb), opt.nvdb, and opt.npy
-/// with its sidecar JSON, each where given (a batch may leave out the .vdb). A batch asks whether all of
+/// with its sidecar JSON, each where given (a batch may leave out the .vdb).
+/// Each kind of output is a path in Options: a new kind is reserved,
+/// written and listed here, and a batch names it in meshOptions (batch.cpp). A batch asks whether all of
 /// them exist before converting a mesh again.
 std::vector<std::string> jobOutputs(const Options &opt);
 

@@ -462,6 +462,8 @@ bool parseOptions(int argc, char **argv, Options &opt, std::string &error)
     }
     if (opt.padding < 0)
         opt.padding = opt.band + 1.0;
+    while (opt.outDir.size() > 1 && opt.outDir.back() == '/') // DIR/ names DIR/NAME.vdb, not DIR//NAME.vdb
+        opt.outDir.pop_back();
     return true;
 }
 
