@@ -253,13 +253,18 @@ def render(
     relaxed, enhanced or auto."""
     camera = camera or {}
     target = source._nano if isinstance(source, Grid) else source
+
+    def vec(name):
+        value = camera.get(name)
+        return None if value is None else tuple(float(x) for x in value)
+
     return _sdftrace.render(
         target,
         width,
         height,
-        camera.get("eye"),
-        camera.get("target"),
-        camera.get("up"),
+        vec("eye"),
+        vec("target"),
+        vec("up"),
         float(camera.get("fov", 0.0)),
         tuple(light) if light is not None else None,
         method,

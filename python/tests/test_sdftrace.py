@@ -220,6 +220,18 @@ def test_render_planes():
     assert np.all(image["primary_steps"] <= image["steps"])
     scene = sdftrace.render("temple", width=32, height=24, method="sphere")
     assert np.isfinite(scene["depth"]).any()
+    # A camera given as lists, looking at the grid's centre from farther
+    # away: the mesh covers fewer pixels.
+    info = grid.info()
+    centre = (np.array(info["lo"]) + np.array(info["hi"])) / 2
+    size = np.ptp(np.array([info["lo"], info["hi"]]), axis=0).max()
+    far = sdftrace.render(
+        grid, width=64, height=48,
+        camera={"eye": list(centre + [0, 0, 6 * size]), "target": list(centre), "up": [0, 1, 0], "fov": 40},
+    )
+    assert 0 < np.isfinite(far["depth"]).sum() < hit.sum()
+    with pytest.raises(ValueError):
+        sdftrace.render("no such scene")
     assert "temple" in sdftrace.scenes()
 
 
