@@ -1,10 +1,10 @@
 /* The mesh component's C API (sdftrace/mesh.h), held to truth computed
  * here and to the converter's own files: distances against brute force
  * over every triangle, winding numbers against summed solid angles, one
- * mesh queried from several threads at once, the samples' rows and the
- * grids' .npy and .nvdb bytes against what mesh2sdf writes for the same
- * options; bad arguments refused with their code and a line; long calls
- * cancelled from their progress callback. */
+ * mesh queried from several threads at once; the queries' values, the
+ * samples' rows and the grids' .npy and .nvdb bytes against what mesh2sdf
+ * writes for the same options; bad arguments refused with their code and a
+ * line; long calls cancelled from their progress callback. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -209,6 +209,53 @@ static size_t npy_data_offset(const char *path)
     const size_t off = 10 + (pre[8] | (size_t)pre[9] << 8);
     free(pre);
     return off;
+}
+
+/* Writes n points as an (n, 3) float64 C-order .npy file, NumPy's format 1.0. */
+static void write_points_npy(const char *path, const double *p, int n)
+{
+    char header[128];
+    int len = snprintf(header, sizeof header, "{'descr': '<f8', 'fortran_order': False, 'shape': (%d, 3), }", n);
+    while ((10 + len + 1) % 64)
+        header[len++] = ' ';
+    header[len++] = '\n';
+    const unsigned char magic[10] = {0x93, 'N', 'U', 'M', 'P', 'Y', 1, 0, (unsigned char)len, 0};
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    fwrite(magic, 1, sizeof magic, f);
+    fwrite(header, 1, (size_t)len, f);
+    fwrite(p, sizeof(double), 3 * (size_t)n, f);
+    fclose(f);
+}
+
+/* Distances and winding numbers are the values mesh2sdf --query --winding
+ * writes for the same points: rows (d, w), float32. */
+static void queries_as_the_cli(void **state)
+{
+    (void)state;
+    mesh b = read_mesh(SUZANNE);
+    enum { N = 300 };
+    double *p = random_points(&b, N, 6);
+    char in[256], out_npy[256], out[512];
+    write_points_npy(tu_tmp(in, sizeof in, "mesh_api_points.npy"), p, N);
+    tu_tmp(out_npy, sizeof out_npy, "mesh_api_query.npy");
+    assert_int_equal(
+        tu_run(out, sizeof out, "%s %s --query %s %s --winding --quiet", SDFT_MESH2SDF, SUZANNE, in, out_npy), 0);
+    size_t len;
+    float *cli = (float *)file_bytes(out_npy, npy_data_offset(out_npy), &len);
+    assert_int_equal(len, N * 2 * sizeof(float));
+    sdft_mesh *m = load(SUZANNE);
+    float d[N], w[N];
+    sdft_points pts = {.data = p, .type = SDFT_FLOAT64, .count = N};
+    assert_int_equal(sdft_mesh_signed_distance(m, &pts, d, w, NULL, 0), SDFT_OK);
+    for (int i = 0; i < N; i++) {
+        assert_memory_equal(&d[i], &cli[2 * i], sizeof(float));
+        assert_memory_equal(&w[i], &cli[2 * i + 1], sizeof(float));
+    }
+    free(cli);
+    free(p);
+    sdft_mesh_free(m);
+    mesh_free(&b);
 }
 
 /* The samples are the rows mesh2sdf --samples writes, and each row's
@@ -526,6 +573,7 @@ int main(void)
         cmocka_unit_test(strided_points),
         cmocka_unit_test(arrays_as_the_file),
         cmocka_unit_test(queried_from_threads),
+        cmocka_unit_test(queries_as_the_cli),
         cmocka_unit_test(samples_as_the_cli),
         cmocka_unit_test(grid_as_the_cli),
         cmocka_unit_test(bad_arrays),
