@@ -4,7 +4,7 @@
  * it documents every call. Arrays are made here first and filled by the
  * library with the GIL released, so results are never copied; inputs are
  * read in place where their layout allows. Errors raise ValueError
- * (SDFT_EINVAL), OSError (SDFT_EIO), KeyboardInterrupt (SDFT_ECANCELED),
+ * (SDFT_EINVAL), OSError (SDFT_EIO), sdftrace.Canceled (SDFT_ECANCELED),
  * MemoryError (SDFT_ENOMEM) or RuntimeError, with the library's line. */
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -21,6 +21,9 @@
 #include "sdftrace/vdb.h"
 
 #define MSG_LEN 512
+
+/* sdftrace.Canceled: a progress callable asked to stop (SDFT_ECANCELED). */
+static PyObject *Canceled;
 
 /* ---- errors --------------------------------------------------------- */
 
@@ -41,7 +44,7 @@ static PyObject *raise_error(sdft_error e, const char *msg)
         type = PyExc_MemoryError;
         break;
     case SDFT_ECANCELED:
-        type = PyExc_KeyboardInterrupt;
+        type = Canceled;
         break;
     default:
         break;
@@ -89,6 +92,59 @@ static PyArrayObject *points_of(PyObject *obj, sdft_points *pts)
 static PyArrayObject *new_floats(int ndim, npy_intp *dims)
 {
     return (PyArrayObject *)PyArray_SimpleNew(ndim, dims, NPY_FLOAT32);
+}
+
+/* ---- progress: a Python callable told how far a long call is ---------- */
+
+typedef struct {
+    PyObject *fn;                       /* callable(done) -> true to stop */
+    PyObject *type, *value, *traceback; /* what it raised, for the caller's thread */
+} progress_call;
+
+/* The library's sdft_progress_fn: from a worker thread (or the caller's,
+ * which releases the GIL first), so it takes the GIL to call fn. An
+ * exception from fn stops the call and is kept for the caller. */
+static int call_progress(void *user, float done)
+{
+    progress_call *p = user;
+    PyGILState_STATE g = PyGILState_Ensure();
+    int stop = p->type != NULL;
+    if (!stop) {
+        PyObject *r = PyObject_CallFunction(p->fn, "d", (double)done);
+        if (!r) {
+            PyErr_Fetch(&p->type, &p->value, &p->traceback);
+            stop = 1;
+        } else {
+            stop = PyObject_IsTrue(r) > 0;
+            Py_DECREF(r);
+        }
+    }
+    PyGILState_Release(g);
+    return stop;
+}
+
+/* fn (None: no reports) as the library's callback and its user pointer. */
+static void progress_of(PyObject *fn, progress_call *p, sdft_progress_fn *cb, void **user)
+{
+    memset(p, 0, sizeof *p);
+    if (fn && fn != Py_None) {
+        p->fn = fn;
+        *cb = call_progress;
+        *user = p;
+    }
+}
+
+/* After the call, with the GIL: raises what fn raised and returns NULL;
+ * otherwise raises for e (SDFT_OK: returns `result`). */
+static PyObject *progress_result(progress_call *p, sdft_error e, const char *msg, PyObject *result)
+{
+    if (p->type || e != SDFT_OK)
+        Py_XDECREF(result);
+    if (p->type) {
+        PyErr_Restore(p->type, p->value, p->traceback);
+        return NULL;
+    }
+    return e == SDFT_OK ? result : raise_error(e, msg);
 }
 
 /* ---- Mesh ----------------------------------------------------------- */
@@ -264,13 +320,16 @@ static PyObject *mesh_winding_number(MeshObject *self, PyObject *points) { retur
 
 static PyObject *mesh_samples(MeshObject *self, PyObject *args, PyObject *kw)
 {
-    static char *names[] = {"n", "seed", "near_sigma", "uniform_share", NULL};
+    static char *names[] = {"n", "seed", "near_sigma", "uniform_share", "progress", NULL};
     sdft_sample_params p = sdft_sample_params_defaults();
     Py_ssize_t n;
     unsigned long long seed = p.seed;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "n|K(dd)d", names, &n, &seed, &p.near_sigma[0], &p.near_sigma[1],
-                                     &p.uniform_share))
+    PyObject *progress = NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "n|K(dd)dO", names, &n, &seed, &p.near_sigma[0], &p.near_sigma[1],
+                                     &p.uniform_share, &progress))
         return NULL;
+    progress_call pc;
+    progress_of(progress, &pc, &p.progress, &p.progress_user);
     if (n < 1)
         return raise_error(SDFT_EINVAL, "n must be at least 1");
     p.count = (size_t)n;
@@ -284,11 +343,7 @@ static PyObject *mesh_samples(MeshObject *self, PyObject *args, PyObject *kw)
     PyThreadState *ts = PyEval_SaveThread();
     e = sdft_mesh_samples(self->mesh, &p, (float *)PyArray_DATA(rows), (size_t)n * 4, msg, sizeof msg);
     PyEval_RestoreThread(ts);
-    if (e != SDFT_OK) {
-        Py_DECREF(rows);
-        return raise_error(e, msg);
-    }
-    return (PyObject *)rows;
+    return progress_result(&pc, e, msg, (PyObject *)rows);
 }
 
 static PyObject *mesh_info(MeshObject *self, PyObject *unused)
@@ -315,11 +370,13 @@ static PyObject *wrap_mesh_grid(sdft_mesh_grid *g);
 
 static PyObject *mesh_to_grid(MeshObject *self, PyObject *args, PyObject *kw)
 {
-    static char *names[] = {"res", "voxel_size", "band", "full", "padding", "sign", "name", "threads", NULL};
+    static char *names[] = {"res",  "voxel_size", "band",    "full",     "padding",
+                            "sign", "name",       "threads", "progress", NULL};
     sdft_mesh_grid_params p = sdft_mesh_grid_params_defaults();
     const char *sign = "winding", *name = NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "|iddpdszi", names, &p.res, &p.voxel_size, &p.band, &p.full, &p.padding,
-                                     &sign, &name, &p.threads))
+    PyObject *progress = NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "|iddpdsziO", names, &p.res, &p.voxel_size, &p.band, &p.full, &p.padding,
+                                     &sign, &name, &p.threads, &progress))
         return NULL;
     if (!strcmp(sign, "winding"))
         p.sign = SDFT_SIGN_WINDING;
@@ -330,13 +387,18 @@ static PyObject *mesh_to_grid(MeshObject *self, PyObject *args, PyObject *kw)
     else
         return raise_error(SDFT_EINVAL, "sign must be 'winding', 'flood' or 'none'");
     p.name = name;
+    progress_call pc;
+    progress_of(progress, &pc, &p.progress, &p.progress_user);
     sdft_mesh_grid *g = NULL;
     char msg[MSG_LEN] = "";
     sdft_error e;
     PyThreadState *ts = PyEval_SaveThread();
     e = sdft_mesh_to_grid(self->mesh, &p, &g, msg, sizeof msg);
     PyEval_RestoreThread(ts);
-    return e == SDFT_OK ? wrap_mesh_grid(g) : raise_error(e, msg);
+    PyObject *grid = e == SDFT_OK ? wrap_mesh_grid(g) : NULL;
+    if (e == SDFT_OK && !grid)
+        return NULL;
+    return progress_result(&pc, e, msg, grid);
 }
 
 static PyMethodDef mesh_methods[] = {
@@ -730,6 +792,13 @@ PyMODINIT_FUNC PyInit__sdftrace(void)
     PyObject *m = PyModule_Create(&module_def);
     if (!m)
         return NULL;
+    Canceled =
+        PyErr_NewExceptionWithDoc("sdftrace.Canceled", "A progress callable asked to stop.", PyExc_RuntimeError, NULL);
+    if (!Canceled || PyModule_AddObject(m, "Canceled", Canceled) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
+    Py_INCREF(Canceled); /* the module's reference, and ours */
     Py_INCREF(&MeshType);
     Py_INCREF(&MeshGridType);
     Py_INCREF(&NanoGridType);

@@ -5,6 +5,7 @@ with no subprocess and no files between them. Every call releases the GIL
 while the library works (on all cores), and errors raise ``ValueError`` (bad
 arguments, malformed files), ``OSError`` (files that cannot be read or
 written), ``MemoryError`` or ``RuntimeError`` with the library's message.
+Conversions and samples take a ``progress`` callable that can stop them.
 
 Meshes
     Every function that takes ``mesh`` takes any of: a file path (.obj .ply
@@ -40,13 +41,14 @@ Grids::
 from __future__ import annotations
 
 import os
-from typing import Any, Dict, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from . import _sdftrace
 
 __all__ = [
+    "Canceled",
     "Mesh",
     "Grid",
     "sample_near_surface",
@@ -60,6 +62,14 @@ __all__ = [
 __version__ = "%d.%d.%d" % (_sdftrace.version // 10000, _sdftrace.version // 100 % 100, _sdftrace.version % 100)
 
 MeshLike = Union["Mesh", str, os.PathLike, Tuple[Any, Any], Any]
+
+#: Raised when a ``progress`` callable returns true: the call stopped.
+Canceled = _sdftrace.Canceled
+
+#: A long call's ``progress``: called with the fraction done (0 to 1, rising) about once a
+#: percent, from the library's worker threads, with the GIL held; return a true value to stop
+#: the call (it raises :class:`Canceled`); an exception it raises stops the call and propagates.
+Progress = Optional[Callable[[float], Optional[bool]]]
 
 #: DeepSDF's two standard deviations, in units of the mesh sphere's radius.
 DEEPSDF_NEAR_SIGMA = (0.070710678118654752, 0.022360679774997897)
@@ -117,14 +127,15 @@ class Mesh:
         seed: int = 0,
         near_sigma: Sequence[float] = DEEPSDF_NEAR_SIGMA,
         uniform_share: float = DEEPSDF_UNIFORM_SHARE,
+        progress: Progress = None,
     ) -> Tuple[np.ndarray, np.ndarray]:
         """``n`` training samples as DeepSDF draws them: a share ``uniform_share`` uniform in
         the cube around the mesh's sphere, the rest on the surface (area-weighted random
         triangles) moved by a Gaussian of either sigma of ``near_sigma`` (in units of the
         sphere's radius), half each. Returns (points (n, 3), sdf (n,)), float32 views of one
         (n, 4) array, the rows ``mesh2sdf --samples`` writes for the same seed. The same
-        seed gives the same samples on any number of cores."""
-        rows = self._mesh.samples(n, seed, tuple(near_sigma), uniform_share)
+        seed gives the same samples on any number of cores. ``progress``: see :data:`Progress`."""
+        rows = self._mesh.samples(n, seed, tuple(near_sigma), uniform_share, progress)
         return rows[:, :3], rows[:, 3]
 
     def to_grid(
@@ -137,13 +148,15 @@ class Mesh:
         sign: str = "winding",
         name: Optional[str] = None,
         threads: int = 0,
+        progress: Progress = None,
     ) -> "Grid":
         """The signed distance grid ``mesh2sdf`` makes with the same options: ``res`` voxel
         centres along the padded box's longest side (or ``voxel_size`` in world units),
         distances within ``band`` voxels of the surface (``full``: everywhere in the box),
         ``padding`` voxels around the mesh (default band + 1), ``sign`` 'winding', 'flood'
-        or 'none'; ``threads`` caps the worker threads (0: all cores)."""
-        return Grid(self._mesh.to_grid(res, voxel_size, band, full, padding, sign, name, threads))
+        or 'none'; ``threads`` caps the worker threads (0: all cores); ``progress``: see
+        :data:`Progress`."""
+        return Grid(self._mesh.to_grid(res, voxel_size, band, full, padding, sign, name, threads, progress))
 
 
 def _mesh(mesh: MeshLike) -> Mesh:
@@ -221,16 +234,17 @@ def sample_near_surface(
     seed: int = 0,
     near_sigma: Sequence[float] = DEEPSDF_NEAR_SIGMA,
     uniform_share: float = DEEPSDF_UNIFORM_SHARE,
+    progress: Progress = None,
 ) -> Tuple[np.ndarray, np.ndarray]:
     """``n`` training samples of ``mesh`` as DeepSDF draws them: (points (n, 3), sdf (n,)).
     See :meth:`Mesh.sample_near_surface`; for unit-sphere samples, pass
     ``Mesh(path, normalize=True)``."""
-    return _mesh(mesh).sample_near_surface(n, seed, near_sigma, uniform_share)
+    return _mesh(mesh).sample_near_surface(n, seed, near_sigma, uniform_share, progress)
 
 
 def mesh_to_grid(mesh: MeshLike, res: int = 256, band: float = 3.0, full: bool = False, **options: Any) -> Grid:
     """The signed distance grid of ``mesh``, as ``mesh2sdf`` converts it; options
-    ``voxel_size``, ``padding``, ``sign``, ``name``, ``threads`` as :meth:`Mesh.to_grid`."""
+    ``voxel_size``, ``padding``, ``sign``, ``name``, ``threads``, ``progress`` as :meth:`Mesh.to_grid`."""
     return _mesh(mesh).to_grid(res=res, band=band, full=full, **options)
 
 

@@ -235,6 +235,25 @@ def test_render_planes():
     assert "temple" in sdftrace.scenes()
 
 
+def test_progress_reports_and_stops():
+    mesh = sdftrace.Mesh(SUZANNE)
+    seen = []
+    mesh.to_grid(res=64, progress=seen.append)
+    assert len(seen) >= 3 and seen == sorted(seen) and seen[-1] == 1.0
+    calls = []
+    with pytest.raises(sdftrace.Canceled, match="canceled"):
+        mesh.to_grid(res=64, progress=lambda done: calls.append(done) or len(calls) >= 2)
+    assert len(calls) == 2
+
+    def broken(done):
+        raise ZeroDivisionError("from the callable")
+
+    with pytest.raises(ZeroDivisionError, match="from the callable"):
+        mesh.sample_near_surface(1000, progress=broken)
+    with pytest.raises(sdftrace.Canceled):
+        sdftrace.sample_near_surface(mesh, 1000, progress=lambda done: True)
+
+
 def test_readme_example_runs(tmp_path, monkeypatch):
     """The README's Python example, as printed there, from a folder with the
     repository's tests/ in it."""
