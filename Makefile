@@ -2,8 +2,8 @@
 #   make demo   install what is missing, build, render the default scene
 #   make test   install what is missing, build with sanitizers, run every test
 #               (bench-quick's pipeline included, as the ctest bench_quick)
-#   make bench  the study: regenerate bench/results/ (bakes, table, figures);
-#               commits nothing. make bench-quick: the same, small, checked.
+#   make bench  the study: regenerate bench/results/ (bakes, table, figures)
+#               and Keinert's techniques against the paper; commits nothing. make bench-quick: the same, small, checked.
 # and, for using sdftrace as a library:
 #   make install PREFIX=/opt/sdftrace   build (Release) and install there
 # Debian packages live in one list: .ci/debian-packages.
@@ -43,6 +43,7 @@ install: build
 
 bench: build
 	./bench/study.sh
+	./bench/keinert.sh
 
 bench-quick: build
 	./bench/study.sh --quick

@@ -6,6 +6,8 @@
 #   find_package(sdftrace CONFIG REQUIRED)                          sdftrace::sdftrace, sdftrace::sdftrace_static
 #   find_package(sdftrace CONFIG REQUIRED COMPONENTS vdb)           also sdftrace::vdb (shared)
 #   find_package(sdftrace CONFIG REQUIRED COMPONENTS vdb_static)    also sdftrace::vdb_static (needs OpenVDB, C++)
+#   find_package(sdftrace CONFIG REQUIRED COMPONENTS mesh)          also sdftrace::mesh (shared, sdftrace/mesh.h)
+#   find_package(sdftrace CONFIG REQUIRED COMPONENTS mesh_static)   also sdftrace::mesh_static (needs OpenVDB, OpenMesh, TBB)
 #   find_package(sdftrace CONFIG REQUIRED COMPONENTS scenes)        also sdftrace::scenes (static, the demo scenes)
 #   pkg-config --cflags --libs sdftrace  (sdftrace_vdb; --static for the static libraries)
 
@@ -23,15 +25,24 @@ install(EXPORT sdftraceTargets NAMESPACE sdftrace:: DESTINATION ${SDFT_CMAKE_DIR
 set_target_properties(sdftrace_scenes PROPERTIES EXPORT_NAME scenes)
 install(TARGETS sdftrace_scenes EXPORT sdftrace_scenesTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(EXPORT sdftrace_scenesTargets NAMESPACE sdftrace:: DESTINATION ${SDFT_CMAKE_DIR})
+# A component made by sdft_component (CMakeLists.txt) as two CMake
+# components: `short`, the shared library, which needs nothing of its C++
+# dependencies at build time (its headers are C), and `short_static`, which
+# brings them to the link.
+function(sdft_install_component name short)
+  set_target_properties(${name} PROPERTIES EXPORT_NAME ${short})
+  set_target_properties(${name}_static PROPERTIES EXPORT_NAME ${short}_static)
+  install(TARGETS ${name} EXPORT ${name}Targets LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(TARGETS ${name}_static EXPORT ${name}_staticTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(EXPORT ${name}Targets NAMESPACE sdftrace:: DESTINATION ${SDFT_CMAKE_DIR})
+  install(EXPORT ${name}_staticTargets NAMESPACE sdftrace:: DESTINATION ${SDFT_CMAKE_DIR})
+endfunction()
 if(TARGET sdftrace_vdb)
-  set_target_properties(sdftrace_vdb PROPERTIES EXPORT_NAME vdb)
-  set_target_properties(sdftrace_vdb_static PROPERTIES EXPORT_NAME vdb_static)
-  # Two components: the shared library needs nothing of OpenVDB's at build
-  # time (its headers are C), the static one brings OpenVDB to the link.
-  install(TARGETS sdftrace_vdb EXPORT sdftrace_vdbTargets LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
-  install(TARGETS sdftrace_vdb_static EXPORT sdftrace_vdb_staticTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
-  install(EXPORT sdftrace_vdbTargets NAMESPACE sdftrace:: DESTINATION ${SDFT_CMAKE_DIR})
-  install(EXPORT sdftrace_vdb_staticTargets NAMESPACE sdftrace:: DESTINATION ${SDFT_CMAKE_DIR})
+  sdft_install_component(sdftrace_vdb vdb) # OpenVDB
+endif()
+
+if(TARGET sdftrace_mesh)
+  sdft_install_component(sdftrace_mesh mesh) # OpenVDB, OpenMesh, TBB
 endif()
 
 configure_package_config_file(cmake/sdftraceConfig.cmake.in ${CMAKE_CURRENT_BINARY_DIR}/sdftraceConfig.cmake
@@ -51,4 +62,8 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/sdftrace.pc DESTINATION ${CMAKE_INSTAL
 if(TARGET sdftrace_vdb)
   configure_file(cmake/sdftrace_vdb.pc.in ${CMAKE_CURRENT_BINARY_DIR}/sdftrace_vdb.pc @ONLY)
   install(FILES ${CMAKE_CURRENT_BINARY_DIR}/sdftrace_vdb.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+endif()
+if(TARGET sdftrace_mesh)
+  configure_file(cmake/sdftrace_mesh.pc.in ${CMAKE_CURRENT_BINARY_DIR}/sdftrace_mesh.pc @ONLY)
+  install(FILES ${CMAKE_CURRENT_BINARY_DIR}/sdftrace_mesh.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 endif()

@@ -66,21 +66,29 @@ openvdb::FloatGrid::Ptr exactBandGrid(const TriangleMesh &mesh, const BoxGeometr
     const float background = band * float(box.voxelSize);
     std::vector<Leaf *> leaves;
     std::mutex leavesMutex;
-    exactBand(
-        mesh, box.origin, box.voxelSize, band,
-        [&](const std::array<int, 3> &origin, float *distance) {
-            if (sign)
-                sign->signBlock(origin, distance);
-            auto *leaf = new Leaf(openvdb::Coord(origin[0], origin[1], origin[2]), background, false);
-            for (int v = 0; v < kBlockSize; ++v)
-                if (std::isfinite(distance[v]))
-                    leaf->setValueOn(openvdb::Index(v), distance[v]);
-                else if (distance[v] < 0)
-                    leaf->setValueOnly(openvdb::Index(v), -background);
-            std::lock_guard<std::mutex> lock(leavesMutex);
-            leaves.push_back(leaf);
-        },
-        [&](int percent) { progress.report(percent); }, simd);
+    // A cancelled progress (Progress::listen) throws out of exactBand: the
+    // leaves made so far are not yet the tree's.
+    try {
+        exactBand(
+            mesh, box.origin, box.voxelSize, band,
+            [&](const std::array<int, 3> &origin, float *distance) {
+                if (sign)
+                    sign->signBlock(origin, distance);
+                auto *leaf = new Leaf(openvdb::Coord(origin[0], origin[1], origin[2]), background, false);
+                for (int v = 0; v < kBlockSize; ++v)
+                    if (std::isfinite(distance[v]))
+                        leaf->setValueOn(openvdb::Index(v), distance[v]);
+                    else if (distance[v] < 0)
+                        leaf->setValueOnly(openvdb::Index(v), -background);
+                std::lock_guard<std::mutex> lock(leavesMutex);
+                leaves.push_back(leaf);
+            },
+            [&](int percent) { progress.report(percent); }, simd);
+    } catch (...) {
+        for (Leaf *leaf : leaves)
+            delete leaf;
+        throw;
+    }
     openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(background);
     for (Leaf *leaf : leaves)
         grid->tree().addLeaf(leaf); // the tree takes ownership

@@ -388,6 +388,8 @@ cmdline_spec optionSpec(const std::vector<cmdline_option> &rows, Options &o)
                  "       mesh2sdf IN.obj --samples N OUT.npy [--near-sigma A,B] [--uniform-share S] [--seed N]\n"
                  "                       [--normalize]\n"
                  "       mesh2sdf IN.obj --query POINTS.npy OUT.npy [--winding] [--normalize]\n"
+                 "       mesh2sdf --batch LIST --out-dir DIR [--formats vdb,nvdb,npy] [--shard K/N] [options]\n"
+                 "       mpirun -np N mesh2sdf --batch LIST --out-dir DIR [options]\n"
                  "       mesh2sdf IN.obj --check-sign GRID.vdb [--check-sign GRID2.vdb ...] [--check-points N]\n"
                  "\n"
                  "Converts a triangle mesh to a signed distance grid (OpenVDB level set).\n"

@@ -41,6 +41,9 @@ class PointQuery
         return w > 0.5 ? -d : d;
     }
 
+    /// The winding number at p alone (3 doubles), without the distance.
+    double winding(const double *p) const { return (*mWinding)({p[0], p[1], p[2]}); }
+
   private:
     std::unique_ptr<NearestTriangle> mNearest;
     std::unique_ptr<FastWinding> mWinding;

@@ -200,24 +200,27 @@ static void test_every_declared_function_is_marked(void **state)
 static void test_shared_libraries_export_the_api(void **state)
 {
     (void)state;
-    names h = public_headers(), core_api = {0}, vdb_api = {0}, scene_api = {0};
+    names h = public_headers(), core_api = {0}, vdb_api = {0}, mesh_api = {0}, scene_api = {0};
     for (size_t i = 0; i < h.n; i++)
         if (strcmp(h.name[i], "config.h") != 0)
             api_functions(h.name[i], strcmp(h.name[i], "vdb.h") == 0     ? &vdb_api
+                                     : strcmp(h.name[i], "mesh.h") == 0  ? &mesh_api
                                      : strcmp(h.name[i], "scene.h") == 0 ? &scene_api
                                                                          : &core_api);
     assert_true(core_api.n > 40);
     assert_true(vdb_api.n >= 4);
+    assert_true(mesh_api.n >= 10);
     assert_true(scene_api.n >= 2); /* the scenes component's (static only): in neither shared library */
     char libs[] = SDFT_SHARED_LIBS;
     char *save = NULL;
     char *core_lib = strtok_r(libs, " ", &save), *vdb_lib = strtok_r(NULL, " ", &save);
-    assert_non_null(vdb_lib);
+    char *mesh_lib = strtok_r(NULL, " ", &save);
+    assert_non_null(mesh_lib);
     const struct {
         const char *lib;
         names *api;
-    } pairs[2] = {{core_lib, &core_api}, {vdb_lib, &vdb_api}};
-    for (int k = 0; k < 2; k++) {
+    } pairs[3] = {{core_lib, &core_api}, {vdb_lib, &vdb_api}, {mesh_lib, &mesh_api}};
+    for (int k = 0; k < 3; k++) {
         names e = exported(pairs[k].lib);
         for (size_t i = 0; i < e.n; i++)
             if (!names_has(pairs[k].api, e.name[i]))
@@ -231,7 +234,7 @@ static void test_shared_libraries_export_the_api(void **state)
         print_message("%s: %zu symbols, all public API\n", pairs[k].lib, e.n);
         free(e.name);
     }
-    free(h.name), free(core_api.name), free(vdb_api.name), free(scene_api.name);
+    free(h.name), free(core_api.name), free(vdb_api.name), free(mesh_api.name), free(scene_api.name);
 }
 
 /* What an internal name may start with: its module. sdft_ is the public

@@ -1,0 +1,135 @@
+// sdftrace — taking a mesh in (sdft_mesh_load, sdft_mesh_from_arrays) and
+// what it holds (sdft_mesh_get_info): read or copied, its sphere taken,
+// normalized where asked, then oriented as mesh2sdf orients it.
+#include "mesh_internal.h"
+
+#include "job.h"
+
+using namespace sdft_mesh_api;
+
+namespace
+{
+
+// What every mesh goes through once its triangles are in place, reading
+// then orienting on the progress bar's two halves.
+void finishMesh(sdft_mesh &m, const sdft_mesh_params &p, mesh2sdf::Progress &progress)
+{
+    m.sphere = mesh2sdf::meshSphere(m.mesh);
+    if (p.normalize) {
+        mesh2sdf::normalizeMesh(m.mesh, m.sphere);
+        m.normalized = true;
+    }
+    progress.stage("orienting", 50, 100);
+    if (p.orient) {
+        m.orient = mesh2sdf::orientMesh(m.mesh);
+        m.oriented = true;
+    } else {
+        mesh2sdf::countEdges(m.mesh, mesh2sdf::edgeUses(m.mesh));
+    }
+    progress.report(100);
+}
+
+// The mesh reader's one line, as an error code: a file that cannot be
+// opened is SDFT_EIO, anything else it refuses SDFT_EFORMAT.
+sdft_error readError(const std::string &error) { return error.rfind("cannot open", 0) == 0 ? SDFT_EIO : SDFT_EFORMAT; }
+
+} // namespace
+
+extern "C" {
+
+sdft_mesh_params sdft_mesh_params_defaults(void)
+{
+    sdft_mesh_params p{};
+    p.orient = 1;
+    return p;
+}
+
+sdft_error sdft_mesh_load(const char *path, const sdft_mesh_params *params, sdft_mesh **out, char *msg, size_t msg_len)
+{
+    if (out)
+        *out = nullptr;
+    if (!path || !out)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_load: %s is NULL", path ? "out" : "path");
+    const sdft_mesh_params p = params ? *params : sdft_mesh_params_defaults();
+    return guarded(path, msg, msg_len, [&] {
+        Listened listened(p.progress, p.progress_user);
+        listened.progress.stage("reading", 0, 50);
+        std::unique_ptr<sdft_mesh> m(new sdft_mesh);
+        std::string error;
+        if (!mesh2sdf::loadMesh(path, m->mesh, error))
+            return fail_with(msg, msg_len, readError(error), "%s", error.c_str());
+        listened.progress.report(100);
+        m->source = p.source ? p.source : path;
+        m->stem = mesh2sdf::fileStem(path);
+        finishMesh(*m, p, listened.progress);
+        *out = m.release();
+        return SDFT_OK;
+    });
+}
+
+sdft_error sdft_mesh_from_arrays(const void *vertices, sdft_dtype vertex_type, size_t vertex_count, const void *faces,
+                                 sdft_dtype face_type, size_t face_count, const sdft_mesh_params *params,
+                                 sdft_mesh **out, char *msg, size_t msg_len)
+{
+    if (out)
+        *out = nullptr;
+    if (!vertices || !faces || !out)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_from_arrays: %s is NULL",
+                         !vertices ? "vertices"
+                         : !faces  ? "faces"
+                                   : "out");
+    const sdft_mesh_params p = params ? *params : sdft_mesh_params_defaults();
+    return guarded("mesh from arrays", msg, msg_len, [&] {
+        Listened listened(p.progress, p.progress_user);
+        listened.progress.stage("reading", 0, 50);
+        std::unique_ptr<sdft_mesh> m(new sdft_mesh);
+        std::string error;
+        const sdft_error e =
+            meshFromArrays(vertices, vertex_type, vertex_count, faces, face_type, face_count, m->mesh, error);
+        if (e != SDFT_OK)
+            return fail_with(msg, msg_len, e, "%s", error.c_str());
+        listened.progress.report(100);
+        m->source = p.source ? p.source : "";
+        m->stem = "mesh";
+        finishMesh(*m, p, listened.progress);
+        *out = m.release();
+        return SDFT_OK;
+    });
+}
+
+void sdft_mesh_free(sdft_mesh *m) { delete m; }
+
+sdft_error sdft_mesh_get_info(const sdft_mesh *m, sdft_mesh_info *info, char *msg, size_t msg_len)
+{
+    if (!m || !info)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_get_info: %s is NULL", m ? "info" : "m");
+    const mesh2sdf::MeshHealth &h = m->mesh.health;
+    sdft_mesh_info i{};
+    i.vertices = h.vertices;
+    i.faces = h.faces;
+    i.triangles = m->mesh.triangles.size();
+    i.degenerate_faces = h.degenerateFaces;
+    i.welded_vertices = h.weldedVertices;
+    i.boundary_edges = h.boundaryEdges;
+    i.non_manifold_edges = h.nonManifoldEdges;
+    i.closed = h.closed();
+    i.oriented = m->oriented;
+    i.duplicate_faces = m->orient.duplicateFaces;
+    i.patches = m->orient.patches;
+    i.non_orientable_patches = m->orient.nonOrientablePatches;
+    i.reoriented_faces = m->orient.reorientedFaces;
+    i.outward_patches = m->orient.outwardPatches;
+    i.cavity_patches = m->orient.cavityPatches;
+    i.ambiguous_patches = m->orient.ambiguousPatches;
+    for (int k = 0; k < 3; ++k) {
+        i.lo[k] = m->mesh.lo[k];
+        i.hi[k] = m->mesh.hi[k];
+        i.centre[k] = m->sphere.centre[k];
+    }
+    i.radius = m->sphere.radius;
+    i.normalized = m->normalized;
+    *info = i;
+    return SDFT_OK;
+}
+
+} // extern "C"
