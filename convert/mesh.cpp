@@ -12,6 +12,8 @@
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 
+#include "isolated_read.h"
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -338,6 +340,102 @@ bool checkHeaderCounts(const std::string &path, const std::string &ext, std::str
     return true;
 }
 
+// OpenMesh's readers trust the file: byte-mutated .om files crash its
+// reader (segfaults), make it loop or allocate what a count claims, and so
+// do binary PLY files. So the read runs in a child process
+// (src/common/isolated_read.h) that hands back the points and the faces,
+// and a crash, a loop or an allocation past memory there becomes one line
+// here. Its answer: a status byte (0 not read, 1 read, 2 out of memory),
+// the counts of points, corners and face ends (uint64), then the arrays.
+int readInChild(void *ctx, int fd)
+{
+    const std::string &path = *static_cast<const std::string *>(ctx);
+    PolyMesh poly;
+    FaceRecorder recorder(poly);
+    OpenMesh::IO::Options options;
+    uint8_t status = 0;
+    std::vector<std::array<float, 3>> points;
+    std::vector<uint64_t> ends;
+    const Polygons *faces = nullptr;
+    try {
+        if (OpenMesh::IO::IOManager().read(path, recorder, options)) {
+            points = recorder.points();
+            faces = &recorder.faces();
+            ends.assign(faces->ends.begin(), faces->ends.end());
+            status = 1;
+        }
+    } catch (const std::bad_alloc &) {
+        status = 2;
+    }
+    const uint64_t counts[3] = {points.size(), faces ? faces->corners.size() : 0, ends.size()};
+    const bool wrote = !isolated_write_all(fd, &status, 1) && !isolated_write_all(fd, counts, sizeof counts) &&
+                       !isolated_write_all(fd, points.data(), points.size() * sizeof points[0]) &&
+                       (!faces || !isolated_write_all(fd, faces->corners.data(), counts[1] * sizeof(uint32_t))) &&
+                       !isolated_write_all(fd, ends.data(), ends.size() * sizeof(uint64_t));
+    return wrote ? 0 : 1;
+}
+
+// The child's answer (readInChild) into mesh.points and faces, checked:
+// sizes against the answer's length, corners against the points, ends in
+// order.
+bool takeAnswer(const char *answer, size_t size, const std::string &path, TriangleMesh &mesh, Polygons &faces,
+                std::string &error)
+{
+    uint64_t counts[3];
+    if (size < 1 + sizeof counts) {
+        error = "cannot read mesh (the reader process gave no answer): " + path;
+        return false;
+    }
+    std::memcpy(counts, answer + 1, sizeof counts);
+    if (answer[0] != 1) {
+        error = answer[0] == 2 ? "mesh is larger than memory allows: " + path
+                               : "cannot read mesh (not a valid " + lowerExtension(path) + " file?): " + path;
+        return false;
+    }
+    const uint64_t left = size - 1 - sizeof counts;
+    if (counts[0] > left / 12 || counts[1] > left / 4 || counts[2] > left / 8 ||
+        12 * counts[0] + 4 * counts[1] + 8 * counts[2] != left) {
+        error = "cannot read mesh (the reader process's answer is inconsistent): " + path;
+        return false;
+    }
+    const char *at = answer + 1 + sizeof counts;
+    mesh.points.resize(counts[0]);
+    std::memcpy(mesh.points.data(), at, 12 * counts[0]);
+    faces.corners.resize(counts[1]);
+    std::memcpy(faces.corners.data(), at + 12 * counts[0], 4 * counts[1]);
+    std::vector<uint64_t> ends(counts[2]);
+    std::memcpy(ends.data(), at + 12 * counts[0] + 4 * counts[1], 8 * counts[2]);
+    faces.ends.assign(ends.begin(), ends.end());
+    uint64_t last = 0;
+    for (uint64_t e : ends) {
+        if (e < last + 3 || e > counts[1]) {
+            error = "cannot read mesh (the reader process's answer is inconsistent): " + path;
+            return false;
+        }
+        last = e;
+    }
+    for (uint32_t c : faces.corners)
+        if (c >= counts[0]) {
+            error = "cannot read mesh (the reader process's answer is inconsistent): " + path;
+            return false;
+        }
+    return true;
+}
+
+bool readIsolated(const std::string &path, TriangleMesh &mesh, Polygons &faces, std::string &error)
+{
+    char *answer = nullptr, why[128];
+    size_t size = 0;
+    if (isolated_read(path.c_str(), readInChild, const_cast<std::string *>(&path), &answer, &size, why, sizeof why) !=
+        0) {
+        error = "cannot read mesh (the reader failed on it: " + std::string(why) + "; a corrupt file?): " + path;
+        return false;
+    }
+    const bool ok = takeAnswer(answer, size, path, mesh, faces, error);
+    std::free(answer);
+    return ok;
+}
+
 } // namespace
 
 bool isMeshExtension(const std::string &path)
@@ -365,23 +463,10 @@ bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
     omlog().disable();
     omout().disable();
 
-    PolyMesh poly;
-    FaceRecorder recorder(poly);
-    OpenMesh::IO::Options options;
-    bool read = false;
-    try {
-        read = OpenMesh::IO::IOManager().read(path, recorder, options);
-    } catch (const std::bad_alloc &) {
-        error = "mesh is larger than memory allows: " + path;
-        return false;
-    }
-    if (!read) {
-        error = "cannot read mesh (not a valid " + lowerExtension(path) + " file?): " + path;
-        return false;
-    }
     mesh = TriangleMesh{};
-    const Polygons &faces = recorder.faces();
-    mesh.points = recorder.points();
+    Polygons faces;
+    if (!readIsolated(path, mesh, faces, error))
+        return false;
     mesh.health.vertices = mesh.points.size();
     mesh.health.faces = faces.ends.size();
     if (faces.ends.empty()) {
