@@ -4,6 +4,7 @@
 // line on stderr and exit status 1, with no file left at a destination.
 #include "check.h"
 #include "grid.h"
+#include "memory_estimate.h"
 #include "mesh.h"
 #include "options.h"
 #include "orient.h"
@@ -256,7 +257,8 @@ int main(int argc, char **argv)
 
     if (!opt.checkSign.empty()) {
         TriangleMesh mesh;
-        if (!loadMesh(opt.input, mesh, error) || !checkSign(mesh, opt.checkSign, opt.samples, error))
+        if (!samplesFitMemory(opt.samples, error) || !loadMesh(opt.input, mesh, error) ||
+            !checkSign(mesh, opt.checkSign, opt.samples, error))
             return fail(error);
         return 0;
     }
