@@ -15,7 +15,7 @@ namespace mesh2sdf
 {
 
 /// Bytes the conversion of `mesh` into `box` with `opt` will need at its
-/// peak (resident set), within about 25% (tests/test_mesh2sdf_memory.c).
+/// peak (resident set), within about 25% (tests/test_untrusted.c).
 double conversionPeakBytes(const TriangleMesh &mesh, const BoxGeometry &box, const Options &opt);
 
 /// False with one line in error ("needs ~37.2 GiB for ...; this machine

@@ -6,7 +6,7 @@
  * bytes a pixel: src/io/exr.c), 65 bytes a pixel, on top of the process
  * with its libraries (about 34 MiB). Measured with /usr/bin/time's maximum
  * resident set: 1024x1024 and 2048x2048 renders within a few percent
- * (tests/test_untrusted_memory.c). The grid's own memory comes on top. */
+ * (tests/test_untrusted.c). The grid's own memory comes on top. */
 #include "render_memory.h"
 
 #include <stdio.h>
