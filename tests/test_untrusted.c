@@ -176,6 +176,26 @@ static void test_absurd_counts(void **state)
     }
 }
 
+/* mesh2sdf --check-sign reads .vdb files too: each input that crashed
+ * OpenVDB's reader is one line and a non-zero exit. */
+static void test_check_sign_on_corrupt_grids(void **state)
+{
+    (void)state;
+    static const char *const names[] = {"openvdb-segfault-1", "openvdb-segfault-2", "openvdb-huge-allocation",
+                                        "openvdb-assert-delayed-load-mask", "openvdb-huge-metadata-string"};
+    char mesh[1024];
+    snprintf(mesh, sizeof mesh, "%s/suzanne.obj", SDFT_MESH_DIR);
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        const int rc =
+            tu_run(out, sizeof out, "%s '%s' --check-sign '%s/tests/fuzz/regressions/vdb/%s' --samples 100 2>&1",
+                   SDFT_MESH2SDF, mesh, SDFT_SOURCE_DIR, names[i]);
+        if (rc != 0 && tu_lines(out) != 1)
+            fail_msg("--check-sign %s: exit %d: %s", names[i], rc, out);
+        if (rc == 0 && strstr(out, "wrong=") == NULL) /* a mutation OpenVDB reads through is a grid */
+            fail_msg("--check-sign %s: exit 0 without a result: %s", names[i], out);
+    }
+}
+
 /* Sizes past the machine: each refused before allocating, the estimate in
  * the line. SDFT_MEMORY_LIMIT stands in for a small machine. */
 static void test_hostile_sizes_refused(void **state)
@@ -275,9 +295,13 @@ static void test_estimates_match_measured_peaks(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_seeds_convert),           cmocka_unit_test(test_zero_length_and_cut_files),
-        cmocka_unit_test(test_absurd_counts),           cmocka_unit_test(test_hostile_sizes_refused),
-        cmocka_unit_test(test_limit_follows_rlimit_as), cmocka_unit_test(test_estimates_match_measured_peaks),
+        cmocka_unit_test(test_seeds_convert),
+        cmocka_unit_test(test_zero_length_and_cut_files),
+        cmocka_unit_test(test_absurd_counts),
+        cmocka_unit_test(test_check_sign_on_corrupt_grids),
+        cmocka_unit_test(test_hostile_sizes_refused),
+        cmocka_unit_test(test_limit_follows_rlimit_as),
+        cmocka_unit_test(test_estimates_match_measured_peaks),
     };
     return cmocka_run_group_tests_name("untrusted", tests, NULL, NULL);
 }
