@@ -224,6 +224,12 @@ static void test_hostile_sizes_refused(void **state)
                 SDFT_CLI, result);
     if (rc == 0 || tu_lines(out) != 1 || !strstr(out, "needs ~3.9 GiB") || tu_file_exists(result))
         fail_msg("render 8000x8000: exit %d: %s", rc, out);
+    tu_tmp(result, sizeof result, "hostile.nvdb");
+    remove(result);
+    rc = tu_run(out, sizeof out, "SDFT_MEMORY_LIMIT=200000000 %s bake --scene city --res 1024 --full -o '%s' 2>&1",
+                SDFT_CLI, result);
+    if (rc == 0 || tu_lines(out) != 1 || !strstr(out, "needs ~") || tu_file_exists(result))
+        fail_msg("bake --res 1024 --full: exit %d: %s", rc, out);
 }
 
 /* The address-space limit (ulimit -v) counts as the machine's size. */
@@ -275,7 +281,7 @@ static void test_estimates_match_measured_peaks(void **state)
     (void)state;
     if (SDFT_SANITIZE_FLAGS[0] || !tu_file_exists("/usr/bin/time"))
         skip();
-    char mesh[1024], vdb[1024], exr[1024], cmd[3][4096];
+    char mesh[1024], vdb[1024], exr[1024], cmd[4][4096];
     snprintf(mesh, sizeof mesh, "%s/spot.obj", SDFT_MESH_DIR);
     tu_tmp(vdb, sizeof vdb, "peak.vdb");
     tu_tmp(exr, sizeof exr, "peak.exr");
@@ -283,7 +289,8 @@ static void test_estimates_match_measured_peaks(void **state)
              "%s render --scene dodecahedron --width 2048 --height 2048 --max-steps 4 -o '%s' --quiet", SDFT_CLI, exr);
     snprintf(cmd[1], sizeof cmd[1], "%s '%s' -o '%s' --res 1024 --quiet", SDFT_MESH2SDF, mesh, vdb);
     snprintf(cmd[2], sizeof cmd[2], "%s '%s' -o '%s' --res 256 --full --quiet", SDFT_MESH2SDF, mesh, vdb);
-    for (int i = 0; i < 3; i++) {
+    snprintf(cmd[3], sizeof cmd[3], "%s bake --scene dodecahedron --res 512 --full -o '%s' --quiet", SDFT_CLI, vdb);
+    for (int i = 0; i < 4; i++) {
         const double stated = stated_estimate(cmd[i]), peak = measured_peak(cmd[i]);
         print_message("estimate %.0f MiB, measured %.0f MiB: %s\n", stated / 1048576.0, peak / 1048576.0, cmd[i]);
         if (stated < 0.75 * peak || stated > 1.25 * peak)
