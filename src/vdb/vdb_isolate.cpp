@@ -3,16 +3,15 @@
 // one line, never a crash or a hang of the caller.
 //
 // WHY. OpenVDB's reader trusts the file. Byte-mutated files crash it (and
-// vdb_print) with segfaults and glibc heap corruption, or make it loop for
-// minutes: io/Compression.cc reads an "uncompressed" block of the size the
-// file states into a buffer of the size the tree expects before comparing
-// the two (a heap overflow: bloscFromStream, unzipFromStream); a compressed
-// block's size is allocated as stated; blosc decompresses trusting its own
-// header; node and tile counts drive loops and allocations unchecked. A
-// validator of the whole format (header, metadata, descriptors, the three
-// node levels' masks and compressed values, blosc's internal offsets)
-// would be a second reader to keep in step with OpenVDB's, and still not
-// prove that blosc holds. Here the child reads the file the way the caller
+// vdb_print) with segfaults and glibc heap corruption, fail its
+// assertions (DelayedLoadMetadata::getMask: index < mMask.size()),
+// allocate gigabytes for a metadata string whose length is corrupt, or
+// make it loop for minutes on counts read past the end of the stream (the
+// inputs are in tests/fuzz/regressions/vdb). A validator of the whole
+// format (header, metadata, descriptors, the three node levels' masks and
+// compressed values, blosc's internal offsets) would be a second reader
+// to keep in step with OpenVDB's, and still not prove that blosc holds.
+// Here the child reads the file the way the caller
 // is about to (the same delayed loading, every leaf's values decompressed
 // once) under a time limit and an address-space limit; only when it
 // finishes does the caller read the file itself. A crash, a signal, an
