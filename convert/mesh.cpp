@@ -399,12 +399,17 @@ bool takeAnswer(const char *answer, size_t size, const std::string &path, Triang
         return false;
     }
     const char *at = answer + 1 + sizeof counts;
+    const auto take = [&at](void *to, size_t bytes) { // memcpy wants a non-null `to`, even for 0 bytes
+        if (bytes)
+            std::memcpy(to, at, bytes);
+        at += bytes;
+    };
     mesh.points.resize(counts[0]);
-    std::memcpy(mesh.points.data(), at, 12 * counts[0]);
+    take(mesh.points.data(), 12 * counts[0]);
     faces.corners.resize(counts[1]);
-    std::memcpy(faces.corners.data(), at + 12 * counts[0], 4 * counts[1]);
+    take(faces.corners.data(), 4 * counts[1]);
     std::vector<uint64_t> ends(counts[2]);
-    std::memcpy(ends.data(), at + 12 * counts[0] + 4 * counts[1], 8 * counts[2]);
+    take(ends.data(), 8 * counts[2]);
     faces.ends.assign(ends.begin(), ends.end());
     uint64_t last = 0;
     for (uint64_t e : ends) {
