@@ -3,12 +3,15 @@
 
 #include "winding.h"
 
+#include "isolated_read.h"
+
 #include <openvdb/openvdb.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <random>
 
 namespace mesh2sdf
@@ -17,11 +20,41 @@ namespace mesh2sdf
 namespace
 {
 
+// The child's side of readFirstFloatGrid's check: the whole read, the way
+// the parent reads it; back comes 1, or 0 and OpenVDB's message.
+int readInChild(void *ctx, int fd)
+{
+    std::string answer(1, '\1');
+    try {
+        openvdb::io::File file(*static_cast<const std::string *>(ctx));
+        file.open(false); // every leaf's values now, not when first read
+        file.getGrids();
+    } catch (const std::exception &e) {
+        answer = std::string(1, '\0') + e.what();
+    }
+    return isolated_write_all(fd, answer.data(), answer.size());
+}
+
 openvdb::FloatGrid::Ptr readFirstFloatGrid(const std::string &path, std::string &error)
 {
+    // OpenVDB's reader is not safe on a corrupt file: a child reads it
+    // first (src/common/isolated_read.h), and only a file it read whole is
+    // read here.
+    char *answer = nullptr, why[128];
+    size_t size = 0;
+    if (isolated_read(path.c_str(), readInChild, const_cast<std::string *>(&path), &answer, &size, why, sizeof why)) {
+        error = "cannot read grid " + path + " (OpenVDB's reader failed on it: " + why + "; a corrupt file?)";
+        return nullptr;
+    }
+    const std::string said(answer, size);
+    std::free(answer);
+    if (said.empty() || said[0] != 1) {
+        error = "cannot read grid " + path + ": " + (said.empty() ? std::string("no answer") : said.substr(1));
+        return nullptr;
+    }
     try {
         openvdb::io::File file(path);
-        file.open();
+        file.open(false);
         openvdb::GridPtrVecPtr grids = file.getGrids();
         file.close();
         for (const auto &g : *grids)

@@ -1,5 +1,6 @@
 // mesh2sdf — grid building (see grid.h).
 #include "grid.h"
+#include "memory_estimate.h"
 
 #include "band.h"
 #include "nearest_triangle.h"
@@ -415,7 +416,7 @@ bool planBox(const TriangleMesh &mesh, const Options &opt, BoxGeometry &box, std
                 " voxels is above the limit of 2^31";
         return false;
     }
-    return true;
+    return conversionFitsMemory(mesh, box, opt, error);
 }
 
 openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &box, const Options &opt,

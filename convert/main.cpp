@@ -6,6 +6,7 @@
 #include "batch.h"
 #include "check.h"
 #include "job.h"
+#include "memory_estimate.h"
 #include "options.h"
 #include "query.h"
 #include "samples.h"
@@ -164,7 +165,8 @@ int main(int argc, char **argv)
     openvdb::initialize();
     if (!opt.checkSign.empty()) {
         TriangleMesh mesh;
-        if (!loadMesh(opt.input, mesh, error) || !checkSign(mesh, opt.checkSign, opt.checkPoints, error))
+        if (!samplesFitMemory(opt.checkPoints, error) || !loadMesh(opt.input, mesh, error) ||
+            !checkSign(mesh, opt.checkSign, opt.checkPoints, error))
             return fail(error);
         return 0;
     }

@@ -5,6 +5,7 @@
 #include "mesh.h"
 #include "mesh_assimp.h"
 #include "ply_read.h"
+#include "reader_process.h"
 
 // GCC 12 with sanitizers flags OpenMesh's property vectors (VectorT copies
 // in PropertyT::push_back) as maybe-uninitialized; a false positive in its
@@ -316,29 +317,35 @@ bool checkHeaderCounts(const std::string &path, const std::string &ext, std::str
     return true;
 }
 
-// OpenMesh's readers (.obj .off .stl .om) into `soup`.
+// OpenMesh's readers (.obj .off .stl .om) into `soup`. They trust the
+// file: byte-mutated .om files crash the reader (segfaults), make it loop or
+// allocate what a count claims. So the read runs in a child process
+// (reader_process.h), where a crash, a loop or an allocation past the
+// limits becomes one line here.
 bool readWithOpenMesh(const std::string &path, const std::string &ext, PolygonSoup &soup, std::string &error)
 {
     if (!checkTextCoordinates(path, ext, error) || !checkHeaderCounts(path, ext, error))
         return false;
-    // OpenMesh reports complex edges and parse problems on its own streams;
-    // the health line says what matters, once.
-    omerr().disable();
-    omlog().disable();
-    omout().disable();
-
-    PolyMesh poly;
-    FaceRecorder recorder(poly);
-    OpenMesh::IO::Options options;
-    if (!OpenMesh::IO::IOManager().read(path, recorder, options)) {
-        error = "cannot read mesh (not a valid " + ext + " file?): " + path;
-        return false;
-    }
-    PolygonSoup &faces = recorder.faces();
-    soup.points = recorder.points();
-    soup.corners = std::move(faces.corners);
-    soup.ends = std::move(faces.ends);
-    return true;
+    const auto read = [&path, &ext](PolygonSoup &s, std::string &e) {
+        // OpenMesh reports complex edges and parse problems on its own
+        // streams; the health line says what matters, once.
+        omerr().disable();
+        omlog().disable();
+        omout().disable();
+        PolyMesh poly;
+        FaceRecorder recorder(poly);
+        OpenMesh::IO::Options options;
+        if (!OpenMesh::IO::IOManager().read(path, recorder, options)) {
+            e = "cannot read mesh (not a valid " + ext + " file?): " + path;
+            return false;
+        }
+        PolygonSoup &faces = recorder.faces();
+        s.points = recorder.points();
+        s.corners = std::move(faces.corners);
+        s.ends = std::move(faces.ends);
+        return true;
+    };
+    return readInChildProcess(read, path, soup, error);
 }
 
 // True if the n corners are a polygon: three or more, all distinct.

@@ -189,12 +189,10 @@ bool readAssimp(const std::string &path, PolygonSoup &soup, std::string &error)
 {
     // assimp 5.2 aborts on some malformed files (its asserts are on in
     // Debian's build: a 3MF whose zip CRC is wrong), crashes on others and
-    // loops on some Collada: it reads in a child process, given a minute
-    // and ten seconds a MiB (its readers parse several MiB a second).
-    std::ifstream in(path, std::ios::binary | std::ios::ate);
-    const double mib = in ? double(in.tellg()) / (1 << 20) : 0.0;
-    return readInChildProcess([&path](PolygonSoup &s, std::string &e) { return importScene(path, s, e); },
-                              60.0 + 10.0 * mib, path, soup, error);
+    // loops on some Collada, or allocates without end: it reads in a child
+    // process, within the time and memory isolated_read.h allows.
+    return readInChildProcess([&path](PolygonSoup &s, std::string &e) { return importScene(path, s, e); }, path, soup,
+                              error);
 }
 
 } // namespace mesh2sdf

@@ -1,20 +1,13 @@
 // mesh2sdf — a reader in a child process (see reader_process.h).
 //
-// The child writes one answer and exits: a byte (1 soup, 0 error), then for
-// a soup the three counts and arrays (points, corners, ends), for an error
-// its length and text. The parent reads it against a deadline; an answer
-// cut short (the child died) is never taken for a soup.
+// The child writes one answer: a byte (1 soup, 0 error, 2 out of memory),
+// then for a soup the three counts and arrays (points, corners, ends), for
+// an error its length and text. The parent takes nothing on trust: every
+// count is checked against the bytes that came back before it is used.
 #include "reader_process.h"
 
-#include <fcntl.h>
-#include <poll.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
+#include "isolated_read.h"
 
-#include <algorithm>
-#include <cerrno>
-#include <chrono>
 #include <cstring>
 #include <new>
 
@@ -24,163 +17,116 @@ namespace mesh2sdf
 namespace
 {
 
-bool writeAll(int fd, const void *data, size_t n)
-{
-    const char *at = static_cast<const char *>(data);
-    while (n > 0) {
-        const ssize_t wrote = write(fd, at, n);
-        if (wrote < 0 && errno == EINTR)
-            continue;
-        if (wrote <= 0)
-            return false;
-        at += wrote;
-        n -= size_t(wrote);
-    }
-    return true;
-}
+struct ChildWork {
+    const SoupReader *read;
+};
 
-template <typename T> bool writeArray(int fd, const std::vector<T> &v)
+template <typename T> bool writeArray(int fd, const T *data, uint64_t n)
 {
-    const uint64_t n = v.size();
-    return writeAll(fd, &n, sizeof n) && writeAll(fd, v.data(), n * sizeof(T));
+    return !isolated_write_all(fd, &n, sizeof n) && !isolated_write_all(fd, data, n * sizeof(T));
 }
 
 // The child's side: runs the reader and writes its answer.
-[[noreturn]] void answer(int fd, const SoupReader &read)
+int answer(void *ctx, int fd)
 {
-    const int null = open("/dev/null", O_WRONLY);
-    if (null >= 0)
-        dup2(null, STDERR_FILENO); // assimp's own messages (and asserts) would be more lines
+    const SoupReader &read = *static_cast<ChildWork *>(ctx)->read;
     PolygonSoup soup;
     std::string error;
-    bool ok;
+    unsigned char tag;
     try {
-        ok = read(soup, error);
+        tag = read(soup, error) ? 1 : 0;
     } catch (const std::bad_alloc &) {
-        ok = false;
-        error = "out of memory";
+        tag = 2;
     }
-    const unsigned char tag = ok ? 1 : 0;
-    // A failed write leaves the parent an answer cut short, which it reports.
-    if (ok)
-        (void)(writeAll(fd, &tag, 1) && writeArray(fd, soup.points) && writeArray(fd, soup.corners) &&
-               writeArray(fd, soup.ends));
-    else
-        (void)(writeAll(fd, &tag, 1) && writeArray(fd, std::vector<char>(error.begin(), error.end())));
-    _exit(0);
+    if (isolated_write_all(fd, &tag, 1))
+        return 1;
+    if (tag == 1) {
+        const std::vector<uint64_t> ends(soup.ends.begin(), soup.ends.end());
+        return writeArray(fd, soup.points.data(), soup.points.size()) &&
+                       writeArray(fd, soup.corners.data(), soup.corners.size()) &&
+                       writeArray(fd, ends.data(), ends.size())
+                   ? 0
+                   : 1;
+    }
+    return tag == 0 && !writeArray(fd, error.data(), error.size());
 }
 
-// Reads exactly n bytes before `deadline`; false on an early end or the
-// deadline (`late` says which).
+// The answer's bytes, taken in order; false once a count asks for more
+// than is left.
 class AnswerReader
 {
   public:
-    AnswerReader(int fd, std::chrono::steady_clock::time_point deadline) : mFd(fd), mDeadline(deadline) {}
+    AnswerReader(const char *data, size_t size) : mAt(data), mLeft(size) {}
 
-    bool bytes(void *data, size_t n)
+    bool bytes(void *to, size_t n)
     {
-        char *at = static_cast<char *>(data);
-        while (n > 0) {
-            const auto left =
-                std::chrono::duration_cast<std::chrono::milliseconds>(mDeadline - std::chrono::steady_clock::now());
-            pollfd p{mFd, POLLIN, 0};
-            const int ready = left.count() > 0 ? poll(&p, 1, int(std::min<long long>(left.count(), 1000000))) : 0;
-            if (ready < 0 && errno == EINTR)
-                continue;
-            if (ready == 0) {
-                late = std::chrono::steady_clock::now() >= mDeadline;
-                if (late)
-                    return false;
-                continue;
-            }
-            const ssize_t got = ready > 0 ? read(mFd, at, n) : -1;
-            if (got < 0 && errno == EINTR)
-                continue;
-            if (got <= 0)
-                return false;
-            at += got;
-            n -= size_t(got);
-        }
+        if (n > mLeft)
+            return false;
+        if (n)
+            std::memcpy(to, mAt, n);
+        mAt += n, mLeft -= n;
         return true;
     }
 
     template <typename T> bool array(std::vector<T> &v)
     {
         uint64_t n;
-        if (!bytes(&n, sizeof n))
+        if (!bytes(&n, sizeof n) || n > mLeft / sizeof(T))
             return false;
-        // Grown as the bytes arrive, so that a count cut short or wrong
-        // never reserves more than came through the pipe.
-        constexpr size_t kChunk = (1 << 20) / sizeof(T) + 1;
-        for (uint64_t done = 0; done < n;) {
-            const size_t take = size_t(std::min<uint64_t>(n - done, kChunk));
-            v.resize(size_t(done) + take);
-            if (!bytes(v.data() + done, take * sizeof(T)))
-                return false;
-            done += take;
-        }
-        return true;
+        v.resize(size_t(n));
+        return bytes(v.data(), size_t(n) * sizeof(T));
     }
 
-    bool late = false;
+    bool done() const { return mLeft == 0; }
 
   private:
-    int mFd;
-    std::chrono::steady_clock::time_point mDeadline;
+    const char *mAt;
+    size_t mLeft;
 };
 
 } // namespace
 
-bool readInChildProcess(const SoupReader &read, double seconds, const std::string &path, PolygonSoup &soup,
-                        std::string &error)
+bool readInChildProcess(const SoupReader &read, const std::string &path, PolygonSoup &soup, std::string &error)
 {
-    int fds[2];
-    if (pipe(fds) != 0) {
-        error = "cannot start the reader (pipe: " + std::string(std::strerror(errno)) + "): " + path;
+    ChildWork work{&read};
+    char *data = nullptr, why[128];
+    size_t size = 0;
+    if (isolated_read(path.c_str(), answer, &work, &data, &size, why, sizeof why) != 0) {
+        error = "cannot read mesh (the reader failed on it: " + std::string(why) + "; a corrupt file?): " + path;
         return false;
     }
-    const pid_t child = fork();
-    if (child < 0) {
-        error = "cannot start the reader (fork: " + std::string(std::strerror(errno)) + "): " + path;
-        close(fds[0]);
-        close(fds[1]);
-        return false;
-    }
-    if (child == 0) {
-        close(fds[0]);
-        answer(fds[1], read);
-    }
-    close(fds[1]);
-    const auto deadline =
-        std::chrono::steady_clock::now() + std::chrono::milliseconds(static_cast<long long>(seconds * 1000));
-    AnswerReader in(fds[0], deadline);
-    unsigned char tag = 2;
+    AnswerReader in(data, size);
+    unsigned char tag = 3;
     std::vector<char> text;
+    std::vector<uint64_t> ends;
     soup = PolygonSoup{};
     const bool answered =
-        in.bytes(&tag, 1) &&
-        (tag == 1 ? in.array(soup.points) && in.array(soup.corners) && in.array(soup.ends) : in.array(text));
-    close(fds[0]);
-    if (!answered)
-        kill(child, SIGKILL);
-    int status = 0;
-    while (waitpid(child, &status, 0) < 0 && errno == EINTR) {
-    }
-    if (answered && tag == 1)
-        return true;
-    if (answered) {
-        error.assign(text.begin(), text.end());
-        return false;
+        in.bytes(&tag, 1) && (tag == 1 ? in.array(soup.points) && in.array(soup.corners) && in.array(ends) && in.done()
+                              : tag == 0 ? in.array(text) && in.done()
+                                         : tag == 2 && in.done());
+    std::free(data);
+    if (answered && tag == 1) {
+        // The loader takes corners within the points and ends in order on
+        // trust (polygon_soup.h): the child's answer is held to it here.
+        bool consistent = true;
+        for (size_t f = 0; f < ends.size() && consistent; ++f)
+            consistent = ends[f] <= soup.corners.size() && (f == 0 || ends[f] >= ends[f - 1]);
+        for (size_t c = 0; c < soup.corners.size() && consistent; ++c)
+            consistent = soup.corners[c] < soup.points.size();
+        if (consistent) {
+            soup.ends.assign(ends.begin(), ends.end());
+            return true;
+        }
     }
     soup = PolygonSoup{};
-    if (in.late)
-        error = "cannot read mesh (the reader took longer than " + std::to_string(static_cast<long long>(seconds)) +
-                " s, and was stopped): " + path;
-    else if (WIFSIGNALED(status))
-        error =
-            "cannot read mesh (the reader crashed on it: " + std::string(strsignal(WTERMSIG(status))) + "): " + path;
+    if (answered && tag == 1)
+        error = "cannot read mesh (the reader process's answer is inconsistent): " + path;
+    else if (answered && tag == 0)
+        error.assign(text.begin(), text.end());
+    else if (answered)
+        error = "mesh is larger than memory allows: " + path;
     else
-        error = "cannot read mesh (the reader ended without an answer): " + path;
+        error = "cannot read mesh (the reader process's answer is inconsistent): " + path;
     return false;
 }
 

@@ -1,5 +1,6 @@
-// mesh2sdf — running a mesh reader we do not control in a child process,
-// so that its crash, abort or endless loop on a malformed file becomes one
+// mesh2sdf — running a mesh reader we do not control (OpenMesh's, assimp)
+// in a child process (src/common/isolated_read.h), so that its crash,
+// abort, endless loop or runaway allocation on a malformed file becomes one
 // line of error instead of ending (or stalling) mesh2sdf.
 #ifndef MESH2SDF_READER_PROCESS_H
 #define MESH2SDF_READER_PROCESS_H
@@ -15,12 +16,12 @@ namespace mesh2sdf
 /// A reader: fills the soup, or returns false with one line in the error.
 using SoupReader = std::function<bool(PolygonSoup &soup, std::string &error)>;
 
-/// Runs `read` in a forked child (its stderr silenced) and takes back its
-/// soup or its error through a pipe. A child that dies by a signal, exits
-/// without an answer, or takes longer than `seconds` (then killed) gives an
-/// error naming `path`. Returns what `read` returned otherwise.
-bool readInChildProcess(const SoupReader &read, double seconds, const std::string &path, PolygonSoup &soup,
-                        std::string &error);
+/// Runs `read` on `path` in a forked child, with the time and the memory
+/// isolated_read() allows for the file's size, and takes back its soup or
+/// its error. A child that crashes, runs out of time or memory, or answers
+/// short gives an error naming `path`. Returns what `read` returned
+/// otherwise; the soup's corners are not yet checked against its points.
+bool readInChildProcess(const SoupReader &read, const std::string &path, PolygonSoup &soup, std::string &error);
 
 } // namespace mesh2sdf
 

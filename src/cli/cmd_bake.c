@@ -5,6 +5,7 @@
 
 #include "cmdline.h"
 #include "commands.h"
+#include "peak_memory.h"
 #include "progress_bar.h"
 #include "sdftrace/scene.h"
 #include "sdftrace/vdb.h"
@@ -86,7 +87,7 @@ static int check_opts(const bake_opts *o, const sdft_scene **scene, char *msg, s
         snprintf(msg, len, "--band and --full exclude each other");
     else if (o->p.grid_name && !*o->p.grid_name)
         snprintf(msg, len, "--grid-name must not be empty");
-    else
+    else if (!o->p.full || bake_memory_check(&(*scene)->field, o->p.res, strcmp(ext, ".nvdb") == 0, msg, len) == 0)
         return 0;
     return -1;
 }

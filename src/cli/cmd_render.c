@@ -14,6 +14,7 @@
 #include "commands.h"
 #include "image_io.h"
 #include "json.h"
+#include "peak_memory.h"
 #include "progress_bar.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
@@ -245,7 +246,7 @@ static int check_opts(const render_opts *o, char *msg, size_t len)
     else if (o->camera_set && o->camera[0] == o->camera[3] && o->camera[1] == o->camera[4] &&
              o->camera[2] == o->camera[5])
         snprintf(msg, len, "--camera: the eye and the look-at point must differ");
-    else
+    else if (render_memory_check(o->width, o->height, msg, len) == 0)
         return 0;
     return -1;
 }

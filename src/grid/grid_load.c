@@ -464,7 +464,9 @@ static sdft_error read_segment(FILE *f, const char *path, uint64_t end, grid_ent
     }
     for (size_t i = first; i < *n; i++) {
         entries[i].offset = *at;
-        if (entries[i].size > end - *at)
+        /* *at may already be past the end (a name longer than the file is
+         * skipped by fseek): then end - *at would wrap and pass any size. */
+        if (*at > end || entries[i].size > end - *at)
             return fail_with(msg, msg_len, SDFT_EFORMAT, "%s is truncated: grid '%s' needs %llu bytes, %llu left", path,
                              entries[i].name, (unsigned long long)entries[i].size, (unsigned long long)(end - *at));
         *at += entries[i].size;

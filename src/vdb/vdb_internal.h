@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <new>
 #include <string>
@@ -47,6 +48,17 @@ template <typename Body> sdft_error guarded(const char *what, char *msg, size_t 
         return fail_with(msg, msg_len, SDFT_EINTERNAL, "%s: unknown exception", what);
     }
 }
+
+// A read of a `.vdb` file through OpenVDB: fills out (when it succeeds)
+// and returns a code, with one line in msg otherwise.
+using IsolatedRead = std::function<sdft_error(void *out, char *msg, size_t msg_len)>;
+
+// Runs `read` of `path` in a forked child under a time and an address-space
+// limit (vdb_isolate.cpp): its code, message and out_size bytes of out, or
+// SDFT_EFORMAT with one line when the child crashed, was killed or ran past
+// the time limit.
+sdft_error read_isolated(const char *path, void *out, size_t out_size, const IsolatedRead &read, char *msg,
+                         size_t msg_len);
 
 // NanoVDB copy of a float grid, leaves stored as `quant`, as an sdft_grid.
 sdft_error to_nano(const openvdb::FloatGrid &grid, sdft_quant quant, sdft_grid **out, char *msg, size_t msg_len);

@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -84,9 +85,63 @@ static sdft_error choose(openvdb::io::File &file, const char *path, const char *
     return SDFT_OK;
 }
 
+// Every leaf of `tree` loaded (decompressed from the file) once, one lower
+// node at a time: each is taken out of the tree, its leaves read, and
+// deleted, so that memory holds one lower node's leaves. Serial: it runs in
+// the forked child, where no thread pool survives.
+template <typename TreeT> static void load_every_leaf(TreeT &tree)
+{
+    using Upper = typename TreeT::RootNodeType::ChildNodeType;
+    using Lower = typename Upper::ChildNodeType;
+    const auto background = tree.background();
+    std::vector<openvdb::Coord> uppers, lowers;
+    for (auto it = tree.root().cbeginChildOn(); it; ++it)
+        uppers.push_back(it->origin());
+    for (const openvdb::Coord &u : uppers) {
+        std::unique_ptr<Upper> upper(tree.root().template stealNode<Upper>(u, background, false));
+        lowers.clear();
+        for (auto it = upper->cbeginChildOn(); it; ++it)
+            lowers.push_back(it->origin());
+        for (const openvdb::Coord &l : lowers) {
+            std::unique_ptr<Lower> lower(upper->template stealNode<Lower>(l, background, false));
+            for (auto it = lower->cbeginChildOn(); it; ++it)
+                (void)it->buffer().data();
+        }
+    }
+}
+
+// What load() reads of `path` through OpenVDB, read once to see that
+// OpenVDB can (in read_isolated's child): the header, the metadata, the
+// chosen grid's topology with delayed loading, and every leaf's values.
+static sdft_error read_through(const char *path, const char *name, char *msg, size_t msg_len)
+{
+    openvdb::io::File file(path);
+    std::string chosen;
+    if (sdft_error rc = choose(file, path, name, &chosen, msg, msg_len))
+        return rc;
+    try {
+        openvdb::GridBase::Ptr base = file.readGrid(chosen);
+        if (auto f = openvdb::gridPtrCast<openvdb::FloatGrid>(base))
+            load_every_leaf(f->tree());
+        else if (auto d = openvdb::gridPtrCast<openvdb::DoubleGrid>(base))
+            load_every_leaf(d->tree());
+        file.close();
+    } catch (const std::bad_alloc &) {
+        throw;
+    } catch (const std::exception &e) {
+        return fail(msg, msg_len, SDFT_EFORMAT, std::string("cannot read ") + path + ": " + e.what());
+    }
+    return SDFT_OK;
+}
+
 static sdft_error load(const char *path, const char *name, const sdft_grid_options *o, sdft_grid **out, char *msg,
                        size_t msg_len)
 {
+    // The file is untrusted and OpenVDB's reader is not safe on corrupt
+    // files: a child reads it first (vdb_isolate.cpp).
+    if (sdft_error rc = sdft_vdb::read_isolated(
+            path, nullptr, 0, [&](void *, char *m, size_t n) { return read_through(path, name, m, n); }, msg, msg_len))
+        return rc;
     openvdb::io::File file(path);
     std::string chosen;
     if (sdft_error rc = choose(file, path, name, &chosen, msg, msg_len))
@@ -141,5 +196,12 @@ extern "C" sdft_error vdb_open_checked(const char *path, const char *name, const
 
 extern "C" sdft_error vdb_bounds_checked(const char *path, const char *name, sdft_aabb *box, char *msg, size_t msg_len)
 {
-    return sdft_vdb::guarded(path, msg, msg_len, [&] { return bounds(path, name, box, msg, msg_len); });
+    // Only the metadata is read; in a child all the same (vdb_isolate.cpp),
+    // which hands the box back.
+    return sdft_vdb::guarded(path, msg, msg_len, [&] {
+        return sdft_vdb::read_isolated(
+            path, box, sizeof *box,
+            [&](void *o, char *m, size_t n) { return bounds(path, name, static_cast<sdft_aabb *>(o), m, n); }, msg,
+            msg_len);
+    });
 }

@@ -1,0 +1,51 @@
+/* sdftrace — running a dependency's reader on an untrusted file in a child
+ * process: a crash, a loop or an allocation past the limits kills the
+ * child, and the caller gets one line saying so instead of dying.
+ *
+ * The child is forked: it shares the caller's state as it was, runs one
+ * function that writes its answer (any bytes) to a pipe, and exits with
+ * _exit (no atexit handler, no stdio flush). Its stdout and stderr go to
+ * /dev/null (a dependency's assertion would add lines to the caller's
+ * one-line error). Its address space is limited (below), except under
+ * AddressSanitizer,
+ * which reserves its shadow as address space and checks allocation sizes
+ * itself. No thread
+ * pool survives fork(): the function must not wait on TBB's or OpenMP's
+ * workers. Internal; C and C++. */
+#ifndef SDFTRACE_COMMON_ISOLATED_READ_H
+#define SDFTRACE_COMMON_ISOLATED_READ_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The child's work: writes its answer to fd; returns 0 when it did. */
+typedef int (*isolated_fn)(void *ctx, int fd);
+
+/* Seconds a child may take to read `path`: 10 s, plus 1 s per 8 MiB of
+ * file (an honest serial read is several times faster than that); the
+ * environment variable SDFT_READ_TIME_LIMIT (seconds) replaces it, so that
+ * fuzzing does not wait 10 s on every input that loops. */
+double isolated_time_limit(const char *path);
+
+/* Runs fn(ctx, fd), which reads `path`, in a child for at most
+ * isolated_time_limit(path) seconds and with at most 256 MiB plus 64 bytes
+ * per byte of the file (or the machine's memory, if less) more address
+ * space than it inherits: a reader may unpack, but a length field cannot
+ * make it take the machine's memory. 0: the child exited 0; *answer
+ * (malloc'ed, the caller frees it) holds what it wrote, *size bytes. -1: it
+ * crashed, was killed, exited otherwise or ran out of time, or could not
+ * start; `why` says which ("signal 11 (Segmentation fault)", "ran past
+ * 12 s") in a few words. */
+int isolated_read(const char *path, isolated_fn fn, void *ctx, char **answer, size_t *size, char *why, size_t why_len);
+
+/* write(2) of all n bytes, through EINTR; 0 on success. For fn. */
+int isolated_write_all(int fd, const void *data, size_t n);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
