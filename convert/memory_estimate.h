@@ -26,6 +26,9 @@ bool conversionFitsMemory(const TriangleMesh &mesh, const BoxGeometry &box, cons
 /// The same for --check-sign's `samples` points.
 bool samplesFitMemory(int samples, std::string &error);
 
+/// The same for `count` training samples (--samples, samples.h).
+bool trainingSamplesFitMemory(size_t count, std::string &error);
+
 } // namespace mesh2sdf
 
 #endif

@@ -1,6 +1,7 @@
 // mesh2sdf --samples (see samples.h).
 #include "samples.h"
 
+#include "memory_estimate.h"
 #include "output.h"
 #include "triangle_distance.h"
 
@@ -163,7 +164,7 @@ bool sampleMesh(const Options &opt, SampleRun &run, std::string &error)
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
     PointFiles files;
-    if (!files.reserve(opt.samplesOut, error))
+    if (!trainingSamplesFitMemory(opt.samples, error) || !files.reserve(opt.samplesOut, error))
         return false;
     TriangleMesh mesh;
     MeshSphere sphere;

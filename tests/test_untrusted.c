@@ -212,10 +212,16 @@ static void test_hostile_sizes_refused(void **state)
         if (rc == 0 || tu_lines(out) != 1 || !strstr(out, "needs ~") || tu_file_exists(result))
             fail_msg("mesh2sdf %s: exit %d: %s", mesh_cases[i], rc, out);
     }
-    int rc =
-        tu_run(out, sizeof out, "SDFT_MEMORY_LIMIT=200000000 %s '%s' --check-sign /dev/null --samples 100000000 2>&1",
-               SDFT_MESH2SDF, in);
+    int rc = tu_run(out, sizeof out,
+                    "SDFT_MEMORY_LIMIT=200000000 %s '%s' --check-sign /dev/null --check-points 100000000 2>&1",
+                    SDFT_MESH2SDF, in);
     if (rc == 0 || tu_lines(out) != 1 || !strstr(out, "needs ~"))
+        fail_msg("--check-points: exit %d: %s", rc, out);
+    tu_tmp(result, sizeof result, "hostile.npy");
+    remove(result);
+    rc = tu_run(out, sizeof out, "SDFT_MEMORY_LIMIT=200000000 %s '%s' --samples 100000000 '%s' 2>&1", SDFT_MESH2SDF, in,
+                result);
+    if (rc == 0 || tu_lines(out) != 1 || !strstr(out, "needs ~") || tu_file_exists(result))
         fail_msg("--samples: exit %d: %s", rc, out);
     tu_tmp(result, sizeof result, "hostile.exr");
     remove(result);
