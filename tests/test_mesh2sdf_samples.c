@@ -436,7 +436,7 @@ static void expect_failure(const char *args, const char *name, const char *out)
 static void test_bad_npy(void **state)
 {
     (void)state;
-    static const float xyz[6] = {0, 0, 0, 1, 1, 1};
+    static const float xyz[8] = {0, 0, 0, 1, 1, 1, 0, 0}; /* and bytes past the (2, 3) array, for bad-long */
     static const float nan_xyz[6] = {0, 0, 0, 1, NAN, 1};
     const char *good = "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 3), }";
     const struct {
