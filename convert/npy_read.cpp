@@ -59,7 +59,8 @@ class DictReader
         skip();
         return mAt < mText.size() && mText[mAt] == c;
     }
-    // A quoted string without escapes.
+    // A quoted string without escapes, of printable ASCII only: keys and
+    // dtypes are, and an error message quotes it on its one line.
     bool string(std::string &out)
     {
         skip();
@@ -73,6 +74,9 @@ class DictReader
         mAt = end + 1;
         if (out.find('\\') != std::string::npos)
             return fail("escapes in a string");
+        for (const char c : out)
+            if (c < 0x20 || c > 0x7e)
+                return fail("a control or non-ASCII byte in a string");
         return true;
     }
     bool boolean(bool &out)

@@ -462,6 +462,9 @@ static void test_bad_npy(void **state)
         {"bad-syntax.npy", "{'descr': '<f4', 'fortran_order': False, 'shape': (2, 3) ", 1, xyz, 24},
         {"bad-nan.npy", good, 1, nan_xyz, 24},
         {"bad-version.npy", good, 4, xyz, 24},
+        /* a newline in a key or in the dtype: the error stays one line */
+        {"bad-key-newline.npy", "{'descr': '<f4', 'fortran_ord\ner': False, 'shape': (2, 3), }", 2, xyz, 24},
+        {"bad-dtype-newline.npy", "{'descr': '<f\n4', 'fortran_order': False, 'shape': (2, 3), }", 3, xyz, 24},
     };
     char out[512], in[512], args[1200];
     tu_tmp(out, sizeof out, "bad-query-out.npy");
