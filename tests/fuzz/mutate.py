@@ -46,6 +46,7 @@ FORMATS = {
     "gltf": (SEEDS, lambda n: n.endswith(".gltf"), ".gltf", False),
     "dae": (SEEDS, lambda n: n.endswith(".dae"), ".dae", False),
     "3mf": (SEEDS, lambda n: n.endswith(".3mf"), ".3mf", False),
+    "fbx": (SEEDS, lambda n: n.endswith(".fbx"), ".fbx", False),
 }
 OUTCOMES = ["clean error", "success", "untidy error", "crash", "hang", "out of memory"]
 
