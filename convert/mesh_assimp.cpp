@@ -159,10 +159,14 @@ bool importScene(const std::string &path, PolygonSoup &soup, std::string &error)
     const aiScene *scene = importer.ReadFile(path, aiProcess_ValidateDataStructure);
     if (!scene) {
         // assimp's format check parses the file, so a malformed file is
-        // "no suitable reader": say what that means here.
+        // "no suitable reader"; and it catches its own std::bad_alloc, which
+        // its Collada reader throws on a list shorter than its count: say
+        // what each means here.
         const std::string why = oneLine(importer.GetErrorString());
         error = "cannot read mesh (" +
-                (why.rfind("No suitable reader", 0) == 0 ? "not a valid " + extensionOf(path) + " file" : why) +
+                (why.rfind("No suitable reader", 0) == 0 ? "not a valid " + extensionOf(path) + " file"
+                 : why == "std::bad_alloc" ? "a count the file's data does not hold, or more than memory allows"
+                                           : why) +
                 "): " + path;
         return false;
     }
