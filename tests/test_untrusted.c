@@ -1,6 +1,7 @@
 /* sdftrace tests — files from strangers and hostile sizes. For every format
  * the tools read (.vdb, .nvdb through `sdftrace render --grid`; OBJ, PLY
- * ASCII and binary, OFF, STL ASCII and binary, .om through mesh2sdf): a
+ * ASCII and binary, OFF, STL ASCII and binary, .om, GLB, glTF, Collada,
+ * 3MF, FBX through mesh2sdf; .npy query points through --query): a
  * zero-length file, the file cut at every 1/16 of its length and a header
  * claiming absurd counts each give one line on stderr naming the file, a
  * non-zero exit and no output file (a cut text mesh may still be a whole
@@ -42,6 +43,12 @@ static const format FORMATS[] = {
     {"stl-ascii", "mesh/suzanne_ascii.stl", 1, ".stl", 1},
     {"stl-binary", "mesh/suzanne_binary.stl", 1, ".stl", 0},
     {"om", "mesh/suzanne.om", 1, ".om", 0},
+    {"glb", "../seeds/tetra.glb", 0, ".glb", 0},
+    {"gltf", "../seeds/tetra.gltf", 0, ".gltf", 0},
+    {"dae", "../seeds/tetra.dae", 0, ".dae", 0},
+    {"3mf", "../seeds/tetra.3mf", 0, ".3mf", 0},
+    {"fbx", "../seeds/boxes.fbx", 0, ".fbx", 1},
+    {"npy", "npy/points_f4_C_v1.npy", 0, ".npy", 0},
 };
 
 /* The seed's bytes (without the harness's prefix); *size set. */
@@ -72,6 +79,7 @@ static void write_file(const char *path, const void *data, size_t size)
 }
 
 static int is_grid(const format *f) { return strstr(f->ext, "vdb") != NULL; }
+static int is_points(const format *f) { return strcmp(f->ext, ".npy") == 0; }
 
 /* Runs the format's tool on `in`; its exit status, output in `out`. */
 static int run_tool(const format *f, const char *in, const char *result)
@@ -79,6 +87,9 @@ static int run_tool(const format *f, const char *in, const char *result)
     remove(result);
     if (is_grid(f))
         return tu_run(out, sizeof out, "%s render --grid '%s' -o '%s' --width 16 --height 12 --quiet 2>&1", SDFT_CLI,
+                      in, result);
+    if (is_points(f)) /* query points for a mesh */
+        return tu_run(out, sizeof out, "%s '%s/spot.obj' --query '%s' '%s' --quiet 2>&1", SDFT_MESH2SDF, SDFT_MESH_DIR,
                       in, result);
     return tu_run(out, sizeof out, "%s '%s' -o '%s' --res 16 --quiet 2>&1", SDFT_MESH2SDF, in, result);
 }
@@ -95,7 +106,10 @@ static void check_bytes(const format *f, const unsigned char *data, size_t size,
     char in[1024], result[1024], name[64];
     snprintf(name, sizeof name, "untrusted%s", f->ext);
     tu_tmp(in, sizeof in, name);
-    tu_tmp(result, sizeof result, is_grid(f) ? "untrusted_out.exr" : "untrusted_out.vdb");
+    tu_tmp(result, sizeof result,
+           is_grid(f)     ? "untrusted_out.exr"
+           : is_points(f) ? "untrusted_out.npy"
+                          : "untrusted_out.vdb");
     write_file(in, data, size);
     const int rc = run_tool(f, in, result);
     if (rc == 0 && may_succeed && tu_file_exists(result))
