@@ -7,7 +7,7 @@
 #               make bench-quick: the same, small, checked.
 #   make fuzz   build the fuzz harnesses (tests/fuzz) with clang's libFuzzer in
 #               build-fuzz/ and run each FUZZ_SECONDS (default 600); pick
-#               them with FUZZ_TARGETS (default: vdb nvdb mesh npy)
+#               them with FUZZ_TARGETS (default: vdb nvdb mesh scene npy)
 # and, for using sdftrace as a library:
 #   make install PREFIX=/opt/sdftrace   build (Release) and install there
 # Debian packages live in one list: .ci/debian-packages.
@@ -63,7 +63,7 @@ bench-quick: build
 #   build-fuzz/tests/fuzz/fuzz_NAME -minimize_crash=1 -runs=20000 \
 #     -exact_artifact_path=tests/fuzz/regressions/NAME/WHAT build-fuzz/findings/NAME/crash-...
 FUZZ_SECONDS ?= 600
-FUZZ_TARGETS ?= vdb nvdb mesh npy
+FUZZ_TARGETS ?= vdb nvdb mesh scene npy
 
 fuzz: deps
 	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSDFT_FUZZ=ON
