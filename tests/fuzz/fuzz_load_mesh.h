@@ -1,0 +1,33 @@
+// sdftrace fuzzing — one mesh input for the mesh harnesses (fuzz_mesh,
+// fuzz_scene): the first byte picks the extension among `formats` (its
+// value modulo their count), the rest is the file, read by mesh2sdf's
+// loader (convert/mesh.cpp's loadMesh) and its edges counted.
+#ifndef SDFT_FUZZ_LOAD_MESH_H
+#define SDFT_FUZZ_LOAD_MESH_H
+
+#include <cstdint>
+#include <string>
+
+#include "fuzz_input_file.h"
+#include "mesh.h"
+
+// `enabled`, when given, says per format whether to read its inputs (the
+// others are skipped).
+inline void fuzz_load_mesh(const uint8_t *data, size_t size, const char *const *formats, size_t count,
+                           const bool *enabled = nullptr)
+{
+    const size_t format = size ? data[0] % count : 0;
+    if (size == 0 || (enabled && !enabled[format]))
+        return;
+    const std::string ext = std::string(".") + formats[format];
+    char path[256];
+    if (fuzz_input_file(data + 1, size - 1, ext.c_str(), path, sizeof path))
+        return;
+    mesh2sdf::TriangleMesh mesh;
+    std::string error;
+    if (mesh2sdf::loadMesh(path, mesh, error))
+        mesh2sdf::countEdges(mesh, mesh2sdf::edgeUses(mesh));
+    unlink(path);
+}
+
+#endif
