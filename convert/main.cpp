@@ -165,7 +165,7 @@ int main(int argc, char **argv)
     openvdb::initialize();
     if (!opt.checkSign.empty()) {
         TriangleMesh mesh;
-        if (!samplesFitMemory(opt.checkPoints, error) || !loadMesh(opt.input, mesh, error) ||
+        if (!checkPointsFitMemory(opt.checkPoints, error) || !loadMesh(opt.input, mesh, error) ||
             !checkSign(mesh, opt.checkSign, opt.checkPoints, error))
             return fail(error);
         return 0;

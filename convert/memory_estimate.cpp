@@ -75,12 +75,12 @@ bool conversionFitsMemory(const TriangleMesh &mesh, const BoxGeometry &box, cons
     return false;
 }
 
-bool samplesFitMemory(int samples, std::string &error)
+bool checkPointsFitMemory(int points, std::string &error)
 {
     // Per point: its position, winding number and distance (doubles).
     char line[256];
-    const std::string what = std::to_string(samples) + " --check-sign samples";
-    if (memory_check(kBaseBytes + 40.0 * samples, what.c_str(), line, sizeof line) == 0)
+    const std::string what = std::to_string(points) + " --check-sign samples";
+    if (memory_check(kBaseBytes + 40.0 * points, what.c_str(), line, sizeof line) == 0)
         return true;
     error = line;
     return false;

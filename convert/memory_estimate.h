@@ -23,8 +23,8 @@ double conversionPeakBytes(const TriangleMesh &mesh, const BoxGeometry &box, con
 /// (src/common/memory_limit.h).
 bool conversionFitsMemory(const TriangleMesh &mesh, const BoxGeometry &box, const Options &opt, std::string &error);
 
-/// The same for --check-sign's `samples` points.
-bool samplesFitMemory(int samples, std::string &error);
+/// The same for --check-sign's `points` (--check-points).
+bool checkPointsFitMemory(int points, std::string &error);
 
 /// The same for `count` training samples (--samples, samples.h).
 bool trainingSamplesFitMemory(size_t count, std::string &error);
