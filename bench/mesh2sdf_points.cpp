@@ -37,7 +37,8 @@
 #include <string>
 #include <vector>
 
-using namespace mesh2sdf;
+using namespace converter;
+using mesh2sdf::readNpyRows;
 
 namespace
 {

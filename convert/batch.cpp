@@ -2,10 +2,10 @@
 #include "batch.h"
 
 #include "job.h"
+#include "points.h"
+#include "text.h"
 #ifdef MESH2SDF_WITH_MPI
 #include "mpi_batch.h"
-#include "output.h"
-#include "samples.h"
 #endif
 
 #include <cerrno>
@@ -109,24 +109,29 @@ bool planBatch(const Options &opt, bool withReport, BatchPlan &plan, std::string
 
 BatchRow convertEntry(const Options &opt, const BatchEntry &entry)
 {
+    // One read of the mesh for all its outputs: the grid files and the
+    // samples are reserved, the mesh read and oriented once, then each
+    // written from it.
     const Options one = meshOptions(opt, entry);
-    Progress quiet(false);
+    const auto start = std::chrono::steady_clock::now();
+    ProgressView quiet(false);
     JobResult r;
-    if (!jobOutputs(one).empty())
-        r = convertMesh(one, quiet);
-    else
-        r.ok = true; // samples alone
-    if (r.ok && one.samples > 0) {
+    std::unique_ptr<sdft_mesh_files, MeshFree> files;
+    PointFiles samples;
+    if (reserveGridFiles(one, files, r.error) && (one.samples == 0 || samples.reserve(one.samplesOut, r.error))) {
+        const MeshPtr mesh = loadJobMesh(one, quiet, 0, 15, r);
+        r.ok = mesh && (!files || convertJobMesh(one, mesh.get(), files.get(), quiet, r));
         SampleRun run;
-        if (sampleMesh(one, run, r.error)) {
-            r.outputs.push_back(one.samplesOut);
-            r.outputs.push_back(sidecarPath(one.samplesOut));
-            r.samples = one.samples;
-        } else {
-            r.ok = false;
+        if (r.ok && one.samples > 0) {
+            r.ok = writeSamples(one, mesh.get(), samples, quiet, run, r.error);
+            if (r.ok) {
+                r.outputs.push_back(one.samplesOut);
+                r.outputs.push_back(sidecarPath(one.samplesOut));
+                r.samples = one.samples;
+            }
         }
-        r.seconds += run.seconds;
     }
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return jobRow(entry, r);
 }
 
@@ -191,6 +196,7 @@ void BatchSink::showProgress()
         mLabel += ", " + clock(elapsed * double(mBytesTotal - mBytesDone) / double(mBytesDone)) + " left";
     const int percent = int(100 * mDone / total);
     mProgress.stage(mLabel.c_str(), percent, percent);
+    mProgress.show(0);
 }
 
 int BatchSink::finish()

@@ -10,7 +10,7 @@
 #include "batch_list.h"
 #include "batch_report.h"
 #include "options.h"
-#include "progress.h"
+#include "progress_view.h"
 
 #include <chrono>
 #include <memory>
@@ -66,7 +66,7 @@ class BatchSink
 
     const Options &mOpt;
     BatchPlan &mPlan;
-    Progress mProgress;
+    ProgressView mProgress;
     std::string mLabel;
     std::chrono::steady_clock::time_point mStart;
     size_t mConverted = 0, mFailed = 0, mSkipped = 0, mDone = 0;

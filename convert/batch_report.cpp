@@ -23,24 +23,6 @@ std::string jsonList(const std::vector<std::string> &items)
     return list + "]";
 }
 
-// The counts of a mesh that was read: the names of mesh2sdf --json.
-std::string healthFields(const JobResult &r)
-{
-    const MeshHealth &h = r.health;
-    std::string s = format(", \"vertices\": %zu, \"faces\": %zu, \"triangles\": %zu, \"degenerate_faces\": %zu, "
-                           "\"boundary_edges\": %zu, \"non_manifold_edges\": %zu",
-                           h.vertices, h.faces, h.triangles, h.degenerateFaces, h.boundaryEdges, h.nonManifoldEdges);
-    if (r.oriented) {
-        const OrientCounts &o = r.orient;
-        s += format(", \"welded_vertices\": %zu, \"duplicate_faces\": %zu, \"patches\": %zu, \"reoriented_faces\": "
-                    "%zu, \"outward_patches\": %zu, \"cavity_patches\": %zu, \"ambiguous_patches\": %zu, "
-                    "\"non_orientable_patches\": %zu",
-                    o.weldedVertices, o.duplicateFaces, o.patches, o.reorientedFaces, o.outwardPatches, o.cavityPatches,
-                    o.ambiguousPatches, o.nonOrientablePatches);
-    }
-    return s;
-}
-
 // The escaped "mesh" of a row this report wrote: the text between the
 // quotes after {"mesh": , or "" for a line of another shape.
 std::string rowMesh(const std::string &row)
@@ -65,20 +47,20 @@ BatchRow jobRow(const BatchEntry &entry, const JobResult &r)
     row.status = r.ok ? RowStatus::Ok : RowStatus::Failed;
     row.json = "{\"mesh\": " + jsonString(entry.line) + ", \"status\": \"" + (r.ok ? "ok" : "failed") +
                "\", \"error\": " + (r.ok ? "null" : jsonString(r.error)) + format(", \"seconds\": %.3f", r.seconds);
-    const bool grid = r.ok && r.box.voxelSize > 0; // a grid was written, not samples alone
+    const bool grid = r.ok && r.gridBuilt; // a grid was written, not samples alone
     if (grid)
         row.json += format(", \"voxels\": %llu, \"dims\": [%d, %d, %d], \"voxel_size\": %.9g, \"ambiguous_voxels\": "
                            "%llu, \"surface\": %s",
-                           static_cast<unsigned long long>(r.activeVoxels), r.box.dims[0], r.box.dims[1], r.box.dims[2],
-                           r.box.voxelSize, static_cast<unsigned long long>(r.stats.ambiguousVoxels),
-                           r.surface ? "true" : "false");
+                           static_cast<unsigned long long>(r.grid.active_voxels), r.grid.dims[0], r.grid.dims[1],
+                           r.grid.dims[2], r.grid.voxel_size, static_cast<unsigned long long>(r.grid.ambiguous_voxels),
+                           r.grid.surface ? "true" : "false");
     if (r.ok && r.samples)
         row.json += format(", \"samples\": %zu", r.samples);
     if (r.meshRead)
-        row.json += healthFields(r);
+        row.json += meshJsonFields(r);
     row.json += ", \"outputs\": " + jsonList(r.outputs) + "}";
     const std::string what =
-        (grid ? format("%llu active voxels", static_cast<unsigned long long>(r.activeVoxels)) : std::string()) +
+        (grid ? format("%llu active voxels", static_cast<unsigned long long>(r.grid.active_voxels)) : std::string()) +
         (grid && r.samples ? ", " : "") + (r.samples ? format("%zu samples", r.samples) : "");
     row.text = r.ok ? format("ok %s: %s, %.2f s", entry.line.c_str(), what.c_str(), r.seconds)
                     : "failed " + entry.line + ": " + r.error;

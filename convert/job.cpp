@@ -1,14 +1,10 @@
 // mesh2sdf — one mesh converted (see job.h). Order of work: outputs
-// reserved (an unwritable one fails before any work), mesh read, box
-// planned, mesh oriented, grid built, files written under temporary names
-// and renamed into place together.
+// reserved (an unwritable one fails before any work), mesh read and
+// oriented, grid built, files written under temporary names and renamed
+// into place together, each step a call into sdftrace/mesh.h.
 #include "job.h"
 
-#include "output.h"
-
-#include <openvdb/tools/Count.h>
-#include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
+#include "text.h"
 
 #include <chrono>
 #include <exception>
@@ -23,145 +19,6 @@ namespace
 using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
-
-// Whether some active voxel is inside, by more than rounding (a voxel on a
-// face may come out -1e-17): a grid without one has no zero crossing to trace.
-bool hasSurface(const openvdb::FloatGrid &grid)
-{
-    return grid.activeVoxelCount() > 0 &&
-           openvdb::tools::minMax(grid.tree()).min() < -0.01 * float(grid.voxelSize()[0]);
-}
-
-// Every destination, reserved first: nothing is ever written at a
-// destination until the end, and the temporaries go when the job fails.
-struct Outputs {
-    PendingFile vdb, nvdb, npy, json;
-    std::vector<PendingFile *> pending;
-    bool committed = false;
-    ~Outputs()
-    {
-        if (!committed)
-            for (PendingFile *f : pending)
-                discardFile(*f);
-    }
-};
-
-bool reserveOutputs(const Options &opt, Outputs &out, std::string &error)
-{
-    if (!opt.output.empty()) {
-        out.pending.push_back(&out.vdb);
-        if (!reserveFile(opt.output, out.vdb, error))
-            return false;
-    }
-    if (!opt.nvdb.empty()) {
-        out.pending.push_back(&out.nvdb);
-        if (!reserveFile(opt.nvdb, out.nvdb, error))
-            return false;
-    }
-    if (!opt.npy.empty()) {
-        out.pending.push_back(&out.npy);
-        out.pending.push_back(&out.json);
-        if (!reserveFile(opt.npy, out.npy, error) || !reserveFile(sidecarPath(opt.npy), out.json, error))
-            return false;
-    }
-    return true;
-}
-
-// The mesh as the conversion takes it: read, its box planned, oriented
-// (--orient outward) or only its edges counted.
-bool prepareMesh(const Options &opt, TriangleMesh &mesh, JobResult &r)
-{
-    if (!loadMesh(opt.input, mesh, r.error) || !planBox(mesh, opt, r.box, r.error))
-        return false;
-    const auto start = Clock::now();
-    if (opt.orient == OrientMethod::Outward) {
-        r.orient = orientMesh(mesh, opt.simd);
-        r.oriented = true;
-    } else {
-        countEdges(mesh, edgeUses(mesh));
-    }
-    r.orientSeconds = secondsSince(start);
-    r.health = mesh.health;
-    r.meshRead = true;
-    return true;
-}
-
-// The grid files and the dense array written side by side (each reads the
-// finished tree only, and OpenVDB's writer runs on one thread), then renamed
-// into place side by side too (replacing a large old file frees its blocks
-// within rename()).
-bool writeOutputs(const Options &opt, const openvdb::FloatGrid &grid, const BoxGeometry &box, const Provenance &how,
-                  Outputs &out, std::string &error)
-{
-    const size_t slash = opt.npy.find_last_of('/');
-    const std::string npyName = slash == std::string::npos ? opt.npy : opt.npy.substr(slash + 1);
-    std::string gridError, arrayError;
-    bool gridsWritten = false, arrayWritten = false;
-    tbb::parallel_invoke(
-        [&] {
-            gridsWritten = (opt.output.empty() || writeVdb(grid, out.vdb.tmp, gridError)) &&
-                           (opt.nvdb.empty() || writeNvdb(grid, opt.fp16, out.nvdb.tmp, gridError));
-        },
-        [&] {
-            arrayWritten =
-                opt.npy.empty() || (writeNpy(grid, box, out.npy.tmp, arrayError) &&
-                                    writeNpyJson(box, npyName, how, grid.background(), out.json.tmp, arrayError));
-        });
-    if (!gridsWritten || !arrayWritten) {
-        error = gridsWritten ? arrayError : gridError;
-        return false;
-    }
-    std::vector<std::string> commitErrors(out.pending.size());
-    std::vector<char> committed(out.pending.size(), 0);
-    tbb::parallel_for(size_t(0), out.pending.size(),
-                      [&](size_t i) { committed[i] = commitFile(*out.pending[i], commitErrors[i]); });
-    out.committed = true; // committed or removed, each of them
-    for (size_t i = 0; i < out.pending.size(); ++i)
-        if (!committed[i]) {
-            error = commitErrors[i];
-            return false;
-        }
-    return true;
-}
-
-// The conversion itself; exceptions pass through to convertMesh.
-bool convert(const Options &opt, Progress &progress, const std::function<void(const JobResult &)> &meshReady,
-             JobResult &r)
-{
-    Outputs out;
-    if (!reserveOutputs(opt, out, r.error))
-        return false;
-    TriangleMesh mesh;
-    if (!prepareMesh(opt, mesh, r))
-        return false;
-    if (meshReady)
-        meshReady(r);
-    openvdb::FloatGrid::Ptr grid;
-    try {
-        grid = buildGrid(mesh, r.box, opt, progress, r.stats);
-    } catch (const std::exception &e) {
-        progress.finish();
-        r.error = std::string("conversion failed: ") + e.what();
-        return false;
-    }
-    const Provenance how{opt.input, signMethodName(opt.sign), opt.band, opt.full};
-    describeGrid(*grid, opt.name.empty() ? fileStem(opt.input) : opt.name, how);
-
-    // Writing has no progress of its own: the bar waits at its start and
-    // shows 100% once every file is in place.
-    progress.stage("writing", buildGridEnd(opt), 100);
-    if (!writeOutputs(opt, *grid, r.box, how, out, r.error)) {
-        progress.finish();
-        return false;
-    }
-    progress.report(100);
-    progress.finish();
-    r.outputs = jobOutputs(opt);
-    r.activeVoxels = grid->activeVoxelCount();
-    r.gridMiB = double(grid->memUsage()) / (1024.0 * 1024.0);
-    r.surface = hasSurface(*grid); // one pass over the tree
-    return true;
-}
 
 } // namespace
 
@@ -187,23 +44,152 @@ std::vector<std::string> jobOutputs(const Options &opt)
     return files;
 }
 
-JobResult convertMesh(const Options &opt, Progress &progress, const std::function<void(const JobResult &)> &meshReady)
+bool reserveGridFiles(const Options &opt, std::unique_ptr<sdft_mesh_files, MeshFree> &files, std::string &error)
+{
+    std::vector<sdft_mesh_file> want;
+    if (!opt.output.empty())
+        want.push_back({opt.output.c_str(), SDFT_FILE_VDB});
+    if (!opt.nvdb.empty())
+        want.push_back({opt.nvdb.c_str(), SDFT_FILE_NVDB});
+    if (!opt.npy.empty())
+        want.push_back({opt.npy.c_str(), SDFT_FILE_NPY});
+    files.reset();
+    if (want.empty())
+        return true;
+    char msg[1024];
+    sdft_mesh_files *reserved = nullptr;
+    if (sdft_mesh_files_reserve(want.data(), want.size(), &reserved, msg, sizeof msg) != SDFT_OK) {
+        error = msg;
+        return false;
+    }
+    files.reset(reserved);
+    return true;
+}
+
+MeshPtr loadJobMesh(const Options &opt, ProgressView &progress, int from, int to, JobResult &r)
+{
+    sdft_mesh_params p = sdft_mesh_params_defaults();
+    p.orient = opt.orient == OrientMethod::Outward;
+    p.normalize = opt.normalize;
+    p.threads = opt.threads;
+    p.simd = opt.simd;
+    p.progress = ProgressView::report;
+    p.stage = ProgressView::named;
+    p.progress_user = &progress;
+    progress.stage("reading", from, to);
+    char msg[1024];
+    sdft_mesh *mesh = nullptr;
+    if (sdft_mesh_load(opt.input.c_str(), &p, &mesh, msg, sizeof msg) != SDFT_OK) {
+        r.error = msg;
+        return nullptr;
+    }
+    sdft_mesh_get_info(mesh, &r.mesh, nullptr, 0);
+    r.meshRead = true;
+    return MeshPtr(mesh);
+}
+
+namespace
+{
+
+// The grid params of `opt`, reporting on `progress`.
+sdft_mesh_grid_params gridParams(const Options &opt, ProgressView &progress)
+{
+    sdft_mesh_grid_params p = sdft_mesh_grid_params_defaults();
+    p.res = opt.res;
+    p.voxel_size = opt.voxelSize;
+    p.band = opt.band;
+    p.full = opt.full;
+    p.padding = opt.padding;
+    p.sign = opt.sign;
+    p.name = opt.name.empty() ? nullptr : opt.name.c_str();
+    p.writes = (opt.nvdb.empty() ? 0u : SDFT_WRITES_NVDB) | (opt.npy.empty() ? 0u : SDFT_WRITES_NPY);
+    p.progress = ProgressView::report;
+    p.stage = ProgressView::named;
+    p.progress_user = &progress;
+    return p;
+}
+
+} // namespace
+
+bool convertJobMesh(const Options &opt, const sdft_mesh *mesh, sdft_mesh_files *files, ProgressView &progress,
+                    JobResult &r)
+{
+    const sdft_mesh_grid_params p = gridParams(opt, progress);
+    // Writing has no progress of its own: the bar waits at its start and
+    // is cleared once every file is in place.
+    const int written = opt.full ? 95 : 90;
+    progress.stage("converting", 15, written);
+    char msg[1024];
+    sdft_mesh_grid *grid = nullptr;
+    if (sdft_mesh_to_grid(mesh, &p, &grid, msg, sizeof msg) != SDFT_OK) {
+        r.error = msg;
+        return false;
+    }
+    const std::unique_ptr<sdft_mesh_grid, MeshFree> owned(grid);
+    progress.stage("writing", written, 100);
+    progress.show(0);
+    if (files && sdft_mesh_files_write_grid(files, grid, opt.fp16, msg, sizeof msg) != SDFT_OK) {
+        r.error = msg;
+        return false;
+    }
+    progress.show(1);
+    sdft_mesh_grid_get_box(grid, &r.grid, nullptr, 0);
+    r.gridBuilt = true;
+    r.outputs = jobOutputs(opt);
+    return true;
+}
+
+JobResult convertMesh(const Options &opt, ProgressView &progress,
+                      const std::function<void(const JobResult &)> &meshReady)
 {
     const auto start = Clock::now();
     JobResult r;
     try {
-        r.ok = convert(opt, progress, meshReady, r);
-    } catch (const std::bad_alloc &) {
+        std::unique_ptr<sdft_mesh_files, MeshFree> files;
+        if (reserveGridFiles(opt, files, r.error)) {
+            const MeshPtr mesh = loadJobMesh(opt, progress, 0, 15, r);
+            // The box planned before the health line: a size that is
+            // refused is the one line the run prints.
+            const sdft_mesh_grid_params p = gridParams(opt, progress);
+            sdft_mesh_box planned;
+            char msg[1024];
+            if (mesh && sdft_mesh_grid_plan(mesh.get(), &p, &planned, msg, sizeof msg) != SDFT_OK)
+                r.error = msg;
+            else if (mesh) {
+                progress.finish(); // the bar's line cleared for the health line
+                if (meshReady)
+                    meshReady(r);
+                r.ok = convertJobMesh(opt, mesh.get(), files.get(), progress, r);
+            }
+        }
+    } catch (const std::bad_alloc &) { // the program's own strings and lists
         r.ok = false;
         r.error = opt.input + ": out of memory";
-    } catch (const std::exception &e) {
-        r.ok = false;
-        r.error = opt.input + ": " + e.what();
     }
-    if (!r.ok)
-        progress.finish();
+    progress.finish();
     r.seconds = secondsSince(start);
     return r;
+}
+
+std::string meshJsonFields(const JobResult &r, bool orientName)
+{
+    const sdft_mesh_info &h = r.mesh;
+    std::string s = format(", \"vertices\": %llu, \"faces\": %llu, \"triangles\": %llu, \"degenerate_faces\": %llu, "
+                           "\"boundary_edges\": %llu, \"non_manifold_edges\": %llu",
+                           (unsigned long long)h.vertices, (unsigned long long)h.faces, (unsigned long long)h.triangles,
+                           (unsigned long long)h.degenerate_faces, (unsigned long long)h.boundary_edges,
+                           (unsigned long long)h.non_manifold_edges);
+    if (orientName)
+        s += format(", \"orient\": \"%s\"", h.oriented ? "outward" : "none");
+    if (h.oriented)
+        s += format(", \"welded_vertices\": %llu, \"duplicate_faces\": %llu, \"patches\": %llu, \"reoriented_faces\": "
+                    "%llu, \"outward_patches\": %llu, \"cavity_patches\": %llu, \"ambiguous_patches\": %llu, "
+                    "\"non_orientable_patches\": %llu",
+                    (unsigned long long)h.welded_vertices, (unsigned long long)h.duplicate_faces,
+                    (unsigned long long)h.patches, (unsigned long long)h.reoriented_faces,
+                    (unsigned long long)h.outward_patches, (unsigned long long)h.cavity_patches,
+                    (unsigned long long)h.ambiguous_patches, (unsigned long long)h.non_orientable_patches);
+    return s;
 }
 
 } // namespace mesh2sdf

@@ -1,21 +1,22 @@
-// mesh2sdf — one mesh converted: its outputs reserved, the mesh read and
-// oriented, the grid built and every file renamed into place, or nothing
-// left at any destination. Prints nothing and never exits: what happened
-// comes back as a JobResult, for the command line (main.cpp), a batch
-// (batch.h) and, later, a library to report as they see fit.
+// mesh2sdf — one mesh converted over the library (sdftrace/mesh.h): its
+// outputs reserved, the mesh read and oriented, the grid built and every
+// file renamed into place, or nothing left at any destination. Prints
+// nothing and never exits: what happened comes back as a JobResult, for
+// the command line (main.cpp) and a batch (batch.h) to report as they see
+// fit.
 #ifndef MESH2SDF_JOB_H
 #define MESH2SDF_JOB_H
 
-#include "grid.h"
-#include "mesh.h"
 #include "options.h"
-#include "orient.h"
-#include "progress.h"
+#include "progress_view.h"
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "sdftrace/mesh.h"
 
 namespace mesh2sdf
 {
@@ -25,40 +26,59 @@ namespace mesh2sdf
 struct JobResult {
     bool ok = false;
     std::string error;
-    MeshHealth health;                // read and counted (mesh.h)
-    OrientCounts orient;              // what orienting did, when `oriented`
-    bool oriented = false;            // --orient outward ran
-    double orientSeconds = 0;         // welding and orienting
-    bool meshRead = false;            // health (and orient) describe the mesh
-    BoxGeometry box;                  // the padded box, once planned
-    uint64_t activeVoxels = 0;        // in the written grid
-    double gridMiB = 0;               // the grid's memory
-    BuildStats stats;                 // winding time, ambiguous voxels
-    bool surface = false;             // some active voxel is inside (a zero crossing)
+    bool meshRead = false;            // `mesh` describes the mesh
+    sdft_mesh_info mesh{};            // health, what orienting did, timings
+    bool gridBuilt = false;           // `grid` describes the grid written
+    sdft_mesh_box grid{};             // box, voxel counts, surface, memory, timings
     size_t samples = 0;               // training samples written (a batch's --formats samples)
     double seconds = 0;               // the whole job, wall clock
     std::vector<std::string> outputs; // the files in place, in the order reserved
 };
 
-/// A path's file name without its folder and last extension: the grid's
-/// name unless --name gives one, and a batch's output name.
+/// Frees a library handle when it goes out of scope.
+struct MeshFree {
+    void operator()(sdft_mesh *m) const { sdft_mesh_free(m); }
+    void operator()(sdft_mesh_grid *g) const { sdft_mesh_grid_free(g); }
+    void operator()(sdft_mesh_files *f) const { sdft_mesh_files_free(f); }
+};
+using MeshPtr = std::unique_ptr<sdft_mesh, MeshFree>;
+
+/// A path's file name without its folder and last extension: a batch's
+/// output name.
 std::string fileStem(const std::string &path);
 
-/// The files a conversion writes: opt.output (.vdb), opt.nvdb, and opt.npy
-/// with its sidecar JSON, each where given (a batch may leave out the .vdb).
-/// Each kind of output is a path in Options: a new kind is reserved,
-/// written and listed here, and a batch names it in meshOptions (batch.cpp). A batch asks whether all of
-/// them exist before converting a mesh again.
+/// The grid files a conversion writes: opt.output (.vdb), opt.nvdb, and
+/// opt.npy with its sidecar JSON, each where given (a batch may leave out
+/// the .vdb). A batch asks whether all of them exist before converting a
+/// mesh again.
 std::vector<std::string> jobOutputs(const Options &opt);
 
-/// Converts opt.input into the outputs named by `opt` (see jobOutputs),
-/// showing its stages on `progress`. `meshReady`, if given, is called once
-/// the mesh is read and oriented, before the grid is built (the command
-/// line prints its health line then). Never throws: a failure (a missing,
-/// corrupt or empty mesh, non-finite coordinates, an unwritable output, out
-/// of memory) is a result with ok false and one line in error.
-JobResult convertMesh(const Options &opt, Progress &progress,
+/// The grid files of `opt` reserved (sdft_mesh_files_reserve): none when
+/// it names none. False with one line in `error`.
+bool reserveGridFiles(const Options &opt, std::unique_ptr<sdft_mesh_files, MeshFree> &files, std::string &error);
+
+/// opt.input read and oriented as `opt` says (--orient, --normalize,
+/// --threads, --simd), on `progress` from `from` to `to` percent. Fills
+/// r.mesh and r.meshRead, or r.error.
+MeshPtr loadJobMesh(const Options &opt, ProgressView &progress, int from, int to, JobResult &r);
+
+/// Converts `mesh` as `opt` says and writes it into `files` (reserved by
+/// reserveGridFiles); fills r.grid, r.gridBuilt and r.outputs, or r.error.
+bool convertJobMesh(const Options &opt, const sdft_mesh *mesh, sdft_mesh_files *files, ProgressView &progress,
+                    JobResult &r);
+
+/// The whole conversion of opt.input: reserveGridFiles, loadJobMesh, the
+/// box planned (sdft_mesh_grid_plan), `meshReady` (if given: the command
+/// line prints the health line then), convertJobMesh. Never throws: a failure (a missing, corrupt or empty
+/// mesh, non-finite coordinates, an unwritable output, out of memory) is a
+/// result with ok false and one line in error.
+JobResult convertMesh(const Options &opt, ProgressView &progress,
                       const std::function<void(const JobResult &)> &meshReady = {});
+
+/// The counts of a mesh that was read, as JSON fields (", \"vertices\":
+/// ..."): the names of mesh2sdf --json and of a batch's report; with
+/// `orientName`, "orient" (outward or none) before what orienting did.
+std::string meshJsonFields(const JobResult &r, bool orientName = false);
 
 } // namespace mesh2sdf
 

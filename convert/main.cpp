@@ -4,20 +4,14 @@
 // is one line on stderr and exit status 1, with no file left at a
 // destination.
 #include "batch.h"
-#include "check.h"
 #include "job.h"
-#include "memory_estimate.h"
 #include "options.h"
-#include "query.h"
-#include "samples.h"
+#include "points.h"
 #include "text.h"
-
-#include <tbb/global_control.h>
 
 #include <cstdio>
 #include <cstring>
 #include <memory>
-#include <sys/resource.h>
 
 #include "json.h"
 #include "sdftrace/error.h"
@@ -35,21 +29,24 @@ int fail(const std::string &error)
 
 void printHealth(const std::string &path, const JobResult &r)
 {
-    const MeshHealth &h = r.health;
-    std::printf("mesh %s: %zu vertices, %zu faces (%zu triangles), %zu boundary edges, %zu non-manifold edges, "
-                "%zu degenerate faces skipped",
-                path.c_str(), h.vertices, h.faces, h.triangles, h.boundaryEdges, h.nonManifoldEdges, h.degenerateFaces);
-    if (r.oriented) {
-        const OrientCounts *o = &r.orient;
-        std::printf("; %zu vertices welded, %zu duplicate faces dropped, %zu patches, %zu faces reoriented, %zu "
+    const sdft_mesh_info &h = r.mesh;
+    std::printf("mesh %s: %llu vertices, %llu faces (%llu triangles), %llu boundary edges, %llu non-manifold edges, "
+                "%llu degenerate faces skipped",
+                path.c_str(), (unsigned long long)h.vertices, (unsigned long long)h.faces,
+                (unsigned long long)h.triangles, (unsigned long long)h.boundary_edges,
+                (unsigned long long)h.non_manifold_edges, (unsigned long long)h.degenerate_faces);
+    if (h.oriented) {
+        std::printf("; %llu vertices welded, %llu duplicate faces dropped, %llu patches, %llu faces reoriented, %llu "
                     "patches turned outward",
-                    o->weldedVertices, o->duplicateFaces, o->patches, o->reorientedFaces, o->outwardPatches);
-        if (o->cavityPatches)
-            std::printf(", %zu inward patches kept as cavity walls", o->cavityPatches);
-        if (o->ambiguousPatches)
-            std::printf(", %zu open patches with no clear outside", o->ambiguousPatches);
-        if (o->nonOrientablePatches)
-            std::printf(", %zu non-orientable patches", o->nonOrientablePatches);
+                    (unsigned long long)h.welded_vertices, (unsigned long long)h.duplicate_faces,
+                    (unsigned long long)h.patches, (unsigned long long)h.reoriented_faces,
+                    (unsigned long long)h.outward_patches);
+        if (h.cavity_patches)
+            std::printf(", %llu inward patches kept as cavity walls", (unsigned long long)h.cavity_patches);
+        if (h.ambiguous_patches)
+            std::printf(", %llu open patches with no clear outside", (unsigned long long)h.ambiguous_patches);
+        if (h.non_orientable_patches)
+            std::printf(", %llu non-orientable patches", (unsigned long long)h.non_orientable_patches);
     }
     std::printf("\n");
 }
@@ -57,57 +54,46 @@ void printHealth(const std::string &path, const JobResult &r)
 // The --json object: the mesh's health, what orienting did, the grid.
 void printJson(const Options &opt, const JobResult &r)
 {
-    const MeshHealth &h = r.health;
+    const sdft_mesh_box &g = r.grid;
     std::printf("{\"mesh\": ");
     json_put_string(stdout, opt.input.c_str());
     std::printf(", \"output\": ");
     json_put_string(stdout, opt.output.c_str());
-    std::printf(", \"vertices\": %zu, \"faces\": %zu, \"triangles\": %zu, \"degenerate_faces\": %zu, "
-                "\"boundary_edges\": %zu, \"non_manifold_edges\": %zu, \"orient\": \"%s\"",
-                h.vertices, h.faces, h.triangles, h.degenerateFaces, h.boundaryEdges, h.nonManifoldEdges,
-                r.oriented ? "outward" : "none");
-    if (r.oriented) {
-        const OrientCounts *o = &r.orient;
-        std::printf(", \"welded_vertices\": %zu, \"duplicate_faces\": %zu, \"patches\": %zu, "
-                    "\"reoriented_faces\": %zu, \"outward_patches\": %zu, \"cavity_patches\": %zu, "
-                    "\"ambiguous_patches\": %zu, \"non_orientable_patches\": %zu",
-                    o->weldedVertices, o->duplicateFaces, o->patches, o->reorientedFaces, o->outwardPatches,
-                    o->cavityPatches, o->ambiguousPatches, o->nonOrientablePatches);
-    }
+    std::printf("%s", meshJsonFields(r, true).c_str());
     std::printf(", \"dims\": [%d, %d, %d], \"voxel_size\": %.9g, \"active_voxels\": %llu, \"sign\": \"%s\", "
                 "\"ambiguous_voxels\": %llu, \"surface\": %s, \"orient_seconds\": %.6f, \"winding_seconds\": %.6f, "
                 "\"seconds\": %.6f, \"peak_mib\": %.1f}\n",
-                r.box.dims[0], r.box.dims[1], r.box.dims[2], r.box.voxelSize,
-                static_cast<unsigned long long>(r.activeVoxels), signMethodName(opt.sign),
-                static_cast<unsigned long long>(r.stats.ambiguousVoxels), r.surface ? "true" : "false", r.orientSeconds,
-                r.stats.windingSeconds, r.seconds, peakMiB());
+                g.dims[0], g.dims[1], g.dims[2], g.voxel_size, (unsigned long long)g.active_voxels,
+                sdft_mesh_sign_name(opt.sign), (unsigned long long)g.ambiguous_voxels, g.surface ? "true" : "false",
+                r.mesh.orient_seconds, g.winding_seconds, r.seconds, peakMiB());
 }
 
 // The closing line, or with --json the object; then, on stderr, what stays
 // uncertain: said, not written silently.
 void report(const Options &opt, const JobResult &r)
 {
+    const sdft_mesh_box &g = r.grid;
     if (opt.json) {
         printJson(opt, r);
     } else if (!opt.quiet) {
         std::printf("wrote %s: %dx%dx%d box, voxel size %.6g, %llu active voxels, grid %.1f MiB, peak memory "
                     "%.1f MiB, %.2f s, sign %s",
-                    opt.output.c_str(), r.box.dims[0], r.box.dims[1], r.box.dims[2], r.box.voxelSize,
-                    static_cast<unsigned long long>(r.activeVoxels), r.gridMiB, peakMiB(), r.seconds,
-                    signMethodName(opt.sign));
-        if (opt.sign == SignMethod::Winding)
-            std::printf(" (%.2f s), %llu voxels signed from an ambiguous winding number", r.stats.windingSeconds,
-                        static_cast<unsigned long long>(r.stats.ambiguousVoxels));
+                    opt.output.c_str(), g.dims[0], g.dims[1], g.dims[2], g.voxel_size,
+                    (unsigned long long)g.active_voxels, double(g.memory_bytes) / (1024.0 * 1024.0), peakMiB(),
+                    r.seconds, sdft_mesh_sign_name(opt.sign));
+        if (opt.sign == SDFT_SIGN_WINDING)
+            std::printf(" (%.2f s), %llu voxels signed from an ambiguous winding number", g.winding_seconds,
+                        (unsigned long long)g.ambiguous_voxels);
         std::printf("\n");
     }
-    if (opt.sign != SignMethod::Winding)
+    if (opt.sign != SDFT_SIGN_WINDING)
         return;
-    if (r.oriented && r.orient.ambiguousPatches)
+    if (r.mesh.oriented && r.mesh.ambiguous_patches)
         std::fprintf(stderr,
-                     "mesh2sdf: warning: %zu open patches have no clear outside and keep the file's "
+                     "mesh2sdf: warning: %llu open patches have no clear outside and keep the file's "
                      "orientation; %llu voxels were signed from a winding number between 0.25 and 0.75\n",
-                     r.orient.ambiguousPatches, static_cast<unsigned long long>(r.stats.ambiguousVoxels));
-    if (!r.surface)
+                     (unsigned long long)r.mesh.ambiguous_patches, (unsigned long long)g.ambiguous_voxels);
+    if (!g.surface)
         std::fprintf(stderr, "mesh2sdf: warning: no voxel of the band is inside the mesh, so the grid has no "
                              "surface (an open sheet, or a mesh whose inside could not be told)\n");
 }
@@ -118,18 +104,46 @@ void meshReady(const Options &opt, const JobResult &r)
 {
     if (!opt.quiet && !opt.json)
         printHealth(opt.input, r);
-    if (!r.health.closed() && opt.sign == SignMethod::Flood)
+    if (!r.mesh.closed && opt.sign == SDFT_SIGN_FLOOD)
         std::fprintf(stderr,
-                     "mesh2sdf: warning: the mesh is not closed (%zu boundary, %zu non-manifold edges) and --sign "
+                     "mesh2sdf: warning: the mesh is not closed (%llu boundary, %llu non-manifold edges) and --sign "
                      "flood assumes it is: inside and outside may be wrong; --sign winding handles open meshes\n",
-                     r.health.boundaryEdges, r.health.nonManifoldEdges);
+                     (unsigned long long)r.mesh.boundary_edges, (unsigned long long)r.mesh.non_manifold_edges);
+}
+
+// --check-sign: the mesh as the file has it (no orienting, so that the
+// truth is the file's own faces), each grid's line.
+int checkSigns(const Options &opt)
+{
+    Options raw = opt;
+    raw.orient = OrientMethod::None;
+    raw.normalize = false;
+    ProgressView progress(false);
+    JobResult r;
+    const MeshPtr mesh = loadJobMesh(raw, progress, 0, 100, r);
+    if (!mesh)
+        return fail(r.error);
+    std::vector<const char *> paths;
+    for (const std::string &g : opt.checkSign)
+        paths.push_back(g.c_str());
+    std::vector<sdft_sign_check> checks(paths.size());
+    char msg[1024];
+    if (sdft_mesh_sign_check(mesh.get(), paths.data(), paths.size(), opt.checkPoints, checks.data(), msg, sizeof msg) !=
+        SDFT_OK)
+        return fail(msg);
+    for (size_t i = 0; i < checks.size(); ++i)
+        std::printf("%s clear=%llu wrong=%llu wrong_fraction=%.6f wrong_far=%llu\n", paths[i],
+                    (unsigned long long)checks[i].clear, (unsigned long long)checks[i].wrong,
+                    checks[i].clear ? double(checks[i].wrong) / double(checks[i].clear) : 0.0,
+                    (unsigned long long)checks[i].wrong_far);
+    return 0;
 }
 
 // One mesh, the command line's way: its lines on stdout, its failure as
 // one line on stderr and exit status 1.
 int convertOne(const Options &opt)
 {
-    Progress progress(!opt.quiet && !opt.json);
+    ProgressView progress(!opt.quiet && !opt.json);
     const JobResult r = convertMesh(opt, progress, [&](const JobResult &ready) { meshReady(opt, ready); });
     if (!r.ok)
         return fail(r.error);
@@ -159,17 +173,8 @@ int main(int argc, char **argv)
         printHelp();
         return 0;
     }
-    std::unique_ptr<tbb::global_control> threads;
-    if (opt.threads > 0)
-        threads.reset(new tbb::global_control(tbb::global_control::max_allowed_parallelism, size_t(opt.threads)));
-    openvdb::initialize();
-    if (!opt.checkSign.empty()) {
-        TriangleMesh mesh;
-        if (!checkPointsFitMemory(opt.checkPoints, error) || !loadMesh(opt.input, mesh, error) ||
-            !checkSign(mesh, opt.checkSign, opt.checkPoints, error))
-            return fail(error);
-        return 0;
-    }
+    if (!opt.checkSign.empty())
+        return checkSigns(opt);
     if (opt.samples > 0 || !opt.queryOut.empty())
         return (opt.samples > 0 ? runSamples(opt, error) : runQuery(opt, error)) ? 0 : fail(error);
 

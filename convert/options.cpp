@@ -12,19 +12,6 @@
 namespace mesh2sdf
 {
 
-const char *signMethodName(SignMethod m)
-{
-    switch (m) {
-    case SignMethod::Winding:
-        return "winding";
-    case SignMethod::Flood:
-        return "flood";
-    case SignMethod::None:
-        return "none";
-    }
-    return "?";
-}
-
 namespace
 {
 
@@ -102,7 +89,7 @@ int pick(const char *flag, const char *const (&names)[n], const char *v, void *t
 int setSign(void *target, const char *v, char *msg, size_t len)
 {
     static const char *const names[] = {"winding", "flood", "none"};
-    return pick<SignMethod>("--sign", names, v, target, msg, len);
+    return pick<sdft_mesh_sign>("--sign", names, v, target, msg, len);
 }
 
 int setOrient(void *target, const char *v, char *msg, size_t len)
@@ -113,20 +100,13 @@ int setOrient(void *target, const char *v, char *msg, size_t len)
 
 int setSimd(void *target, const char *v, char *msg, size_t len)
 {
-    Options &o = *static_cast<Options *>(target);
-    if (std::strcmp(v, "auto") && std::strcmp(v, "avx2") && std::strcmp(v, "none")) {
-        std::snprintf(msg, len, "--simd must be auto, avx2 or none, got '%s'", v);
-        return -1;
-    }
-    o.simd = std::strcmp(v, "none") != 0;
-    o.simd512 = !std::strcmp(v, "auto");
-    return 0;
+    static const char *const names[] = {"auto", "avx2", "none"}; // sdft_simd's order
+    return pick<sdft_simd>("--simd", names, v, target, msg, len);
 }
 
 int setNoSimd(void *target, const char *, char *, size_t)
 {
-    Options &o = *static_cast<Options *>(target);
-    o.simd = o.simd512 = false;
+    *static_cast<sdft_simd *>(target) = SDFT_SIMD_NONE;
     return 0;
 }
 
@@ -260,8 +240,8 @@ std::vector<cmdline_option> optionRows(Options &o, int *sawRes, PointWords &word
              "search, else AVX2; default), avx2 (no AVX-512) or\n"
              "none; the same grid to rounding, for comparison\n"
              "and testing",
-             setSimd, &o),
-        call("no-simd", 0, nullptr, "the same as --simd none", setNoSimd, &o),
+             setSimd, &o.simd),
+        call("no-simd", 0, nullptr, "the same as --simd none", setNoSimd, &o.simd),
         call("check-sign", 0, "GRID.vdb",
              "do not convert: sample points uniformly in the mesh's\n"
              "box grown by 5%, compute the exact winding number by\n"
@@ -367,7 +347,7 @@ bool pointModes(Options &opt, const PointWords &words, std::string &error)
     else if (points && (!opt.output.empty() || !opt.nvdb.empty() || !opt.npy.empty() || !opt.checkSign.empty()))
         error = std::string(words.samples[0] ? "--samples" : "--query") +
                 " writes its own OUT.npy: give no -o, --nvdb, --npy or --check-sign";
-    else if (points && opt.sign != SignMethod::Winding)
+    else if (points && opt.sign != SDFT_SIGN_WINDING)
         error = "--samples and --query sign by the winding number: --sign does not apply";
     else if (words.sampleFlags && !words.samples[0] && !batchSamples)
         error = "--near-sigma, --uniform-share and --seed go with --samples (or --batch --formats samples)";

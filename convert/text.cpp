@@ -9,6 +9,7 @@
 #include <sys/resource.h>
 
 #include "json.h"
+#include "sdftrace/mesh.h"
 
 namespace mesh2sdf
 {
@@ -46,6 +47,13 @@ double peakMiB()
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
     return double(ru.ru_maxrss) / 1024.0; // ru_maxrss is in KiB on Linux
+}
+
+std::string sidecarPath(const std::string &npyPath)
+{
+    std::string path(sdft_mesh_sidecar_path(npyPath.c_str(), nullptr, 0), '\0');
+    sdft_mesh_sidecar_path(npyPath.c_str(), &path[0], path.size() + 1);
+    return path;
 }
 
 } // namespace mesh2sdf

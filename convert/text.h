@@ -17,6 +17,9 @@ std::string jsonString(const std::string &text);
 /// Peak resident memory of the process so far, MiB.
 double peakMiB();
 
+/// The sidecar JSON beside an .npy file (sdft_mesh_sidecar_path).
+std::string sidecarPath(const std::string &npyPath);
+
 } // namespace mesh2sdf
 
 #endif

@@ -16,7 +16,7 @@
 #include <random>
 #include <string>
 
-using namespace mesh2sdf;
+using namespace converter;
 
 namespace
 {

@@ -34,6 +34,17 @@ extern "C" {
 
 typedef struct sdft_mesh sdft_mesh;
 
+/* Told the name of each stage of a long call as it begins ("reading",
+ * "orienting", "exact distance, sign", "sign off the band", ...), for a
+ * progress display beside sdft_progress_fn's numbers: `stage` is a string
+ * of the library's that stays valid while the library is loaded. */
+typedef void (*sdft_stage_fn)(void *user, const char *stage);
+
+/* Limits every call holds to. */
+#define SDFT_MESH_MAX_RES 4096                  /* voxels along a grid's side */
+#define SDFT_MESH_MAX_DENSE_VOXELS 2147483648.0 /* a dense grid or array: 2^31 voxels (8 GiB of float32) */
+#define SDFT_MESH_MAX_SAMPLES 100000000         /* training samples or sign-check points in one call */
+
 /* Element types of the arrays a mesh is made of and queried at. */
 typedef enum sdft_dtype {
     SDFT_FLOAT32 = 0,
@@ -42,6 +53,14 @@ typedef enum sdft_dtype {
     SDFT_UINT32 = 3,
     SDFT_INT64 = 4
 } sdft_dtype;
+
+/* Vector instructions for the hierarchies' inner loops: the answers are
+ * the same to rounding; only the speed differs. */
+typedef enum sdft_simd {
+    SDFT_SIMD_AUTO = 0, /* the widest the processor has (AVX-512, AVX2) */
+    SDFT_SIMD_AVX2 = 1, /* at most AVX2 */
+    SDFT_SIMD_NONE = 2  /* scalar code */
+} sdft_simd;
 
 /* How to take a mesh in. It will grow: make one with
  * sdft_mesh_params_defaults() and set the fields you change. Defaults in
@@ -54,7 +73,12 @@ typedef struct sdft_mesh_params {
     const char *source;        /* what the grids' metadata names as the source mesh; NULL: the
                                 * file's path, or "" for arrays. Read during the call [NULL] */
     sdft_progress_fn progress; /* reading and orienting: NULL for no reports [NULL] */
-    void *progress_user;
+    void *progress_user;       /* handed to progress and stage */
+    sdft_stage_fn stage;       /* NULL: not told [NULL] */
+    int threads;               /* at most this many worker threads for the mesh's work: reading, orienting, and
+                                * later its queries, samples and grids (unless their own params say); 0: all
+                                * cores [0] */
+    sdft_simd simd;            /* for all of the mesh's work [SDFT_SIMD_AUTO] */
 } sdft_mesh_params;
 
 /* Orient, no normalizing, no progress. */
@@ -89,7 +113,8 @@ SDFT_API void sdft_mesh_free(sdft_mesh *m);
 typedef struct sdft_mesh_info {
     uint64_t vertices;           /* as given */
     uint64_t faces;              /* polygons as given */
-    uint64_t triangles;          /* kept: after triangulation, zero-area and duplicate ones dropped */
+    uint64_t triangles;          /* after triangulation, zero-area ones dropped (orienting then drops
+                                  * duplicate_faces of them) */
     uint64_t degenerate_faces;   /* zero-area triangles dropped */
     uint64_t welded_vertices;    /* used vertices at the position of an earlier one */
     uint64_t boundary_edges;     /* edges one triangle uses */
@@ -106,6 +131,9 @@ typedef struct sdft_mesh_info {
     double lo[3], hi[3];        /* the box of the used vertices, in the mesh's frame (normalized or not) */
     double centre[3], radius;   /* the sphere normalize maps onto the unit sphere, in the input's units */
     int normalized;
+    double read_seconds;   /* reading (or copying) and welding, wall clock */
+    double orient_seconds; /* orienting, or counting edges without orient */
+    double index_seconds;  /* building the point queries' hierarchies; 0 until a query or samples built them */
 } sdft_mesh_info;
 
 /* Fills *info. SDFT_EINVAL for a NULL argument. */
@@ -145,10 +173,16 @@ typedef struct sdft_sample_params {
                                 * [0.0707, 0.0224: DeepSDF's] */
     double uniform_share;      /* the share of uniform points in the sphere's cube, 0..1 [0.06] */
     sdft_progress_fn progress; /* NULL: no reports [NULL] */
-    void *progress_user;
+    void *progress_user;       /* handed to progress and stage */
+    sdft_stage_fn stage;       /* NULL: not told [NULL] */
 } sdft_sample_params;
 
 SDFT_API sdft_sample_params sdft_sample_params_defaults(void);
+
+/* How many of p->count rows are of each kind: *uniform = round(share *
+ * count), the rest near, the first sigma's ceil(near / 2) and the second's
+ * floor(near / 2). Any output may be NULL. */
+SDFT_API void sdft_sample_counts(const sdft_sample_params *p, size_t *near_first, size_t *near_second, size_t *uniform);
 
 /* p->count rows (x, y, z, d) into rows (rows_len floats, at least 4 count):
  * the near points first, alternating the two sigmas, then the uniform
@@ -167,6 +201,9 @@ typedef enum sdft_mesh_sign {
     SDFT_SIGN_NONE = 2     /* unsigned distances */
 } sdft_mesh_sign;
 
+/* "winding", "flood" or "none"; "?" for another value. */
+SDFT_API const char *sdft_mesh_sign_name(sdft_mesh_sign sign);
+
 /* How to convert, mesh2sdf's options. It will grow: make one with
  * sdft_mesh_grid_params_defaults(). */
 typedef struct sdft_mesh_grid_params {
@@ -178,9 +215,16 @@ typedef struct sdft_mesh_grid_params {
     sdft_mesh_sign sign;       /* --sign [SDFT_SIGN_WINDING] */
     const char *name;          /* the grid's name; NULL: the mesh file's stem ("mesh" for arrays) [NULL] */
     sdft_progress_fn progress; /* NULL: no reports [NULL] */
-    void *progress_user;
-    int threads; /* at most this many worker threads; 0: TBB's default (all cores) [0] */
+    void *progress_user;       /* handed to progress and stage */
+    sdft_stage_fn stage;       /* NULL: not told [NULL] */
+    int threads;               /* at most this many worker threads; 0: the mesh's (sdft_mesh_params) [0] */
+    unsigned writes;           /* the files the grid will be written as (SDFT_WRITES_*): their limits and
+                                * memory are checked before the grid is built, not after [0] */
 } sdft_mesh_grid_params;
+
+/* sdft_mesh_grid_params.writes: */
+#define SDFT_WRITES_NVDB 1u /* a NanoVDB copy will be made */
+#define SDFT_WRITES_NPY 2u  /* a dense array will be made: at most 2^31 voxels */
 
 SDFT_API sdft_mesh_grid_params sdft_mesh_grid_params_defaults(void);
 
@@ -197,15 +241,29 @@ typedef struct sdft_mesh_box {
     float background; /* band * voxel_size: the value beyond the band */
     uint64_t active_voxels;
     uint64_t ambiguous_voxels; /* signed from a winding number in (0.25, 0.75) */
+    int surface;               /* some active voxel is inside (by more than rounding): the grid has a
+                                * zero crossing to trace */
+    uint64_t memory_bytes;     /* the grid's memory */
+    double seconds;            /* building it, wall clock */
+    double winding_seconds;    /* of which the winding numbers' sign (SDFT_SIGN_WINDING) */
 } sdft_mesh_box;
 
 /* Converts m as mesh2sdf converts its mesh with the same options into *out
  * (sdft_mesh_grid_free). SDFT_EINVAL (a NULL argument; res, voxel size,
  * band or padding out of mesh2sdf's ranges; a box over 4096 voxels a side,
- * or a dense one over 2^31 voxels), SDFT_ECANCELED, SDFT_ENOMEM,
- * SDFT_EINTERNAL. */
+ * or a dense one over 2^31 voxels), SDFT_ECANCELED, SDFT_ENOMEM (the
+ * estimated peak does not fit this machine's memory, refused before any
+ * work; or an allocation failed), SDFT_EINTERNAL. */
 SDFT_API sdft_error sdft_mesh_to_grid(const sdft_mesh *m, const sdft_mesh_grid_params *p, sdft_mesh_grid **out,
                                       char *msg, size_t msg_len);
+
+/* The box sdft_mesh_to_grid would convert m into with p, through the same
+ * checks, without building anything: dims, origin, voxel_size and
+ * background are filled, the rest is 0. SDFT_EINVAL (as sdft_mesh_to_grid),
+ * SDFT_ENOMEM (the conversion would not fit this machine's memory: the
+ * estimate in msg). */
+SDFT_API sdft_error sdft_mesh_grid_plan(const sdft_mesh *m, const sdft_mesh_grid_params *p, sdft_mesh_box *box,
+                                        char *msg, size_t msg_len);
 
 SDFT_API void sdft_mesh_grid_free(sdft_mesh_grid *g);
 
@@ -220,6 +278,75 @@ SDFT_API sdft_error sdft_mesh_grid_get_box(const sdft_mesh_grid *g, sdft_mesh_bo
  * SDFT_ENOMEM, SDFT_EINTERNAL. */
 SDFT_API sdft_error sdft_mesh_grid_write(const sdft_mesh_grid *g, const char *path, int fp16, char *msg,
                                          size_t msg_len);
+
+/* Files written together, whole or not at all, and reserved before the
+ * work that fills them: sdft_mesh_files_reserve creates a temporary file
+ * beside each destination now (so that a missing or read-only folder fails
+ * before minutes of converting), sdft_mesh_files_write_grid writes each
+ * and renames all of them into place; freeing the set before that removes
+ * the temporary files. Destinations that are devices or pipes (/dev/null)
+ * are written in place. New files get the mode the umask gives. */
+typedef struct sdft_mesh_files sdft_mesh_files;
+
+/* What a reserved file is written as. */
+typedef enum sdft_file_format {
+    SDFT_FILE_VDB = 0,  /* OpenVDB */
+    SDFT_FILE_NVDB = 1, /* NanoVDB */
+    SDFT_FILE_NPY = 2   /* the box densely, float32, with its sidecar JSON (.json in place of a trailing
+                         * .npy, or appended) */
+} sdft_file_format;
+
+typedef struct sdft_mesh_file {
+    const char *path;
+    sdft_file_format format;
+} sdft_mesh_file;
+
+/* The sidecar JSON's path of an `.npy` file: a trailing `.npy` replaced by
+ * `.json`, else `.json` appended. Written into out as snprintf does (out
+ * may be NULL with out_len 0); returns the path's length. */
+SDFT_API size_t sdft_mesh_sidecar_path(const char *npy_path, char *out, size_t out_len);
+
+/* Reserves `count` destinations into *out (sdft_mesh_files_free); the
+ * paths are copied. SDFT_EINVAL (a NULL argument or path, count 0, an
+ * unknown format), SDFT_EIO (a folder missing or read-only, a destination
+ * that is a folder), SDFT_ENOMEM. On failure *out is NULL and nothing is
+ * left behind. */
+SDFT_API sdft_error sdft_mesh_files_reserve(const sdft_mesh_file *files, size_t count, sdft_mesh_files **out, char *msg,
+                                            size_t msg_len);
+
+/* Writes g into every reserved file in its format (fp16 1: NanoVDB Fp16
+ * leaves, as --fp16), side by side, then renames all into place. Once: a
+ * set is spent after the call, whatever it returns. SDFT_EINVAL (a NULL
+ * argument, a spent set, a dense array over 2^31 voxels), SDFT_EIO,
+ * SDFT_ENOMEM (a NanoVDB copy that does not fit), SDFT_EINTERNAL; on
+ * failure no destination was replaced by a partial file. */
+SDFT_API sdft_error sdft_mesh_files_write_grid(sdft_mesh_files *f, const sdft_mesh_grid *g, int fp16, char *msg,
+                                               size_t msg_len);
+
+/* Removes what was reserved and not written; NULL is fine. */
+SDFT_API void sdft_mesh_files_free(sdft_mesh_files *f);
+
+/* How often a grid's sign disagrees with the mesh's exact winding number
+ * (mesh2sdf --check-sign). */
+typedef struct sdft_sign_check {
+    uint64_t clear;     /* points whose exact winding number is clearly in (> 0.75) or out (< 0.25), a voxel
+                         * or more from the surface */
+    uint64_t wrong;     /* of them, where the grid's nearest voxel has the other sign */
+    uint64_t wrong_far; /* of them, 3 or more voxels from the surface */
+} sdft_sign_check;
+
+/* Draws `points` points uniformly (a fixed seed) in the mesh's box grown
+ * by 5% a side and computes each one's winding number exactly (over every
+ * triangle, of the mesh as it is: load it with orient 0 to check against
+ * the file's own faces); then, for each of the `count` `.vdb` files in
+ * grid_paths, compares those signs with its first float grid's nearest
+ * voxel (active or not, < 0 inside) into out[i]. Every grid is read (each
+ * first in a child process: a corrupt file fails, never crashes) before
+ * any point is drawn. SDFT_EINVAL (a NULL argument, count 0, points outside
+ * 1..1e8), SDFT_EIO (an unreadable file), SDFT_EFORMAT (a corrupt file, no
+ * float grid), SDFT_ENOMEM (the points do not fit this machine). */
+SDFT_API sdft_error sdft_mesh_sign_check(const sdft_mesh *m, const char *const *grid_paths, size_t count, int points,
+                                         sdft_sign_check *out, char *msg, size_t msg_len);
 
 /* The box densely into values (count floats, at least dims[0] dims[1]
  * dims[2]), C order, z fastest: the array of the `.npy` file. SDFT_EINVAL

@@ -13,7 +13,7 @@ namespace sdft_mesh_api
 namespace
 {
 
-using mesh2sdf::TriangleMesh;
+using converter::TriangleMesh;
 
 // Twice the squared area of triangle t, in double: zero for a degenerate one.
 double doubledArea2(const TriangleMesh &mesh, const std::array<uint32_t, 3> &t)
@@ -63,11 +63,11 @@ int64_t indexAt(const void *faces, sdft_dtype type, size_t i)
 sdft_error meshFromArrays(const void *vertices, sdft_dtype vertexType, size_t vertexCount, const void *faces,
                           sdft_dtype faceType, size_t faceCount, TriangleMesh &mesh, std::string &error)
 {
-    if (vertexType != SDFT_FLOAT32 && vertexType != SDFT_FLOAT64) {
+    if (enumValue(vertexType) != SDFT_FLOAT32 && enumValue(vertexType) != SDFT_FLOAT64) {
         error = "vertices must be float32 or float64";
         return SDFT_EINVAL;
     }
-    if (faceType != SDFT_INT32 && faceType != SDFT_UINT32 && faceType != SDFT_INT64) {
+    if (enumValue(faceType) != SDFT_INT32 && enumValue(faceType) != SDFT_UINT32 && enumValue(faceType) != SDFT_INT64) {
         error = "faces must be int32, uint32 or int64";
         return SDFT_EINVAL;
     }

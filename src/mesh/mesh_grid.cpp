@@ -1,12 +1,14 @@
-// sdftrace — a mesh converted to a grid (sdft_mesh_to_grid) as mesh2sdf
-// converts it (grid.h), and the grid written (output.h), copied out
-// densely, or handed to the tracer as NanoVDB (sdft_mesh_grid_*).
+// sdftrace — a mesh converted to a grid (sdft_mesh_to_grid, grid.h), and
+// the grid copied out densely or handed to the tracer as NanoVDB
+// (sdft_mesh_grid_*). Writing it is mesh_files.cpp's.
 #include "mesh_internal.h"
 
 #include "grid_file.h"
+#include "memory_estimate.h"
+
+#include <openvdb/tools/Count.h>
 
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,94 +19,102 @@ using namespace sdft_mesh_api;
 namespace
 {
 
-bool endsWith(const std::string &s, const char *tail)
-{
-    const size_t n = std::strlen(tail);
-    return s.size() >= n && s.compare(s.size() - n, n, tail) == 0;
-}
-
 // mesh2sdf's ranges for its options (options.cpp).
 sdft_error checkGridParams(const sdft_mesh_grid_params &p, char *msg, size_t msg_len)
 {
     const char *what = "sdft_mesh_to_grid";
-    if (p.voxel_size <= 0 && (p.res < 1 || p.res > mesh2sdf::kMaxResolution))
+    if (p.voxel_size <= 0 && (p.res < 1 || p.res > converter::kMaxResolution))
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: res %d is outside 1..%d", what, p.res,
-                         mesh2sdf::kMaxResolution);
+                         converter::kMaxResolution);
     if (!(p.voxel_size >= 0 && std::isfinite(p.voxel_size)))
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: voxel size %g is not finite and >= 0", what, p.voxel_size);
-    if (!(p.band > 0 && p.band <= mesh2sdf::kMaxResolution))
+    if (!(p.band > 0 && p.band <= converter::kMaxResolution))
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: band %g is outside (0, %d]", what, p.band,
-                         mesh2sdf::kMaxResolution);
-    if (!(p.padding <= mesh2sdf::kMaxResolution) || std::isnan(p.padding))
+                         converter::kMaxResolution);
+    if (!(p.padding <= converter::kMaxResolution) || std::isnan(p.padding))
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: padding %g is above %d", what, p.padding,
-                         mesh2sdf::kMaxResolution);
+                         converter::kMaxResolution);
     if (p.threads < 0)
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: threads %d is negative", what, p.threads);
-    if (p.sign != SDFT_SIGN_WINDING && p.sign != SDFT_SIGN_FLOOD && p.sign != SDFT_SIGN_NONE)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: unknown sign method %d", what, int(p.sign));
+    const int sign = enumValue(p.sign);
+    if (sign != SDFT_SIGN_WINDING && sign != SDFT_SIGN_FLOOD && sign != SDFT_SIGN_NONE)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: unknown sign method %d", what, sign);
     return SDFT_OK;
 }
 
-mesh2sdf::Options gridOptions(const sdft_mesh &m, const sdft_mesh_grid_params &p)
+converter::GridSettings gridSettings(const sdft_mesh &m, const sdft_mesh_grid_params &p)
 {
-    mesh2sdf::Options opt;
-    opt.input = m.source;
+    converter::GridSettings opt;
+    opt.source = m.source;
     opt.res = p.res;
     opt.voxelSize = p.voxel_size;
     opt.band = p.band;
     opt.full = p.full != 0;
     opt.padding = p.padding < 0 ? p.band + 1.0 : p.padding;
-    opt.sign = p.sign == SDFT_SIGN_FLOOD  ? mesh2sdf::SignMethod::Flood
-               : p.sign == SDFT_SIGN_NONE ? mesh2sdf::SignMethod::None
-                                          : mesh2sdf::SignMethod::Winding;
-    opt.name = p.name ? p.name : m.stem;
+    opt.sign = p.sign == SDFT_SIGN_FLOOD  ? converter::SignMethod::Flood
+               : p.sign == SDFT_SIGN_NONE ? converter::SignMethod::None
+                                          : converter::SignMethod::Winding;
+    opt.simd = m.simd;
+    opt.simd512 = m.simd512;
+    opt.writesNvdb = (p.writes & SDFT_WRITES_NVDB) != 0;
+    opt.writesNpy = (p.writes & SDFT_WRITES_NPY) != 0;
     return opt;
 }
 
-// Writes one file through its temporary name: write(tmp, error).
-template <class Write> sdft_error writeAtomically(const std::string &path, Write &&write, char *msg, size_t msg_len)
+// Whether some active voxel is inside, by more than rounding (a voxel on a
+// face may come out -1e-17): a grid without one has no zero crossing to trace.
+bool hasSurface(const openvdb::FloatGrid &grid)
 {
-    mesh2sdf::PendingFile file;
+    return grid.activeVoxelCount() > 0 &&
+           openvdb::tools::minMax(grid.tree()).min() < -0.01 * float(grid.voxelSize()[0]);
+}
+
+// The box of the conversion, and whether it fits: SDFT_EINVAL for a box
+// the limits refuse, SDFT_ENOMEM for one this machine's memory does not hold.
+sdft_error plan(const sdft_mesh &m, const converter::GridSettings &opt, converter::BoxGeometry &box, char *msg,
+                size_t msg_len)
+{
     std::string error;
-    if (!mesh2sdf::reserveFile(path, file, error))
-        return fail_with(msg, msg_len, SDFT_EIO, "%s", error.c_str());
-    if (!write(file.tmp, error) || !mesh2sdf::commitFile(file, error)) {
-        mesh2sdf::discardFile(file);
-        return fail_with(msg, msg_len, SDFT_EIO, "%s", error.c_str());
-    }
+    if (!converter::planBox(m.mesh, opt, box, error))
+        return fail_with(msg, msg_len, SDFT_EINVAL, "%s", error.c_str());
+    if (!converter::conversionFitsMemory(m.mesh, box, opt, error))
+        return fail_with(msg, msg_len, SDFT_ENOMEM, "%s", error.c_str());
     return SDFT_OK;
 }
 
-// The .npy and its sidecar, both renamed into place or neither.
-sdft_error writeNpyPair(const sdft_mesh_grid &g, const std::string &path, char *msg, size_t msg_len)
+// What a box tells before anything is built.
+sdft_mesh_box boxOf(const converter::BoxGeometry &geometry, double band)
 {
-    if (g.box.voxelCount() > mesh2sdf::kMaxDenseVoxels)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: a dense array of %.0f voxels is above the limit of 2^31",
-                         path.c_str(), g.box.voxelCount());
-    mesh2sdf::PendingFile npy, json;
-    std::string error;
-    const size_t slash = path.find_last_of('/');
-    const std::string npyName = slash == std::string::npos ? path : path.substr(slash + 1);
-    bool ok = mesh2sdf::reserveFile(path, npy, error) &&
-              mesh2sdf::reserveFile(mesh2sdf::sidecarPath(path), json, error) &&
-              mesh2sdf::writeNpy(*g.grid, g.box, npy.tmp, error) &&
-              mesh2sdf::writeNpyJson(g.box, npyName, g.how, g.grid->background(), json.tmp, error) &&
-              mesh2sdf::commitFile(npy, error) && mesh2sdf::commitFile(json, error);
-    if (!ok) {
-        mesh2sdf::discardFile(npy);
-        mesh2sdf::discardFile(json);
-        return fail_with(msg, msg_len, SDFT_EIO, "%s", error.c_str());
+    sdft_mesh_box b{};
+    for (int k = 0; k < 3; ++k) {
+        b.dims[k] = geometry.dims[k];
+        b.origin[k] = geometry.origin[k];
     }
-    return SDFT_OK;
+    b.voxel_size = geometry.voxelSize;
+    b.background = float(band * geometry.voxelSize);
+    return b;
 }
 
 } // namespace
 
 extern "C" {
 
+const char *sdft_mesh_sign_name(sdft_mesh_sign sign)
+{
+    switch (enumValue(sign)) {
+    case SDFT_SIGN_WINDING:
+        return converter::signMethodName(converter::SignMethod::Winding);
+    case SDFT_SIGN_FLOOD:
+        return converter::signMethodName(converter::SignMethod::Flood);
+    case SDFT_SIGN_NONE:
+        return converter::signMethodName(converter::SignMethod::None);
+    }
+    return "?";
+}
+
 sdft_mesh_grid_params sdft_mesh_grid_params_defaults(void)
 {
-    const mesh2sdf::Options cli;
+    const converter::GridSettings cli;
     sdft_mesh_grid_params p{};
     p.res = cli.res;
     p.voxel_size = cli.voxelSize;
@@ -127,23 +137,46 @@ sdft_error sdft_mesh_to_grid(const sdft_mesh *m, const sdft_mesh_grid_params *pa
     if (bad != SDFT_OK)
         return bad;
     return guarded("sdft_mesh_to_grid", msg, msg_len, [&] {
+        const auto start = std::chrono::steady_clock::now();
         openvdb::initialize();
-        const mesh2sdf::Options opt = gridOptions(*m, p);
+        const converter::GridSettings opt = gridSettings(*m, p);
         std::unique_ptr<sdft_mesh_grid> g(new sdft_mesh_grid);
-        std::string error;
-        if (!mesh2sdf::planBox(m->mesh, opt, g->box, error))
-            return fail_with(msg, msg_len, SDFT_EINVAL, "%s", error.c_str());
-        Listened listened(p.progress, p.progress_user);
-        // The caller's share of the cores: an arena of its own, or TBB's default one.
-        tbb::task_arena arena(p.threads > 0 ? p.threads : tbb::task_arena::automatic);
-        arena.execute([&] { g->grid = mesh2sdf::buildGrid(m->mesh, g->box, opt, listened.progress, g->stats); });
+        g->threads = p.threads > 0 ? p.threads : m->threads;
+        const sdft_error unplanned = plan(*m, opt, g->box, msg, msg_len);
+        if (unplanned != SDFT_OK)
+            return unplanned;
+        Listened listened(p.progress, p.stage, p.progress_user);
+        inArena(g->threads, [&] {
+            g->grid = converter::buildGrid(m->mesh, g->box, opt, listened.progress, g->stats);
+            g->surface = hasSurface(*g->grid); // one pass over the tree
+        });
         if (listened.progress.cancelled())
-            throw mesh2sdf::Cancelled();
-        listened.progress.stage("done", 100, 100);
-        g->how = mesh2sdf::Provenance{opt.input, mesh2sdf::signMethodName(opt.sign), opt.band, opt.full};
-        mesh2sdf::describeGrid(*g->grid, opt.name, g->how);
+            throw converter::Cancelled();
+        listened.progress.done();
+        g->how = converter::Provenance{opt.source, converter::signMethodName(opt.sign), opt.band, opt.full};
+        converter::describeGrid(*g->grid, p.name ? p.name : m->stem, g->how);
+        g->seconds = secondsSince(start);
         *out = g.release();
         return SDFT_OK;
+    });
+}
+
+sdft_error sdft_mesh_grid_plan(const sdft_mesh *m, const sdft_mesh_grid_params *params, sdft_mesh_box *box, char *msg,
+                               size_t msg_len)
+{
+    if (!m || !box)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_grid_plan: %s is NULL", m ? "box" : "m");
+    const sdft_mesh_grid_params p = params ? *params : sdft_mesh_grid_params_defaults();
+    const sdft_error bad = checkGridParams(p, msg, msg_len);
+    if (bad != SDFT_OK)
+        return bad;
+    return guarded("sdft_mesh_grid_plan", msg, msg_len, [&] {
+        const converter::GridSettings opt = gridSettings(*m, p);
+        converter::BoxGeometry geometry;
+        const sdft_error unplanned = plan(*m, opt, geometry, msg, msg_len);
+        if (unplanned == SDFT_OK)
+            *box = boxOf(geometry, opt.band);
+        return unplanned;
     });
 }
 
@@ -153,37 +186,16 @@ sdft_error sdft_mesh_grid_get_box(const sdft_mesh_grid *g, sdft_mesh_box *box, c
 {
     if (!g || !box)
         return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_grid_get_box: %s is NULL", g ? "box" : "g");
-    sdft_mesh_box b{};
-    for (int k = 0; k < 3; ++k) {
-        b.dims[k] = g->box.dims[k];
-        b.origin[k] = g->box.origin[k];
-    }
-    b.voxel_size = g->box.voxelSize;
+    sdft_mesh_box b = boxOf(g->box, 0);
     b.background = g->grid->background();
     b.active_voxels = g->grid->activeVoxelCount();
     b.ambiguous_voxels = g->stats.ambiguousVoxels;
+    b.surface = g->surface;
+    b.memory_bytes = g->grid->memUsage();
+    b.seconds = g->seconds;
+    b.winding_seconds = g->stats.windingSeconds;
     *box = b;
     return SDFT_OK;
-}
-
-sdft_error sdft_mesh_grid_write(const sdft_mesh_grid *g, const char *path, int fp16, char *msg, size_t msg_len)
-{
-    if (!g || !path)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_grid_write: %s is NULL", g ? "path" : "g");
-    const std::string to = path;
-    return guarded(path, msg, msg_len, [&] {
-        if (endsWith(to, ".vdb"))
-            return writeAtomically(
-                to, [&](const std::string &tmp, std::string &e) { return mesh2sdf::writeVdb(*g->grid, tmp, e); }, msg,
-                msg_len);
-        if (endsWith(to, ".nvdb"))
-            return writeAtomically(
-                to, [&](const std::string &tmp, std::string &e) { return mesh2sdf::writeNvdb(*g->grid, fp16, tmp, e); },
-                msg, msg_len);
-        if (endsWith(to, ".npy"))
-            return writeNpyPair(*g, to, msg, msg_len);
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: unknown extension (use .vdb, .nvdb or .npy)", path);
-    });
 }
 
 sdft_error sdft_mesh_grid_dense(const sdft_mesh_grid *g, float *values, size_t count, char *msg, size_t msg_len)

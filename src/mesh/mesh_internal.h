@@ -15,38 +15,60 @@
 #include "query.h"
 #include "unit_sphere.h"
 
+#include <tbb/task_arena.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstring>
 #include <memory>
 #include <mutex>
 #include <new>
 #include <string>
 
 struct sdft_mesh {
-    mesh2sdf::TriangleMesh mesh; // oriented (or edges counted), normalized where asked
-    mesh2sdf::OrientCounts orient;
+    converter::TriangleMesh mesh; // oriented (or edges counted), normalized where asked
+    converter::OrientCounts orient;
     bool oriented = false;
-    mesh2sdf::MeshSphere sphere; // in the input's units
+    converter::MeshSphere sphere; // in the input's units
     bool normalized = false;
     std::string source; // the grids' provenance
     std::string stem;   // the grids' default name
+    int threads = 0;    // sdft_mesh_params.threads
+    bool simd = true, simd512 = true;
+    double readSeconds = 0, orientSeconds = 0;
+
+    // The mesh's sphere where the mesh now is: the unit sphere once
+    // normalized.
+    converter::MeshSphere frame() const { return normalized ? converter::MeshSphere{} : sphere; }
 
     // The point queries' hierarchies, built by the first query that needs
-    // them (a mesh only converted to grids never pays for them).
-    const mesh2sdf::PointQuery &query() const
+    // them (a mesh only converted to grids never pays for them), in the
+    // caller's arena.
+    const converter::PointQuery &query() const
     {
-        std::call_once(mQueryOnce, [this] { mQuery.reset(new mesh2sdf::PointQuery(mesh, true, true)); });
+        std::call_once(mQueryOnce, [this] {
+            const auto start = std::chrono::steady_clock::now();
+            mQuery.reset(new converter::PointQuery(mesh, simd, simd512));
+            mIndexSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        });
         return *mQuery;
     }
+    double indexSeconds() const { return mIndexSeconds.load(); }
 
   private:
     mutable std::once_flag mQueryOnce;
-    mutable std::unique_ptr<mesh2sdf::PointQuery> mQuery;
+    mutable std::unique_ptr<converter::PointQuery> mQuery;
+    mutable std::atomic<double> mIndexSeconds{0.0};
 };
 
 struct sdft_mesh_grid {
     openvdb::FloatGrid::Ptr grid;
-    mesh2sdf::BoxGeometry box;
-    mesh2sdf::Provenance how;
-    mesh2sdf::BuildStats stats;
+    converter::BoxGeometry box;
+    converter::Provenance how;
+    converter::BuildStats stats;
+    int threads = 0; // for writing it
+    bool surface = false;
+    double seconds = 0;
 };
 
 namespace sdft_mesh_api
@@ -59,7 +81,7 @@ template <class Body> sdft_error guarded(const char *what, char *msg, size_t msg
 {
     try {
         return body();
-    } catch (const mesh2sdf::Cancelled &) {
+    } catch (const converter::Cancelled &) {
         return fail_with(msg, msg_len, SDFT_ECANCELED, "%s: canceled by the progress callback", what);
     } catch (const std::bad_alloc &) {
         return fail_with(msg, msg_len, SDFT_ENOMEM, "%s: out of memory", what);
@@ -70,21 +92,42 @@ template <class Body> sdft_error guarded(const char *what, char *msg, size_t msg
     }
 }
 
-// A Progress that draws nothing and tells `fn` (when not NULL).
+// Runs body() on at most `threads` worker threads (0: all cores), in an
+// arena of its own: TBB's loops inside it, OpenVDB's too, stay there.
+template <class Body> auto inArena(int threads, Body &&body) -> decltype(body())
+{
+    tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+    return arena.execute(std::forward<Body>(body));
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start);
+
+// The value a caller stored in one of the API's enums, read as an int: a C
+// caller may store any int there, and C++ may not load one outside the
+// enum's range as the enum.
+template <class Enum> int enumValue(const Enum &e)
+{
+    static_assert(sizeof(Enum) == sizeof(int), "the API's enums are ints");
+    int v;
+    std::memcpy(&v, &e, sizeof v);
+    return v;
+}
+
+// A path's file name without its folder and last extension: a grid's
+// default name.
+std::string fileStem(const std::string &path);
+
+// The Progress of a call whose params carry these callbacks.
 struct Listened {
-    mesh2sdf::Progress progress{false};
-    Listened(sdft_progress_fn fn, void *user)
-    {
-        if (fn)
-            progress.listen(fn, user);
-    }
+    converter::Progress progress;
+    Listened(sdft_progress_fn fn, sdft_stage_fn stages, void *user) : progress(fn, stages, user) {}
 };
 
 // The triangles of vertex and face arrays, as loadMesh makes them of a
 // file's (sdftrace/mesh.h, sdft_mesh_from_arrays): SDFT_OK, or the code
 // and one line in `error`.
 sdft_error meshFromArrays(const void *vertices, sdft_dtype vertexType, size_t vertexCount, const void *faces,
-                          sdft_dtype faceType, size_t faceCount, mesh2sdf::TriangleMesh &mesh, std::string &error);
+                          sdft_dtype faceType, size_t faceCount, converter::TriangleMesh &mesh, std::string &error);
 
 } // namespace sdft_mesh_api
 

@@ -3,8 +3,6 @@
 // normalized where asked, then oriented as mesh2sdf orients it.
 #include "mesh_internal.h"
 
-#include "job.h"
-
 using namespace sdft_mesh_api;
 
 namespace
@@ -12,21 +10,43 @@ namespace
 
 // What every mesh goes through once its triangles are in place, reading
 // then orienting on the progress bar's two halves.
-void finishMesh(sdft_mesh &m, const sdft_mesh_params &p, mesh2sdf::Progress &progress)
+void finishMesh(sdft_mesh &m, const sdft_mesh_params &p, converter::Progress &progress)
 {
-    m.sphere = mesh2sdf::meshSphere(m.mesh);
+    m.sphere = converter::meshSphere(m.mesh);
     if (p.normalize) {
-        mesh2sdf::normalizeMesh(m.mesh, m.sphere);
+        converter::normalizeMesh(m.mesh, m.sphere);
         m.normalized = true;
     }
     progress.stage("orienting", 50, 100);
+    const auto start = std::chrono::steady_clock::now();
     if (p.orient) {
-        m.orient = mesh2sdf::orientMesh(m.mesh);
+        m.orient = converter::orientMesh(m.mesh, m.simd);
         m.oriented = true;
     } else {
-        mesh2sdf::countEdges(m.mesh, mesh2sdf::edgeUses(m.mesh));
+        converter::countEdges(m.mesh, converter::edgeUses(m.mesh));
     }
+    m.orientSeconds = secondsSince(start);
     progress.report(100);
+}
+
+// The mesh's share of the cores and its vector instructions, from p.
+std::unique_ptr<sdft_mesh> newMesh(const sdft_mesh_params &p)
+{
+    std::unique_ptr<sdft_mesh> m(new sdft_mesh);
+    m->threads = p.threads;
+    m->simd = p.simd != SDFT_SIMD_NONE;
+    m->simd512 = p.simd == SDFT_SIMD_AUTO;
+    return m;
+}
+
+sdft_error checkMeshParams(const char *what, const sdft_mesh_params &p, char *msg, size_t msg_len)
+{
+    if (p.threads < 0)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: threads %d is negative", what, p.threads);
+    const int simd = enumValue(p.simd);
+    if (simd != SDFT_SIMD_AUTO && simd != SDFT_SIMD_AVX2 && simd != SDFT_SIMD_NONE)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: unknown simd level %d", what, simd);
+    return SDFT_OK;
 }
 
 // The mesh reader's one line, as an error code: a file that cannot be
@@ -34,6 +54,24 @@ void finishMesh(sdft_mesh &m, const sdft_mesh_params &p, mesh2sdf::Progress &pro
 sdft_error readError(const std::string &error) { return error.rfind("cannot open", 0) == 0 ? SDFT_EIO : SDFT_EFORMAT; }
 
 } // namespace
+
+namespace sdft_mesh_api
+{
+
+double secondsSince(std::chrono::steady_clock::time_point start)
+{
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::string fileStem(const std::string &path)
+{
+    const size_t slash = path.find_last_of('/');
+    std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+    const size_t dot = base.find_last_of('.');
+    return dot == std::string::npos || dot == 0 ? base : base.substr(0, dot);
+}
+
+} // namespace sdft_mesh_api
 
 extern "C" {
 
@@ -51,19 +89,26 @@ sdft_error sdft_mesh_load(const char *path, const sdft_mesh_params *params, sdft
     if (!path || !out)
         return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_load: %s is NULL", path ? "out" : "path");
     const sdft_mesh_params p = params ? *params : sdft_mesh_params_defaults();
+    const sdft_error bad = checkMeshParams("sdft_mesh_load", p, msg, msg_len);
+    if (bad != SDFT_OK)
+        return bad;
     return guarded(path, msg, msg_len, [&] {
-        Listened listened(p.progress, p.progress_user);
+        Listened listened(p.progress, p.stage, p.progress_user);
         listened.progress.stage("reading", 0, 50);
-        std::unique_ptr<sdft_mesh> m(new sdft_mesh);
-        std::string error;
-        if (!mesh2sdf::loadMesh(path, m->mesh, error))
-            return fail_with(msg, msg_len, readError(error), "%s", error.c_str());
-        listened.progress.report(100);
-        m->source = p.source ? p.source : path;
-        m->stem = mesh2sdf::fileStem(path);
-        finishMesh(*m, p, listened.progress);
-        *out = m.release();
-        return SDFT_OK;
+        std::unique_ptr<sdft_mesh> m = newMesh(p);
+        return inArena(p.threads, [&] {
+            const auto start = std::chrono::steady_clock::now();
+            std::string error;
+            if (!converter::loadMesh(path, m->mesh, error))
+                return fail_with(msg, msg_len, readError(error), "%s", error.c_str());
+            m->readSeconds = secondsSince(start);
+            listened.progress.report(100);
+            m->source = p.source ? p.source : path;
+            m->stem = fileStem(path);
+            finishMesh(*m, p, listened.progress);
+            *out = m.release();
+            return SDFT_OK;
+        });
     });
 }
 
@@ -79,21 +124,28 @@ sdft_error sdft_mesh_from_arrays(const void *vertices, sdft_dtype vertex_type, s
                          : !faces  ? "faces"
                                    : "out");
     const sdft_mesh_params p = params ? *params : sdft_mesh_params_defaults();
+    const sdft_error bad = checkMeshParams("sdft_mesh_from_arrays", p, msg, msg_len);
+    if (bad != SDFT_OK)
+        return bad;
     return guarded("mesh from arrays", msg, msg_len, [&] {
-        Listened listened(p.progress, p.progress_user);
+        Listened listened(p.progress, p.stage, p.progress_user);
         listened.progress.stage("reading", 0, 50);
-        std::unique_ptr<sdft_mesh> m(new sdft_mesh);
-        std::string error;
-        const sdft_error e =
-            meshFromArrays(vertices, vertex_type, vertex_count, faces, face_type, face_count, m->mesh, error);
-        if (e != SDFT_OK)
-            return fail_with(msg, msg_len, e, "%s", error.c_str());
-        listened.progress.report(100);
-        m->source = p.source ? p.source : "";
-        m->stem = "mesh";
-        finishMesh(*m, p, listened.progress);
-        *out = m.release();
-        return SDFT_OK;
+        std::unique_ptr<sdft_mesh> m = newMesh(p);
+        return inArena(p.threads, [&] {
+            const auto start = std::chrono::steady_clock::now();
+            std::string error;
+            const sdft_error e =
+                meshFromArrays(vertices, vertex_type, vertex_count, faces, face_type, face_count, m->mesh, error);
+            if (e != SDFT_OK)
+                return fail_with(msg, msg_len, e, "%s", error.c_str());
+            m->readSeconds = secondsSince(start);
+            listened.progress.report(100);
+            m->source = p.source ? p.source : "";
+            m->stem = "mesh";
+            finishMesh(*m, p, listened.progress);
+            *out = m.release();
+            return SDFT_OK;
+        });
     });
 }
 
@@ -103,11 +155,11 @@ sdft_error sdft_mesh_get_info(const sdft_mesh *m, sdft_mesh_info *info, char *ms
 {
     if (!m || !info)
         return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_get_info: %s is NULL", m ? "info" : "m");
-    const mesh2sdf::MeshHealth &h = m->mesh.health;
+    const converter::MeshHealth &h = m->mesh.health;
     sdft_mesh_info i{};
     i.vertices = h.vertices;
     i.faces = h.faces;
-    i.triangles = m->mesh.triangles.size();
+    i.triangles = h.triangles;
     i.degenerate_faces = h.degenerateFaces;
     i.welded_vertices = h.weldedVertices;
     i.boundary_edges = h.boundaryEdges;
@@ -128,6 +180,9 @@ sdft_error sdft_mesh_get_info(const sdft_mesh *m, sdft_mesh_info *info, char *ms
     }
     i.radius = m->sphere.radius;
     i.normalized = m->normalized;
+    i.read_seconds = m->readSeconds;
+    i.orient_seconds = m->orientSeconds;
+    i.index_seconds = m->indexSeconds();
     *info = i;
     return SDFT_OK;
 }

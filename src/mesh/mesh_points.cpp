@@ -44,35 +44,48 @@ sdft_error checkPoints(const char *what, const sdft_mesh *m, const sdft_points *
                          : !pts ? "pts"
                          : !out ? "the output"
                                 : "pts->data");
-    if (pts->type != SDFT_FLOAT32 && pts->type != SDFT_FLOAT64)
+    if (enumValue(pts->type) != SDFT_FLOAT32 && enumValue(pts->type) != SDFT_FLOAT64)
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: points must be float32 or float64", what);
     return SDFT_OK;
 }
 
-// Distance and winding number at every point, into either (NULL: not wanted).
+// Distance and winding number at every point, into either (NULL: not
+// wanted), in Morton order in the mesh's cube (neighbours in it are near
+// in space, so the hierarchies' nodes stay in cache; each point's answer is
+// the same in any order).
 sdft_error evaluate(const char *what, const sdft_mesh *m, const sdft_points *pts, float *distance, float *winding,
                     char *msg, size_t msg_len)
 {
     return guarded(what, msg, msg_len, [&] {
         if (pts->count == 0)
             return SDFT_OK;
-        const mesh2sdf::PointQuery &query = m->query();
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, pts->count, 256), [&](const tbb::blocked_range<size_t> &r) {
-            for (size_t i = r.begin(); i != r.end(); ++i) {
-                double p[3], w = NAN, d = NAN;
-                pointAt(*pts, i, p);
-                const bool finite = std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
-                if (finite && distance)
-                    d = query.signedDistance(p, INFINITY, &w);
-                else if (finite)
-                    w = query.winding(p); // the winding number alone: no nearest triangle
-                if (distance)
-                    distance[i] = float(d);
-                if (winding)
-                    winding[i] = float(w);
-            }
+        return inArena(m->threads, [&] {
+            const converter::PointQuery &query = m->query();
+            std::vector<double> xyz(pts->count * 3);
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, pts->count, 4096),
+                              [&](const tbb::blocked_range<size_t> &r) {
+                                  for (size_t i = r.begin(); i != r.end(); ++i)
+                                      pointAt(*pts, i, &xyz[i * 3]);
+                              });
+            const std::vector<size_t> order = converter::mortonOrder(xyz, m->frame());
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, pts->count, 256), [&](const tbb::blocked_range<size_t> &r) {
+                for (size_t j = r.begin(); j != r.end(); ++j) {
+                    const size_t i = order[j];
+                    const double *p = &xyz[i * 3];
+                    double w = NAN, d = NAN;
+                    const bool finite = std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+                    if (finite && distance)
+                        d = query.signedDistance(p, INFINITY, &w);
+                    else if (finite)
+                        w = query.winding(p); // the winding number alone: no nearest triangle
+                    if (distance)
+                        distance[i] = float(d);
+                    if (winding)
+                        winding[i] = float(w);
+                }
+            });
+            return SDFT_OK;
         });
-        return SDFT_OK;
     });
 }
 
@@ -99,13 +112,25 @@ sdft_error sdft_mesh_winding_number(const sdft_mesh *m, const sdft_points *pts, 
 sdft_sample_params sdft_sample_params_defaults(void)
 {
     sdft_sample_params p{};
-    const mesh2sdf::Options cli;
-    p.count = 250000;
-    p.seed = uint64_t(cli.seed);
+    const converter::SampleSettings cli;
+    p.count = cli.count;
+    p.seed = cli.seed;
     p.near_sigma[0] = cli.nearSigma[0];
     p.near_sigma[1] = cli.nearSigma[1];
     p.uniform_share = cli.uniformShare;
     return p;
+}
+
+void sdft_sample_counts(const sdft_sample_params *p, size_t *near_first, size_t *near_second, size_t *uniform)
+{
+    const converter::SampleCounts c =
+        p ? converter::sampleCounts(p->count, p->uniform_share) : converter::SampleCounts{};
+    if (near_first)
+        *near_first = c.near[0];
+    if (near_second)
+        *near_second = c.near[1];
+    if (uniform)
+        *uniform = c.uniform;
 }
 
 sdft_error sdft_mesh_samples(const sdft_mesh *m, const sdft_sample_params *p, float *rows, size_t rows_len, char *msg,
@@ -114,7 +139,7 @@ sdft_error sdft_mesh_samples(const sdft_mesh *m, const sdft_sample_params *p, fl
     const char *what = "sdft_mesh_samples";
     if (!m || !p || !rows)
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: %s is NULL", what, !m ? "m" : !p ? "p" : "rows");
-    if (p->count < 1 || double(p->count) > mesh2sdf::kMaxSamples)
+    if (p->count < 1 || double(p->count) > converter::kMaxSamples)
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: count %zu is outside 1..100000000", what, p->count);
     if (rows_len / 4 < p->count)
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: %zu rows need %zu floats, rows_len is %zu", what, p->count,
@@ -128,24 +153,22 @@ sdft_error sdft_mesh_samples(const sdft_mesh *m, const sdft_sample_params *p, fl
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: seed %llu is above 2^31 - 1", what,
                          (unsigned long long)p->seed);
     return guarded(what, msg, msg_len, [&] {
-        Listened listened(p->progress, p->progress_user);
-        mesh2sdf::Progress &progress = listened.progress;
-        progress.stage("hierarchies", 0, 20);
-        const mesh2sdf::PointQuery &query = m->query();
-        progress.stage("samples", 20, 100);
-        mesh2sdf::Options opt;
-        opt.samples = p->count;
-        opt.seed = int(p->seed);
-        opt.nearSigma[0] = p->near_sigma[0];
-        opt.nearSigma[1] = p->near_sigma[1];
-        opt.uniformShare = p->uniform_share;
-        // The sphere where the mesh now is, as mesh2sdf --samples takes it.
-        const mesh2sdf::MeshSphere frame = m->normalized ? mesh2sdf::MeshSphere{} : m->sphere;
-        std::vector<float> drawn;
-        mesh2sdf::drawSamples(m->mesh, frame, query, opt, drawn);
-        progress.report(100);
-        std::memcpy(rows, drawn.data(), drawn.size() * sizeof(float));
-        return SDFT_OK;
+        Listened listened(p->progress, p->stage, p->progress_user);
+        converter::Progress &progress = listened.progress;
+        return inArena(m->threads, [&] {
+            progress.stage("hierarchies", 0, 20);
+            const converter::PointQuery &query = m->query();
+            progress.stage("samples", 20, 100);
+            converter::SampleSettings opt;
+            opt.count = p->count;
+            opt.seed = p->seed;
+            opt.nearSigma[0] = p->near_sigma[0];
+            opt.nearSigma[1] = p->near_sigma[1];
+            opt.uniformShare = p->uniform_share;
+            converter::drawSamples(m->mesh, m->frame(), query, opt, rows);
+            progress.report(100);
+            return SDFT_OK;
+        });
     });
 }
 

@@ -23,10 +23,10 @@ inline void fuzz_load_mesh(const uint8_t *data, size_t size, const char *const *
     char path[256];
     if (fuzz_input_file(data + 1, size - 1, ext.c_str(), path, sizeof path))
         return;
-    mesh2sdf::TriangleMesh mesh;
+    converter::TriangleMesh mesh;
     std::string error;
-    if (mesh2sdf::loadMesh(path, mesh, error))
-        mesh2sdf::countEdges(mesh, mesh2sdf::edgeUses(mesh));
+    if (converter::loadMesh(path, mesh, error))
+        converter::countEdges(mesh, converter::edgeUses(mesh));
     unlink(path);
 }
 

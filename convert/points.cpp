@@ -1,0 +1,273 @@
+// mesh2sdf --samples and --query (see points.h).
+#include "points.h"
+
+#include "npy_read.h"
+#include "text.h"
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+
+#include "json.h"
+#include "memory_limit.h"
+#include "npy_write.h"
+
+namespace mesh2sdf
+{
+
+namespace
+{
+
+using Clock = std::chrono::steady_clock;
+
+double secondsBetween(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+
+bool writeArray(const char *tmp, const std::string &shape, const float *values, size_t count)
+{
+    FILE *f = std::fopen(tmp, "wb");
+    if (!f)
+        return false;
+    bool ok = npy_write_header(f, shape.c_str()) == 0 && std::fwrite(values, sizeof(float), count, f) == count;
+    return std::fclose(f) == 0 && ok;
+}
+
+bool writeSidecar(const char *tmp, const std::string &fields, const Options &opt, const sdft_mesh_info &info)
+{
+    FILE *f = std::fopen(tmp, "w");
+    if (!f)
+        return false;
+    std::fprintf(f, "{\n%s", fields.c_str());
+    std::fprintf(f,
+                 "  \"normalized\": %s,\n"
+                 "  \"centre\": [%.17g, %.17g, %.17g],\n"
+                 "  \"radius\": %.17g,\n",
+                 info.normalized ? "true" : "false", info.centre[0], info.centre[1], info.centre[2], info.radius);
+    if (info.normalized)
+        std::fprintf(f, "  \"to_mesh_units\": \"point * radius + centre; distance * radius\",\n");
+    else
+        std::fprintf(f, "  \"to_unit_sphere\": \"(point - centre) / radius; distance / radius\",\n");
+    std::fprintf(f,
+                 "  \"sign\": \"negative inside: winding number > 0.5\",\n  \"orient\": \"%s\",\n"
+                 "  \"source_mesh\": ",
+                 info.oriented ? "outward" : "none");
+    json_put_string(f, opt.input.c_str());
+    std::fprintf(f, "\n}\n");
+    const bool ok = !std::ferror(f);
+    return std::fclose(f) == 0 && ok;
+}
+
+// The sidecar's "array" line: the file name of `path`.
+std::string arrayField(const std::string &path)
+{
+    const size_t slash = path.find_last_of('/');
+    return "  \"array\": " + jsonString(slash == std::string::npos ? path : path.substr(slash + 1)) + ",\n";
+}
+
+// One line in `error` from the library's message; false.
+bool failed(const char *msg, std::string &error)
+{
+    error = msg;
+    return false;
+}
+
+} // namespace
+
+bool PointFiles::reserve(const std::string &npy, std::string &error)
+{
+    char msg[1024];
+    if (atomic_file_begin(&mArray, npy.c_str(), msg, sizeof msg) != SDFT_OK)
+        return failed(msg, error);
+    if (atomic_file_begin(&mSidecar, sidecarPath(npy).c_str(), msg, sizeof msg) != SDFT_OK) {
+        atomic_file_abort(&mArray);
+        return failed(msg, error);
+    }
+    mReserved = true;
+    return true;
+}
+
+bool PointFiles::discard()
+{
+    if (mReserved) {
+        atomic_file_abort(&mArray);
+        atomic_file_abort(&mSidecar);
+        mReserved = false;
+    }
+    return false;
+}
+
+bool PointFiles::write(const std::string &shape, const float *values, size_t count, const std::string &fields,
+                       const Options &opt, const sdft_mesh_info &info, std::string &error)
+{
+    if (!writeArray(mArray.tmp_path, shape, values, count) || !writeSidecar(mSidecar.tmp_path, fields, opt, info)) {
+        error = std::string("cannot write beside ") + mArray.path + ": " + std::strerror(errno);
+        return discard();
+    }
+    char msg[1024];
+    const bool ok = atomic_file_commit(&mArray, msg, sizeof msg) == SDFT_OK &&
+                    atomic_file_commit(&mSidecar, msg, sizeof msg) == SDFT_OK;
+    if (!ok) {
+        error = msg;
+        return discard();
+    }
+    mReserved = false;
+    return true;
+}
+
+bool trainingSamplesFitMemory(size_t count, std::string &error)
+{
+    // Per row: the float32 row (16 bytes), the point and its distance bound
+    // as doubles while drawing (32), its place in Morton order (8), and a
+    // little for the order's keys (3,000,000 samples of spot: 206 MiB
+    // measured, 212 estimated); 40 MiB besides.
+    char line[256];
+    const std::string what = std::to_string(count) + " training samples";
+    if (memory_check(40.0 * 1024 * 1024 + 60.0 * double(count), what.c_str(), line, sizeof line) == 0)
+        return true;
+    error = line;
+    return false;
+}
+
+bool writeSamples(const Options &opt, const sdft_mesh *mesh, PointFiles &files, ProgressView &progress, SampleRun &run,
+                  std::string &error)
+{
+    sdft_sample_params p = sdft_sample_params_defaults();
+    p.count = opt.samples;
+    p.seed = uint64_t(opt.seed);
+    p.near_sigma[0] = opt.nearSigma[0];
+    p.near_sigma[1] = opt.nearSigma[1];
+    p.uniform_share = opt.uniformShare;
+    p.progress = ProgressView::report;
+    p.stage = ProgressView::named;
+    p.progress_user = &progress;
+    std::vector<float> rows(opt.samples * 4);
+    char msg[1024];
+    sdft_mesh_info before;
+    sdft_mesh_get_info(mesh, &before, nullptr, 0);
+    const auto t0 = Clock::now();
+    if (sdft_mesh_samples(mesh, &p, rows.data(), rows.size(), msg, sizeof msg) != SDFT_OK)
+        return failed(msg, error);
+    const double seconds = secondsBetween(t0, Clock::now());
+    sdft_mesh_info info;
+    sdft_mesh_get_info(mesh, &info, nullptr, 0);
+    run.indexSeconds = info.index_seconds - before.index_seconds; // built by this call, or before it
+    run.sampleSeconds = seconds - run.indexSeconds;
+    size_t near[2], uniform;
+    sdft_sample_counts(&p, &near[0], &near[1], &uniform);
+    const std::string fields =
+        arrayField(opt.samplesOut) +
+        format("  \"dtype\": \"float32\",\n  \"shape\": [%zu, 4],\n"
+               "  \"columns\": [\"x\", \"y\", \"z\", \"distance\"],\n"
+               "  \"rows\": \"near the surface first, alternating the two sigmas, then uniform\",\n"
+               "  \"near_samples\": [%zu, %zu],\n  \"uniform_samples\": %zu,\n"
+               "  \"near_sigma\": [%.17g, %.17g],\n  \"near_sigma_units\": \"times the sphere's radius\",\n"
+               "  \"uniform_share\": %.17g,\n  \"uniform_region\": \"centre +- radius on each axis\",\n"
+               "  \"seed\": %d,\n",
+               opt.samples, near[0], near[1], uniform, opt.nearSigma[0], opt.nearSigma[1], opt.uniformShare, opt.seed);
+    return files.write("(" + std::to_string(opt.samples) + ", 4)", rows.data(), rows.size(), fields, opt, info, error);
+}
+
+bool runSamples(const Options &opt, std::string &error)
+{
+    const auto t0 = Clock::now();
+    PointFiles files;
+    if (!trainingSamplesFitMemory(opt.samples, error) || !files.reserve(opt.samplesOut, error))
+        return false;
+    ProgressView progress(!opt.quiet && !opt.json);
+    JobResult r;
+    const MeshPtr mesh = loadJobMesh(opt, progress, 0, 30, r);
+    if (!mesh)
+        return failed(r.error.c_str(), error);
+    SampleRun run;
+    progress.stage("samples", 30, 100);
+    const bool ok = writeSamples(opt, mesh.get(), files, progress, run, error);
+    progress.finish();
+    if (!ok)
+        return false;
+    const double seconds = secondsBetween(t0, Clock::now());
+    sdft_sample_params p = sdft_sample_params_defaults();
+    p.count = opt.samples;
+    p.uniform_share = opt.uniformShare;
+    size_t near[2], uniform;
+    sdft_sample_counts(&p, &near[0], &near[1], &uniform);
+    const double rate = double(opt.samples) / run.sampleSeconds;
+    if (opt.json) {
+        std::printf("{\"mesh\": ");
+        json_put_string(stdout, opt.input.c_str());
+        std::printf(", \"output\": ");
+        json_put_string(stdout, opt.samplesOut.c_str());
+        std::printf(", \"samples\": %zu, \"near_samples\": [%zu, %zu], \"uniform_samples\": %zu, \"triangles\": %llu, "
+                    "\"normalized\": %s, \"orient_seconds\": %.6f, \"index_seconds\": %.6f, \"samples_seconds\": %.6f, "
+                    "\"samples_per_second\": %.0f, \"seconds\": %.6f, \"peak_mib\": %.1f}\n",
+                    opt.samples, near[0], near[1], uniform, (unsigned long long)r.mesh.triangles,
+                    opt.normalize ? "true" : "false", r.mesh.orient_seconds, run.indexSeconds, run.sampleSeconds, rate,
+                    seconds, peakMiB());
+    } else if (!opt.quiet) {
+        std::printf("wrote %s: %zu samples, %.2f s, sampling %.3f s (%.0f samples/s)\n", opt.samplesOut.c_str(),
+                    opt.samples, seconds, run.sampleSeconds, rate);
+    }
+    return true;
+}
+
+bool runQuery(const Options &opt, std::string &error)
+{
+    const auto t0 = Clock::now();
+    PointFiles files;
+    if (!files.reserve(opt.queryOut, error))
+        return false;
+    std::vector<double> xyz;
+    if (!readNpyPoints(opt.queryIn, xyz, error))
+        return false;
+    ProgressView progress(!opt.quiet && !opt.json);
+    JobResult r;
+    const MeshPtr mesh = loadJobMesh(opt, progress, 0, 50, r);
+    progress.finish();
+    if (!mesh)
+        return failed(r.error.c_str(), error);
+    const size_t count = xyz.size() / 3, columns = opt.winding ? 2 : 1;
+    std::vector<float> distance(count), winding(opt.winding ? count : 0);
+    sdft_points pts{};
+    pts.data = xyz.data();
+    pts.type = SDFT_FLOAT64;
+    pts.count = count;
+    char msg[1024];
+    const auto t1 = Clock::now();
+    if (sdft_mesh_signed_distance(mesh.get(), &pts, distance.data(), opt.winding ? winding.data() : nullptr, msg,
+                                  sizeof msg) != SDFT_OK)
+        return failed(msg, error);
+    const double querySeconds = secondsBetween(t1, Clock::now());
+    std::vector<float> out(count * columns);
+    for (size_t i = 0; i < count; ++i) {
+        out[i * columns] = distance[i];
+        if (opt.winding)
+            out[i * columns + 1] = winding[i];
+    }
+    const std::string shape = "(" + std::to_string(count) + (opt.winding ? ", 2)" : ",)");
+    const std::string fields =
+        arrayField(opt.queryOut) +
+        format("  \"points\": %s,\n  \"dtype\": \"float32\",\n  \"shape\": [%zu%s],\n  \"columns\": [%s],\n",
+               jsonString(opt.queryIn).c_str(), count, opt.winding ? ", 2" : "",
+               opt.winding ? "\"distance\", \"winding\"" : "\"distance\"");
+    if (!files.write(shape, out.data(), out.size(), fields, opt, r.mesh, error))
+        return false;
+    const double seconds = secondsBetween(t0, Clock::now());
+    if (opt.json) {
+        std::printf("{\"mesh\": ");
+        json_put_string(stdout, opt.input.c_str());
+        std::printf(", \"points\": ");
+        json_put_string(stdout, opt.queryIn.c_str());
+        std::printf(", \"output\": ");
+        json_put_string(stdout, opt.queryOut.c_str());
+        std::printf(", \"count\": %zu, \"triangles\": %llu, \"orient_seconds\": %.6f, \"query_seconds\": %.6f, "
+                    "\"points_per_second\": %.0f, \"seconds\": %.6f, \"peak_mib\": %.1f}\n",
+                    count, (unsigned long long)r.mesh.triangles, r.mesh.orient_seconds, querySeconds,
+                    double(count) / querySeconds, seconds, peakMiB());
+    } else if (!opt.quiet) {
+        std::printf("wrote %s: %zu signed distances%s, %.2f s, queries %.3f s (%.0f points/s)\n", opt.queryOut.c_str(),
+                    count, opt.winding ? " and winding numbers" : "", seconds, querySeconds,
+                    double(count) / querySeconds);
+    }
+    return true;
+}
+
+} // namespace mesh2sdf

@@ -1,0 +1,71 @@
+// mesh2sdf --samples and --query: training samples and signed distances at
+// given points, computed by the library (sdft_mesh_samples,
+// sdft_mesh_signed_distance) and written as OUT.npy with OUT.json beside
+// it, which says what the rows are and the frame they are in.
+#ifndef MESH2SDF_POINTS_H
+#define MESH2SDF_POINTS_H
+
+#include "job.h"
+#include "options.h"
+
+#include <string>
+#include <vector>
+
+#include "atomic_file.h"
+
+namespace mesh2sdf
+{
+
+/// OUT.npy and OUT.json of --samples and --query: reserved before any work
+/// (src/common/atomic_file.h), written and renamed into place at the end,
+/// or removed.
+class PointFiles
+{
+  public:
+    PointFiles() = default;
+    PointFiles(const PointFiles &) = delete;
+    PointFiles &operator=(const PointFiles &) = delete;
+    ~PointFiles() { discard(); }
+
+    bool reserve(const std::string &npy, std::string &error);
+    /// The float32 array of `shape` ("(n, 4)") and the sidecar: `fields`
+    /// (its own lines, each ending in ",\n"), then the frame of the mesh
+    /// `info` describes: whether the points are normalized, the sphere, how
+    /// to map a point and a distance back, the sign and the source mesh. On
+    /// failure, removes both.
+    bool write(const std::string &shape, const float *values, size_t count, const std::string &fields,
+               const Options &opt, const sdft_mesh_info &info, std::string &error);
+    /// Removes both temporary files; returns false.
+    bool discard();
+
+  private:
+    atomic_file mArray{}, mSidecar{};
+    bool mReserved = false;
+};
+
+/// What drawing samples took, for the summary line, --json and a batch's row.
+struct SampleRun {
+    double indexSeconds = 0, sampleSeconds = 0;
+};
+
+/// The memory `count` training samples need, checked before any work:
+/// false with one line ("needs ~...") when it does not fit.
+bool trainingSamplesFitMemory(size_t count, std::string &error);
+
+/// opt.samples rows of `mesh` written into `files` (reserved for
+/// opt.samplesOut), drawn on `progress`. False with one line in `error`.
+bool writeSamples(const Options &opt, const sdft_mesh *mesh, PointFiles &files, ProgressView &progress, SampleRun &run,
+                  std::string &error);
+
+/// mesh2sdf MESH --samples N OUT.npy: reserves, reads, draws and writes,
+/// then prints the summary line or the --json object.
+bool runSamples(const Options &opt, std::string &error);
+
+/// mesh2sdf MESH --query POINTS.npy OUT.npy [--winding] [--normalize]:
+/// reads the points, evaluates them, writes OUT.npy and OUT.json and
+/// prints the summary line or --json object.
+bool runQuery(const Options &opt, std::string &error);
+
+} // namespace mesh2sdf
+
+#endif

@@ -1,0 +1,53 @@
+// mesh2sdf — building the distance grid: the exact narrow band (band.h)
+// signed by the winding number, or left unsigned; or, for --sign flood,
+// OpenVDB's own mesh-to-volume band and flood-fill sign, for comparison.
+// For --full, exact distances in the rest of the padded box.
+#ifndef CONVERTER_GRID_H
+#define CONVERTER_GRID_H
+
+#include "mesh.h"
+#include "progress.h"
+#include "settings.h"
+
+#include <openvdb/openvdb.h>
+
+#include <array>
+#include <string>
+
+namespace converter
+{
+
+/// The padded box: voxel (i, j, k), 0 <= i < dims[0] ..., has its centre at
+/// world position origin + (i, j, k) * voxelSize. Index space of the grid is
+/// the same (i, j, k).
+struct BoxGeometry {
+    double voxelSize = 0;
+    std::array<double, 3> origin{};
+    std::array<int, 3> dims{};
+    double voxelCount() const { return double(dims[0]) * dims[1] * dims[2]; }
+};
+
+/// Voxel size and box from --res or --voxel-size and --padding. --res N puts
+/// N voxel centres along the padded box's longest side. Fails with one line
+/// when a side would exceed kMaxResolution or be too small for the padding,
+/// or a dense output would exceed kMaxDenseVoxels. (Whether the conversion
+/// fits memory is memory_estimate.h's question.)
+bool planBox(const TriangleMesh &mesh, const GridSettings &opt, BoxGeometry &box, std::string &error);
+
+struct BuildStats {
+    double windingSeconds = 0;    // exact band distances and winding sign (--sign winding only)
+    uint64_t ambiguousVoxels = 0; // voxels signed from a winding number in (0.25, 0.75)
+};
+
+/// The signed (or, with SignMethod::None, unsigned) distance grid in world
+/// units: a GRID_LEVEL_SET with background band * voxelSize and the box's
+/// transform. Its stages fill `progress` from 0 to buildGridEnd(opt) %.
+/// Where on the progress bar building ends and writing begins, in percent.
+int buildGridEnd(const GridSettings &opt);
+
+openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &box, const GridSettings &opt,
+                                  Progress &progress, BuildStats &stats);
+
+} // namespace converter
+
+#endif

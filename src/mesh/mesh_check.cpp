@@ -1,0 +1,54 @@
+// sdftrace — grids' signs checked against a mesh's exact winding number
+// (sdft_mesh_sign_check, check.h).
+#include "mesh_internal.h"
+
+#include "check.h"
+#include "memory_estimate.h"
+
+#include <cerrno>
+#include <cstring>
+#include <sys/stat.h>
+
+using namespace sdft_mesh_api;
+
+extern "C" {
+
+sdft_error sdft_mesh_sign_check(const sdft_mesh *m, const char *const *grid_paths, size_t count, int points,
+                                sdft_sign_check *out, char *msg, size_t msg_len)
+{
+    const char *what = "sdft_mesh_sign_check";
+    if (!m || !grid_paths || !out)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: %s is NULL", what,
+                         !m            ? "m"
+                         : !grid_paths ? "grid_paths"
+                                       : "out");
+    if (count == 0)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: no grids", what);
+    if (points < 1 || points > int(converter::kMaxSamples))
+        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: %d points is outside 1..100000000", what, points);
+    std::vector<std::string> paths;
+    for (size_t i = 0; i < count; ++i) {
+        if (!grid_paths[i])
+            return fail_with(msg, msg_len, SDFT_EINVAL, "%s: grid path %zu is NULL", what, i);
+        struct stat st;
+        if (stat(grid_paths[i], &st) != 0)
+            return fail_with(msg, msg_len, SDFT_EIO, "cannot read grid %s: %s", grid_paths[i], std::strerror(errno));
+        paths.push_back(grid_paths[i]);
+    }
+    return guarded(what, msg, msg_len, [&] {
+        std::string error;
+        if (!converter::checkPointsFitMemory(points, error))
+            return fail_with(msg, msg_len, SDFT_ENOMEM, "%s", error.c_str());
+        openvdb::initialize();
+        std::vector<converter::SignCheck> checks;
+        const bool ok =
+            inArena(m->threads, [&] { return converter::checkSign(m->mesh, paths, points, checks, error); });
+        if (!ok)
+            return fail_with(msg, msg_len, SDFT_EFORMAT, "%s", error.c_str());
+        for (size_t i = 0; i < count; ++i)
+            out[i] = sdft_sign_check{checks[i].clear, checks[i].wrong, checks[i].wrongFar};
+        return SDFT_OK;
+    });
+}
+
+} // extern "C"

@@ -1,0 +1,29 @@
+// mesh2sdf — the sphere around a mesh that training samples are measured
+// by and --normalize maps onto the unit sphere, as DeepSDF's preprocessing
+// does: centred on the bounding box's centre, its radius 1.03 times the
+// largest distance from that centre to a vertex of a face.
+#ifndef CONVERTER_UNIT_SPHERE_H
+#define CONVERTER_UNIT_SPHERE_H
+
+#include "mesh.h"
+
+#include <array>
+
+namespace converter
+{
+
+/// A point x of the mesh's frame is (x - centre) / radius in the unit frame.
+struct MeshSphere {
+    std::array<double, 3> centre{};
+    double radius = 1;
+};
+
+/// The sphere of `mesh` (its lo, hi and the vertices its triangles use).
+MeshSphere meshSphere(const TriangleMesh &mesh);
+
+/// Maps the mesh into the unit frame of `sphere` (points, lo, hi).
+void normalizeMesh(TriangleMesh &mesh, const MeshSphere &sphere);
+
+} // namespace converter
+
+#endif

@@ -1,0 +1,439 @@
+/* The mesh component's C API beyond the queries (sdftrace/mesh.h): a set
+ * of files reserved before the work and written together, nothing left
+ * behind when it is freed or fails; grids' signs checked against the exact
+ * winding number; what a mesh and a grid report (timings, surface,
+ * memory); the thread and SIMD settings giving the same answers; the sample
+ * counts and the sidecar's name. The truth is computed here: brute-force
+ * winding numbers and distances, directory listings, file magic numbers. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+
+#include <cmocka.h>
+
+#include <dirent.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "mesh_support.h"
+#include "sdftrace/mesh.h"
+#include "sdftrace/vdb.h"
+#include "testutil.h"
+
+#define SUZANNE SDFT_MESH_DIR "/suzanne.obj"
+#define SPOT SDFT_MESH_DIR "/spot.obj"
+
+static sdft_mesh *load_with(const char *path, const sdft_mesh_params *p)
+{
+    sdft_mesh *m = NULL;
+    char msg[256] = "";
+    assert_int_equal(sdft_mesh_load(path, p, &m, msg, sizeof msg), SDFT_OK);
+    return m;
+}
+
+static sdft_mesh_grid *grid_of(const sdft_mesh *m, int res)
+{
+    sdft_mesh_grid_params p = sdft_mesh_grid_params_defaults();
+    p.res = res;
+    sdft_mesh_grid *g = NULL;
+    char msg[256] = "";
+    assert_int_equal(sdft_mesh_to_grid(m, &p, &g, msg, sizeof msg), SDFT_OK);
+    return g;
+}
+
+/* A fresh empty folder under the tests' temporary folder. */
+static void fresh_dir(char *dir, size_t len, const char *name)
+{
+    char out[512];
+    tu_tmp(dir, len, name);
+    tu_run(out, sizeof out, "rm -rf '%s' && mkdir -p '%s'", dir, dir);
+}
+
+/* How many entries a folder holds, dot files included. */
+static int entries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    assert_non_null(d);
+    int n = 0;
+    for (struct dirent *e; (e = readdir(d));)
+        n += strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0;
+    closedir(d);
+    return n;
+}
+
+static int exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+/* --------------------------------------------------------------- file sets */
+
+/* Reserving makes one hidden temporary file per destination (two for an
+ * .npy) and nothing at the destinations; freeing removes them all. */
+static void reserved_then_freed_leaves_nothing(void **state)
+{
+    (void)state;
+    char dir[256], vdb[320], npy[320];
+    fresh_dir(dir, sizeof dir, "files_freed");
+    snprintf(vdb, sizeof vdb, "%s/a.vdb", dir);
+    snprintf(npy, sizeof npy, "%s/a.npy", dir);
+    const sdft_mesh_file files[] = {{vdb, SDFT_FILE_VDB}, {npy, SDFT_FILE_NPY}};
+    sdft_mesh_files *set = NULL;
+    char msg[256] = "";
+    assert_int_equal(sdft_mesh_files_reserve(files, 2, &set, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(entries(dir), 3);
+    assert_false(exists(vdb));
+    assert_false(exists(npy));
+    sdft_mesh_files_free(set);
+    assert_int_equal(entries(dir), 0);
+}
+
+/* A folder that is missing fails at reservation, before any work, and
+ * leaves the other destinations' temporaries removed. */
+static void missing_folder_fails_first(void **state)
+{
+    (void)state;
+    char dir[256], ok[320], bad[320];
+    fresh_dir(dir, sizeof dir, "files_missing");
+    snprintf(ok, sizeof ok, "%s/ok.vdb", dir);
+    snprintf(bad, sizeof bad, "%s/no/such/folder/x.nvdb", dir);
+    const sdft_mesh_file files[] = {{ok, SDFT_FILE_VDB}, {bad, SDFT_FILE_NVDB}};
+    sdft_mesh_files *set = (sdft_mesh_files *)&set;
+    char msg[256] = "";
+    assert_int_equal(sdft_mesh_files_reserve(files, 2, &set, msg, sizeof msg), SDFT_EIO);
+    assert_null(set);
+    assert_non_null(strstr(msg, "folder"));
+    assert_int_equal(entries(dir), 0);
+}
+
+/* Written together: every destination in place, named as reserved whatever
+ * its extension (an OpenVDB file under .level), the .npy's array the dense
+ * copy, no temporary left; the set is spent after. */
+static void written_together(void **state)
+{
+    (void)state;
+    char dir[256], level[320], nvdb[320], npy[320], json[320];
+    fresh_dir(dir, sizeof dir, "files_written");
+    snprintf(level, sizeof level, "%s/g.level", dir);
+    snprintf(nvdb, sizeof nvdb, "%s/g.nvdb", dir);
+    snprintf(npy, sizeof npy, "%s/g.npy", dir);
+    snprintf(json, sizeof json, "%s/g.json", dir);
+    const sdft_mesh_file files[] = {{level, SDFT_FILE_VDB}, {nvdb, SDFT_FILE_NVDB}, {npy, SDFT_FILE_NPY}};
+    sdft_mesh_files *set = NULL;
+    char msg[256] = "";
+    assert_int_equal(sdft_mesh_files_reserve(files, 3, &set, msg, sizeof msg), SDFT_OK);
+    sdft_mesh *m = load_with(SUZANNE, NULL);
+    sdft_mesh_grid *g = grid_of(m, 40);
+    assert_int_equal(sdft_mesh_files_write_grid(set, g, 0, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(entries(dir), 4);
+    assert_true(exists(json));
+    assert_int_equal(sdft_mesh_files_write_grid(set, g, 0, msg, sizeof msg), SDFT_EINVAL);
+    assert_non_null(strstr(msg, "already"));
+    sdft_mesh_files_free(set);
+    assert_int_equal(entries(dir), 4);
+
+    /* OpenVDB's magic number (0x56444220, "VDB " little-endian) heads the
+     * .level file, and NanoVDB's ("NanoVDB0") the .nvdb. */
+    FILE *f = fopen(level, "rb");
+    unsigned char head[8];
+    assert_int_equal(fread(head, 1, 8, f), 8);
+    fclose(f);
+    assert_memory_equal(head, "\x20\x42\x44\x56", 4);
+    f = fopen(nvdb, "rb");
+    assert_int_equal(fread(head, 1, 8, f), 8);
+    fclose(f);
+    assert_memory_equal(head, "NanoVDB0", 8);
+
+    /* The .npy's array is the dense copy, after its 64-byte aligned header. */
+    sdft_mesh_box box;
+    assert_int_equal(sdft_mesh_grid_get_box(g, &box, msg, sizeof msg), SDFT_OK);
+    const size_t n = (size_t)box.dims[0] * (size_t)box.dims[1] * (size_t)box.dims[2];
+    float *dense = malloc(n * sizeof(float)), *read = malloc(n * sizeof(float));
+    assert_int_equal(sdft_mesh_grid_dense(g, dense, n, msg, sizeof msg), SDFT_OK);
+    f = fopen(npy, "rb");
+    unsigned char pre[10];
+    assert_int_equal(fread(pre, 1, 10, f), 10);
+    const long data = 10 + pre[8] + 256 * pre[9];
+    assert_int_equal(data % 64, 0);
+    fseek(f, data, SEEK_SET);
+    assert_int_equal(fread(read, sizeof(float), n, f), n);
+    fclose(f);
+    assert_memory_equal(read, dense, n * sizeof(float));
+    free(dense);
+    free(read);
+    sdft_mesh_grid_free(g);
+    sdft_mesh_free(m);
+}
+
+static void bad_file_sets(void **state)
+{
+    (void)state;
+    char msg[256] = "";
+    sdft_mesh_files *set = NULL;
+    const sdft_mesh_file none[] = {{NULL, SDFT_FILE_VDB}};
+    const sdft_mesh_file weird[] = {{"x.vdb", (sdft_file_format)9}};
+    assert_int_equal(sdft_mesh_files_reserve(NULL, 1, &set, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(sdft_mesh_files_reserve(none, 0, &set, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(sdft_mesh_files_reserve(none, 1, &set, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(sdft_mesh_files_reserve(weird, 1, &set, msg, sizeof msg), SDFT_EINVAL);
+    assert_non_null(strstr(msg, "format"));
+    assert_null(set);
+    assert_int_equal(sdft_mesh_files_write_grid(NULL, NULL, 0, msg, sizeof msg), SDFT_EINVAL);
+    sdft_mesh_files_free(NULL);
+}
+
+/* --------------------------------------------------------------- sign check */
+
+/* One grid right and one with every sign wrong (the mesh's faces reversed
+ * and kept so: it is inside out, so nothing is inside), checked on the same
+ * points: the right one has no wrong point, the wrong one has about as many
+ * as the box has inside, by a brute-force Monte Carlo estimate here. */
+static void sign_check_against_brute_force(void **state)
+{
+    (void)state;
+    mesh bm = {0};
+    assert_int_equal(read_obj(SPOT, &bm), 0);
+    char dir[256], right[320], wrong[320], msg[256] = "";
+    fresh_dir(dir, sizeof dir, "sign_check");
+    snprintf(right, sizeof right, "%s/right.vdb", dir);
+    snprintf(wrong, sizeof wrong, "%s/wrong.vdb", dir);
+
+    sdft_mesh *m = load_with(SPOT, NULL);
+    sdft_mesh_grid *g = grid_of(m, 48);
+    assert_int_equal(sdft_mesh_grid_write(g, right, 0, msg, sizeof msg), SDFT_OK);
+    sdft_mesh_grid_free(g);
+
+    int *reversed = malloc(sizeof(int) * 3 * (size_t)bm.nt);
+    for (int t = 0; t < bm.nt; t++) {
+        reversed[t * 3] = bm.t[t * 3];
+        reversed[t * 3 + 1] = bm.t[t * 3 + 2];
+        reversed[t * 3 + 2] = bm.t[t * 3 + 1];
+    }
+    sdft_mesh_params raw = sdft_mesh_params_defaults();
+    raw.orient = 0;
+    sdft_mesh *inside_out = NULL;
+    assert_int_equal(sdft_mesh_from_arrays(bm.v, SDFT_FLOAT64, (size_t)bm.nv, reversed, SDFT_INT32, (size_t)bm.nt, &raw,
+                                           &inside_out, msg, sizeof msg),
+                     SDFT_OK);
+    g = grid_of(inside_out, 48);
+    assert_int_equal(sdft_mesh_grid_write(g, wrong, 0, msg, sizeof msg), SDFT_OK);
+    sdft_mesh_grid_free(g);
+
+    const char *grids[] = {right, wrong};
+    sdft_sign_check checks[2];
+    const int points = 4000;
+    assert_int_equal(sdft_mesh_sign_check(m, grids, 2, points, checks, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(checks[0].clear, checks[1].clear);
+    assert_true(checks[0].clear > (uint64_t)points / 2);
+    assert_int_equal(checks[0].wrong, 0);
+    assert_true(checks[1].wrong_far <= checks[1].wrong);
+
+    /* The share of the grown box inside spot, by brute force. */
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int v = 0; v < bm.nv; v++)
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fmin(lo[k], bm.v[v * 3 + k]);
+            hi[k] = fmax(hi[k], bm.v[v * 3 + k]);
+        }
+    tu_rng r = tu_rng_seed(7);
+    int inside = 0;
+    const int trials = 3000;
+    for (int i = 0; i < trials; i++) {
+        double q[3];
+        for (int k = 0; k < 3; k++) {
+            const double grow = 0.05 * (hi[k] - lo[k]);
+            q[k] = tu_uniform(&r, (float)(lo[k] - grow), (float)(hi[k] + grow));
+        }
+        inside += winding(&bm, q) > 0.5;
+    }
+    const double share_inside = (double)inside / trials;
+    const double share_wrong = (double)checks[1].wrong / (double)checks[1].clear;
+    /* Clear points leave out a voxel's shell around the surface, which
+     * holds more of the inside than of the outside: a wide tolerance. */
+    assert_true(share_inside > 0.05);
+    assert_true(fabs(share_wrong - share_inside) < 0.1);
+
+    const char *missing[] = {"/nonexistent/grid.vdb"};
+    assert_int_equal(sdft_mesh_sign_check(m, missing, 1, 100, checks, msg, sizeof msg), SDFT_EIO);
+    assert_int_equal(sdft_mesh_sign_check(m, grids, 2, 0, checks, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(sdft_mesh_sign_check(m, grids, 0, 100, checks, msg, sizeof msg), SDFT_EINVAL);
+    sdft_mesh_free(inside_out);
+    sdft_mesh_free(m);
+    free(reversed);
+    mesh_free(&bm);
+}
+
+/* ------------------------------------------------------- what calls report */
+
+/* A mesh's timings (the hierarchies' only once a query built them), a
+ * grid's surface, memory and winding time; an open sheet has no surface. */
+static void reports(void **state)
+{
+    (void)state;
+    char msg[256] = "";
+    sdft_mesh *m = load_with(SPOT, NULL);
+    sdft_mesh_info info;
+    assert_int_equal(sdft_mesh_get_info(m, &info, msg, sizeof msg), SDFT_OK);
+    assert_true(info.read_seconds > 0);
+    assert_true(info.orient_seconds > 0);
+    assert_true(info.index_seconds == 0);
+    const double p[3] = {0, 0, 0};
+    const sdft_points pts = {p, SDFT_FLOAT64, 1, {0, 0}};
+    float d;
+    assert_int_equal(sdft_mesh_signed_distance(m, &pts, &d, NULL, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_mesh_get_info(m, &info, msg, sizeof msg), SDFT_OK);
+    assert_true(info.index_seconds > 0);
+
+    sdft_mesh_grid *g = grid_of(m, 32);
+    sdft_mesh_box box;
+    assert_int_equal(sdft_mesh_grid_get_box(g, &box, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(box.surface, 1);
+    /* A narrow band's leaves hold 512 floats each: at least 2 KiB per
+     * 512 active voxels. */
+    assert_true(box.memory_bytes >= box.active_voxels * 4);
+    assert_true(box.seconds > 0 && box.winding_seconds > 0 && box.winding_seconds <= box.seconds);
+    sdft_mesh_grid_free(g);
+
+    sdft_mesh_grid_params unsigned_params = sdft_mesh_grid_params_defaults();
+    unsigned_params.res = 32;
+    unsigned_params.sign = SDFT_SIGN_NONE;
+    assert_int_equal(sdft_mesh_to_grid(m, &unsigned_params, &g, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_mesh_grid_get_box(g, &box, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(box.surface, 0);
+    assert_true(box.winding_seconds == 0);
+    sdft_mesh_grid_free(g);
+    sdft_mesh_free(m);
+
+    const float sheet[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+    const int32_t quad[] = {0, 1, 2, 0, 2, 3};
+    sdft_mesh *open = NULL;
+    assert_int_equal(sdft_mesh_from_arrays(sheet, SDFT_FLOAT32, 4, quad, SDFT_INT32, 2, NULL, &open, msg, sizeof msg),
+                     SDFT_OK);
+    g = grid_of(open, 16);
+    assert_int_equal(sdft_mesh_grid_get_box(g, &box, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(box.surface, 0);
+    assert_true(box.active_voxels > 0);
+    sdft_mesh_grid_free(g);
+    sdft_mesh_free(open);
+
+    assert_string_equal(sdft_mesh_sign_name(SDFT_SIGN_WINDING), "winding");
+    assert_string_equal(sdft_mesh_sign_name(SDFT_SIGN_FLOOD), "flood");
+    assert_string_equal(sdft_mesh_sign_name((sdft_mesh_sign)7), "?");
+}
+
+/* One thread and scalar code give the answers of all cores and the widest
+ * vectors: distances to rounding, samples byte for byte (their rows do not
+ * depend on the thread count), grids to rounding. */
+static void threads_and_simd_agree(void **state)
+{
+    (void)state;
+    char msg[256] = "";
+    sdft_mesh_params one = sdft_mesh_params_defaults();
+    one.threads = 1;
+    one.simd = SDFT_SIMD_NONE;
+    sdft_mesh *a = load_with(SUZANNE, NULL), *b = load_with(SUZANNE, &one);
+
+    enum { N = 3000 };
+    double *p = malloc(sizeof(double) * 3 * N);
+    tu_rng r = tu_rng_seed(11);
+    for (int i = 0; i < 3 * N; i++)
+        p[i] = tu_uniform(&r, -2, 2);
+    const sdft_points pts = {p, SDFT_FLOAT64, N, {0, 0}};
+    float *da = malloc(sizeof(float) * N), *db = malloc(sizeof(float) * N);
+    assert_int_equal(sdft_mesh_signed_distance(a, &pts, da, NULL, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_mesh_signed_distance(b, &pts, db, NULL, msg, sizeof msg), SDFT_OK);
+    for (int i = 0; i < N; i++)
+        assert_true(fabsf(da[i] - db[i]) <= 1e-5f * (1 + fabsf(da[i])));
+
+    sdft_sample_params sp = sdft_sample_params_defaults();
+    sp.count = 5000;
+    sdft_mesh_params threads_only = sdft_mesh_params_defaults();
+    threads_only.threads = 1;
+    sdft_mesh *c = load_with(SUZANNE, &threads_only);
+    float *ra = malloc(sizeof(float) * 4 * sp.count), *rc = malloc(sizeof(float) * 4 * sp.count);
+    assert_int_equal(sdft_mesh_samples(a, &sp, ra, 4 * sp.count, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_mesh_samples(c, &sp, rc, 4 * sp.count, msg, sizeof msg), SDFT_OK);
+    assert_memory_equal(ra, rc, sizeof(float) * 4 * sp.count);
+
+    sdft_mesh_grid *ga = grid_of(a, 32), *gb = grid_of(b, 32);
+    sdft_mesh_box box;
+    assert_int_equal(sdft_mesh_grid_get_box(ga, &box, msg, sizeof msg), SDFT_OK);
+    const size_t n = (size_t)box.dims[0] * (size_t)box.dims[1] * (size_t)box.dims[2];
+    float *va = malloc(n * sizeof(float)), *vb = malloc(n * sizeof(float));
+    assert_int_equal(sdft_mesh_grid_dense(ga, va, n, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_mesh_grid_dense(gb, vb, n, msg, sizeof msg), SDFT_OK);
+    for (size_t i = 0; i < n; i++)
+        assert_true(fabsf(va[i] - vb[i]) <= 1e-4f * (float)box.voxel_size);
+
+    sdft_mesh_params bad = sdft_mesh_params_defaults();
+    bad.threads = -1;
+    sdft_mesh *none = (sdft_mesh *)&none;
+    assert_int_equal(sdft_mesh_load(SUZANNE, &bad, &none, msg, sizeof msg), SDFT_EINVAL);
+    assert_null(none);
+    bad = sdft_mesh_params_defaults();
+    bad.simd = (sdft_simd)5;
+    assert_int_equal(sdft_mesh_load(SUZANNE, &bad, &none, msg, sizeof msg), SDFT_EINVAL);
+    assert_non_null(strstr(msg, "simd"));
+
+    free(va), free(vb), free(ra), free(rc), free(da), free(db), free(p);
+    sdft_mesh_grid_free(ga);
+    sdft_mesh_grid_free(gb);
+    sdft_mesh_free(a);
+    sdft_mesh_free(b);
+    sdft_mesh_free(c);
+}
+
+/* round(share n) uniform rows, the rest near, the first sigma's half
+ * rounded up; and the rows say so: the uniform ones fill the cube around
+ * the sphere, the near ones hug the surface. */
+static void sample_counts(void **state)
+{
+    (void)state;
+    sdft_sample_params p = sdft_sample_params_defaults();
+    p.count = 1001;
+    p.uniform_share = 0.06;
+    size_t near0, near1, uniform;
+    sdft_sample_counts(&p, &near0, &near1, &uniform);
+    assert_int_equal(uniform, 60); /* 60.06 rounded */
+    assert_int_equal(near0, 471);
+    assert_int_equal(near1, 470);
+    p.uniform_share = 1;
+    sdft_sample_counts(&p, &near0, NULL, &uniform);
+    assert_int_equal(uniform, 1001);
+    assert_int_equal(near0, 0);
+}
+
+static void sidecar_names(void **state)
+{
+    (void)state;
+    char out[64];
+    assert_int_equal(sdft_mesh_sidecar_path("a/b.npy", out, sizeof out), 8);
+    assert_string_equal(out, "a/b.json");
+    assert_int_equal(sdft_mesh_sidecar_path("x.bin", out, sizeof out), 10);
+    assert_string_equal(out, "x.bin.json");
+    assert_int_equal(sdft_mesh_sidecar_path("long/name.npy", out, 5), 14);
+    assert_string_equal(out, "long");
+    assert_int_equal(sdft_mesh_sidecar_path("q.npy", NULL, 0), 6);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(reserved_then_freed_leaves_nothing),
+        cmocka_unit_test(missing_folder_fails_first),
+        cmocka_unit_test(written_together),
+        cmocka_unit_test(bad_file_sets),
+        cmocka_unit_test(sign_check_against_brute_force),
+        cmocka_unit_test(reports),
+        cmocka_unit_test(threads_and_simd_agree),
+        cmocka_unit_test(sample_counts),
+        cmocka_unit_test(sidecar_names),
+    };
+    return cmocka_run_group_tests_name("mesh_api_files", tests, NULL, NULL);
+}
