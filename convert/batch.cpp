@@ -1,6 +1,7 @@
 // mesh2sdf --batch (see batch.h).
 #include "batch.h"
 
+#include "interrupt.h"
 #include "job.h"
 #include "points.h"
 #include "text.h"
@@ -107,6 +108,13 @@ bool planBatch(const Options &opt, bool withReport, BatchPlan &plan, std::string
     return plan.report->loadEarlier(error);
 }
 
+int batchInterrupted()
+{
+    std::fprintf(stderr, "mesh2sdf: %s; the report has the meshes done so far, and a rerun resumes\n",
+                 interruptReason().c_str());
+    return interruptStatus();
+}
+
 BatchRow convertEntry(const Options &opt, const BatchEntry &entry)
 {
     // One read of the mesh for all its outputs: the grid files and the
@@ -131,6 +139,8 @@ BatchRow convertEntry(const Options &opt, const BatchEntry &entry)
             }
         }
     }
+    if (!r.ok && interruptSignal())
+        r.error = interruptReason();
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return jobRow(entry, r);
 }
@@ -230,10 +240,14 @@ int runBatch(const Options &opt)
     BatchSink sink(opt, plan);
     if (!sink.start(error))
         return fail(error);
-    for (size_t i : plan.pending)
+    for (size_t i : plan.pending) {
+        if (interruptSignal())
+            break;
         if (!sink.add(i, convertEntry(opt, plan.entries[i]), error))
             return fail(error);
-    return sink.finish();
+    }
+    const int status = sink.finish();
+    return interruptSignal() ? batchInterrupted() : status;
 }
 
 } // namespace mesh2sdf

@@ -41,6 +41,10 @@ struct BatchPlan {
 /// `withReport` false (an MPI rank other than 0) leaves the report alone.
 bool planBatch(const Options &opt, bool withReport, BatchPlan &plan, std::string &error);
 
+/// The end of a batch SIGINT or SIGTERM stopped (interrupt.h): its line on
+/// stderr, and the exit status.
+int batchInterrupted();
+
 /// One mesh of the batch converted into DIR (quietly) and its row.
 BatchRow convertEntry(const Options &opt, const BatchEntry &entry);
 

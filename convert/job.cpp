@@ -126,6 +126,10 @@ bool convertJobMesh(const Options &opt, const sdft_mesh *mesh, sdft_mesh_files *
         return false;
     }
     const std::unique_ptr<sdft_mesh_grid, MeshFree> owned(grid);
+    if (interruptSignal()) { // after the last progress report: nothing is written
+        r.error = interruptReason();
+        return false;
+    }
     progress.stage("writing", written, 100);
     progress.show(0);
     if (files && sdft_mesh_files_write_grid(files, grid, opt.fp16, msg, sizeof msg) != SDFT_OK) {

@@ -4,6 +4,7 @@
 // is one line on stderr and exit status 1, with no file left at a
 // destination.
 #include "batch.h"
+#include "interrupt.h"
 #include "job.h"
 #include "options.h"
 #include "points.h"
@@ -21,8 +22,14 @@ using namespace mesh2sdf;
 namespace
 {
 
+// The one line of a failure, and its exit status; an interrupted run's
+// says so (the library's cancellation is how the interrupt stopped it).
 int fail(const std::string &error)
 {
+    if (interruptSignal()) {
+        std::fprintf(stderr, "mesh2sdf: %s; nothing was written\n", interruptReason().c_str());
+        return interruptStatus();
+    }
     std::fprintf(stderr, "mesh2sdf: %s\n", error.c_str());
     return 1;
 }
@@ -173,6 +180,7 @@ int main(int argc, char **argv)
         printHelp();
         return 0;
     }
+    catchInterrupts();
     if (!opt.checkSign.empty())
         return checkSigns(opt);
     if (opt.samples > 0 || !opt.queryOut.empty())

@@ -14,6 +14,7 @@
 #include "mpi_batch.h"
 
 #include "batch.h"
+#include "interrupt.h"
 
 #include <mpi.h>
 
@@ -111,6 +112,8 @@ int serve(const Options &opt, BatchPlan &plan, int ranks)
     OwnJob own;
     while (working > 0 || own.busy() || next < order.size()) {
         bool idle = true;
+        if (interruptSignal()) // mpirun passes SIGINT and SIGTERM on: no new work
+            next = order.size();
         if (!own.busy() && next < order.size()) {
             own.start(opt, plan.entries[order[next]], long(order[next]));
             ++next;
@@ -146,7 +149,8 @@ int serve(const Options &opt, BatchPlan &plan, int ranks)
         std::fprintf(stderr, "mesh2sdf: %s\n", error.c_str());
         return 1;
     }
-    return sink.finish();
+    const int status = sink.finish();
+    return interruptSignal() ? batchInterrupted() : status;
 }
 
 // A rank other than 0: converts what rank 0 hands it until told to stop.

@@ -148,6 +148,8 @@ bool writeSamples(const Options &opt, const sdft_mesh *mesh, PointFiles &files, 
     if (sdft_mesh_samples(mesh, &p, rows.data(), rows.size(), msg, sizeof msg) != SDFT_OK)
         return failed(msg, error);
     const double seconds = secondsBetween(t0, Clock::now());
+    if (interruptSignal())
+        return failed("interrupted", error);
     sdft_mesh_info info;
     sdft_mesh_get_info(mesh, &info, nullptr, 0);
     run.indexSeconds = info.index_seconds - before.index_seconds; // built by this call, or before it
@@ -180,7 +182,7 @@ bool runSamples(const Options &opt, std::string &error)
         return failed(r.error.c_str(), error);
     SampleRun run;
     progress.stage("samples", 30, 100);
-    const bool ok = writeSamples(opt, mesh.get(), files, progress, run, error);
+    const bool ok = !interruptSignal() && writeSamples(opt, mesh.get(), files, progress, run, error);
     progress.finish();
     if (!ok)
         return false;
@@ -236,6 +238,8 @@ bool runQuery(const Options &opt, std::string &error)
                                   sizeof msg) != SDFT_OK)
         return failed(msg, error);
     const double querySeconds = secondsBetween(t1, Clock::now());
+    if (interruptSignal())
+        return failed("interrupted", error); // the files are removed on the way out
     std::vector<float> out(count * columns);
     for (size_t i = 0; i < count; ++i) {
         out[i * columns] = distance[i];

@@ -1,11 +1,13 @@
 // mesh2sdf — its progress bar (src/common/progress_bar.h) fed by the
 // library's progress callbacks: each call into the library is a stage,
-// mapped onto its own slice of one bar.
+// mapped onto its own slice of one bar. The same callbacks stop the
+// library's work when the run is interrupted.
 #ifndef MESH2SDF_PROGRESS_VIEW_H
 #define MESH2SDF_PROGRESS_VIEW_H
 
 #include <atomic>
 
+#include "interrupt.h"
 #include "progress_bar.h"
 
 namespace mesh2sdf
@@ -26,11 +28,12 @@ class ProgressView
     /// Shows `done` (0..1) of the current stage: for the program's own stages.
     void show(float done) { report(this, done); }
     /// An sdft_progress_fn for the library: `user` is the ProgressView.
+    /// Asks the library to stop once SIGINT or SIGTERM came (interrupt.h).
     static int report(void *user, float done)
     {
         ProgressView &v = *static_cast<ProgressView *>(user);
         progress_bar_show(&v.mBar, v.mLabel.load(), v.mFrom + int(float(v.mTo - v.mFrom) * done));
-        return 0;
+        return interruptSignal() != 0;
     }
     /// An sdft_stage_fn for the library: the label of what follows.
     static void named(void *user, const char *stage) { static_cast<ProgressView *>(user)->mLabel = stage; }

@@ -966,6 +966,40 @@ static void expect_text_failure(const char *name, const char *text, const char *
     assert_no_output(out_vdb);
 }
 
+/* SIGTERM and SIGINT in the middle of a conversion: the run stops at the
+ * library's next progress report, says so in one line, exits with 128 +
+ * the signal, and leaves its folder as it found it (no output, no
+ * temporary file). The signal is sent once the outputs are reserved (their
+ * temporary files are there), so the handler is in place. */
+static void test_interrupted(void **state)
+{
+    (void)state;
+    static char out[16384];
+    char dir[512], in[1024];
+    snprintf(in, sizeof in, "%s/stanford-bunny.obj", SDFT_MESH_DIR);
+    const char *signals[2] = {"TERM", "INT"};
+    const int status[2] = {143, 130};
+    for (int s = 0; s < 2; s++) {
+        tu_tmp(dir, sizeof dir, s ? "interrupted-int" : "interrupted-term");
+        tu_run(out, sizeof out, "rm -rf '%s' && mkdir -p '%s'", dir, dir);
+        const int rc = tu_run(out, sizeof out,
+                              "cd '%s' && { %s '%s' -o b.vdb --npy b.npy --res 700 --full --quiet & pid=$!; "
+                              "until ls -A | grep -q tmp; do sleep 0.02; done; sleep 0.3; kill -%s $pid; wait $pid; "
+                              "echo \"exit $?\"; ls -A; }",
+                              dir, SDFT_MESH2SDF, in, signals[s]);
+        assert_int_equal(rc, 0);
+        char want[64];
+        snprintf(want, sizeof want, "exit %d", status[s]);
+        if (!strstr(out, want))
+            fail_msg("SIG%s: want '%s', got: %s", signals[s], want, out);
+        snprintf(want, sizeof want, "interrupted by SIG%s", signals[s]);
+        assert_non_null(strstr(out, want));
+        /* The exit line is the last: ls -A printed nothing after it. */
+        const char *tail = strstr(out, "exit ");
+        assert_int_equal(tu_lines(tail), 1);
+    }
+}
+
 static void test_bad_input(void **state)
 {
     (void)state;
@@ -1175,6 +1209,7 @@ int main(void)
         cmocka_unit_test(test_full_thin_triangles),
         cmocka_unit_test(test_render_round_trip),
         cmocka_unit_test(test_progress_bar),
+        cmocka_unit_test(test_interrupted),
     };
     return cmocka_run_group_tests_name("mesh2sdf", tests, NULL, NULL);
 }

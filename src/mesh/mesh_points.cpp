@@ -165,7 +165,7 @@ sdft_error sdft_mesh_samples(const sdft_mesh *m, const sdft_sample_params *p, fl
             opt.nearSigma[0] = p->near_sigma[0];
             opt.nearSigma[1] = p->near_sigma[1];
             opt.uniformShare = p->uniform_share;
-            converter::drawSamples(m->mesh, m->frame(), query, opt, rows);
+            converter::drawSamples(m->mesh, m->frame(), query, opt, rows, progress);
             progress.report(100);
             return SDFT_OK;
         });

@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <random>
 
@@ -112,7 +113,7 @@ double triangleBound2(const TriangleMesh &mesh, size_t t, const double *p)
 } // namespace
 
 void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const PointQuery &query, const SampleSettings &opt,
-                 float *rows)
+                 float *rows, Progress &progress)
 {
     const SampleCounts counts = sampleCounts(opt.count, opt.uniformShare);
     const size_t near = counts.near[0] + counts.near[1], n = opt.count;
@@ -140,6 +141,8 @@ void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const Point
     });
     // Each row's value is the same in any order.
     const std::vector<size_t> order = mortonOrder(points, sphere);
+    // Progress per block of rows evaluated (a cancelled one throws out).
+    std::atomic<size_t> evaluated{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t> &r) {
         for (size_t j = r.begin(); j != r.end(); ++j) {
             const size_t i = order[j];
@@ -150,6 +153,7 @@ void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const Point
                 row[k] = float(points[i * 3 + k]);
             row[3] = float(d);
         }
+        progress.report(int(100 * (evaluated += r.size()) / n));
     });
 }
 

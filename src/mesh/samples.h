@@ -18,6 +18,7 @@
 #ifndef CONVERTER_SAMPLES_H
 #define CONVERTER_SAMPLES_H
 
+#include "progress.h"
 #include "query.h"
 #include "settings.h"
 
@@ -41,9 +42,10 @@ SampleCounts sampleCounts(size_t count, double uniformShare);
 /// `opt.count` rows (x, y, z, d) into `rows` (4 floats each) over `mesh`
 /// in its frame, whose sphere there is `sphere`: sigmas are
 /// opt.nearSigma times its radius, the uniform cube is its centre plus or
-/// minus its radius. Runs in parallel.
+/// minus its radius. Runs in parallel, reporting the rows evaluated on
+/// `progress` (which throws Cancelled out of it when told to stop).
 void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const PointQuery &query, const SampleSettings &opt,
-                 float *rows);
+                 float *rows, Progress &progress);
 
 } // namespace converter
 
