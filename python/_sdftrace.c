@@ -102,14 +102,21 @@ typedef struct {
 } progress_call;
 
 /* The library's sdft_progress_fn: from a worker thread (or the caller's,
- * which releases the GIL first), so it takes the GIL to call fn. An
- * exception from fn stops the call and is kept for the caller. */
+ * which releases the GIL first), so it takes the GIL to call fn (when
+ * given). An exception from fn stops the call and is kept for the caller,
+ * and so does Ctrl-C: Python's signal handlers run here (on the main
+ * thread, which in a call from it reports too), so KeyboardInterrupt stops
+ * a long conversion at its next report. */
 static int call_progress(void *user, float done)
 {
     progress_call *p = user;
     PyGILState_STATE g = PyGILState_Ensure();
     int stop = p->type != NULL;
-    if (!stop) {
+    if (!stop && PyErr_CheckSignals() < 0) {
+        PyErr_Fetch(&p->type, &p->value, &p->traceback);
+        stop = 1;
+    }
+    if (!stop && p->fn) {
         PyObject *r = PyObject_CallFunction(p->fn, "d", (double)done);
         if (!r) {
             PyErr_Fetch(&p->type, &p->value, &p->traceback);
@@ -123,15 +130,15 @@ static int call_progress(void *user, float done)
     return stop;
 }
 
-/* fn (None: no reports) as the library's callback and its user pointer. */
+/* fn (None: no reports, but Ctrl-C still heard) as the library's callback
+ * and its user pointer. */
 static void progress_of(PyObject *fn, progress_call *p, sdft_progress_fn *cb, void **user)
 {
     memset(p, 0, sizeof *p);
-    if (fn && fn != Py_None) {
+    if (fn && fn != Py_None)
         p->fn = fn;
-        *cb = call_progress;
-        *user = p;
-    }
+    *cb = call_progress;
+    *user = p;
 }
 
 /* After the call, with the GIL: raises what fn raised and returns NULL;
