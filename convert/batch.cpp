@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <new>
 #include <sys/stat.h>
 
 namespace mesh2sdf
@@ -112,32 +113,45 @@ int batchInterrupted()
 {
     std::fprintf(stderr, "mesh2sdf: %s; the report has the meshes done so far, and a rerun resumes\n",
                  interruptReason().c_str());
-    return interruptStatus();
+    return endInterrupted();
 }
 
 BatchRow convertEntry(const Options &opt, const BatchEntry &entry)
 {
     // One read of the mesh for all its outputs: the grid files and the
     // samples are reserved, the mesh read and oriented once, then each
-    // written from it.
+    // written from it. With --normalize the samples are in the unit
+    // sphere and the grids are not: the samples get a mesh of their own.
     const Options one = meshOptions(opt, entry);
     const auto start = std::chrono::steady_clock::now();
     ProgressView quiet(false);
     JobResult r;
-    std::unique_ptr<sdft_mesh_files, MeshFree> files;
-    PointFiles samples;
-    if (reserveGridFiles(one, files, r.error) && (one.samples == 0 || samples.reserve(one.samplesOut, r.error))) {
-        const MeshPtr mesh = loadJobMesh(one, quiet, 0, 15, r);
-        r.ok = mesh && (!files || convertJobMesh(one, mesh.get(), files.get(), quiet, r));
-        SampleRun run;
-        if (r.ok && one.samples > 0) {
-            r.ok = writeSamples(one, mesh.get(), samples, quiet, run, r.error);
-            if (r.ok) {
-                r.outputs.push_back(one.samplesOut);
-                r.outputs.push_back(sidecarPath(one.samplesOut));
-                r.samples = one.samples;
+    try {
+        std::unique_ptr<sdft_mesh_files, MeshFree> files;
+        PointFiles samples;
+        Options gridOpt = one;
+        gridOpt.normalize = false;
+        if ((one.samples == 0 || trainingSamplesFitMemory(one.samples, r.error)) &&
+            reserveGridFiles(one, files, r.error) && (one.samples == 0 || samples.reserve(one.samplesOut, r.error))) {
+            const MeshPtr mesh = loadJobMesh(files ? gridOpt : one, quiet, 0, 15, r);
+            r.ok = mesh && (!files || convertJobMesh(one, mesh.get(), files.get(), quiet, r));
+            if (r.ok && one.samples > 0) {
+                MeshPtr normalized;
+                if (files && one.normalize)
+                    r.ok = bool(normalized = loadJobMesh(one, quiet, 0, 15, r));
+                SampleRun run;
+                r.ok =
+                    r.ok && writeSamples(one, normalized ? normalized.get() : mesh.get(), samples, quiet, run, r.error);
+                if (r.ok) {
+                    r.outputs.push_back(one.samplesOut);
+                    r.outputs.push_back(sidecarPath(one.samplesOut));
+                    r.samples = one.samples;
+                }
             }
         }
+    } catch (const std::bad_alloc &) { // the rows, the program's own strings
+        r.ok = false;
+        r.error = entry.path + ": out of memory";
     }
     if (!r.ok && interruptSignal())
         r.error = interruptReason();

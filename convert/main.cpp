@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <new>
 
 #include "json.h"
 #include "sdftrace/error.h"
@@ -28,7 +29,7 @@ int fail(const std::string &error)
 {
     if (interruptSignal()) {
         std::fprintf(stderr, "mesh2sdf: %s; nothing was written\n", interruptReason().c_str());
-        return interruptStatus();
+        return endInterrupted();
     }
     std::fprintf(stderr, "mesh2sdf: %s\n", error.c_str());
     return 1;
@@ -180,11 +181,17 @@ int main(int argc, char **argv)
         printHelp();
         return 0;
     }
-    catchInterrupts();
-    if (!opt.checkSign.empty())
-        return checkSigns(opt);
-    if (opt.samples > 0 || !opt.queryOut.empty())
-        return (opt.samples > 0 ? runSamples(opt, error) : runQuery(opt, error)) ? 0 : fail(error);
-
-    return opt.batch.empty() ? convertOne(opt) : runBatch(opt);
+    // The library answers out of memory with a code; what the program
+    // allocates itself (rows, points, lists) is caught here, after the
+    // files it reserved were removed on the way out.
+    try {
+        if (!opt.checkSign.empty())
+            return checkSigns(opt); // writes nothing: Ctrl-C may end it as it is
+        catchInterrupts();
+        if (opt.samples > 0 || !opt.queryOut.empty())
+            return (opt.samples > 0 ? runSamples(opt, error) : runQuery(opt, error)) ? 0 : fail(error);
+        return opt.batch.empty() ? convertOne(opt) : runBatch(opt);
+    } catch (const std::bad_alloc &) {
+        return fail("out of memory");
+    }
 }

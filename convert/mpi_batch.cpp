@@ -112,7 +112,7 @@ int serve(const Options &opt, BatchPlan &plan, int ranks)
     OwnJob own;
     while (working > 0 || own.busy() || next < order.size()) {
         bool idle = true;
-        if (interruptSignal()) // mpirun passes SIGINT and SIGTERM on: no new work
+        if (interruptSignal()) // mpirun passes SIGINT and SIGTERM on (and SIGKILL soon after): no new work
             next = order.size();
         if (!own.busy() && next < order.size()) {
             own.start(opt, plan.entries[order[next]], long(order[next]));

@@ -984,7 +984,8 @@ static void test_interrupted(void **state)
         tu_run(out, sizeof out, "rm -rf '%s' && mkdir -p '%s'", dir, dir);
         const int rc = tu_run(out, sizeof out,
                               "cd '%s' && { %s '%s' -o b.vdb --npy b.npy --res 700 --full --quiet & pid=$!; "
-                              "until ls -A | grep -q tmp; do sleep 0.02; done; sleep 0.3; kill -%s $pid; wait $pid; "
+                              "n=0; until ls -A | grep -q tmp || [ $n -ge 1500 ]; do sleep 0.02; n=$((n+1)); done; "
+                              "sleep 0.3; kill -%s $pid; wait $pid; "
                               "echo \"exit $?\"; ls -A; }",
                               dir, SDFT_MESH2SDF, in, signals[s]);
         assert_int_equal(rc, 0);

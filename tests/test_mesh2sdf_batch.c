@@ -526,6 +526,55 @@ static void test_batch_samples(void **state)
     assert_non_null(strstr(log, "--formats samples"));
 }
 
+/* --normalize in a batch of grids and samples puts the samples in the
+ * unit sphere, as a one-mesh --samples --normalize run writes them, and
+ * leaves the grids in the mesh's units, as a batch without it writes
+ * them. Samples that do not fit the memory are the mesh's failed row,
+ * with nothing of it left in DIR. */
+static void test_batch_normalize_and_memory(void **state)
+{
+    (void)state;
+    char dir[PATH], list[PATH], out[PATH], plain[PATH], single[PATH], path[PATH], log[8192], text[PATH];
+    fresh_dir(dir, sizeof dir, "batch_normalize");
+    path_of(list, "%s/list.txt", dir);
+    path_of(text, "%s/spot.obj\n", SDFT_MESH_DIR);
+    write_text(list, text);
+    path_of(out, "%s/normalized", dir);
+    path_of(plain, "%s/plain", dir);
+    assert_int_equal(tu_run(log, sizeof log,
+                            "%s --batch '%s' --out-dir '%s' --res %d --formats npy,samples --sample-count 600 "
+                            "--normalize --quiet",
+                            SDFT_MESH2SDF, list, out, RES),
+                     0);
+    assert_int_equal(tu_run(log, sizeof log, "%s --batch '%s' --out-dir '%s' --res %d --formats npy --quiet",
+                            SDFT_MESH2SDF, list, plain, RES),
+                     0);
+    path_of(single, "%s/single.npy", dir);
+    path_of(path, "%s/spot.obj", SDFT_MESH_DIR);
+    assert_int_equal(
+        tu_run(log, sizeof log, "%s '%s' --samples 600 '%s' --normalize --quiet", SDFT_MESH2SDF, path, single), 0);
+    path_of(path, "%s/spot.samples.npy", out);
+    assert_true(same_bytes(path, single));
+    char a[PATH], b[PATH];
+    path_of(a, "%s/spot.npy", out);
+    path_of(b, "%s/spot.npy", plain);
+    assert_true(same_bytes(a, b));
+
+    /* 100,000,000 samples under a 200 MB limit: refused before the mesh is
+     * read, the row says how much they need, and DIR holds only the
+     * report. */
+    path_of(out, "%s/memory", dir);
+    const int rc = tu_run(log, sizeof log,
+                          "SDFT_MEMORY_LIMIT=200000000 %s --batch '%s' --out-dir '%s' --formats vdb,samples "
+                          "--sample-count 100000000 --res %d 2>&1",
+                          SDFT_MESH2SDF, list, out, RES);
+    assert_int_equal(rc, 2);
+    assert_non_null(strstr(log, "needs ~"));
+    char listing[4096];
+    assert_int_equal(tu_run(listing, sizeof listing, "ls -A '%s'", out), 0);
+    assert_string_equal(listing, "report.jsonl\n");
+}
+
 static void test_batch_progress_and_help(void **state)
 {
     (void)state;
@@ -580,6 +629,7 @@ int main(void)
         cmocka_unit_test(test_shards),
         cmocka_unit_test(test_mpi_batch),
         cmocka_unit_test(test_batch_samples),
+        cmocka_unit_test(test_batch_normalize_and_memory),
         cmocka_unit_test(test_batch_progress_and_help),
     };
     return cmocka_run_group_tests_name("mesh2sdf_batch", tests, NULL, NULL);

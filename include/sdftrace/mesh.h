@@ -74,11 +74,11 @@ typedef struct sdft_mesh_params {
                                 * file's path, or "" for arrays. Read during the call [NULL] */
     sdft_progress_fn progress; /* reading and orienting: NULL for no reports [NULL] */
     void *progress_user;       /* handed to progress and stage */
-    sdft_stage_fn stage;       /* NULL: not told [NULL] */
-    int threads;               /* at most this many worker threads for the mesh's work: reading, orienting, and
-                                * later its queries, samples and grids (unless their own params say); 0: all
-                                * cores [0] */
+    int threads;               /* at most this many threads, the caller's included, for the mesh's work:
+                                * reading, orienting, and later its queries, samples, grids and their
+                                * files (unless their own params say); 0: all cores [0] */
     sdft_simd simd;            /* for all of the mesh's work [SDFT_SIMD_AUTO] */
+    sdft_stage_fn stage;       /* NULL: not told [NULL] */
 } sdft_mesh_params;
 
 /* Orient, no normalizing, no progress. */
@@ -180,7 +180,8 @@ typedef struct sdft_sample_params {
 SDFT_API sdft_sample_params sdft_sample_params_defaults(void);
 
 /* How many of p->count rows are of each kind: *uniform = round(share *
- * count), the rest near, the first sigma's ceil(near / 2) and the second's
+ * count) (a share outside [0, 1] taken as the nearer end, NaN as 0), the
+ * rest near, the first sigma's ceil(near / 2) and the second's
  * floor(near / 2). Any output may be NULL. */
 SDFT_API void sdft_sample_counts(const sdft_sample_params *p, size_t *near_first, size_t *near_second, size_t *uniform);
 
@@ -216,10 +217,11 @@ typedef struct sdft_mesh_grid_params {
     const char *name;          /* the grid's name; NULL: the mesh file's stem ("mesh" for arrays) [NULL] */
     sdft_progress_fn progress; /* NULL: no reports [NULL] */
     void *progress_user;       /* handed to progress and stage */
-    sdft_stage_fn stage;       /* NULL: not told [NULL] */
-    int threads;               /* at most this many worker threads; 0: the mesh's (sdft_mesh_params) [0] */
+    int threads;               /* at most this many threads, the caller's included, for the grid and
+                                * what is done with it later; 0: the mesh's (sdft_mesh_params) [0] */
     unsigned writes;           /* the files the grid will be written as (SDFT_WRITES_*): their limits and
                                 * memory are checked before the grid is built, not after [0] */
+    sdft_stage_fn stage;       /* NULL: not told [NULL] */
 } sdft_mesh_grid_params;
 
 /* sdft_mesh_grid_params.writes: */
@@ -317,9 +319,10 @@ SDFT_API sdft_error sdft_mesh_files_reserve(const sdft_mesh_file *files, size_t 
 /* Writes g into every reserved file in its format (fp16 1: NanoVDB Fp16
  * leaves, as --fp16), side by side, then renames all into place. Once: a
  * set is spent after the call, whatever it returns. SDFT_EINVAL (a NULL
- * argument, a spent set, a dense array over 2^31 voxels), SDFT_EIO,
- * SDFT_ENOMEM (a NanoVDB copy that does not fit), SDFT_EINTERNAL; on
- * failure no destination was replaced by a partial file. */
+ * argument, a spent set, a dense array over 2^31 voxels), SDFT_EIO (a
+ * write or a rename failed, or a writer ran out of memory: the reason in
+ * msg), SDFT_ENOMEM, SDFT_EINTERNAL; on failure no destination was
+ * replaced by a partial file and no temporary file is left. */
 SDFT_API sdft_error sdft_mesh_files_write_grid(sdft_mesh_files *f, const sdft_mesh_grid *g, int fp16, char *msg,
                                                size_t msg_len);
 
@@ -343,9 +346,10 @@ typedef struct sdft_sign_check {
  * voxel (active or not, < 0 inside) into out[i]. Every grid is read (each
  * first in a child process: a corrupt file fails, never crashes) before
  * any point is drawn. SDFT_EINVAL (a NULL argument, count 0, points outside
- * 1..1e8), SDFT_EIO (an unreadable file), SDFT_EFORMAT (a corrupt file, no
- * float grid), SDFT_ENOMEM (the points do not fit this machine). */
-SDFT_API sdft_error sdft_mesh_sign_check(const sdft_mesh *m, const char *const *grid_paths, size_t count, int points,
+ * 1..1e8), SDFT_EIO (a file missing or not readable), SDFT_EFORMAT (a
+ * corrupt file, no float grid), SDFT_ENOMEM (the points do not fit this
+ * machine). */
+SDFT_API sdft_error sdft_mesh_sign_check(const sdft_mesh *m, const char *const *grid_paths, size_t count, size_t points,
                                          sdft_sign_check *out, char *msg, size_t msg_len);
 
 /* The box densely into values (count floats, at least dims[0] dims[1]

@@ -92,6 +92,10 @@ static void run_child(const char *path, int fd, isolated_fn fn, void *ctx)
     static const int fatal[] = {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT, SIGTRAP, SIGSYS};
     for (size_t i = 0; i < sizeof fatal / sizeof fatal[0]; i++)
         signal(fatal[i], SIG_DFL);
+    /* Ctrl-C and kill end the reader as they would have ended the caller
+     * (whose handlers may only set a flag the reader never looks at). */
+    signal(SIGINT, SIG_DFL);
+    signal(SIGTERM, SIG_DFL);
     const int null = open("/dev/null", O_WRONLY);
     if (null >= 0)
         dup2(null, STDOUT_FILENO), dup2(null, STDERR_FILENO), close(null);

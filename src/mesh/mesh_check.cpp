@@ -7,13 +7,13 @@
 
 #include <cerrno>
 #include <cstring>
-#include <sys/stat.h>
+#include <unistd.h>
 
 using namespace sdft_mesh_api;
 
 extern "C" {
 
-sdft_error sdft_mesh_sign_check(const sdft_mesh *m, const char *const *grid_paths, size_t count, int points,
+sdft_error sdft_mesh_sign_check(const sdft_mesh *m, const char *const *grid_paths, size_t count, size_t points,
                                 sdft_sign_check *out, char *msg, size_t msg_len)
 {
     const char *what = "sdft_mesh_sign_check";
@@ -24,25 +24,23 @@ sdft_error sdft_mesh_sign_check(const sdft_mesh *m, const char *const *grid_path
                                        : "out");
     if (count == 0)
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: no grids", what);
-    if (points < 1 || points > int(converter::kMaxSamples))
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: %d points is outside 1..100000000", what, points);
-    std::vector<std::string> paths;
+    if (points < 1 || double(points) > converter::kMaxSamples)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: %zu points is outside 1..100000000", what, points);
     for (size_t i = 0; i < count; ++i) {
         if (!grid_paths[i])
             return fail_with(msg, msg_len, SDFT_EINVAL, "%s: grid path %zu is NULL", what, i);
-        struct stat st;
-        if (stat(grid_paths[i], &st) != 0)
+        if (access(grid_paths[i], R_OK) != 0)
             return fail_with(msg, msg_len, SDFT_EIO, "cannot read grid %s: %s", grid_paths[i], std::strerror(errno));
-        paths.push_back(grid_paths[i]);
     }
     return guarded(what, msg, msg_len, [&] {
         std::string error;
-        if (!converter::checkPointsFitMemory(points, error))
+        if (!converter::checkPointsFitMemory(int(points), error))
             return fail_with(msg, msg_len, SDFT_ENOMEM, "%s", error.c_str());
+        const std::vector<std::string> paths(grid_paths, grid_paths + count);
         openvdb::initialize();
         std::vector<converter::SignCheck> checks;
         const bool ok =
-            inArena(m->threads, [&] { return converter::checkSign(m->mesh, paths, points, checks, error); });
+            inArena(m->threads, [&] { return converter::checkSign(m->mesh, paths, int(points), checks, error); });
         if (!ok)
             return fail_with(msg, msg_len, SDFT_EFORMAT, "%s", error.c_str());
         for (size_t i = 0; i < count; ++i)

@@ -151,10 +151,13 @@ void sdft_mesh_files_free(sdft_mesh_files *f) { delete f; }
 
 size_t sdft_mesh_sidecar_path(const char *npy_path, char *out, size_t out_len)
 {
-    const std::string path = npy_path ? converter::sidecarPath(npy_path) : std::string();
+    // By hand, no allocation: nothing may throw out of here.
+    const char *path = npy_path ? npy_path : "";
+    const size_t n = std::strlen(path);
+    const size_t stem = n > 4 && std::strcmp(path + n - 4, ".npy") == 0 ? n - 4 : n;
     if (out && out_len)
-        std::snprintf(out, out_len, "%s", path.c_str());
-    return path.size();
+        std::snprintf(out, out_len, "%.*s.json", int(stem), path);
+    return stem + 5;
 }
 
 sdft_error sdft_mesh_grid_write(const sdft_mesh_grid *g, const char *path, int fp16, char *msg, size_t msg_len)

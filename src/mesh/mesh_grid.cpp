@@ -149,6 +149,8 @@ sdft_error sdft_mesh_to_grid(const sdft_mesh *m, const sdft_mesh_grid_params *pa
         inArena(g->threads, [&] {
             g->grid = converter::buildGrid(m->mesh, g->box, opt, listened.progress, g->stats);
             g->surface = hasSurface(*g->grid); // one pass over the tree
+            g->activeVoxels = g->grid->activeVoxelCount();
+            g->memoryBytes = g->grid->memUsage();
         });
         if (listened.progress.cancelled())
             throw converter::Cancelled();
@@ -188,10 +190,10 @@ sdft_error sdft_mesh_grid_get_box(const sdft_mesh_grid *g, sdft_mesh_box *box, c
         return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_grid_get_box: %s is NULL", g ? "box" : "g");
     sdft_mesh_box b = boxOf(g->box, 0);
     b.background = g->grid->background();
-    b.active_voxels = g->grid->activeVoxelCount();
+    b.active_voxels = g->activeVoxels;
     b.ambiguous_voxels = g->stats.ambiguousVoxels;
     b.surface = g->surface;
-    b.memory_bytes = g->grid->memUsage();
+    b.memory_bytes = g->memoryBytes;
     b.seconds = g->seconds;
     b.winding_seconds = g->stats.windingSeconds;
     *box = b;
@@ -215,19 +217,21 @@ sdft_error sdft_mesh_grid_dense(const sdft_mesh_grid *g, float *values, size_t c
         constexpr int n = int(Leaf::DIM);
         const openvdb::FloatTree &tree = g->grid->tree();
         const int bx = (d[0] + n - 1) / n, by = (d[1] + n - 1) / n, bz = (d[2] + n - 1) / n;
-        tbb::parallel_for(0, bx * by * bz, [&](int b) {
-            const openvdb::Coord at(b / (by * bz) * n, b / bz % by * n, b % bz * n);
-            const Leaf *leaf = tree.probeConstLeaf(at);
-            const float tile = leaf ? 0.0f : tree.getValue(at);
-            for (int i = 0; i < n && at[0] + i < d[0]; ++i)
-                for (int j = 0; j < n && at[1] + j < d[1]; ++j) {
-                    const int zs = std::min(n, d[2] - at[2]);
-                    float *row = values + (size_t(at[0] + i) * ny + size_t(at[1] + j)) * nz + size_t(at[2]);
-                    if (leaf)
-                        std::copy_n(leaf->buffer().data() + Leaf::coordToOffset(openvdb::Coord(i, j, 0)), zs, row);
-                    else
-                        std::fill_n(row, zs, tile);
-                }
+        inArena(g->threads, [&] {
+            tbb::parallel_for(0, bx * by * bz, [&](int b) {
+                const openvdb::Coord at(b / (by * bz) * n, b / bz % by * n, b % bz * n);
+                const Leaf *leaf = tree.probeConstLeaf(at);
+                const float tile = leaf ? 0.0f : tree.getValue(at);
+                for (int i = 0; i < n && at[0] + i < d[0]; ++i)
+                    for (int j = 0; j < n && at[1] + j < d[1]; ++j) {
+                        const int zs = std::min(n, d[2] - at[2]);
+                        float *row = values + (size_t(at[0] + i) * ny + size_t(at[1] + j)) * nz + size_t(at[2]);
+                        if (leaf)
+                            std::copy_n(leaf->buffer().data() + Leaf::coordToOffset(openvdb::Coord(i, j, 0)), zs, row);
+                        else
+                            std::fill_n(row, zs, tile);
+                    }
+            });
         });
         return SDFT_OK;
     });
@@ -240,7 +244,8 @@ sdft_error sdft_mesh_grid_nano(const sdft_mesh_grid *g, sdft_grid **out, char *m
     if (!g || !out)
         return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_grid_nano: %s is NULL", g ? "out" : "g");
     return guarded("sdft_mesh_grid_nano", msg, msg_len, [&] {
-        nanovdb::GridHandle<> handle = sdft_vdb::nano_handle(*g->grid, SDFT_QUANT_NONE);
+        nanovdb::GridHandle<> handle =
+            inArena(g->threads, [&] { return sdft_vdb::nano_handle(*g->grid, SDFT_QUANT_NONE); });
         sdft_grid_options o = sdft_grid_options_defaults();
         o.data = handle.data();
         o.size = handle.size();

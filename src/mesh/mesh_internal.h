@@ -66,8 +66,9 @@ struct sdft_mesh_grid {
     converter::BoxGeometry box;
     converter::Provenance how;
     converter::BuildStats stats;
-    int threads = 0; // for writing it
+    int threads = 0; // for everything done with it
     bool surface = false;
+    uint64_t activeVoxels = 0, memoryBytes = 0; // counted once, in its arena
     double seconds = 0;
 };
 

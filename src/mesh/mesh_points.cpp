@@ -9,6 +9,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -124,7 +125,8 @@ sdft_sample_params sdft_sample_params_defaults(void)
 void sdft_sample_counts(const sdft_sample_params *p, size_t *near_first, size_t *near_second, size_t *uniform)
 {
     const converter::SampleCounts c =
-        p ? converter::sampleCounts(p->count, p->uniform_share) : converter::SampleCounts{};
+        p ? converter::sampleCounts(p->count, p->uniform_share > 0 ? std::min(p->uniform_share, 1.0) : 0.0)
+          : converter::SampleCounts{}; // a share outside [0, 1] clamped, NaN as 0
     if (near_first)
         *near_first = c.near[0];
     if (near_second)
