@@ -224,27 +224,24 @@ bool runQuery(const Options &opt, std::string &error)
     ProgressView progress(!opt.quiet && !opt.json);
     JobResult r;
     const MeshPtr mesh = loadJobMesh(opt, progress, 0, 50, r);
-    progress.finish();
     if (!mesh)
         return failed(r.error.c_str(), error);
     const size_t count = xyz.size() / 3, columns = opt.winding ? 2 : 1;
     std::vector<float> distance(count), winding(opt.winding ? count : 0);
-    // In blocks of a million points, so that Ctrl-C is heard between them
-    // (a point's answer does not depend on its block).
-    constexpr size_t kBlock = size_t(1) << 20;
+    sdft_points pts{};
+    pts.data = xyz.data();
+    pts.type = SDFT_FLOAT64;
+    pts.count = count;
+    sdft_query_params q = sdft_query_params_defaults();
+    q.progress = ProgressView::report; // Ctrl-C stops it too
+    q.progress_user = &progress;
+    progress.stage("points", 50, 100);
     char msg[1024];
     const auto t1 = Clock::now();
-    for (size_t at = 0; at < count; at += kBlock) {
-        if (interruptSignal())
-            return failed("interrupted", error); // the files are removed on the way out
-        sdft_points pts{};
-        pts.data = xyz.data() + at * 3;
-        pts.type = SDFT_FLOAT64;
-        pts.count = std::min(kBlock, count - at);
-        if (sdft_mesh_signed_distance(mesh.get(), &pts, distance.data() + at,
-                                      opt.winding ? winding.data() + at : nullptr, msg, sizeof msg) != SDFT_OK)
-            return failed(msg, error);
-    }
+    if (sdft_mesh_signed_distance(mesh.get(), &pts, distance.data(), opt.winding ? winding.data() : nullptr, &q, msg,
+                                  sizeof msg) != SDFT_OK)
+        return failed(msg, error); // the files are removed on the way out
+    progress.finish();
     const double querySeconds = secondsBetween(t1, Clock::now());
     std::vector<float> out(count * columns);
     for (size_t i = 0; i < count; ++i) {

@@ -298,15 +298,18 @@ static PyObject *mesh_query(MeshObject *self, PyObject *points, int mode)
     float *dp = d ? (float *)PyArray_DATA(d) : NULL, *wp = w ? (float *)PyArray_DATA(w) : NULL;
     char msg[MSG_LEN] = "";
     sdft_error e;
+    progress_call pc; /* no callable: Ctrl-C alone */
+    sdft_query_params q = sdft_query_params_defaults();
+    progress_of(NULL, &pc, &q.progress, &q.progress_user);
     PyThreadState *ts = PyEval_SaveThread();
-    e = mode == 1 ? sdft_mesh_winding_number(self->mesh, &pts, wp, msg, sizeof msg)
-                  : sdft_mesh_signed_distance(self->mesh, &pts, dp, wp, msg, sizeof msg);
+    e = mode == 1 ? sdft_mesh_winding_number(self->mesh, &pts, wp, &q, msg, sizeof msg)
+                  : sdft_mesh_signed_distance(self->mesh, &pts, dp, wp, &q, msg, sizeof msg);
     PyEval_RestoreThread(ts);
     Py_DECREF(in);
-    if (e != SDFT_OK) {
+    if (pc.type || e != SDFT_OK) {
         Py_XDECREF(d);
         Py_XDECREF(w);
-        return raise_error(e, msg);
+        return progress_result(&pc, e, msg, NULL);
     }
     if (mode == 2)
         return Py_BuildValue("(NN)", d, w);

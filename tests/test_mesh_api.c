@@ -4,7 +4,8 @@
  * mesh queried from several threads at once; the queries' values, the
  * samples' rows and the grids' .npy and .nvdb bytes against what mesh2sdf
  * writes for the same options; bad arguments refused with their code and a
- * line; long calls cancelled from their progress callback. */
+ * line; long calls (queries of many points too) cancelled from their
+ * progress callback. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -75,8 +76,8 @@ static void distances_match_brute_force(void **state)
     float d[N], w[N], w2[N];
     sdft_points pts = {.data = p, .type = SDFT_FLOAT64, .count = N};
     char msg[256] = "";
-    assert_int_equal(sdft_mesh_signed_distance(m, &pts, d, w, msg, sizeof msg), SDFT_OK);
-    assert_int_equal(sdft_mesh_winding_number(m, &pts, w2, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_mesh_signed_distance(m, &pts, d, w, NULL, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_mesh_winding_number(m, &pts, w2, NULL, msg, sizeof msg), SDFT_OK);
     int clear = 0;
     for (int i = 0; i < N; i++) {
         const double truth = mesh_distance(&b, &p[i * 3]);
@@ -110,8 +111,8 @@ static void strided_points(void **state)
             rows[i * 3 + k] = columns[k * N + i] = (float)p[i * 3 + k];
     sdft_points a = {.data = rows, .type = SDFT_FLOAT32, .count = N};
     sdft_points f = {.data = columns, .type = SDFT_FLOAT32, .count = N, .stride = {4, 4 * N}};
-    assert_int_equal(sdft_mesh_signed_distance(m, &a, d1, NULL, NULL, 0), SDFT_OK);
-    assert_int_equal(sdft_mesh_signed_distance(m, &f, d2, NULL, NULL, 0), SDFT_OK);
+    assert_int_equal(sdft_mesh_signed_distance(m, &a, d1, NULL, NULL, NULL, 0), SDFT_OK);
+    assert_int_equal(sdft_mesh_signed_distance(m, &f, d2, NULL, NULL, NULL, 0), SDFT_OK);
     assert_memory_equal(d1, d2, sizeof d1);
     for (int i = 0; i < N; i++) {
         const double q[3] = {rows[i * 3], rows[i * 3 + 1], rows[i * 3 + 2]};
@@ -148,8 +149,8 @@ static void arrays_as_the_file(void **state)
     double *p = random_points(&b, N, 3);
     float da[N], df[N];
     sdft_points pts = {.data = p, .type = SDFT_FLOAT64, .count = N};
-    assert_int_equal(sdft_mesh_signed_distance(a, &pts, da, NULL, NULL, 0), SDFT_OK);
-    assert_int_equal(sdft_mesh_signed_distance(f, &pts, df, NULL, NULL, 0), SDFT_OK);
+    assert_int_equal(sdft_mesh_signed_distance(a, &pts, da, NULL, NULL, NULL, 0), SDFT_OK);
+    assert_int_equal(sdft_mesh_signed_distance(f, &pts, df, NULL, NULL, NULL, 0), SDFT_OK);
     assert_memory_equal(da, df, sizeof da);
     free(p);
     free(faces);
@@ -173,11 +174,11 @@ static void queried_from_threads(void **state)
 #pragma omp parallel for num_threads(THREADS) reduction(+ : failures)
     for (int t = 0; t < THREADS; t++) {
         sdft_points part = {.data = p + t * (N / THREADS) * 3, .type = SDFT_FLOAT64, .count = N / THREADS};
-        failures += sdft_mesh_signed_distance(m, &part, together + t * (N / THREADS), NULL, NULL, 0) != SDFT_OK;
+        failures += sdft_mesh_signed_distance(m, &part, together + t * (N / THREADS), NULL, NULL, NULL, 0) != SDFT_OK;
     }
     assert_int_equal(failures, 0);
     sdft_points all = {.data = p, .type = SDFT_FLOAT64, .count = N};
-    assert_int_equal(sdft_mesh_signed_distance(m, &all, alone, NULL, NULL, 0), SDFT_OK);
+    assert_int_equal(sdft_mesh_signed_distance(m, &all, alone, NULL, NULL, NULL, 0), SDFT_OK);
     assert_memory_equal(alone, together, sizeof alone);
     free(p);
     sdft_mesh_free(m);
@@ -247,7 +248,7 @@ static void queries_as_the_cli(void **state)
     sdft_mesh *m = load(SUZANNE);
     float d[N], w[N];
     sdft_points pts = {.data = p, .type = SDFT_FLOAT64, .count = N};
-    assert_int_equal(sdft_mesh_signed_distance(m, &pts, d, w, NULL, 0), SDFT_OK);
+    assert_int_equal(sdft_mesh_signed_distance(m, &pts, d, w, NULL, NULL, 0), SDFT_OK);
     for (int i = 0; i < N; i++) {
         assert_memory_equal(&d[i], &cli[2 * i], sizeof(float));
         assert_memory_equal(&w[i], &cli[2 * i + 1], sizeof(float));
@@ -424,7 +425,7 @@ static void bad_arrays(void **state)
     const float centre[3] = {0.2f, 0.2f, 0.2f};
     sdft_points pts = {.data = centre, .type = SDFT_FLOAT32, .count = 1};
     float d, w;
-    assert_int_equal(sdft_mesh_signed_distance(m, &pts, &d, &w, NULL, 0), SDFT_OK);
+    assert_int_equal(sdft_mesh_signed_distance(m, &pts, &d, &w, NULL, NULL, 0), SDFT_OK);
     /* Inside, 0.2 from the three faces on the axes' planes (the slanted
      * one is (1 - 0.6) / sqrt(3) away). */
     assert_true(fabsf(d + 0.2f) < 1e-6f);
@@ -454,17 +455,17 @@ static void bad_files_and_calls(void **state)
     float d[1];
     const float p[3] = {0, 0, 0};
     sdft_points pts = {.data = p, .type = SDFT_FLOAT32, .count = 1};
-    assert_int_equal(sdft_mesh_signed_distance(NULL, &pts, d, NULL, msg, sizeof msg), SDFT_EINVAL);
-    assert_int_equal(sdft_mesh_signed_distance(m, NULL, d, NULL, msg, sizeof msg), SDFT_EINVAL);
-    assert_int_equal(sdft_mesh_signed_distance(m, &pts, NULL, NULL, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(sdft_mesh_signed_distance(NULL, &pts, d, NULL, NULL, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(sdft_mesh_signed_distance(m, NULL, d, NULL, NULL, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(sdft_mesh_signed_distance(m, &pts, NULL, NULL, NULL, msg, sizeof msg), SDFT_EINVAL);
     pts.type = SDFT_INT32;
-    assert_int_equal(sdft_mesh_winding_number(m, &pts, d, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(sdft_mesh_winding_number(m, &pts, d, NULL, msg, sizeof msg), SDFT_EINVAL);
     pts.type = SDFT_FLOAT32;
     pts.count = 0;
-    assert_int_equal(sdft_mesh_signed_distance(m, &pts, d, NULL, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_mesh_signed_distance(m, &pts, d, NULL, NULL, msg, sizeof msg), SDFT_OK);
     const float nan_point[3] = {NAN, 0, 0};
     sdft_points np = {.data = nan_point, .type = SDFT_FLOAT32, .count = 1};
-    assert_int_equal(sdft_mesh_signed_distance(m, &np, d, NULL, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_mesh_signed_distance(m, &np, d, NULL, NULL, msg, sizeof msg), SDFT_OK);
     assert_true(isnan(d[0]));
 
     sdft_sample_params sp = sdft_sample_params_defaults();
@@ -566,6 +567,37 @@ static void progress_and_cancel(void **state)
     sdft_mesh_free(m);
 }
 
+/* A query reports its progress rising to 1 and stops when told, with
+ * SDFT_ECANCELED; its answers do not depend on being watched. */
+static void queries_report_and_stop(void **state)
+{
+    (void)state;
+    enum { N = 100000 };
+    double *p = malloc(sizeof(double) * 3 * N);
+    tu_rng r = tu_rng_seed(3);
+    for (int i = 0; i < 3 * N; i++)
+        p[i] = tu_uniform(&r, -1.5f, 1.5f);
+    const sdft_points pts = {p, SDFT_FLOAT64, N, {0, 0}};
+    float *watched = malloc(sizeof(float) * N), *plain = malloc(sizeof(float) * N);
+    char msg[256] = "";
+    sdft_mesh *m = load(SUZANNE);
+    listener all = {.stop_after = 1 << 30, .rising = 1};
+    sdft_query_params q = sdft_query_params_defaults();
+    q.progress = listen;
+    q.progress_user = &all;
+    assert_int_equal(sdft_mesh_signed_distance(m, &pts, watched, NULL, &q, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_mesh_signed_distance(m, &pts, plain, NULL, NULL, msg, sizeof msg), SDFT_OK);
+    assert_memory_equal(watched, plain, sizeof(float) * N);
+    assert_true(all.calls >= 10 && all.rising && all.last == 1.0f);
+    listener stop = {.stop_after = 1, .rising = 1};
+    q.progress_user = &stop;
+    assert_int_equal(sdft_mesh_winding_number(m, &pts, watched, &q, msg, sizeof msg), SDFT_ECANCELED);
+    assert_non_null(strstr(msg, "cancel"));
+    assert_int_equal(stop.calls, 2);
+    sdft_mesh_free(m);
+    free(p), free(watched), free(plain);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -579,6 +611,7 @@ int main(void)
         cmocka_unit_test(bad_arrays),
         cmocka_unit_test(bad_files_and_calls),
         cmocka_unit_test(progress_and_cancel),
+        cmocka_unit_test(queries_report_and_stop),
     };
     return cmocka_run_group_tests_name("mesh_api", tests, NULL, NULL);
 }

@@ -347,7 +347,7 @@ static void reports(void **state)
     const double p[3] = {0, 0, 0};
     const sdft_points pts = {p, SDFT_FLOAT64, 1, {0, 0}};
     float d;
-    assert_int_equal(sdft_mesh_signed_distance(m, &pts, &d, NULL, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_mesh_signed_distance(m, &pts, &d, NULL, NULL, msg, sizeof msg), SDFT_OK);
     assert_int_equal(sdft_mesh_get_info(m, &info, msg, sizeof msg), SDFT_OK);
     assert_true(info.index_seconds > 0);
 
@@ -407,8 +407,8 @@ static void threads_and_simd_agree(void **state)
         p[i] = tu_uniform(&r, -2, 2);
     const sdft_points pts = {p, SDFT_FLOAT64, N, {0, 0}};
     float *da = malloc(sizeof(float) * N), *db = malloc(sizeof(float) * N);
-    assert_int_equal(sdft_mesh_signed_distance(a, &pts, da, NULL, msg, sizeof msg), SDFT_OK);
-    assert_int_equal(sdft_mesh_signed_distance(b, &pts, db, NULL, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_mesh_signed_distance(a, &pts, da, NULL, NULL, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_mesh_signed_distance(b, &pts, db, NULL, NULL, msg, sizeof msg), SDFT_OK);
     for (int i = 0; i < N; i++)
         assert_true(fabsf(da[i] - db[i]) <= 1e-5f * (1 + fabsf(da[i])));
 

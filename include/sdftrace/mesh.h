@@ -149,20 +149,28 @@ typedef struct sdft_points {
     ptrdiff_t stride[2]; /* bytes; 0, 0: packed rows */
 } sdft_points;
 
+/* What else a query of many points takes. It will grow: zero it, or make
+ * one with sdft_query_params_defaults(); NULL for the defaults. */
+typedef struct sdft_query_params {
+    sdft_progress_fn progress; /* NULL: no reports [NULL]; non-zero from it: SDFT_ECANCELED */
+    void *progress_user;
+} sdft_query_params;
+
+SDFT_API sdft_query_params sdft_query_params_defaults(void);
+
 /* The signed distance at each point into distance[i] (count floats),
  * exact to the triangles, signed by the winding number (negative inside,
  * where it exceeds 1/2); with winding not NULL, the winding number beside
- * it. What `mesh2sdf --query` writes. In parallel. SDFT_EINVAL (NULL m,
- * pts, pts->data or distance; an unsupported type; a count of 0 is fine),
- * SDFT_ENOMEM. A non-finite point gets NaN. */
+ * it. What `mesh2sdf --query` writes. In parallel, in the order of a
+ * Morton curve through the mesh's cube (the answers do not depend on it).
+ * q: progress and cancelling (NULL: none). SDFT_EINVAL (NULL m, pts,
+ * pts->data or distance; an unsupported type; a count of 0 is fine),
+ * SDFT_ECANCELED, SDFT_ENOMEM. A non-finite point gets NaN. */
 SDFT_API sdft_error sdft_mesh_signed_distance(const sdft_mesh *m, const sdft_points *pts, float *distance,
-                                              float *winding, char *msg, size_t msg_len);
+                                              float *winding, const sdft_query_params *q, char *msg, size_t msg_len);
 
-/* The generalized winding number at each point into winding[i]: 1 inside
- * a closed outward mesh, 0 outside, 1/2 on it; fractional near holes.
- * Errors as sdft_mesh_signed_distance's. */
-SDFT_API sdft_error sdft_mesh_winding_number(const sdft_mesh *m, const sdft_points *pts, float *winding, char *msg,
-                                             size_t msg_len);
+SDFT_API sdft_error sdft_mesh_winding_number(const sdft_mesh *m, const sdft_points *pts, float *winding,
+                                             const sdft_query_params *q, char *msg, size_t msg_len);
 
 /* Training samples as `mesh2sdf --samples` draws them (DeepSDF's
  * distribution). It will grow: make one with sdft_sample_params_defaults(). */

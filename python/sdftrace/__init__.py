@@ -6,7 +6,8 @@ while the library works (on all cores), and errors raise ``ValueError`` (bad
 arguments, malformed files), ``OSError`` (files that cannot be read or
 written), ``MemoryError`` or ``RuntimeError`` with the library's message.
 Conversions and samples take a ``progress`` callable that can stop them, and
-Ctrl-C stops them at their next progress step (``KeyboardInterrupt``).
+Ctrl-C stops them, and queries of many points, at their next progress step
+(``KeyboardInterrupt``).
 
 Meshes
     Every function that takes ``mesh`` takes any of: a file path (.obj .ply

@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 
@@ -55,11 +56,13 @@ sdft_error checkPoints(const char *what, const sdft_mesh *m, const sdft_points *
 // in space, so the hierarchies' nodes stay in cache; each point's answer is
 // the same in any order).
 sdft_error evaluate(const char *what, const sdft_mesh *m, const sdft_points *pts, float *distance, float *winding,
-                    char *msg, size_t msg_len)
+                    const sdft_query_params *q, char *msg, size_t msg_len)
 {
     return guarded(what, msg, msg_len, [&] {
         if (pts->count == 0)
             return SDFT_OK;
+        Listened listened(q ? q->progress : nullptr, nullptr, q ? q->progress_user : nullptr);
+        converter::Progress &progress = listened.progress;
         return inArena(m->threads, [&] {
             const converter::PointQuery &query = m->query();
             std::vector<double> xyz(pts->count * 3);
@@ -69,6 +72,8 @@ sdft_error evaluate(const char *what, const sdft_mesh *m, const sdft_points *pts
                                       pointAt(*pts, i, &xyz[i * 3]);
                               });
             const std::vector<size_t> order = converter::mortonOrder(xyz, m->frame());
+            progress.stage("points", 0, 100);
+            std::atomic<size_t> evaluated{0};
             tbb::parallel_for(tbb::blocked_range<size_t>(0, pts->count, 256), [&](const tbb::blocked_range<size_t> &r) {
                 for (size_t j = r.begin(); j != r.end(); ++j) {
                     const size_t i = order[j];
@@ -84,6 +89,7 @@ sdft_error evaluate(const char *what, const sdft_mesh *m, const sdft_points *pts
                     if (winding)
                         winding[i] = float(w);
                 }
+                progress.report(int(100 * (evaluated += r.size()) / pts->count)); // throws when told to stop
             });
             return SDFT_OK;
         });
@@ -94,20 +100,22 @@ sdft_error evaluate(const char *what, const sdft_mesh *m, const sdft_points *pts
 
 extern "C" {
 
+sdft_query_params sdft_query_params_defaults(void) { return sdft_query_params{}; }
+
 sdft_error sdft_mesh_signed_distance(const sdft_mesh *m, const sdft_points *pts, float *distance, float *winding,
-                                     char *msg, size_t msg_len)
+                                     const sdft_query_params *q, char *msg, size_t msg_len)
 {
     const char *what = "sdft_mesh_signed_distance";
     const sdft_error e = checkPoints(what, m, pts, distance, msg, msg_len);
-    return e != SDFT_OK ? e : evaluate(what, m, pts, distance, winding, msg, msg_len);
+    return e != SDFT_OK ? e : evaluate(what, m, pts, distance, winding, q, msg, msg_len);
 }
 
-sdft_error sdft_mesh_winding_number(const sdft_mesh *m, const sdft_points *pts, float *winding, char *msg,
-                                    size_t msg_len)
+sdft_error sdft_mesh_winding_number(const sdft_mesh *m, const sdft_points *pts, float *winding,
+                                    const sdft_query_params *q, char *msg, size_t msg_len)
 {
     const char *what = "sdft_mesh_winding_number";
     const sdft_error e = checkPoints(what, m, pts, winding, msg, msg_len);
-    return e != SDFT_OK ? e : evaluate(what, m, pts, nullptr, winding, msg, msg_len);
+    return e != SDFT_OK ? e : evaluate(what, m, pts, nullptr, winding, q, msg, msg_len);
 }
 
 sdft_sample_params sdft_sample_params_defaults(void)
