@@ -1,4 +1,4 @@
-// mesh2sdf — the exact narrow band (see band.h).
+// sdftrace — the exact narrow band (see band.h).
 //
 // Each triangle is binned to every block that has a voxel within the
 // half-width r of it, tested conservatively: the block's centre lies within

@@ -1,4 +1,4 @@
-// mesh2sdf — the exact narrow band of a triangle mesh: every voxel whose
+// sdftrace — the exact narrow band of a triangle mesh: every voxel whose
 // centre lies nearer than the half-width to some triangle, with its exact
 // distance, block by block (OpenVDB's 8^3 leaves). No OpenVDB here: the
 // caller turns blocks into leaves.

@@ -1,4 +1,4 @@
-// mesh2sdf — a block's joined voxels, flooded on masks (see block_flood.h).
+// sdftrace — a block's joined voxels, flooded on masks (see block_flood.h).
 //
 // A voxel whose reach exceeds half the longest step (sqrt(3) voxels, with
 // the rounding margin the step rule keeps) is joined to each neighbour whose

@@ -1,4 +1,4 @@
-// mesh2sdf — the voxels of one 8^3 block (band.h) that steps between
+// sdftrace — the voxels of one 8^3 block (band.h) that steps between
 // neighbours can join without crossing the mesh, flooded one layer of steps
 // at a time on 512-bit masks. Two voxels a, b, neighbours in the
 // 26-neighbourhood, are joined when d(a) + d(b) > |a - b| (their lower bounds

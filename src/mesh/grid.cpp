@@ -1,4 +1,4 @@
-// mesh2sdf — grid building (see grid.h).
+// sdftrace — grid building (see grid.h).
 #include "grid.h"
 
 #include "band.h"

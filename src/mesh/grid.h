@@ -1,4 +1,4 @@
-// mesh2sdf — building the distance grid: the exact narrow band (band.h)
+// sdftrace — building the distance grid: the exact narrow band (band.h)
 // signed by the winding number, or left unsigned; or, for --sign flood,
 // OpenVDB's own mesh-to-volume band and flood-fill sign, for comparison.
 // For --full, exact distances in the rest of the padded box.

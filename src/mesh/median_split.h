@@ -1,4 +1,4 @@
-// mesh2sdf — the split both bounding volume hierarchies use (the winding
+// sdftrace — the split both bounding volume hierarchies use (the winding
 // tree, winding.cpp, and the nearest-triangle tree, nearest_triangle.cpp):
 // at the median centroid along the longest axis of the centroids' bounds.
 #ifndef CONVERTER_MEDIAN_SPLIT_H

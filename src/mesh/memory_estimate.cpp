@@ -1,4 +1,4 @@
-// mesh2sdf — the conversion's peak memory (see memory_estimate.h).
+// sdftrace — the conversion's peak memory (see memory_estimate.h).
 //
 // THE MODEL, from what the conversion holds at its peak, each term's
 // constant measured with /usr/bin/time's maximum resident set on the

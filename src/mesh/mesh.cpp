@@ -1,4 +1,4 @@
-// mesh2sdf — mesh loading and health check (see mesh.h): OpenMesh's readers
+// sdftrace — mesh loading and health check (see mesh.h): OpenMesh's readers
 // for OBJ, OFF, STL and OM, our own for PLY (ply_read.h), assimp for the
 // interchange formats (mesh_assimp.h); every reader hands over a polygon
 // soup, which is triangulated and checked here the same way for all.

@@ -1,4 +1,4 @@
-// mesh2sdf — reading a mesh (OpenMesh, our PLY reader, assimp) into a
+// sdftrace — reading a mesh (OpenMesh, our PLY reader, assimp) into a
 // triangle soup, and the health check printed before converting.
 #ifndef CONVERTER_MESH_H
 #define CONVERTER_MESH_H

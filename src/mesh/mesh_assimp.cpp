@@ -1,4 +1,4 @@
-// mesh2sdf — the interchange formats through assimp (see mesh_assimp.h).
+// sdftrace — the interchange formats through assimp (see mesh_assimp.h).
 #include "mesh_assimp.h"
 #include "reader_process.h"
 

@@ -1,4 +1,4 @@
-// mesh2sdf — reading the interchange formats (glTF, FBX, Collada, 3MF and
+// sdftrace — reading the interchange formats (glTF, FBX, Collada, 3MF and
 // others) through assimp, flattened into one polygon soup in world space.
 #ifndef CONVERTER_MESH_ASSIMP_H
 #define CONVERTER_MESH_ASSIMP_H

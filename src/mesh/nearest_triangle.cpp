@@ -1,4 +1,4 @@
-// mesh2sdf — exact nearest-triangle queries for packets of voxel centres
+// sdftrace — exact nearest-triangle queries for packets of voxel centres
 // (see nearest_triangle.h).
 //
 // Why every centre's answer is exact. The search keeps, per centre v, best(v):

@@ -1,4 +1,4 @@
-// mesh2sdf — the exact distance from voxel centres to a triangle mesh, for
+// sdftrace — the exact distance from voxel centres to a triangle mesh, for
 // dense grids: a bounding volume hierarchy whose nodes bound their triangles
 // twice, by a box and by a disc around their mean plane, searched once for a
 // packet of 4^3 neighbouring centres, each starting from a triangle the

@@ -1,4 +1,4 @@
-// mesh2sdf — orienting a mesh's faces (see orient.h).
+// sdftrace — orienting a mesh's faces (see orient.h).
 //
 // THE STEPS
 // 1. Weld (loadMesh already did: TriangleMesh::welded) and drop duplicate

@@ -1,4 +1,4 @@
-// mesh2sdf — orienting a mesh's faces before its winding number signs the
+// sdftrace — orienting a mesh's faces before its winding number signs the
 // grid: one orientation per edge-connected patch, each patch turned to face
 // outward. The winding number is only as right as the faces' orientation:
 // an inside-out scan sums to -1 inside, and a face flipped against its

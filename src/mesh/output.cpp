@@ -1,4 +1,4 @@
-// mesh2sdf — output files (see output.h).
+// sdftrace — output files (see output.h).
 #include "output.h"
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// mesh2sdf — the per-row work of the packet search (nearest_triangle.cpp):
+// sdftrace — the per-row work of the packet search (nearest_triangle.cpp):
 // for one row of four voxel centres (i, j, 0..3), which differ only in z,
 // a node's two lower bounds and a triangle's squared distances (also the
 // exact band's rows, band.cpp). Written

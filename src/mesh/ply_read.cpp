@@ -1,4 +1,4 @@
-// mesh2sdf — the PLY reader (see ply_read.h).
+// sdftrace — the PLY reader (see ply_read.h).
 //
 // The file is read whole and every step is checked against what is left of
 // it, since a header is a claim, not a fact:

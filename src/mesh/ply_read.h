@@ -1,4 +1,4 @@
-// mesh2sdf — the PLY reader: ascii, binary_little_endian and
+// sdftrace — the PLY reader: ascii, binary_little_endian and
 // binary_big_endian, faces as polygons and as triangle strips.
 #ifndef CONVERTER_PLY_READ_H
 #define CONVERTER_PLY_READ_H

@@ -1,4 +1,4 @@
-// mesh2sdf — what a mesh reader hands to the loader: the file's vertices and
+// sdftrace — what a mesh reader hands to the loader: the file's vertices and
 // its faces as polygons on them, before triangulation and checks.
 #ifndef CONVERTER_POLYGON_SOUP_H
 #define CONVERTER_POLYGON_SOUP_H

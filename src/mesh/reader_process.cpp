@@ -1,4 +1,4 @@
-// mesh2sdf — a reader in a child process (see reader_process.h).
+// sdftrace — a reader in a child process (see reader_process.h).
 //
 // The child writes one answer: a byte (1 soup, 0 error, 2 out of memory),
 // then for a soup the three counts and arrays (points, corners, ends), for

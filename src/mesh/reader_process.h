@@ -1,4 +1,4 @@
-// mesh2sdf — running a mesh reader we do not control (OpenMesh's, assimp)
+// sdftrace — running a mesh reader we do not control (OpenMesh's, assimp)
 // in a child process (src/common/isolated_read.h), so that its crash,
 // abort, endless loop or runaway allocation on a malformed file becomes one
 // line of error instead of ending (or stalling) mesh2sdf.

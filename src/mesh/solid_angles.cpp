@@ -1,4 +1,4 @@
-// mesh2sdf — solid angles of triangles, four at a time (see solid_angles.h).
+// sdftrace — solid angles of triangles, four at a time (see solid_angles.h).
 #include "solid_angles.h"
 
 #include <algorithm>

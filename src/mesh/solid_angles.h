@@ -1,4 +1,4 @@
-// mesh2sdf — the solid angles of a few triangles seen from one point, four
+// sdftrace — the solid angles of a few triangles seen from one point, four
 // at a time with AVX2 where the processor has it (chosen at run time, so the
 // build runs on any x86-64), for the exact near field of the winding number
 // (winding.h). No OpenVDB here.

@@ -1,4 +1,4 @@
-// mesh2sdf — the squared distance from a point to a triangle by its
+// sdftrace — the squared distance from a point to a triangle by its
 // closest-point regions, for the winding tree's nearest-triangle search
 // (winding.cpp), which the per-point bench query and the off-band clearance
 // use. The band and the dense search use packet_rows.h's branch-free form

@@ -1,4 +1,4 @@
-// mesh2sdf — the mesh's sphere and --normalize (see unit_sphere.h).
+// sdftrace — the mesh's sphere and --normalize (see unit_sphere.h).
 #include "unit_sphere.h"
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// mesh2sdf — the sphere around a mesh that training samples are measured
+// sdftrace — the sphere around a mesh that training samples are measured
 // by and --normalize maps onto the unit sphere, as DeepSDF's preprocessing
 // does: centred on the bounding box's centre, its radius 1.03 times the
 // largest distance from that centre to a vertex of a face.

@@ -1,4 +1,4 @@
-// mesh2sdf — hierarchical generalized winding number (see winding.h).
+// sdftrace — hierarchical generalized winding number (see winding.h).
 #include "winding.h"
 
 #include "median_split.h"

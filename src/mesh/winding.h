@@ -1,4 +1,4 @@
-// mesh2sdf — the generalized winding number of a triangle soup (Jacobson et
+// sdftrace — the generalized winding number of a triangle soup (Jacobson et
 // al. 2013), evaluated hierarchically as in Barill et al. 2018, "Fast Winding
 // Numbers for Soups and Clouds": a bounding volume hierarchy over the
 // triangles, a far-field expansion (order 1 dipole + order 2 term) per node

@@ -1,4 +1,4 @@
-// mesh2sdf — the sign of every voxel by the winding number (see
+// sdftrace — the sign of every voxel by the winding number (see
 // winding_sign.h).
 //
 // The winding number w off the mesh is the scalar potential of a unit

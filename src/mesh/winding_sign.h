@@ -1,4 +1,4 @@
-// mesh2sdf — the sign of every voxel by the generalized winding number,
+// sdftrace — the sign of every voxel by the generalized winding number,
 // evaluated at as few points as a proven bound on its change allows: voxel
 // by voxel in the band's 8^3 blocks (band.h), and whole cubes of voxels off
 // the band. No OpenVDB here.
