@@ -10,6 +10,8 @@
 #include <exception>
 #include <new>
 
+#include "path_stem.h"
+
 namespace mesh2sdf
 {
 
@@ -24,10 +26,9 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 
 std::string fileStem(const std::string &path)
 {
-    const size_t slash = path.find_last_of('/');
-    std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
-    const size_t dot = base.find_last_of('.');
-    return dot == std::string::npos || dot == 0 ? base : base.substr(0, dot);
+    const char *start;
+    const size_t length = path_stem(path.c_str(), &start);
+    return std::string(start, length);
 }
 
 std::vector<std::string> jobOutputs(const Options &opt)

@@ -155,8 +155,7 @@ bool writeSamples(const Options &opt, const sdft_mesh *mesh, PointFiles &files, 
     sdft_mesh_get_info(mesh, &info, nullptr, 0);
     run.indexSeconds = info.index_seconds - before.index_seconds; // built by this call, or before it
     run.sampleSeconds = seconds - run.indexSeconds;
-    size_t near[2], uniform;
-    sdft_sample_counts(&p, &near[0], &near[1], &uniform);
+    sdft_sample_counts(&p, &run.near[0], &run.near[1], &run.uniform);
     const std::string fields =
         arrayField(opt.samplesOut) +
         format("  \"dtype\": \"float32\",\n  \"shape\": [%zu, 4],\n"
@@ -166,7 +165,8 @@ bool writeSamples(const Options &opt, const sdft_mesh *mesh, PointFiles &files, 
                "  \"near_sigma\": [%.17g, %.17g],\n  \"near_sigma_units\": \"times the sphere's radius\",\n"
                "  \"uniform_share\": %.17g,\n  \"uniform_region\": \"centre +- radius on each axis\",\n"
                "  \"seed\": %d,\n",
-               opt.samples, near[0], near[1], uniform, opt.nearSigma[0], opt.nearSigma[1], opt.uniformShare, opt.seed);
+               opt.samples, run.near[0], run.near[1], run.uniform, opt.nearSigma[0], opt.nearSigma[1], opt.uniformShare,
+               opt.seed);
     return files.write("(" + std::to_string(opt.samples) + ", 4)", rows.data(), rows.size(), fields, opt, info, error);
 }
 
@@ -188,11 +188,6 @@ bool runSamples(const Options &opt, std::string &error)
     if (!ok)
         return false;
     const double seconds = secondsBetween(t0, Clock::now());
-    sdft_sample_params p = sdft_sample_params_defaults();
-    p.count = opt.samples;
-    p.uniform_share = opt.uniformShare;
-    size_t near[2], uniform;
-    sdft_sample_counts(&p, &near[0], &near[1], &uniform);
     const double rate = double(opt.samples) / run.sampleSeconds;
     if (opt.json) {
         std::printf("{\"mesh\": ");
@@ -202,7 +197,7 @@ bool runSamples(const Options &opt, std::string &error)
         std::printf(", \"samples\": %zu, \"near_samples\": [%zu, %zu], \"uniform_samples\": %zu, \"triangles\": %llu, "
                     "\"normalized\": %s, \"orient_seconds\": %.6f, \"index_seconds\": %.6f, \"samples_seconds\": %.6f, "
                     "\"samples_per_second\": %.0f, \"seconds\": %.6f, \"peak_mib\": %.1f}\n",
-                    opt.samples, near[0], near[1], uniform, (unsigned long long)r.mesh.triangles,
+                    opt.samples, run.near[0], run.near[1], run.uniform, (unsigned long long)r.mesh.triangles,
                     opt.normalize ? "true" : "false", r.mesh.orient_seconds, run.indexSeconds, run.sampleSeconds, rate,
                     seconds, peakMiB());
     } else if (!opt.quiet) {

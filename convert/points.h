@@ -43,9 +43,11 @@ class PointFiles
     bool mReserved = false;
 };
 
-/// What drawing samples took, for the summary line, --json and a batch's row.
+/// What drawing samples took and made, for the summary line, --json and
+/// the sidecar.
 struct SampleRun {
     double indexSeconds = 0, sampleSeconds = 0;
+    size_t near[2] = {0, 0}, uniform = 0; // rows of each kind (sdft_sample_counts)
 };
 
 /// The memory `count` training samples need, checked before any work:

@@ -3,6 +3,8 @@
 // normalized where asked, then oriented as mesh2sdf orients it.
 #include "mesh_internal.h"
 
+#include "path_stem.h"
+
 using namespace sdft_mesh_api;
 
 namespace
@@ -65,13 +67,50 @@ double secondsSince(std::chrono::steady_clock::time_point start)
 
 std::string fileStem(const std::string &path)
 {
-    const size_t slash = path.find_last_of('/');
-    std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
-    const size_t dot = base.find_last_of('.');
-    return dot == std::string::npos || dot == 0 ? base : base.substr(0, dot);
+    const char *start;
+    const size_t length = path_stem(path.c_str(), &start);
+    return std::string(start, length);
 }
 
 } // namespace sdft_mesh_api
+
+namespace
+{
+
+// A mesh taken in, the one way for a file and for arrays: p checked,
+// `read(mesh, error)` filling the triangles (SDFT_OK, or a code and one
+// line in error), timed, then finishMesh, all on the mesh's share of the
+// cores. `path`: the file (the default source and grid name), or NULL.
+template <class Read>
+sdft_error takeIn(const char *what, const char *context, const sdft_mesh_params *params, const char *path,
+                  sdft_mesh **out, char *msg, size_t msg_len, Read &&read)
+{
+    const sdft_mesh_params p = params ? *params : sdft_mesh_params_defaults();
+    const sdft_error bad = checkMeshParams(what, p, msg, msg_len);
+    if (bad != SDFT_OK)
+        return bad;
+    return guarded(context, msg, msg_len, [&] {
+        Listened listened(p.progress, p.stage, p.progress_user);
+        listened.progress.stage("reading", 0, 50);
+        std::unique_ptr<sdft_mesh> m = newMesh(p);
+        return inArena(p.threads, [&] {
+            const auto start = std::chrono::steady_clock::now();
+            std::string error;
+            const sdft_error e = read(m->mesh, error);
+            if (e != SDFT_OK)
+                return fail_with(msg, msg_len, e, "%s", error.c_str());
+            m->readSeconds = secondsSince(start);
+            listened.progress.report(100);
+            m->source = p.source ? p.source : path ? path : "";
+            m->stem = path ? fileStem(path) : "mesh";
+            finishMesh(*m, p, listened.progress);
+            *out = m.release();
+            return SDFT_OK;
+        });
+    });
+}
+
+} // namespace
 
 extern "C" {
 
@@ -88,28 +127,10 @@ sdft_error sdft_mesh_load(const char *path, const sdft_mesh_params *params, sdft
         *out = nullptr;
     if (!path || !out)
         return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_load: %s is NULL", path ? "out" : "path");
-    const sdft_mesh_params p = params ? *params : sdft_mesh_params_defaults();
-    const sdft_error bad = checkMeshParams("sdft_mesh_load", p, msg, msg_len);
-    if (bad != SDFT_OK)
-        return bad;
-    return guarded(path, msg, msg_len, [&] {
-        Listened listened(p.progress, p.stage, p.progress_user);
-        listened.progress.stage("reading", 0, 50);
-        std::unique_ptr<sdft_mesh> m = newMesh(p);
-        return inArena(p.threads, [&] {
-            const auto start = std::chrono::steady_clock::now();
-            std::string error;
-            if (!converter::loadMesh(path, m->mesh, error))
-                return fail_with(msg, msg_len, readError(error), "%s", error.c_str());
-            m->readSeconds = secondsSince(start);
-            listened.progress.report(100);
-            m->source = p.source ? p.source : path;
-            m->stem = fileStem(path);
-            finishMesh(*m, p, listened.progress);
-            *out = m.release();
-            return SDFT_OK;
-        });
-    });
+    return takeIn("sdft_mesh_load", path, params, path, out, msg, msg_len,
+                  [&](converter::TriangleMesh &mesh, std::string &error) {
+                      return converter::loadMesh(path, mesh, error) ? SDFT_OK : readError(error);
+                  });
 }
 
 sdft_error sdft_mesh_from_arrays(const void *vertices, sdft_dtype vertex_type, size_t vertex_count, const void *faces,
@@ -123,30 +144,11 @@ sdft_error sdft_mesh_from_arrays(const void *vertices, sdft_dtype vertex_type, s
                          !vertices ? "vertices"
                          : !faces  ? "faces"
                                    : "out");
-    const sdft_mesh_params p = params ? *params : sdft_mesh_params_defaults();
-    const sdft_error bad = checkMeshParams("sdft_mesh_from_arrays", p, msg, msg_len);
-    if (bad != SDFT_OK)
-        return bad;
-    return guarded("mesh from arrays", msg, msg_len, [&] {
-        Listened listened(p.progress, p.stage, p.progress_user);
-        listened.progress.stage("reading", 0, 50);
-        std::unique_ptr<sdft_mesh> m = newMesh(p);
-        return inArena(p.threads, [&] {
-            const auto start = std::chrono::steady_clock::now();
-            std::string error;
-            const sdft_error e =
-                meshFromArrays(vertices, vertex_type, vertex_count, faces, face_type, face_count, m->mesh, error);
-            if (e != SDFT_OK)
-                return fail_with(msg, msg_len, e, "%s", error.c_str());
-            m->readSeconds = secondsSince(start);
-            listened.progress.report(100);
-            m->source = p.source ? p.source : "";
-            m->stem = "mesh";
-            finishMesh(*m, p, listened.progress);
-            *out = m.release();
-            return SDFT_OK;
-        });
-    });
+    return takeIn("sdft_mesh_from_arrays", "mesh from arrays", params, nullptr, out, msg, msg_len,
+                  [&](converter::TriangleMesh &mesh, std::string &error) {
+                      return meshFromArrays(vertices, vertex_type, vertex_count, faces, face_type, face_count, mesh,
+                                            error);
+                  });
 }
 
 void sdft_mesh_free(sdft_mesh *m) { delete m; }
