@@ -69,11 +69,7 @@ bool reserveGridFiles(const Options &opt, std::unique_ptr<sdft_mesh_files, MeshF
 
 MeshPtr loadJobMesh(const Options &opt, ProgressView &progress, int from, int to, JobResult &r)
 {
-    sdft_mesh_params p = sdft_mesh_params_defaults();
-    p.orient = opt.orient == OrientMethod::Outward;
-    p.normalize = opt.normalize;
-    p.threads = opt.threads;
-    p.simd = opt.simd;
+    sdft_mesh_params p = opt.mesh;
     p.progress = ProgressView::report;
     p.stage = ProgressView::named;
     p.progress_user = &progress;
@@ -95,14 +91,7 @@ namespace
 // The grid params of `opt`, reporting on `progress`.
 sdft_mesh_grid_params gridParams(const Options &opt, ProgressView &progress)
 {
-    sdft_mesh_grid_params p = sdft_mesh_grid_params_defaults();
-    p.res = opt.res;
-    p.voxel_size = opt.voxelSize;
-    p.band = opt.band;
-    p.full = opt.full;
-    p.padding = opt.padding;
-    p.sign = opt.sign;
-    p.name = opt.name.empty() ? nullptr : opt.name.c_str();
+    sdft_mesh_grid_params p = opt.grid;
     p.writes = (opt.nvdb.empty() ? 0u : SDFT_WRITES_NVDB) | (opt.npy.empty() ? 0u : SDFT_WRITES_NPY);
     p.progress = ProgressView::report;
     p.stage = ProgressView::named;
@@ -118,7 +107,7 @@ bool convertJobMesh(const Options &opt, const sdft_mesh *mesh, sdft_mesh_files *
     const sdft_mesh_grid_params p = gridParams(opt, progress);
     // Writing has no progress of its own: the bar waits at its start and
     // is cleared once every file is in place.
-    const int written = opt.full ? 95 : 90;
+    const int written = opt.grid.full ? 95 : 90;
     progress.stage("converting", 15, written);
     char msg[1024];
     sdft_mesh_grid *grid = nullptr;

@@ -72,8 +72,8 @@ void printJson(const Options &opt, const JobResult &r)
                 "\"ambiguous_voxels\": %llu, \"surface\": %s, \"orient_seconds\": %.6f, \"winding_seconds\": %.6f, "
                 "\"seconds\": %.6f, \"peak_mib\": %.1f}\n",
                 g.dims[0], g.dims[1], g.dims[2], g.voxel_size, (unsigned long long)g.active_voxels,
-                sdft_mesh_sign_name(opt.sign), (unsigned long long)g.ambiguous_voxels, g.surface ? "true" : "false",
-                r.mesh.orient_seconds, g.winding_seconds, r.seconds, peakMiB());
+                sdft_mesh_sign_name(opt.grid.sign), (unsigned long long)g.ambiguous_voxels,
+                g.surface ? "true" : "false", r.mesh.orient_seconds, g.winding_seconds, r.seconds, peakMiB());
 }
 
 // The closing line, or with --json the object; then, on stderr, what stays
@@ -88,13 +88,13 @@ void report(const Options &opt, const JobResult &r)
                     "%.1f MiB, %.2f s, sign %s",
                     opt.output.c_str(), g.dims[0], g.dims[1], g.dims[2], g.voxel_size,
                     (unsigned long long)g.active_voxels, double(g.memory_bytes) / (1024.0 * 1024.0), peakMiB(),
-                    r.seconds, sdft_mesh_sign_name(opt.sign));
-        if (opt.sign == SDFT_SIGN_WINDING)
+                    r.seconds, sdft_mesh_sign_name(opt.grid.sign));
+        if (opt.grid.sign == SDFT_SIGN_WINDING)
             std::printf(" (%.2f s), %llu voxels signed from an ambiguous winding number", g.winding_seconds,
                         (unsigned long long)g.ambiguous_voxels);
         std::printf("\n");
     }
-    if (opt.sign != SDFT_SIGN_WINDING)
+    if (opt.grid.sign != SDFT_SIGN_WINDING)
         return;
     if (r.mesh.oriented && r.mesh.ambiguous_patches)
         std::fprintf(stderr,
@@ -112,7 +112,7 @@ void meshReady(const Options &opt, const JobResult &r)
 {
     if (!opt.quiet && !opt.json)
         printHealth(opt.input, r);
-    if (!r.mesh.closed && opt.sign == SDFT_SIGN_FLOOD)
+    if (!r.mesh.closed && opt.grid.sign == SDFT_SIGN_FLOOD)
         std::fprintf(stderr,
                      "mesh2sdf: warning: the mesh is not closed (%llu boundary, %llu non-manifold edges) and --sign "
                      "flood assumes it is: inside and outside may be wrong; --sign winding handles open meshes\n",
@@ -124,8 +124,8 @@ void meshReady(const Options &opt, const JobResult &r)
 int checkSigns(const Options &opt)
 {
     Options raw = opt;
-    raw.orient = OrientMethod::None;
-    raw.normalize = false;
+    raw.mesh.orient = 0;
+    raw.mesh.normalize = 0;
     ProgressView progress(false);
     JobResult r;
     const MeshPtr mesh = loadJobMesh(raw, progress, 0, 100, r);
@@ -188,8 +188,8 @@ int main(int argc, char **argv)
         if (!opt.checkSign.empty())
             return checkSigns(opt); // writes nothing: Ctrl-C may end it as it is
         catchInterrupts();
-        if (opt.samples > 0 || !opt.queryOut.empty())
-            return (opt.samples > 0 ? runSamples(opt, error) : runQuery(opt, error)) ? 0 : fail(error);
+        if (opt.samples() || !opt.queryOut.empty())
+            return (opt.samples() ? runSamples(opt, error) : runQuery(opt, error)) ? 0 : fail(error);
         return opt.batch.empty() ? convertOne(opt) : runBatch(opt);
     } catch (const std::bad_alloc &) {
         return fail("out of memory");

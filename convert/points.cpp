@@ -132,16 +132,12 @@ bool trainingSamplesFitMemory(size_t count, std::string &error)
 bool writeSamples(const Options &opt, const sdft_mesh *mesh, PointFiles &files, ProgressView &progress, SampleRun &run,
                   std::string &error)
 {
-    sdft_sample_params p = sdft_sample_params_defaults();
-    p.count = opt.samples;
-    p.seed = uint64_t(opt.seed);
-    p.near_sigma[0] = opt.nearSigma[0];
-    p.near_sigma[1] = opt.nearSigma[1];
-    p.uniform_share = opt.uniformShare;
+    sdft_sample_params p = opt.sample;
     p.progress = ProgressView::report;
     p.stage = ProgressView::named;
     p.progress_user = &progress;
-    std::vector<float> rows(opt.samples * 4);
+    const size_t count = size_t(p.count);
+    std::vector<float> rows(count * 4);
     char msg[1024];
     sdft_mesh_info before;
     sdft_mesh_get_info(mesh, &before, nullptr, 0);
@@ -164,17 +160,18 @@ bool writeSamples(const Options &opt, const sdft_mesh *mesh, PointFiles &files, 
                "  \"near_samples\": [%zu, %zu],\n  \"uniform_samples\": %zu,\n"
                "  \"near_sigma\": [%.17g, %.17g],\n  \"near_sigma_units\": \"times the sphere's radius\",\n"
                "  \"uniform_share\": %.17g,\n  \"uniform_region\": \"centre +- radius on each axis\",\n"
-               "  \"seed\": %d,\n",
-               opt.samples, run.near[0], run.near[1], run.uniform, opt.nearSigma[0], opt.nearSigma[1], opt.uniformShare,
-               opt.seed);
-    return files.write("(" + std::to_string(opt.samples) + ", 4)", rows.data(), rows.size(), fields, opt, info, error);
+               "  \"seed\": %llu,\n",
+               count, run.near[0], run.near[1], run.uniform, p.near_sigma[0], p.near_sigma[1], p.uniform_share,
+               (unsigned long long)p.seed);
+    return files.write("(" + std::to_string(count) + ", 4)", rows.data(), rows.size(), fields, opt, info, error);
 }
 
 bool runSamples(const Options &opt, std::string &error)
 {
     const auto t0 = Clock::now();
     PointFiles files;
-    if (!trainingSamplesFitMemory(opt.samples, error) || !files.reserve(opt.samplesOut, error))
+    const size_t count = size_t(opt.sample.count);
+    if (!trainingSamplesFitMemory(count, error) || !files.reserve(opt.samplesOut, error))
         return false;
     ProgressView progress(!opt.quiet && !opt.json);
     JobResult r;
@@ -188,7 +185,7 @@ bool runSamples(const Options &opt, std::string &error)
     if (!ok)
         return false;
     const double seconds = secondsBetween(t0, Clock::now());
-    const double rate = double(opt.samples) / run.sampleSeconds;
+    const double rate = double(count) / run.sampleSeconds;
     if (opt.json) {
         std::printf("{\"mesh\": ");
         json_put_string(stdout, opt.input.c_str());
@@ -197,12 +194,12 @@ bool runSamples(const Options &opt, std::string &error)
         std::printf(", \"samples\": %zu, \"near_samples\": [%zu, %zu], \"uniform_samples\": %zu, \"triangles\": %llu, "
                     "\"normalized\": %s, \"orient_seconds\": %.6f, \"index_seconds\": %.6f, \"samples_seconds\": %.6f, "
                     "\"samples_per_second\": %.0f, \"seconds\": %.6f, \"peak_mib\": %.1f}\n",
-                    opt.samples, run.near[0], run.near[1], run.uniform, (unsigned long long)r.mesh.triangles,
-                    opt.normalize ? "true" : "false", r.mesh.orient_seconds, run.indexSeconds, run.sampleSeconds, rate,
-                    seconds, peakMiB());
+                    count, run.near[0], run.near[1], run.uniform, (unsigned long long)r.mesh.triangles,
+                    opt.mesh.normalize ? "true" : "false", r.mesh.orient_seconds, run.indexSeconds, run.sampleSeconds,
+                    rate, seconds, peakMiB());
     } else if (!opt.quiet) {
-        std::printf("wrote %s: %zu samples, %.2f s, sampling %.3f s (%.0f samples/s)\n", opt.samplesOut.c_str(),
-                    opt.samples, seconds, run.sampleSeconds, rate);
+        std::printf("wrote %s: %zu samples, %.2f s, sampling %.3f s (%.0f samples/s)\n", opt.samplesOut.c_str(), count,
+                    seconds, run.sampleSeconds, rate);
     }
     return true;
 }

@@ -11,9 +11,11 @@
 
 #include <numpy/arrayobject.h>
 
+#include <limits.h>
 #include <stdint.h>
 #include <string.h>
 
+#include "parse.h" /* src/common: the names of a choice */
 #include "sdftrace/grid.h"
 #include "sdftrace/mesh.h"
 #include "sdftrace/render.h"
@@ -154,6 +156,151 @@ static PyObject *progress_result(progress_call *p, sdft_error e, const char *msg
     return e == SDFT_OK ? result : raise_error(e, msg);
 }
 
+/* ---- settings: the library's tables (sdftrace/mesh.h) ----------------- */
+
+static const char *const kind_names[] = {"int", "count", "real", "flag", "choice", "text"};
+
+/* The settings of params struct `of` as a list of dicts, the rows of its
+ * table: what the package makes its keywords, defaults and docstrings of. */
+static PyObject *settings(PyObject *module, PyObject *arg)
+{
+    (void)module;
+    const long of = PyLong_AsLong(arg);
+    if (of == -1 && PyErr_Occurred())
+        return NULL;
+    size_t n = 0;
+    const sdft_mesh_setting *rows = sdft_mesh_settings((sdft_mesh_settings_of)of, &n);
+    PyObject *list = PyList_New((Py_ssize_t)n);
+    for (size_t i = 0; list && i < n; i++) {
+        const sdft_mesh_setting *r = &rows[i];
+        PyObject *def = r->count > 1 ? Py_BuildValue("(dd)", r->def[0], r->def[1]) : Py_BuildValue("(d)", r->def[0]);
+        PyObject *row =
+            def ? Py_BuildValue("{sssssisNsdsdsOsOsOszszszss}", "name", r->name, "kind", kind_names[r->kind], "count",
+                                r->count, "default", def, "lo", r->lo, "hi", r->hi, "open_lo",
+                                r->flags & SDFT_MESH_SETTING_OPEN_LO ? Py_True : Py_False, "open_hi",
+                                r->flags & SDFT_MESH_SETTING_OPEN_HI ? Py_True : Py_False, "automatic_default",
+                                r->flags & SDFT_MESH_SETTING_AUTO ? Py_True : Py_False, "choices", r->choices,
+                                "automatic", r->automatic, "value", r->value, "doc", r->doc)
+                : NULL;
+        if (!row)
+            Py_CLEAR(list);
+        else
+            PyList_SET_ITEM(list, (Py_ssize_t)i, row);
+    }
+    return list;
+}
+
+/* One value into row r's member at `at`: 0, or -1 with an exception.
+ * Ranges are the library's to check (the call that takes the params). */
+static int set_setting(const sdft_mesh_setting *r, char *at, PyObject *v)
+{
+    switch (r->kind) {
+    case SDFT_MESH_SETTING_INT: {
+        int overflow = 0;
+        const long x = PyLong_AsLongAndOverflow(v, &overflow);
+        if (x == -1 && PyErr_Occurred())
+            return -1;
+        if (overflow || x < INT_MIN || x > INT_MAX) {
+            PyErr_Format(PyExc_ValueError, "%s is out of range", r->name);
+            return -1;
+        }
+        const int i = (int)x;
+        memcpy(at, &i, sizeof i);
+        return 0;
+    }
+    case SDFT_MESH_SETTING_COUNT: {
+        if (!PyLong_Check(v)) {
+            PyErr_Format(PyExc_TypeError, "%s must be an integer", r->name);
+            return -1;
+        }
+        const unsigned long long x = PyLong_AsUnsignedLongLong(v);
+        if (x == (unsigned long long)-1 && PyErr_Occurred()) {
+            PyErr_Clear();
+            PyErr_Format(PyExc_ValueError, "%s is out of range", r->name);
+            return -1;
+        }
+        const uint64_t u = x;
+        memcpy(at, &u, sizeof u);
+        return 0;
+    }
+    case SDFT_MESH_SETTING_REAL: {
+        double x[2];
+        if (r->count == 1) {
+            x[0] = PyFloat_AsDouble(v);
+            if (x[0] == -1.0 && PyErr_Occurred())
+                return -1;
+        } else if (!PyArg_ParseTuple(v, r->count == 2 ? "dd" : "d", &x[0], &x[1])) {
+            PyErr_Clear();
+            PyErr_Format(PyExc_TypeError, "%s must be %d numbers", r->name, r->count);
+            return -1;
+        }
+        memcpy(at, x, sizeof(double) * (size_t)r->count);
+        return 0;
+    }
+    case SDFT_MESH_SETTING_FLAG: {
+        const int on = PyObject_IsTrue(v);
+        if (on < 0)
+            return -1;
+        memcpy(at, &on, sizeof on);
+        return 0;
+    }
+    case SDFT_MESH_SETTING_CHOICE: {
+        int i = -1;
+        if (PyUnicode_Check(v)) {
+            const char *name = PyUnicode_AsUTF8(v);
+            if (!name)
+                return -1;
+            i = parse_list_index(r->choices, name);
+            if (i < 0) {
+                PyErr_Format(PyExc_ValueError, "%s must be one of: %s (got '%s')", r->name, r->choices, name);
+                return -1;
+            }
+        } else {
+            const long x = PyLong_AsLong(v); /* a bool or an int: the value itself */
+            if (x == -1 && PyErr_Occurred())
+                return -1;
+            i = x < INT_MIN || x > INT_MAX ? -1 : (int)x;
+        }
+        memcpy(at, &i, sizeof i);
+        return 0;
+    }
+    case SDFT_MESH_SETTING_TEXT: {
+        const char *text = v == Py_None ? NULL : PyUnicode_AsUTF8(v); /* kept alive by the caller's kwargs */
+        if (v != Py_None && !text)
+            return -1;
+        memcpy(at, &text, sizeof text);
+        return 0;
+    }
+    }
+    return 0;
+}
+
+/* The members of `params` (a struct of kind `of`) that kw names, each
+ * from its value: 0, or -1 with an exception (TypeError for a name that is
+ * not a setting). kw may be NULL. */
+static int set_settings(sdft_mesh_settings_of of, void *params, PyObject *kw)
+{
+    size_t n = 0;
+    const sdft_mesh_setting *rows = sdft_mesh_settings(of, &n);
+    PyObject *key, *value;
+    Py_ssize_t pos = 0;
+    while (kw && PyDict_Next(kw, &pos, &key, &value)) {
+        const char *name = PyUnicode_Check(key) ? PyUnicode_AsUTF8(key) : NULL;
+        if (!name)
+            return -1;
+        size_t i = 0;
+        while (i < n && strcmp(rows[i].name, name) != 0)
+            i++;
+        if (i == n) {
+            PyErr_Format(PyExc_TypeError, "unexpected keyword argument '%s'", name);
+            return -1;
+        }
+        if (set_setting(&rows[i], (char *)params + rows[i].offset, value) < 0)
+            return -1;
+    }
+    return 0;
+}
+
 /* ---- Mesh ----------------------------------------------------------- */
 
 typedef struct {
@@ -179,25 +326,19 @@ static PyObject *wrap_mesh(sdft_mesh *m)
     return (PyObject *)o;
 }
 
-static sdft_mesh_params mesh_params(int orient, int normalize, const char *source)
-{
-    sdft_mesh_params p = sdft_mesh_params_defaults();
-    p.orient = orient;
-    p.normalize = normalize;
-    p.source = source;
-    return p;
-}
-
+/* load_mesh(path, **settings): settings of sdft_mesh_params. */
 static PyObject *load_mesh(PyObject *module, PyObject *args, PyObject *kw)
 {
     (void)module;
-    static char *names[] = {"path", "orient", "normalize", NULL};
     PyObject *path_obj;
-    int orient = 1, normalize = 0;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "O&|pp", names, PyUnicode_FSConverter, &path_obj, &orient, &normalize))
+    if (!PyArg_ParseTuple(args, "O&", PyUnicode_FSConverter, &path_obj))
         return NULL;
+    sdft_mesh_params p = sdft_mesh_params_defaults();
+    if (set_settings(SDFT_MESH_SETTINGS_MESH, &p, kw) < 0) {
+        Py_DECREF(path_obj);
+        return NULL;
+    }
     const char *path = PyBytes_AS_STRING(path_obj);
-    const sdft_mesh_params p = mesh_params(orient, normalize, NULL);
     sdft_mesh *m = NULL;
     char msg[MSG_LEN] = "";
     sdft_error e;
@@ -242,13 +383,15 @@ static PyArrayObject *vertices_of(PyObject *obj, sdft_dtype *type)
     return a;
 }
 
+/* mesh_from_arrays(vertices, faces, **settings): settings of sdft_mesh_params. */
 static PyObject *mesh_from_arrays(PyObject *module, PyObject *args, PyObject *kw)
 {
     (void)module;
-    static char *names[] = {"vertices", "faces", "orient", "normalize", NULL};
     PyObject *vobj, *fobj;
-    int orient = 1, normalize = 0;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|pp", names, &vobj, &fobj, &orient, &normalize))
+    if (!PyArg_ParseTuple(args, "OO", &vobj, &fobj))
+        return NULL;
+    sdft_mesh_params p = sdft_mesh_params_defaults();
+    if (set_settings(SDFT_MESH_SETTINGS_MESH, &p, kw) < 0)
         return NULL;
     sdft_dtype vt, ft;
     PyArrayObject *v = vertices_of(vobj, &vt);
@@ -265,7 +408,6 @@ static PyObject *mesh_from_arrays(PyObject *module, PyObject *args, PyObject *kw
         PyErr_SetString(PyExc_ValueError, "vertices must have shape (n, 3) and faces (m, 3)");
         return NULL;
     }
-    const sdft_mesh_params p = mesh_params(orient, normalize, NULL);
     sdft_mesh *m = NULL;
     char msg[MSG_LEN] = "";
     sdft_error e;
@@ -328,22 +470,21 @@ static PyObject *mesh_signed_distance(MeshObject *self, PyObject *args, PyObject
 
 static PyObject *mesh_winding_number(MeshObject *self, PyObject *points) { return mesh_query(self, points, 1); }
 
+/* samples(n, progress=None, **settings): settings of sdft_sample_params. */
 static PyObject *mesh_samples(MeshObject *self, PyObject *args, PyObject *kw)
 {
-    static char *names[] = {"n", "seed", "near_sigma", "uniform_share", "progress", NULL};
-    sdft_sample_params p = sdft_sample_params_defaults();
     Py_ssize_t n;
-    unsigned long long seed = p.seed;
-    PyObject *progress = NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "n|K(dd)dO", names, &n, &seed, &p.near_sigma[0], &p.near_sigma[1],
-                                     &p.uniform_share, &progress))
+    PyObject *progress = Py_None;
+    if (!PyArg_ParseTuple(args, "n|O", &n, &progress))
+        return NULL;
+    sdft_sample_params p = sdft_sample_params_defaults();
+    if (set_settings(SDFT_MESH_SETTINGS_SAMPLES, &p, kw) < 0)
         return NULL;
     progress_call pc;
     progress_of(progress, &pc, &p.progress, &p.progress_user);
     if (n < 1)
         return raise_error(SDFT_EINVAL, "n must be at least 1");
-    p.count = (size_t)n;
-    p.seed = seed;
+    p.count = (uint64_t)n;
     npy_intp dims[2] = {n, 4};
     PyArrayObject *rows = new_floats(2, dims);
     if (!rows)
@@ -378,25 +519,15 @@ static PyObject *mesh_info(MeshObject *self, PyObject *unused)
 
 static PyObject *wrap_mesh_grid(sdft_mesh_grid *g);
 
+/* to_grid(progress=None, **settings): settings of sdft_mesh_grid_params. */
 static PyObject *mesh_to_grid(MeshObject *self, PyObject *args, PyObject *kw)
 {
-    static char *names[] = {"res",  "voxel_size", "band",    "full",     "padding",
-                            "sign", "name",       "threads", "progress", NULL};
-    sdft_mesh_grid_params p = sdft_mesh_grid_params_defaults();
-    const char *sign = "winding", *name = NULL;
-    PyObject *progress = NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "|iddpdsziO", names, &p.res, &p.voxel_size, &p.band, &p.full, &p.padding,
-                                     &sign, &name, &p.threads, &progress))
+    PyObject *progress = Py_None;
+    if (!PyArg_ParseTuple(args, "|O", &progress))
         return NULL;
-    if (!strcmp(sign, "winding"))
-        p.sign = SDFT_SIGN_WINDING;
-    else if (!strcmp(sign, "flood"))
-        p.sign = SDFT_SIGN_FLOOD;
-    else if (!strcmp(sign, "none"))
-        p.sign = SDFT_SIGN_NONE;
-    else
-        return raise_error(SDFT_EINVAL, "sign must be 'winding', 'flood' or 'none'");
-    p.name = name;
+    sdft_mesh_grid_params p = sdft_mesh_grid_params_defaults();
+    if (set_settings(SDFT_MESH_SETTINGS_GRID, &p, kw) < 0)
+        return NULL;
     progress_call pc;
     progress_of(progress, &pc, &p.progress, &p.progress_user);
     sdft_mesh_grid *g = NULL;
@@ -784,6 +915,7 @@ static PyMethodDef module_methods[] = {
     {"open_grid", (PyCFunction)(void (*)(void))open_grid, METH_VARARGS | METH_KEYWORDS, NULL},
     {"render", (PyCFunction)(void (*)(void))render, METH_VARARGS | METH_KEYWORDS, NULL},
     {"scenes", (PyCFunction)scenes, METH_NOARGS, NULL},
+    {"settings", (PyCFunction)settings, METH_O, NULL},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module_def = {

@@ -384,6 +384,173 @@ static void grid_as_the_cli(void **state)
     sdft_mesh_free(m);
 }
 
+/* ---------------------------------------------------------------- settings */
+
+/* The value of member `s` of params struct `p`, as a double (k: which of
+ * an array's values). */
+static double member(const void *p, const sdft_mesh_setting *s, int k)
+{
+    const char *at = (const char *)p + s->offset;
+    int i;
+    uint64_t u;
+    double d;
+    switch (s->kind) {
+    case SDFT_MESH_SETTING_COUNT:
+        memcpy(&u, at, sizeof u);
+        return (double)u;
+    case SDFT_MESH_SETTING_REAL:
+        memcpy(&d, at + (size_t)k * sizeof d, sizeof d);
+        return d;
+    case SDFT_MESH_SETTING_TEXT:
+        return *(const char *const *)(const void *)at ? 1 : 0;
+    default:
+        memcpy(&i, at, sizeof i);
+        return i;
+    }
+}
+
+/* Stores v into member `s` of params struct `p` (every value of an array). */
+static void set_member(void *p, const sdft_mesh_setting *s, double v)
+{
+    char *at = (char *)p + s->offset;
+    const int i = (int)v;
+    const uint64_t u = (uint64_t)v;
+    for (int k = 0; k < s->count; k++)
+        if (s->kind == SDFT_MESH_SETTING_REAL)
+            memcpy(at + (size_t)k * sizeof v, &v, sizeof v);
+        else if (s->kind == SDFT_MESH_SETTING_COUNT)
+            memcpy(at, &u, sizeof u);
+        else
+            memcpy(at, &i, sizeof i);
+}
+
+/* The call a params struct goes to, on a one-point query's scale:
+ * SDFT_EINVAL, or anything else once its checks passed. */
+static sdft_error call_with(sdft_mesh_settings_of of, const void *params, sdft_mesh *m)
+{
+    char msg[256] = "";
+    sdft_error e = SDFT_OK;
+    if (of == SDFT_MESH_SETTINGS_MESH) {
+        sdft_mesh *out = NULL;
+        e = sdft_mesh_load(SUZANNE, params, &out, msg, sizeof msg);
+        sdft_mesh_free(out);
+    } else if (of == SDFT_MESH_SETTINGS_GRID) {
+        sdft_mesh_box box;
+        e = sdft_mesh_grid_plan(m, params, &box, msg, sizeof msg);
+    } else {
+        float rows[4 * 8];
+        sdft_sample_params p;
+        memcpy(&p, params, sizeof p);
+        if (p.count > 8 && p.count <= SDFT_MESH_MAX_SAMPLES)
+            p.count = 8; /* within the range, 8 rows are quick */
+        e = sdft_mesh_samples(m, &p, rows, sizeof rows / sizeof *rows, msg, sizeof msg);
+    }
+    if (e == SDFT_EINVAL)
+        assert_true(strlen(msg) > 0 && strchr(msg, '\n') == NULL);
+    return e;
+}
+
+/* Every setting of every table: its defaults function gives its default,
+ * the call that takes the params accepts the default and the ends of the
+ * range, and refuses a value just past either end (or an unknown choice),
+ * each in one line. Generic over the tables, so a setting added to one is
+ * held to its range here without a word more. */
+static void settings_default_and_range(void **state)
+{
+    (void)state;
+    sdft_mesh *m = load(SUZANNE);
+    const sdft_mesh_params mesh = sdft_mesh_params_defaults();
+    const sdft_mesh_grid_params grid = sdft_mesh_grid_params_defaults();
+    const sdft_sample_params samples = sdft_sample_params_defaults();
+    const struct {
+        sdft_mesh_settings_of of;
+        const void *defaults;
+        size_t size;
+    } tables[] = {{SDFT_MESH_SETTINGS_MESH, &mesh, sizeof mesh},
+                  {SDFT_MESH_SETTINGS_GRID, &grid, sizeof grid},
+                  {SDFT_MESH_SETTINGS_SAMPLES, &samples, sizeof samples}};
+    size_t n = 0, seen = 0;
+    assert_null(sdft_mesh_settings((sdft_mesh_settings_of)9, &n));
+    assert_int_equal(n, 0);
+    for (size_t t = 0; t < 3; t++) {
+        const sdft_mesh_setting *rows = sdft_mesh_settings(tables[t].of, &n);
+        assert_non_null(rows);
+        for (size_t r = 0; r < n; r++, seen++) {
+            const sdft_mesh_setting *s = &rows[r];
+            assert_true(s->offset < tables[t].size && s->doc && s->doc[0]);
+            for (int k = 0; k < s->count; k++)
+                assert_true(member(tables[t].defaults, s, k) == s->def[k]);
+            unsigned char p[512];
+            assert_true(tables[t].size <= sizeof p);
+            memcpy(p, tables[t].defaults, tables[t].size);
+            assert_int_not_equal(call_with(tables[t].of, p, m), SDFT_EINVAL);
+            if (s->kind == SDFT_MESH_SETTING_CHOICE) {
+                int names = 1;
+                for (const char *c = s->choices; *c; c++)
+                    names += *c == ' ';
+                set_member(p, s, names);
+                assert_int_equal(call_with(tables[t].of, p, m), SDFT_EINVAL);
+                set_member(p, s, -1);
+                assert_int_equal(call_with(tables[t].of, p, m), SDFT_EINVAL);
+                continue;
+            }
+            if (s->kind != SDFT_MESH_SETTING_INT && s->kind != SDFT_MESH_SETTING_COUNT &&
+                s->kind != SDFT_MESH_SETTING_REAL)
+                continue;
+            const double step = s->kind == SDFT_MESH_SETTING_REAL ? 1e-6 * (fabs(s->lo) + 1) : 1;
+            if (!(s->flags & SDFT_MESH_SETTING_OPEN_LO) && s->lo >= 0 && s->lo < 1e6) {
+                memcpy(p, tables[t].defaults, tables[t].size);
+                set_member(p, s, s->lo);
+                const sdft_error e = call_with(tables[t].of, p, m);
+                assert_true(e != SDFT_EINVAL || tables[t].of == SDFT_MESH_SETTINGS_GRID); /* a box may not fit */
+            }
+            memcpy(p, tables[t].defaults, tables[t].size);
+            const double below = (s->flags & SDFT_MESH_SETTING_OPEN_LO) ? s->lo : s->lo - step;
+            set_member(p, s, below);
+            /* an unsigned count cannot go below 0; an automatic default lies outside the range */
+            if ((s->kind != SDFT_MESH_SETTING_COUNT || s->lo > 0) &&
+                !((s->flags & SDFT_MESH_SETTING_AUTO) && below == s->def[0]))
+                assert_int_equal(call_with(tables[t].of, p, m), SDFT_EINVAL);
+            if (s->hi < 1e300) {
+                memcpy(p, tables[t].defaults, tables[t].size);
+                set_member(p, s, s->hi + step);
+                assert_int_equal(call_with(tables[t].of, p, m), SDFT_EINVAL);
+            }
+            if (s->kind == SDFT_MESH_SETTING_REAL) {
+                memcpy(p, tables[t].defaults, tables[t].size);
+                set_member(p, s, NAN);
+                assert_int_equal(call_with(tables[t].of, p, m), SDFT_EINVAL);
+            }
+        }
+    }
+    assert_true(seen >= 16);
+    sdft_mesh_free(m);
+}
+
+/* Every setting reaches mesh2sdf: an option named for it (dashes for
+ * underscores) in --help, but the two the page on settings names. */
+static void settings_are_options(void **state)
+{
+    (void)state;
+    char *out = malloc(65536);
+    assert_int_equal(tu_run(out, 65536, "%s --help", SDFT_MESH2SDF), 0);
+    for (int of = 0; of < 3; of++) {
+        size_t n = 0;
+        const sdft_mesh_setting *rows = sdft_mesh_settings((sdft_mesh_settings_of)of, &n);
+        for (size_t r = 0; r < n; r++) {
+            char flag[64];
+            snprintf(flag, sizeof flag, "--%s", rows[r].name);
+            for (char *c = flag + 2; *c; c++)
+                *c = *c == '_' ? '-' : *c;
+            if (of == SDFT_MESH_SETTINGS_SAMPLES && !strcmp(rows[r].name, "count"))
+                snprintf(flag, sizeof flag, "--sample-count");
+            if (!strstr(out, flag))
+                fail_msg("mesh2sdf --help has no %s", flag);
+        }
+    }
+    free(out);
+}
+
 /* ---------------------------------------------------------------- bad input */
 
 static const float kTriangle[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
@@ -608,6 +775,8 @@ int main(void)
         cmocka_unit_test(queries_as_the_cli),
         cmocka_unit_test(samples_as_the_cli),
         cmocka_unit_test(grid_as_the_cli),
+        cmocka_unit_test(settings_default_and_range),
+        cmocka_unit_test(settings_are_options),
         cmocka_unit_test(bad_arrays),
         cmocka_unit_test(bad_files_and_calls),
         cmocka_unit_test(progress_and_cancel),

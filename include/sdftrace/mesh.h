@@ -21,6 +21,7 @@
 #ifndef SDFTRACE_MESH_H
 #define SDFTRACE_MESH_H
 
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -62,26 +63,103 @@ typedef enum sdft_simd {
     SDFT_SIMD_NONE = 2  /* scalar code */
 } sdft_simd;
 
+/* How inside and outside are told apart in a grid. */
+typedef enum sdft_mesh_sign {
+    SDFT_SIGN_WINDING = 0, /* the winding number: open meshes too */
+    SDFT_SIGN_FLOOD = 1,   /* OpenVDB's mesh-to-volume and flood fill: closed meshes only */
+    SDFT_SIGN_NONE = 2     /* unsigned distances */
+} sdft_mesh_sign;
+
+/* ---- settings -----------------------------------------------------------
+ * The settings of the params structs below (sdft_mesh_params,
+ * sdft_mesh_grid_params, sdft_sample_params) are written once, as the rows
+ * of a table: SDFT_MESH_SETTINGS, SDFT_MESH_GRID_SETTINGS and
+ * SDFT_MESH_SAMPLE_SETTINGS. A row declares its struct's member of that
+ * name, and holds the member's default, range and meaning: the defaults
+ * functions fill the defaults from it, the calls check the ranges against
+ * it, and sdft_mesh_settings() lists the rows at run time, so that a
+ * front-end (mesh2sdf's options and --help, the Python keywords and
+ * docstrings, the documentation's table) is made from them too.
+ *
+ * A row: X(name, kind, C type, values, (default), lo, hi, flags, choices,
+ * automatic, value name, what it does). */
+
+/* What a setting's member holds. */
+typedef enum sdft_mesh_setting_kind {
+    SDFT_MESH_SETTING_INT,    /* int, whole numbers in [lo, hi] */
+    SDFT_MESH_SETTING_COUNT,  /* uint64_t, whole numbers in [lo, hi] */
+    SDFT_MESH_SETTING_REAL,   /* double (an array of `count`), finite, in the range */
+    SDFT_MESH_SETTING_FLAG,   /* int: 0 off, anything else on */
+    SDFT_MESH_SETTING_CHOICE, /* an int-sized enum: value i is the i-th name of `choices` */
+    SDFT_MESH_SETTING_TEXT    /* const char *, read during the call; NULL: the default */
+} sdft_mesh_setting_kind;
+
+/* sdft_mesh_setting.flags. */
+#define SDFT_MESH_SETTING_OPEN_LO 1u /* lo itself is outside the range */
+#define SDFT_MESH_SETTING_OPEN_HI 2u /* hi itself is outside the range */
+#define SDFT_MESH_SETTING_AUTO 4u    /* the default lies outside the range: the call decides (`automatic` says how) */
+
+/* A setting, as sdft_mesh_settings lists it. */
+typedef struct sdft_mesh_setting {
+    const char *name; /* the member's: "voxel_size" */
+    sdft_mesh_setting_kind kind;
+    int count;             /* values the member holds: 1, or 2 (an array) */
+    size_t offset;         /* the member's offset in its params struct */
+    double def[2];         /* the default, as a number (CHOICE: its index; TEXT: 0, NULL) */
+    double lo, hi;         /* the range of INT, COUNT and REAL (hi may be HUGE_VAL) */
+    unsigned flags;        /* SDFT_MESH_SETTING_OPEN_LO, _OPEN_HI, _AUTO */
+    const char *choices;   /* CHOICE: the names of values 0, 1, ... separated by spaces; else NULL */
+    const char *automatic; /* _AUTO, and TEXT: what the default means ("band + 1"); else NULL */
+    const char *value;     /* the value's name in a usage line ("N"); NULL for a FLAG */
+    const char *doc;       /* what it does, one sentence */
+} sdft_mesh_setting;
+
+/* The params struct whose settings sdft_mesh_settings lists. */
+typedef enum sdft_mesh_settings_of {
+    SDFT_MESH_SETTINGS_MESH = 0,   /* sdft_mesh_params */
+    SDFT_MESH_SETTINGS_GRID = 1,   /* sdft_mesh_grid_params */
+    SDFT_MESH_SETTINGS_SAMPLES = 2 /* sdft_sample_params */
+} sdft_mesh_settings_of;
+
+/* The rows of a params struct's table, in order, into *count; NULL (and 0)
+ * for another value of `of`. The array is the library's, valid while it is
+ * loaded. */
+SDFT_API const sdft_mesh_setting *sdft_mesh_settings(sdft_mesh_settings_of of, size_t *count);
+
+/* A row's member, declared by the table (an array of `values`). */
+#define SDFT_MESH_SETTING_MEMBER(name, kind, type, values, def, lo, hi, flags, choices, automatic, value, doc)         \
+    type name SDFT_MESH_SETTING_EXTENT_##values;
+#define SDFT_MESH_SETTING_EXTENT_1
+#define SDFT_MESH_SETTING_EXTENT_2 [2]
+
+/* The settings of taking a mesh in (sdft_mesh_params). */
+#define SDFT_MESH_SETTINGS(X)                                                                                          \
+    X(orient, SDFT_MESH_SETTING_CHOICE, int, 1, (1), 0, 0, 0, "none outward", NULL, "METHOD",                          \
+      "outward: weld the vertices by position, drop duplicate faces, orient each edge-connected patch "                \
+      "consistently and turn it to face outward, so that inside-out, flipped and unwelded meshes sign right; "         \
+      "none: the faces as given")                                                                                      \
+    X(normalize, SDFT_MESH_SETTING_FLAG, int, 1, (0), 0, 0, 0, NULL, NULL, NULL,                                       \
+      "map the mesh into the unit sphere first, (x - centre) / radius with DeepSDF's centre (the bounding "            \
+      "box's) and radius (1.03 times the farthest vertex)")                                                            \
+    X(threads, SDFT_MESH_SETTING_INT, int, 1, (0), 0, 1024, 0, NULL, NULL, "N",                                        \
+      "at most this many threads, the caller's included, for the mesh's work (reading, orienting, and later its "      \
+      "queries, samples, grids and files); 0: all cores")                                                              \
+    X(simd, SDFT_MESH_SETTING_CHOICE, sdft_simd, 1, (SDFT_SIMD_AUTO), 0, 0, 0, "auto avx2 none", NULL, "LEVEL",        \
+      "vector instructions, chosen at run time: auto, the widest the processor has (AVX-512 for the dense "            \
+      "search, else AVX2); avx2, no AVX-512; none; the answers are the same to rounding")
+
 /* How to take a mesh in. It will grow: make one with
- * sdft_mesh_params_defaults() and set the fields you change. Defaults in
- * brackets. */
+ * sdft_mesh_params_defaults() and set the members you change. */
 typedef struct sdft_mesh_params {
-    int orient;                /* 1: each edge-connected patch made consistent and turned outward, as
-                                * mesh2sdf --orient outward; 0: the faces as given [1] */
-    int normalize;             /* 1: mapped into the unit sphere first, (x - centre) / radius with
-                                * DeepSDF's centre and radius (sdft_mesh_info), as --normalize [0] */
     const char *source;        /* what the grids' metadata names as the source mesh; NULL: the
-                                * file's path, or "" for arrays. Read during the call [NULL] */
-    sdft_progress_fn progress; /* reading and orienting: NULL for no reports [NULL] */
+                                * file's path, or "" for arrays. Read during the call */
+    sdft_progress_fn progress; /* reading and orienting: NULL for no reports */
     void *progress_user;       /* handed to progress and stage */
-    int threads;               /* at most this many threads, the caller's included, for the mesh's work:
-                                * reading, orienting, and later its queries, samples, grids and their
-                                * files (unless their own params say); 0: all cores [0] */
-    sdft_simd simd;            /* for all of the mesh's work [SDFT_SIMD_AUTO] */
-    sdft_stage_fn stage;       /* NULL: not told [NULL] */
+    sdft_stage_fn stage;       /* NULL: not told */
+    SDFT_MESH_SETTINGS(SDFT_MESH_SETTING_MEMBER)
 } sdft_mesh_params;
 
-/* Orient, no normalizing, no progress. */
+/* The settings' defaults (SDFT_MESH_SETTINGS), no source, no callbacks. */
 SDFT_API sdft_mesh_params sdft_mesh_params_defaults(void);
 
 /* Reads a mesh file (.obj .ply .off .stl .om) as mesh2sdf does: polygons
@@ -172,17 +250,27 @@ SDFT_API sdft_error sdft_mesh_signed_distance(const sdft_mesh *m, const sdft_poi
 SDFT_API sdft_error sdft_mesh_winding_number(const sdft_mesh *m, const sdft_points *pts, float *winding,
                                              const sdft_query_params *q, char *msg, size_t msg_len);
 
-/* Training samples as `mesh2sdf --samples` draws them (DeepSDF's
- * distribution). It will grow: make one with sdft_sample_params_defaults(). */
+/* The settings of a draw of training samples (sdft_sample_params). */
+#define SDFT_MESH_SAMPLE_SETTINGS(X)                                                                                   \
+    X(count, SDFT_MESH_SETTING_COUNT, uint64_t, 1, (250000), 1, SDFT_MESH_MAX_SAMPLES, 0, NULL, NULL, "N",             \
+      "rows to draw (DeepSDF's count)")                                                                                \
+    X(seed, SDFT_MESH_SETTING_COUNT, uint64_t, 1, (1), 0, 2147483647, 0, NULL, NULL, "N",                              \
+      "the random seed: the same seed gives the same rows, for any thread count")                                      \
+    X(near_sigma, SDFT_MESH_SETTING_REAL, double, 2, (0.070710678118654752, 0.022360679774997897), 0, HUGE_VAL,        \
+      SDFT_MESH_SETTING_OPEN_LO, NULL, NULL, "A,B",                                                                    \
+      "the two Gaussians' standard deviations per axis, in units of the mesh sphere's radius (DeepSDF's: the "         \
+      "square roots of 0.005 and 0.0005)")                                                                             \
+    X(uniform_share, SDFT_MESH_SETTING_REAL, double, 1, (0.06), 0, 1, 0, NULL, NULL, "S",                              \
+      "the share of points uniform in the cube around the mesh's sphere; the rest lie near the surface "               \
+      "(DeepSDF's: 3/50)")
+
+/* Training samples drawn as DeepSDF draws them. It will grow: make one
+ * with sdft_sample_params_defaults(). */
 typedef struct sdft_sample_params {
-    size_t count;              /* rows, 1..1e8 [250000] */
-    uint64_t seed;             /* the same seed, the same rows, for any thread count [1] */
-    double near_sigma[2];      /* the two Gaussians' sigmas, per axis, in units of the sphere's radius
-                                * [0.0707, 0.0224: DeepSDF's] */
-    double uniform_share;      /* the share of uniform points in the sphere's cube, 0..1 [0.06] */
-    sdft_progress_fn progress; /* NULL: no reports [NULL] */
+    sdft_progress_fn progress; /* NULL: no reports */
     void *progress_user;       /* handed to progress and stage */
-    sdft_stage_fn stage;       /* NULL: not told [NULL] */
+    sdft_stage_fn stage;       /* NULL: not told */
+    SDFT_MESH_SAMPLE_SETTINGS(SDFT_MESH_SETTING_MEMBER)
 } sdft_sample_params;
 
 SDFT_API sdft_sample_params sdft_sample_params_defaults(void);
@@ -203,33 +291,41 @@ SDFT_API void sdft_sample_counts(const sdft_sample_params *p, size_t *near_first
 SDFT_API sdft_error sdft_mesh_samples(const sdft_mesh *m, const sdft_sample_params *p, float *rows, size_t rows_len,
                                       char *msg, size_t msg_len);
 
-/* How inside and outside are told apart in a grid (mesh2sdf --sign). */
-typedef enum sdft_mesh_sign {
-    SDFT_SIGN_WINDING = 0, /* the winding number: open meshes too [the default] */
-    SDFT_SIGN_FLOOD = 1,   /* OpenVDB's mesh-to-volume and flood fill: closed meshes only */
-    SDFT_SIGN_NONE = 2     /* unsigned distances */
-} sdft_mesh_sign;
-
 /* "winding", "flood" or "none"; "?" for another value. */
 SDFT_API const char *sdft_mesh_sign_name(sdft_mesh_sign sign);
 
-/* How to convert, mesh2sdf's options. It will grow: make one with
+/* The settings of a conversion to a grid (sdft_mesh_grid_params). */
+#define SDFT_MESH_GRID_SETTINGS(X)                                                                                     \
+    X(res, SDFT_MESH_SETTING_INT, int, 1, (256), 1, SDFT_MESH_MAX_RES, 0, NULL, NULL, "N",                             \
+      "voxel centres along the padded box's longest side")                                                             \
+    X(band, SDFT_MESH_SETTING_REAL, double, 1, (3), 0, SDFT_MESH_MAX_RES, SDFT_MESH_SETTING_OPEN_LO, NULL, NULL, "W",  \
+      "narrow-band half-width in voxels")                                                                              \
+    X(full, SDFT_MESH_SETTING_FLAG, int, 1, (0), 0, 0, 0, NULL, NULL, NULL,                                            \
+      "a distance in every voxel of the padded box, not only in the band")                                             \
+    X(voxel_size, SDFT_MESH_SETTING_REAL, double, 1, (0), 0, HUGE_VAL,                                                 \
+      SDFT_MESH_SETTING_OPEN_LO | SDFT_MESH_SETTING_AUTO, NULL, "from res", "H",                                       \
+      "voxel size in world units; overrides res")                                                                      \
+    X(padding, SDFT_MESH_SETTING_REAL, double, 1, (-1), 0, SDFT_MESH_MAX_RES, SDFT_MESH_SETTING_AUTO, NULL,            \
+      "band + 1", "P", "voxels between the mesh's box and the grid's")                                                 \
+    X(sign, SDFT_MESH_SETTING_CHOICE, sdft_mesh_sign, 1, (SDFT_SIGN_WINDING), 0, 0, 0, "winding flood none", NULL,     \
+      "METHOD",                                                                                                        \
+      "winding: inside where the generalized winding number exceeds 1/2, right on open meshes too; flood: "            \
+      "OpenVDB's flood fill, for closed meshes only; none: unsigned distances")                                        \
+    X(name, SDFT_MESH_SETTING_TEXT, const char *, 1, (0), 0, 0, 0, NULL, "the mesh file's stem, mesh for arrays",      \
+      "NAME", "the grid's name")                                                                                       \
+    X(threads, SDFT_MESH_SETTING_INT, int, 1, (0), 0, 1024, 0, NULL, NULL, "N",                                        \
+      "at most this many threads, the caller's included, for the grid and what is done with it later; 0: the "         \
+      "mesh's")
+
+/* How to convert a mesh to a grid. It will grow: make one with
  * sdft_mesh_grid_params_defaults(). */
 typedef struct sdft_mesh_grid_params {
-    int res;                   /* voxel centres along the padded box's longest side, --res [256] */
-    double voxel_size;         /* world units; > 0 overrides res, --voxel-size [0] */
-    double band;               /* narrow-band half-width in voxels, --band [3] */
-    int full;                  /* 1: a distance in every voxel of the padded box, --full [0] */
-    double padding;            /* voxels around the mesh's box; < 0: band + 1, --padding [-1] */
-    sdft_mesh_sign sign;       /* --sign [SDFT_SIGN_WINDING] */
-    const char *name;          /* the grid's name; NULL: the mesh file's stem ("mesh" for arrays) [NULL] */
-    sdft_progress_fn progress; /* NULL: no reports [NULL] */
+    sdft_progress_fn progress; /* NULL: no reports */
     void *progress_user;       /* handed to progress and stage */
-    int threads;               /* at most this many threads, the caller's included, for the grid and
-                                * what is done with it later; 0: the mesh's (sdft_mesh_params) [0] */
+    sdft_stage_fn stage;       /* NULL: not told */
     unsigned writes;           /* the files the grid will be written as (SDFT_WRITES_*): their limits and
                                 * memory are checked before the grid is built, not after [0] */
-    sdft_stage_fn stage;       /* NULL: not told [NULL] */
+    SDFT_MESH_GRID_SETTINGS(SDFT_MESH_SETTING_MEMBER)
 } sdft_mesh_grid_params;
 
 /* sdft_mesh_grid_params.writes: */

@@ -37,7 +37,7 @@ struct sdft_mesh {
     std::string source; // the grids' provenance
     std::string stem;   // the grids' default name
     int threads = 0;    // sdft_mesh_params.threads
-    bool simd = true, simd512 = true;
+    meshsdf::Simd simd; // sdft_mesh_params.simd
     double readSeconds = 0, orientSeconds = 0;
 
     // The mesh's sphere where the mesh now is: the unit sphere once
@@ -51,7 +51,7 @@ struct sdft_mesh {
     {
         std::call_once(mQueryOnce, [this] {
             const auto start = std::chrono::steady_clock::now();
-            mQuery.reset(new meshsdf::PointQuery(mesh, simd, simd512));
+            mQuery.reset(new meshsdf::PointQuery(mesh, simd.vector, simd.wide));
             mIndexSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         });
         return *mQuery;
@@ -120,6 +120,23 @@ template <class Enum> int enumValue(const Enum &e)
 // A path's file name without its folder and last extension: a grid's
 // default name.
 std::string fileStem(const std::string &path);
+
+// The rows of a params struct's settings table (sdft_mesh_settings).
+struct Settings {
+    const sdft_mesh_setting *rows;
+    size_t count;
+};
+Settings settingsOf(sdft_mesh_settings_of of);
+
+// Every setting of `params`, a struct of kind `of`, set to its default.
+void fillDefaults(sdft_mesh_settings_of of, void *params);
+
+// Every setting of `params` checked against its range: SDFT_OK, or
+// SDFT_EINVAL with "WHAT: NAME must be in RANGE, got VALUE" in msg.
+sdft_error checkSettings(sdft_mesh_settings_of of, const void *params, const char *what, char *msg, size_t msg_len);
+
+// The name of value `value` of a CHOICE setting ("winding"), or "?".
+std::string choiceName(sdft_mesh_settings_of of, const char *setting, int value);
 
 // The Progress of a call whose params carry these callbacks.
 struct Listened {

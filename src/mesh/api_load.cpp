@@ -23,7 +23,7 @@ void finishMesh(sdft_mesh &m, const sdft_mesh_params &p, meshsdf::Progress &prog
     progress.stage("orienting", 50, 100);
     const auto start = std::chrono::steady_clock::now();
     if (p.orient) {
-        m.orient = meshsdf::orientMesh(m.mesh, m.simd);
+        m.orient = meshsdf::orientMesh(m.mesh, m.simd.vector);
         m.oriented = true;
     } else {
         meshsdf::countEdges(m.mesh, meshsdf::edgeUses(m.mesh));
@@ -37,19 +37,9 @@ std::unique_ptr<sdft_mesh> newMesh(const sdft_mesh_params &p)
 {
     std::unique_ptr<sdft_mesh> m(new sdft_mesh);
     m->threads = p.threads;
-    m->simd = p.simd != SDFT_SIMD_NONE;
-    m->simd512 = p.simd == SDFT_SIMD_AUTO;
+    m->simd.vector = p.simd != SDFT_SIMD_NONE;
+    m->simd.wide = p.simd == SDFT_SIMD_AUTO;
     return m;
-}
-
-sdft_error checkMeshParams(const char *what, const sdft_mesh_params &p, char *msg, size_t msg_len)
-{
-    if (p.threads < 0)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: threads %d is negative", what, p.threads);
-    const int simd = enumValue(p.simd);
-    if (simd != SDFT_SIMD_AUTO && simd != SDFT_SIMD_AVX2 && simd != SDFT_SIMD_NONE)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: unknown simd level %d", what, simd);
-    return SDFT_OK;
 }
 
 // The mesh reader's one line, as an error code: a file that cannot be
@@ -87,7 +77,7 @@ sdft_error takeIn(const char *what, const char *context, const sdft_mesh_params 
                   sdft_mesh **out, char *msg, size_t msg_len, Read &&read)
 {
     const sdft_mesh_params p = params ? *params : sdft_mesh_params_defaults();
-    const sdft_error bad = checkMeshParams(what, p, msg, msg_len);
+    const sdft_error bad = checkSettings(SDFT_MESH_SETTINGS_MESH, &p, what, msg, msg_len);
     if (bad != SDFT_OK)
         return bad;
     return guarded(context, msg, msg_len, [&] {
@@ -118,7 +108,7 @@ extern "C" {
 sdft_mesh_params sdft_mesh_params_defaults(void)
 {
     sdft_mesh_params p{};
-    p.orient = 1;
+    fillDefaults(SDFT_MESH_SETTINGS_MESH, &p);
     return p;
 }
 

@@ -121,19 +121,14 @@ sdft_error sdft_mesh_winding_number(const sdft_mesh *m, const sdft_points *pts, 
 sdft_sample_params sdft_sample_params_defaults(void)
 {
     sdft_sample_params p{};
-    const meshsdf::SampleSettings cli;
-    p.count = cli.count;
-    p.seed = cli.seed;
-    p.near_sigma[0] = cli.nearSigma[0];
-    p.near_sigma[1] = cli.nearSigma[1];
-    p.uniform_share = cli.uniformShare;
+    fillDefaults(SDFT_MESH_SETTINGS_SAMPLES, &p);
     return p;
 }
 
 void sdft_sample_counts(const sdft_sample_params *p, size_t *near_first, size_t *near_second, size_t *uniform)
 {
     const meshsdf::SampleCounts c =
-        p ? meshsdf::sampleCounts(p->count, p->uniform_share > 0 ? std::min(p->uniform_share, 1.0) : 0.0)
+        p ? meshsdf::sampleCounts(size_t(p->count), p->uniform_share > 0 ? std::min(p->uniform_share, 1.0) : 0.0)
           : meshsdf::SampleCounts{}; // a share outside [0, 1] clamped, NaN as 0
     if (near_first)
         *near_first = c.near[0];
@@ -149,19 +144,12 @@ sdft_error sdft_mesh_samples(const sdft_mesh *m, const sdft_sample_params *p, fl
     const char *what = "sdft_mesh_samples";
     if (!m || !p || !rows)
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: %s is NULL", what, !m ? "m" : !p ? "p" : "rows");
-    if (p->count < 1 || double(p->count) > meshsdf::kMaxSamples)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: count %zu is outside 1..100000000", what, p->count);
+    const sdft_error bad = checkSettings(SDFT_MESH_SETTINGS_SAMPLES, p, what, msg, msg_len);
+    if (bad != SDFT_OK)
+        return bad;
     if (rows_len / 4 < p->count)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: %zu rows need %zu floats, rows_len is %zu", what, p->count,
-                         p->count * 4, rows_len);
-    for (double s : p->near_sigma)
-        if (!(s > 0 && std::isfinite(s)))
-            return fail_with(msg, msg_len, SDFT_EINVAL, "%s: near sigma %g is not positive and finite", what, s);
-    if (!(p->uniform_share >= 0 && p->uniform_share <= 1))
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: uniform share %g is outside [0, 1]", what, p->uniform_share);
-    if (p->seed > 2147483647u)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: seed %llu is above 2^31 - 1", what,
-                         (unsigned long long)p->seed);
+        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: %llu rows need %llu floats, rows_len is %zu", what,
+                         (unsigned long long)p->count, (unsigned long long)p->count * 4, rows_len);
     return guarded(what, msg, msg_len, [&] {
         Listened listened(p->progress, p->stage, p->progress_user);
         meshsdf::Progress &progress = listened.progress;
@@ -169,13 +157,7 @@ sdft_error sdft_mesh_samples(const sdft_mesh *m, const sdft_sample_params *p, fl
             progress.stage("hierarchies", 0, 20);
             const meshsdf::PointQuery &query = m->query();
             progress.stage("samples", 20, 100);
-            meshsdf::SampleSettings opt;
-            opt.count = p->count;
-            opt.seed = p->seed;
-            opt.nearSigma[0] = p->near_sigma[0];
-            opt.nearSigma[1] = p->near_sigma[1];
-            opt.uniformShare = p->uniform_share;
-            meshsdf::drawSamples(m->mesh, m->frame(), query, opt, rows, progress);
+            meshsdf::drawSamples(m->mesh, m->frame(), query, *p, rows, progress);
             progress.report(100);
             return SDFT_OK;
         });
