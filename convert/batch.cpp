@@ -126,7 +126,7 @@ BatchRow convertEntry(const Options &opt, const BatchEntry &entry)
     ProgressView quiet(false);
     JobResult r;
     try {
-        std::unique_ptr<sdft_mesh_files, MeshFree> files;
+        std::unique_ptr<mesh_files, MeshFree> files;
         PointFiles samples;
         Options gridOpt = one;
         gridOpt.mesh.normalize = 0;

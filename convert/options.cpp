@@ -252,7 +252,8 @@ void optionRows(Table &t, Options &o, int *sawRes, PointWords &words)
             r.seen = sawRes;
     settingRows(t, SDFT_MESH_SETTINGS_MESH, &o.mesh);
     const cmdline_option middle[] = {
-        valued(row("no-simd", 0, nullptr, "the same as --simd none", CMDLINE_SET, &o.mesh.simd, ""), SDFT_SIMD_NONE),
+        valued(row("no-simd", 0, nullptr, "the same as --simd none", CMDLINE_SET, &o.mesh.simd, ""),
+               SDFT_MESH_SIMD_NONE),
         call("fp16", 0, nullptr, "NanoVDB values as Fp16", setTrue, &o.fp16, "float"),
         call("quiet", 0, nullptr, "no health line, progress bar or summary", setTrue, &o.quiet),
         call("json", 0, nullptr,
@@ -361,7 +362,7 @@ bool pointModes(Options &opt, const PointWords &words, std::string &error)
     else if (points && (!opt.output.empty() || !opt.nvdb.empty() || !opt.npy.empty() || !opt.checkSign.empty()))
         error = std::string(words.samples[0] ? "--samples" : "--query") +
                 " writes its own OUT.npy: give no -o, --nvdb, --npy or --check-sign";
-    else if (points && opt.grid.sign != SDFT_SIGN_WINDING)
+    else if (points && opt.grid.sign != SDFT_MESH_SIGN_WINDING)
         error = "--samples and --query sign by the winding number: --sign does not apply";
     else if (words.sampleFlags && !words.samples[0] && !batchSamples)
         error = "the samples' options (" + words.sampleFlagNames + ") go with --samples (or --batch --formats samples)";
@@ -425,6 +426,13 @@ bool checkBatch(const Options &opt, std::string &error)
 }
 
 } // namespace
+
+std::string settingChoice(sdft_mesh_settings_of of, const char *name, int value)
+{
+    const char *text;
+    const size_t n = parse_list_item(setting(of, name).choices, value, &text);
+    return n ? std::string(text, n) : "?";
+}
 
 void printHelp()
 {

@@ -20,7 +20,7 @@ struct Options {
     // (sdft_mesh_settings); options.cpp makes the option table of them.
     sdft_mesh_params mesh = sdft_mesh_params_defaults();
     sdft_mesh_grid_params grid = sdft_mesh_grid_params_defaults();
-    sdft_sample_params sample = sdft_sample_params_defaults(); // --samples N: its count
+    sdft_mesh_sample_params sample = sdft_mesh_sample_params_defaults(); // --samples N: its count
     bool json = false; // one JSON object of counts on stdout instead of the text lines
     bool fp16 = false; // NanoVDB output as Fp16
     bool quiet = false;
@@ -48,6 +48,10 @@ struct Options {
 bool parseOptions(int argc, char **argv, Options &opt, std::string &error);
 
 void printHelp();
+
+/// The name of value `value` of the library's CHOICE setting `name` of
+/// params struct `of` ("winding"), as the option takes it.
+std::string settingChoice(sdft_mesh_settings_of of, const char *name, int value);
 
 } // namespace mesh2sdf
 

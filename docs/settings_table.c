@@ -101,7 +101,7 @@ static void page(FILE *out)
           out);
     table(out, SDFT_MESH_SETTINGS_MESH, "Taking a mesh in: `sdft_mesh_params`");
     table(out, SDFT_MESH_SETTINGS_GRID, "Converting to a grid: `sdft_mesh_grid_params`");
-    table(out, SDFT_MESH_SETTINGS_SAMPLES, "Drawing training samples: `sdft_sample_params`");
+    table(out, SDFT_MESH_SETTINGS_SAMPLES, "Drawing training samples: `sdft_mesh_sample_params`");
 }
 
 int main(int argc, char **argv)

@@ -13,6 +13,7 @@
 
 #include <limits.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "parse.h" /* src/common: the names of a choice */
@@ -60,7 +61,7 @@ static PyObject *raise_error(sdft_error e, const char *msg)
 /* obj as an aligned (n, 3) float32 or float64 array, in place when it is
  * one already (any strides), into *pts; a new reference, or NULL with an
  * exception set. */
-static PyArrayObject *points_of(PyObject *obj, sdft_points *pts)
+static PyArrayObject *points_of(PyObject *obj, sdft_mesh_points *pts)
 {
     PyArrayObject *a = (PyArrayObject *)PyArray_FROMANY(obj, NPY_NOTYPE, 0, 0, 0);
     if (!a)
@@ -81,7 +82,7 @@ static PyArrayObject *points_of(PyObject *obj, sdft_points *pts)
         return NULL;
     }
     pts->data = PyArray_DATA(a);
-    pts->type = PyArray_TYPE(a) == NPY_FLOAT32 ? SDFT_FLOAT32 : SDFT_FLOAT64;
+    pts->type = PyArray_TYPE(a) == NPY_FLOAT32 ? SDFT_MESH_FLOAT32 : SDFT_MESH_FLOAT64;
     pts->count = (size_t)PyArray_DIM(a, 0);
     pts->stride[0] = PyArray_STRIDE(a, 0);
     pts->stride[1] = PyArray_STRIDE(a, 1);
@@ -350,7 +351,7 @@ static PyObject *load_mesh(PyObject *module, PyObject *args, PyObject *kw)
 }
 
 /* faces as int32, uint32 or int64, C order (other integer types become int64). */
-static PyArrayObject *faces_of(PyObject *obj, sdft_dtype *type)
+static PyArrayObject *faces_of(PyObject *obj, sdft_mesh_dtype *type)
 {
     PyArrayObject *a = (PyArrayObject *)PyArray_FROMANY(obj, NPY_NOTYPE, 0, 0, 0);
     if (!a)
@@ -366,11 +367,11 @@ static PyArrayObject *faces_of(PyObject *obj, sdft_dtype *type)
     Py_SETREF(a, (PyArrayObject *)PyArray_FROMANY((PyObject *)a, t, 2, 2, NPY_ARRAY_IN_ARRAY));
     if (!a)
         return NULL;
-    *type = t == NPY_INT32 ? SDFT_INT32 : t == NPY_UINT32 ? SDFT_UINT32 : SDFT_INT64;
+    *type = t == NPY_INT32 ? SDFT_MESH_INT32 : t == NPY_UINT32 ? SDFT_MESH_UINT32 : SDFT_MESH_INT64;
     return a;
 }
 
-static PyArrayObject *vertices_of(PyObject *obj, sdft_dtype *type)
+static PyArrayObject *vertices_of(PyObject *obj, sdft_mesh_dtype *type)
 {
     PyArrayObject *a = (PyArrayObject *)PyArray_FROMANY(obj, NPY_NOTYPE, 0, 0, 0);
     if (!a)
@@ -379,7 +380,7 @@ static PyArrayObject *vertices_of(PyObject *obj, sdft_dtype *type)
     Py_SETREF(a, (PyArrayObject *)PyArray_FROMANY((PyObject *)a, t, 2, 2, NPY_ARRAY_IN_ARRAY));
     if (!a)
         return NULL;
-    *type = t == NPY_FLOAT32 ? SDFT_FLOAT32 : SDFT_FLOAT64;
+    *type = t == NPY_FLOAT32 ? SDFT_MESH_FLOAT32 : SDFT_MESH_FLOAT64;
     return a;
 }
 
@@ -393,7 +394,7 @@ static PyObject *mesh_from_arrays(PyObject *module, PyObject *args, PyObject *kw
     sdft_mesh_params p = sdft_mesh_params_defaults();
     if (set_settings(SDFT_MESH_SETTINGS_MESH, &p, kw) < 0)
         return NULL;
-    sdft_dtype vt, ft;
+    sdft_mesh_dtype vt, ft;
     PyArrayObject *v = vertices_of(vobj, &vt);
     if (!v)
         return NULL;
@@ -424,7 +425,7 @@ static PyObject *mesh_from_arrays(PyObject *module, PyObject *args, PyObject *kw
  * number, 2 both as a tuple. */
 static PyObject *mesh_query(MeshObject *self, PyObject *points, int mode)
 {
-    sdft_points pts;
+    sdft_mesh_points pts;
     PyArrayObject *in = points_of(points, &pts);
     if (!in)
         return NULL;
@@ -441,7 +442,7 @@ static PyObject *mesh_query(MeshObject *self, PyObject *points, int mode)
     char msg[MSG_LEN] = "";
     sdft_error e;
     progress_call pc; /* no callable: Ctrl-C alone */
-    sdft_query_params q = sdft_query_params_defaults();
+    sdft_mesh_query_params q = sdft_mesh_query_params_defaults();
     progress_of(NULL, &pc, &q.progress, &q.progress_user);
     PyThreadState *ts = PyEval_SaveThread();
     e = mode == 1 ? sdft_mesh_winding_number(self->mesh, &pts, wp, &q, msg, sizeof msg)
@@ -470,14 +471,14 @@ static PyObject *mesh_signed_distance(MeshObject *self, PyObject *args, PyObject
 
 static PyObject *mesh_winding_number(MeshObject *self, PyObject *points) { return mesh_query(self, points, 1); }
 
-/* samples(n, progress=None, **settings): settings of sdft_sample_params. */
+/* samples(n, progress=None, **settings): settings of sdft_mesh_sample_params. */
 static PyObject *mesh_samples(MeshObject *self, PyObject *args, PyObject *kw)
 {
     Py_ssize_t n;
     PyObject *progress = Py_None;
     if (!PyArg_ParseTuple(args, "n|O", &n, &progress))
         return NULL;
-    sdft_sample_params p = sdft_sample_params_defaults();
+    sdft_mesh_sample_params p = sdft_mesh_sample_params_defaults();
     if (set_settings(SDFT_MESH_SETTINGS_SAMPLES, &p, kw) < 0)
         return NULL;
     progress_call pc;
@@ -500,11 +501,15 @@ static PyObject *mesh_samples(MeshObject *self, PyObject *args, PyObject *kw)
 static PyObject *mesh_info(MeshObject *self, PyObject *unused)
 {
     (void)unused;
-    sdft_mesh_info i;
+    sdft_mesh_health i;
+    sdft_mesh_frame f;
     char msg[MSG_LEN] = "";
-    const sdft_error e = sdft_mesh_get_info(self->mesh, &i, msg, sizeof msg);
+    sdft_error e = sdft_mesh_get_health(self->mesh, &i, msg, sizeof msg);
+    if (e == SDFT_OK)
+        e = sdft_mesh_get_frame(self->mesh, &f, msg, sizeof msg);
     if (e != SDFT_OK)
         return raise_error(e, msg);
+    /* The health report and the frame, member by member. */
     return Py_BuildValue("{sKsKsKsKsKsKsKsOsOsKsKsKsKsKsKsKs(ddd)s(ddd)s(ddd)sdsO}", "vertices", i.vertices, "faces",
                          i.faces, "triangles", i.triangles, "degenerate_faces", i.degenerate_faces, "welded_vertices",
                          i.welded_vertices, "boundary_edges", i.boundary_edges, "non_manifold_edges",
@@ -512,9 +517,9 @@ static PyObject *mesh_info(MeshObject *self, PyObject *unused)
                          i.oriented ? Py_True : Py_False, "duplicate_faces", i.duplicate_faces, "patches", i.patches,
                          "non_orientable_patches", i.non_orientable_patches, "reoriented_faces", i.reoriented_faces,
                          "outward_patches", i.outward_patches, "cavity_patches", i.cavity_patches, "ambiguous_patches",
-                         i.ambiguous_patches, "lo", i.lo[0], i.lo[1], i.lo[2], "hi", i.hi[0], i.hi[1], i.hi[2],
-                         "centre", i.centre[0], i.centre[1], i.centre[2], "radius", i.radius, "normalized",
-                         i.normalized ? Py_True : Py_False);
+                         i.ambiguous_patches, "lo", f.lo[0], f.lo[1], f.lo[2], "hi", f.hi[0], f.hi[1], f.hi[2],
+                         "centre", f.centre[0], f.centre[1], f.centre[2], "radius", f.radius, "normalized",
+                         f.normalized ? Py_True : Py_False);
 }
 
 static PyObject *wrap_mesh_grid(sdft_mesh_grid *g);
@@ -591,10 +596,28 @@ static PyObject *mesh_grid_write(MeshGridObject *self, PyObject *args, PyObject 
     int fp16 = 0;
     if (!PyArg_ParseTupleAndKeywords(args, kw, "O&|p", names, PyUnicode_FSConverter, &path_obj, &fp16))
         return NULL;
+    /* The format by the path's extension. */
+    static const struct {
+        const char *ext;
+        sdft_mesh_format format;
+    } formats[] = {{".vdb", SDFT_MESH_FORMAT_VDB}, {".nvdb", SDFT_MESH_FORMAT_NVDB}, {".npy", SDFT_MESH_FORMAT_NPY}};
+    const char *path = PyBytes_AS_STRING(path_obj);
+    const size_t len = strlen(path);
+    int format = -1;
+    for (size_t i = 0; i < sizeof formats / sizeof *formats; i++) {
+        const size_t n = strlen(formats[i].ext);
+        if (len >= n && strcmp(path + len - n, formats[i].ext) == 0)
+            format = (int)formats[i].format;
+    }
     char msg[MSG_LEN] = "";
+    if (format < 0) {
+        snprintf(msg, sizeof msg, "%s: unknown extension (use .vdb, .nvdb or .npy)", path);
+        Py_DECREF(path_obj);
+        return raise_error(SDFT_EINVAL, msg);
+    }
     sdft_error e;
     PyThreadState *ts = PyEval_SaveThread();
-    e = sdft_mesh_grid_write(self->grid, PyBytes_AS_STRING(path_obj), fp16, msg, sizeof msg);
+    e = sdft_mesh_grid_write(self->grid, path, (sdft_mesh_format)format, fp16, msg, sizeof msg);
     PyEval_RestoreThread(ts);
     Py_DECREF(path_obj);
     if (e != SDFT_OK)
@@ -605,20 +628,23 @@ static PyObject *mesh_grid_write(MeshGridObject *self, PyObject *args, PyObject 
 static PyObject *mesh_grid_box(MeshGridObject *self, PyObject *unused)
 {
     (void)unused;
-    sdft_mesh_box b;
+    sdft_mesh_grid_box b;
+    sdft_mesh_grid_stats s;
     char msg[MSG_LEN] = "";
-    const sdft_error e = sdft_mesh_grid_get_box(self->grid, &b, msg, sizeof msg);
+    sdft_error e = sdft_mesh_grid_get_box(self->grid, &b, msg, sizeof msg);
+    if (e == SDFT_OK)
+        e = sdft_mesh_grid_get_stats(self->grid, &s, msg, sizeof msg);
     if (e != SDFT_OK)
         return raise_error(e, msg);
     return Py_BuildValue("{s(iii)s(ddd)sdsfsKsK}", "dims", b.dims[0], b.dims[1], b.dims[2], "origin", b.origin[0],
                          b.origin[1], b.origin[2], "voxel_size", b.voxel_size, "background", b.background,
-                         "active_voxels", b.active_voxels, "ambiguous_voxels", b.ambiguous_voxels);
+                         "active_voxels", s.active_voxels, "ambiguous_voxels", s.ambiguous_voxels);
 }
 
 static PyObject *mesh_grid_dense(MeshGridObject *self, PyObject *unused)
 {
     (void)unused;
-    sdft_mesh_box b;
+    sdft_mesh_grid_box b;
     char msg[MSG_LEN] = "";
     sdft_error e = sdft_mesh_grid_get_box(self->grid, &b, msg, sizeof msg);
     if (e != SDFT_OK)
@@ -716,7 +742,7 @@ static PyObject *open_grid(PyObject *module, PyObject *args, PyObject *kw)
 /* Trilinear values at points, through the field's sampler (sdft_grid_sample). */
 static PyObject *nano_grid_sample(NanoGridObject *self, PyObject *points)
 {
-    sdft_points pts;
+    sdft_mesh_points pts;
     PyArrayObject *in = points_of(points, &pts);
     if (!in)
         return NULL;
@@ -739,7 +765,7 @@ static PyObject *nano_grid_sample(NanoGridObject *self, PyObject *points)
             float p[3];
             for (int k = 0; k < 3; k++) {
                 const char *at = data + i * pts.stride[0] + k * pts.stride[1];
-                p[k] = pts.type == SDFT_FLOAT32 ? *(const float *)at : (float)*(const double *)at;
+                p[k] = pts.type == SDFT_MESH_FLOAT32 ? *(const float *)at : (float)*(const double *)at;
             }
             v[i] = sdft_grid_sample(self->grid, SDFT_GRID_BOUND_NONE, &s, sdft_v3(p[0], p[1], p[2]), NULL);
         }

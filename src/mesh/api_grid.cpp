@@ -1,6 +1,6 @@
-// sdftrace — a mesh converted to a grid (sdft_mesh_to_grid, grid/build.h), and
-// the grid copied out densely or handed to the tracer as NanoVDB
-// (sdft_mesh_grid_*). Writing it is api_files.cpp's.
+// sdftrace — a mesh converted to a grid (sdft_mesh_to_grid, grid/build.h),
+// what it holds (sdft_mesh_grid_get_*), and the grid copied out densely or
+// handed to the tracer as NanoVDB. Writing it is api_write.cpp's.
 #include "api.h"
 
 #include "grid/memory_estimate.h"
@@ -27,11 +27,17 @@ bool hasSurface(const openvdb::FloatGrid &grid)
            openvdb::tools::minMax(grid.tree()).min() < -0.01 * float(grid.voxelSize()[0]);
 }
 
-// The box of the conversion, and whether it fits: SDFT_EINVAL for a box
-// the limits refuse, SDFT_ENOMEM for one this machine's memory does not hold.
-sdft_error plan(const sdft_mesh &m, const sdft_mesh_grid_params &p, meshsdf::BoxGeometry &box, char *msg,
-                size_t msg_len)
+} // namespace
+
+namespace meshsdf::api
 {
+
+sdft_error planGrid(const char *what, const sdft_mesh &m, const sdft_mesh_grid_params &p, meshsdf::BoxGeometry &box,
+                    char *msg, size_t msg_len)
+{
+    const sdft_error bad = checkSettings(SDFT_MESH_SETTINGS_GRID, &p, what, msg, msg_len);
+    if (bad != SDFT_OK)
+        return bad;
     std::string error;
     if (!meshsdf::planBox(m.mesh, p, box, error))
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s", error.c_str());
@@ -40,10 +46,9 @@ sdft_error plan(const sdft_mesh &m, const sdft_mesh_grid_params &p, meshsdf::Box
     return SDFT_OK;
 }
 
-// What a box tells before anything is built.
-sdft_mesh_box boxOf(const meshsdf::BoxGeometry &geometry, double band)
+sdft_mesh_grid_box boxOf(const meshsdf::BoxGeometry &geometry, double band)
 {
-    sdft_mesh_box b{};
+    sdft_mesh_grid_box b{};
     for (int k = 0; k < 3; ++k) {
         b.dims[k] = geometry.dims[k];
         b.origin[k] = geometry.origin[k];
@@ -53,19 +58,9 @@ sdft_mesh_box boxOf(const meshsdf::BoxGeometry &geometry, double band)
     return b;
 }
 
-} // namespace
+} // namespace meshsdf::api
 
 extern "C" {
-
-const char *sdft_mesh_sign_name(sdft_mesh_sign sign)
-{
-    // The names of the sign setting's choices, kept for the process.
-    static const std::string names[] = {choiceName(SDFT_MESH_SETTINGS_GRID, "sign", SDFT_SIGN_WINDING),
-                                        choiceName(SDFT_MESH_SETTINGS_GRID, "sign", SDFT_SIGN_FLOOD),
-                                        choiceName(SDFT_MESH_SETTINGS_GRID, "sign", SDFT_SIGN_NONE)};
-    const int v = enumValue(sign);
-    return v >= 0 && v < 3 ? names[v].c_str() : "?";
-}
 
 sdft_mesh_grid_params sdft_mesh_grid_params_defaults(void)
 {
@@ -82,15 +77,12 @@ sdft_error sdft_mesh_to_grid(const sdft_mesh *m, const sdft_mesh_grid_params *pa
     if (!m || !out)
         return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_to_grid: %s is NULL", m ? "out" : "m");
     const sdft_mesh_grid_params p = params ? *params : sdft_mesh_grid_params_defaults();
-    const sdft_error bad = checkSettings(SDFT_MESH_SETTINGS_GRID, &p, "sdft_mesh_to_grid", msg, msg_len);
-    if (bad != SDFT_OK)
-        return bad;
     return guarded("sdft_mesh_to_grid", msg, msg_len, [&] {
         const auto start = std::chrono::steady_clock::now();
         openvdb::initialize();
         std::unique_ptr<sdft_mesh_grid> g(new sdft_mesh_grid);
         g->threads = p.threads > 0 ? p.threads : m->threads;
-        const sdft_error unplanned = plan(*m, p, g->box, msg, msg_len);
+        const sdft_error unplanned = planGrid("sdft_mesh_to_grid", *m, p, g->box, msg, msg_len);
         if (unplanned != SDFT_OK)
             return unplanned;
         Listened listened(p.progress, p.stage, p.progress_user);
@@ -112,39 +104,35 @@ sdft_error sdft_mesh_to_grid(const sdft_mesh *m, const sdft_mesh_grid_params *pa
     });
 }
 
-sdft_error sdft_mesh_grid_plan(const sdft_mesh *m, const sdft_mesh_grid_params *params, sdft_mesh_box *box, char *msg,
-                               size_t msg_len)
-{
-    if (!m || !box)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_grid_plan: %s is NULL", m ? "box" : "m");
-    const sdft_mesh_grid_params p = params ? *params : sdft_mesh_grid_params_defaults();
-    const sdft_error bad = checkSettings(SDFT_MESH_SETTINGS_GRID, &p, "sdft_mesh_grid_plan", msg, msg_len);
-    if (bad != SDFT_OK)
-        return bad;
-    return guarded("sdft_mesh_grid_plan", msg, msg_len, [&] {
-        meshsdf::BoxGeometry geometry;
-        const sdft_error unplanned = plan(*m, p, geometry, msg, msg_len);
-        if (unplanned == SDFT_OK)
-            *box = boxOf(geometry, p.band);
-        return unplanned;
-    });
-}
-
 void sdft_mesh_grid_free(sdft_mesh_grid *g) { delete g; }
 
-sdft_error sdft_mesh_grid_get_box(const sdft_mesh_grid *g, sdft_mesh_box *box, char *msg, size_t msg_len)
+sdft_error sdft_mesh_grid_get_box(const sdft_mesh_grid *g, sdft_mesh_grid_box *box, char *msg, size_t msg_len)
 {
     if (!g || !box)
         return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_grid_get_box: %s is NULL", g ? "box" : "g");
-    sdft_mesh_box b = boxOf(g->box, 0);
-    b.background = g->grid->background();
-    b.active_voxels = g->activeVoxels;
-    b.ambiguous_voxels = g->stats.ambiguousVoxels;
-    b.surface = g->surface;
-    b.memory_bytes = g->memoryBytes;
-    b.seconds = g->seconds;
-    b.winding_seconds = g->stats.windingSeconds;
-    *box = b;
+    *box = boxOf(g->box, 0);
+    box->background = g->grid->background();
+    return SDFT_OK;
+}
+
+sdft_error sdft_mesh_grid_get_stats(const sdft_mesh_grid *g, sdft_mesh_grid_stats *stats, char *msg, size_t msg_len)
+{
+    if (!g || !stats)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_grid_get_stats: %s is NULL", g ? "stats" : "g");
+    sdft_mesh_grid_stats s{};
+    s.active_voxels = g->activeVoxels;
+    s.ambiguous_voxels = g->stats.ambiguousVoxels;
+    s.surface = g->surface;
+    s.memory_bytes = g->memoryBytes;
+    *stats = s;
+    return SDFT_OK;
+}
+
+sdft_error sdft_mesh_grid_get_timings(const sdft_mesh_grid *g, sdft_mesh_grid_timings *t, char *msg, size_t msg_len)
+{
+    if (!g || !t)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_grid_get_timings: %s is NULL", g ? "t" : "g");
+    *t = sdft_mesh_grid_timings{g->seconds, g->stats.windingSeconds};
     return SDFT_OK;
 }
 

@@ -33,8 +33,8 @@ template <> struct Table<sdft_mesh_grid_params> {
     using Params = sdft_mesh_grid_params;
     static constexpr sdft_mesh_setting rows[] = {SDFT_MESH_GRID_SETTINGS(SDFT_MESH_SETTING_ROW)};
 };
-template <> struct Table<sdft_sample_params> {
-    using Params = sdft_sample_params;
+template <> struct Table<sdft_mesh_sample_params> {
+    using Params = sdft_mesh_sample_params;
     static constexpr sdft_mesh_setting rows[] = {SDFT_MESH_SAMPLE_SETTINGS(SDFT_MESH_SETTING_ROW)};
 };
 
@@ -121,7 +121,7 @@ Settings settingsOf(sdft_mesh_settings_of of)
     case SDFT_MESH_SETTINGS_GRID:
         return rowsOf<sdft_mesh_grid_params>();
     case SDFT_MESH_SETTINGS_SAMPLES:
-        return rowsOf<sdft_sample_params>();
+        return rowsOf<sdft_mesh_sample_params>();
     }
     return {nullptr, 0};
 }
@@ -168,19 +168,22 @@ sdft_error checkSettings(sdft_mesh_settings_of of, const void *params, const cha
     return SDFT_OK;
 }
 
-std::string choiceName(sdft_mesh_settings_of of, const char *setting, int value)
+size_t choiceText(sdft_mesh_settings_of of, const char *setting, int value, const char **name) noexcept
 {
     const Settings table = settingsOf(of);
     for (size_t r = 0; r < table.count; ++r) {
         const sdft_mesh_setting &s = table.rows[r];
-        if (s.kind != SDFT_MESH_SETTING_CHOICE || std::strcmp(s.name, setting) != 0)
-            continue;
-        const char *name;
-        const size_t n = value >= 0 ? parse_list_item(s.choices, value, &name) : 0;
-        if (n)
-            return std::string(name, n);
+        if (s.kind == SDFT_MESH_SETTING_CHOICE && std::strcmp(s.name, setting) == 0 && value >= 0)
+            return parse_list_item(s.choices, value, name);
     }
-    return "?";
+    return 0;
+}
+
+std::string choiceName(sdft_mesh_settings_of of, const char *setting, int value)
+{
+    const char *name;
+    const size_t n = choiceText(of, setting, value, &name);
+    return n ? std::string(name, n) : std::string("?");
 }
 
 } // namespace meshsdf::api

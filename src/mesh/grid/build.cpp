@@ -412,7 +412,7 @@ bool planBox(const TriangleMesh &mesh, const sdft_mesh_grid_params &p, BoxGeomet
         box.dims[k] = int(sides);
         box.origin[k] = mesh.lo[k] - pad * box.voxelSize;
     }
-    if ((p.full || (p.writes & SDFT_WRITES_NPY)) && box.voxelCount() > kMaxDenseVoxels) {
+    if ((p.full || (p.formats & (1u << SDFT_MESH_FORMAT_NPY))) && box.voxelCount() > kMaxDenseVoxels) {
         error = "dense output (full, or an .npy file) of " + std::to_string(box.voxelCount()) +
                 " voxels is above the limit of 2^31";
         return false;
@@ -426,7 +426,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
     openvdb::math::Transform::Ptr xform = openvdb::math::Transform::createLinearTransform(box.voxelSize);
     xform->postTranslate(openvdb::Vec3d(box.origin[0], box.origin[1], box.origin[2]));
 
-    const bool winding = p.sign == SDFT_SIGN_WINDING;
+    const bool winding = p.sign == SDFT_MESH_SIGN_WINDING;
     const float band = float(p.band);
 
     // The hierarchies the run needs, built side by side (each is serial):
@@ -454,7 +454,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
     // test meshes; writing takes the rest (the caller's).
     const int end = buildGridEnd(p), bandEnd = p.full ? 10 : 70, signEnd = p.full ? 15 : end;
     openvdb::FloatGrid::Ptr grid;
-    if (p.sign == SDFT_SIGN_FLOOD) {
+    if (p.sign == SDFT_MESH_SIGN_FLOOD) {
         // OpenVDB's own band and sign, for comparison.
         progress.stage("distances", 0, signEnd);
         IndexSpaceMesh adapter(mesh, box);
@@ -478,7 +478,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
         progress.stage("dense distances", signEnd, end);
         fillBox(*grid, box, *nearest, progress);
     }
-    grid->setGridClass(p.sign == SDFT_SIGN_NONE ? openvdb::GRID_UNKNOWN : openvdb::GRID_LEVEL_SET);
+    grid->setGridClass(p.sign == SDFT_MESH_SIGN_NONE ? openvdb::GRID_UNKNOWN : openvdb::GRID_LEVEL_SET);
     return grid;
 }
 

@@ -49,11 +49,11 @@ struct BoxGeometry {
 bool planBox(const TriangleMesh &mesh, const sdft_mesh_grid_params &p, BoxGeometry &box, std::string &error);
 
 struct BuildStats {
-    double windingSeconds = 0;    // exact band distances and winding sign (SDFT_SIGN_WINDING only)
+    double windingSeconds = 0;    // exact band distances and winding sign (SDFT_MESH_SIGN_WINDING only)
     uint64_t ambiguousVoxels = 0; // voxels signed from a winding number in (0.25, 0.75)
 };
 
-/// The signed (or, with SDFT_SIGN_NONE, unsigned) distance grid in world
+/// The signed (or, with SDFT_MESH_SIGN_NONE, unsigned) distance grid in world
 /// units: a GRID_LEVEL_SET with background band * voxelSize and the box's
 /// transform. Its stages fill `progress` from 0 to buildGridEnd(p) %.
 /// Where on the progress bar building ends and writing begins, in percent.

@@ -59,7 +59,7 @@ double conversionPeakBytes(const TriangleMesh &mesh, const BoxGeometry &box, con
     const double leaves = p.full ? boxLeaves : std::min(bandLeaves, boxLeaves);
     double bytes = kBaseBytes + kBytesPerTriangle * double(mesh.triangles.size());
     bytes += p.full ? kBytesPerDenseVoxel * box.voxelCount() : kBytesPerLeaf * leaves;
-    if (p.writes & SDFT_WRITES_NVDB)
+    if (p.formats & (1u << SDFT_MESH_FORMAT_NVDB))
         bytes += kNanoBytesPerLeaf * leaves;
     return bytes;
 }
@@ -71,17 +71,6 @@ bool conversionFitsMemory(const TriangleMesh &mesh, const BoxGeometry &box, cons
     const std::string what = "a " + std::to_string(box.dims[0]) + "x" + std::to_string(box.dims[1]) + "x" +
                              std::to_string(box.dims[2]) + (p.full ? " dense grid" : " box's narrow band");
     if (memory_check(conversionPeakBytes(mesh, box, p), what.c_str(), line, sizeof line) == 0)
-        return true;
-    error = line;
-    return false;
-}
-
-bool checkPointsFitMemory(int points, std::string &error)
-{
-    // Per point: its position, winding number and distance (doubles).
-    char line[256];
-    const std::string what = std::to_string(points) + " points to check signs at";
-    if (memory_check(kBaseBytes + 40.0 * points, what.c_str(), line, sizeof line) == 0)
         return true;
     error = line;
     return false;

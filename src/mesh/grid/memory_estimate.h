@@ -23,9 +23,6 @@ double conversionPeakBytes(const TriangleMesh &mesh, const BoxGeometry &box, con
 bool conversionFitsMemory(const TriangleMesh &mesh, const BoxGeometry &box, const sdft_mesh_grid_params &p,
                           std::string &error);
 
-/// The same for `points` points to check signs at (sign_check.h).
-bool checkPointsFitMemory(int points, std::string &error);
-
 } // namespace meshsdf
 
 #endif

@@ -113,7 +113,7 @@ double triangleBound2(const TriangleMesh &mesh, size_t t, const double *p)
 } // namespace
 
 void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const PointQuery &query,
-                 const sdft_sample_params &p, float *rows, Progress &progress)
+                 const sdft_mesh_sample_params &p, float *rows, Progress &progress)
 {
     const SampleCounts counts = sampleCounts(size_t(p.count), p.uniform_share);
     const size_t near = counts.near[0] + counts.near[1], n = size_t(p.count);

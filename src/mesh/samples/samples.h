@@ -48,7 +48,7 @@ SampleCounts sampleCounts(size_t count, double uniformShare);
 /// minus its radius. Runs in parallel, reporting the rows evaluated on
 /// `progress` (which throws Cancelled out of it when told to stop).
 void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const PointQuery &query,
-                 const sdft_sample_params &p, float *rows, Progress &progress);
+                 const sdft_mesh_sample_params &p, float *rows, Progress &progress);
 
 } // namespace meshsdf
 
