@@ -18,6 +18,16 @@
 #include "atomic_file.h"
 #include "testutil.h"
 
+/* A fresh folder of this run's own (a run stopped half way leaves its
+ * temporaries in its own folder, not in the next run's). */
+static char dir[512];
+
+static const char *in_dir(char *buf, size_t len, const char *name)
+{
+    snprintf(buf, len, "%s/%s", dir, name);
+    return buf;
+}
+
 static void put(const char *path, const char *text)
 {
     FILE *f = fopen(path, "w");
@@ -38,9 +48,9 @@ static void all_or_none(void **state)
 {
     (void)state;
     char a[512], b[512], c[512], msg[256];
-    tu_tmp(a, sizeof a, "set_a.txt");
-    tu_tmp(b, sizeof b, "set_b.txt");
-    snprintf(c, sizeof c, "%s/no/such/folder/c.txt", SDFT_TEST_TMP);
+    in_dir(a, sizeof a, "set_a.txt");
+    in_dir(b, sizeof b, "set_b.txt");
+    in_dir(c, sizeof c, "no/such/folder/c.txt");
     put(a, "old a");
     unlink(b);
     atomic_file files[3];
@@ -49,8 +59,8 @@ static void all_or_none(void **state)
     const char *bad[3] = {a, b, c};
     assert_int_equal(atomic_files_begin(files, bad, 3, msg, sizeof msg), SDFT_EIO);
     assert_non_null(strstr(msg, "c.txt"));
-    assert_int_equal(tu_temporaries(SDFT_TEST_TMP, "set_a.txt"), 0);
-    assert_int_equal(tu_temporaries(SDFT_TEST_TMP, "set_b.txt"), 0);
+    assert_int_equal(tu_temporaries(dir, "set_a.txt"), 0);
+    assert_int_equal(tu_temporaries(dir, "set_b.txt"), 0);
 
     /* Aborted after writing: the old files as they were. */
     const char *good[2] = {a, b};
@@ -60,7 +70,7 @@ static void all_or_none(void **state)
     atomic_files_abort(files, 2);
     assert_holds(a, "old a");
     assert_false(tu_file_exists(b));
-    assert_int_equal(tu_temporaries(SDFT_TEST_TMP, "set_a.txt"), 0);
+    assert_int_equal(tu_temporaries(dir, "set_a.txt"), 0);
 
     /* Committed: both, with the umask's mode. */
     assert_int_equal(atomic_files_begin(files, good, 2, msg, sizeof msg), SDFT_OK);
@@ -70,7 +80,7 @@ static void all_or_none(void **state)
     assert_holds(a, "new a");
     assert_holds(b, "new b");
     assert_int_equal(tu_file_mode(b), (int)atomic_file_mode());
-    assert_int_equal(tu_temporaries(SDFT_TEST_TMP, "set_b.txt"), 0);
+    assert_int_equal(tu_temporaries(dir, "set_b.txt"), 0);
     atomic_files_abort(files, 2); /* after a commit: nothing to do */
     assert_holds(a, "new a");
 }
@@ -80,7 +90,7 @@ static void a_device_in_the_set(void **state)
 {
     (void)state;
     char a[512], msg[256];
-    tu_tmp(a, sizeof a, "set_dev.txt");
+    in_dir(a, sizeof a, "set_dev.txt");
     const char *paths[2] = {"/dev/null", a};
     atomic_file files[2];
     assert_int_equal(atomic_files_begin(files, paths, 2, msg, sizeof msg), SDFT_OK);
@@ -100,5 +110,11 @@ int main(void)
         cmocka_unit_test(all_or_none),
         cmocka_unit_test(a_device_in_the_set),
     };
-    return cmocka_run_group_tests_name("atomic_file", tests, NULL, NULL);
+    snprintf(dir, sizeof dir, "%s/atomic_set-XXXXXX", SDFT_TEST_TMP);
+    if (!mkdtemp(dir))
+        return 1;
+    const int failed = cmocka_run_group_tests_name("atomic_file", tests, NULL, NULL);
+    if (!failed)
+        tu_run(NULL, 0, "rm -rf '%s'", dir);
+    return failed;
 }
