@@ -54,10 +54,8 @@
 #define RENDER_STR_(x) #x
 #define RENDER_STR(x) RENDER_STR_(x)
 
-/* Shading constants: a warm grey surface, a blue sky. */
+/* The grey surface's colour (the sky: render_miss_colour). */
 static const sdft_vec3 ALBEDO = {0.80f, 0.76f, 0.70f};
-static const sdft_vec3 SKY_HORIZON = {0.78f, 0.85f, 0.95f};
-static const sdft_vec3 SKY_ZENITH = {0.30f, 0.50f, 0.85f};
 
 sdft_render_params sdft_render_defaults(void)
 {
@@ -129,16 +127,6 @@ void sdft_image_free(sdft_image *img)
     free(img->primary_steps);
     free(img->status);
     memset(img, 0, sizeof *img);
-}
-
-/* What a ray that hits nothing shows: the sky at its direction's height
- * `up` (the unit direction's y), or black for depth alone. */
-sdft_vec3 render_miss_colour(const sdft_render_params *rp, float up)
-{
-    if (rp->depth_only)
-        return sdft_v3(0, 0, 0);
-    float k = sdft_minf(sdft_maxf(up, 0.0f), 1.0f);
-    return sdft_add(sdft_scale(SKY_HORIZON, 1.0f - k), sdft_scale(SKY_ZENITH, k));
 }
 
 /* The surface's colour under diffuse light of cosine `diffuse` (0: in shadow). */
