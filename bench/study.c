@@ -42,6 +42,7 @@
 #include "sdftrace/grid.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
+#include "stats.h" /* bench_load_average */
 #include "study.h"
 
 /* ---- what is measured -------------------------------------------------- */
@@ -564,18 +565,6 @@ static void pass_order(const study_run *run, int pass, size_t *order)
     free(row_key);
 }
 
-static double load_average(void)
-{
-    double l = NAN;
-    FILE *f = fopen("/proc/loadavg", "r");
-    if (f) {
-        if (fscanf(f, "%lf", &l) != 1)
-            l = NAN;
-        fclose(f);
-    }
-    return l;
-}
-
 /* Renders configuration i into img; the time goes to its pass's slot
  * (pass 0 is the warm-up, whose counts every later pass must repeat). */
 static int render_one(const study_options *o, study_run *run, size_t i, int pass, sdft_image *img)
@@ -725,7 +714,7 @@ static int run_passes(const study_options *o, study_run *run)
      * when the discrete rows come. */
     double t0 = study_now();
     size_t done = 0;
-    run->load[0] = load_average();
+    run->load[0] = bench_load_average();
     for (int procedural_first = 1; procedural_first >= 0 && !rc; procedural_first--)
         for (size_t i = 0; i < run->n && !rc; i++) {
             study_config *c = &run->configs[i];
@@ -746,7 +735,7 @@ static int run_passes(const study_options *o, study_run *run)
     run->warmup_s = study_now() - t0;
     for (int pass = 1; pass <= o->repeats && !rc; pass++) {
         pass_order(run, pass, order);
-        run->load[pass] = load_average();
+        run->load[pass] = bench_load_average();
         t0 = study_now();
         for (size_t k = 0; k < run->n && !rc; k++) {
             rc = render_one(o, run, order[k], pass, &img);
