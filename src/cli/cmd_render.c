@@ -179,7 +179,7 @@ static cmdline_spec render_options(render_opts *o, cmdline_option rows[RENDER_RO
         {"eps-min", 0, "E",
          "secondary rays leave a hit p by 2 max(E, |f(p)|) along the normal (Keinert's\n"
          "dynamic epsilon), world units",
-         CMDLINE_FLOAT, &o->eps_min, .lo = 0.0, .hi = inf, .def = "the normal's step + eps"},
+         CMDLINE_FLOAT, &o->eps_min, .lo = 0.0, .hi = inf, .def = "the field's feature size, the normal's step"},
         {"smooth-iters", 0, "K", "discontinuity reduction: K fixed-point iterations per hit (the paper: 3)",
          CMDLINE_INT, &o->smooth_iters, .lo = 0, .hi = SDFT_MAX_SMOOTH_ITERS},
         {"no-convex", 0, NULL, "rays inside a convex part march through it, not back from its bounding sphere",
@@ -449,11 +449,15 @@ static void print_json(const render_source *src, const sdft_render_params *p, co
     printf("\"cpu_ms\": %.3f, \"materials\": %s, \"bounces\": [%d, %d], \"eps_min\": %.6g, \"smooth_iters\": %d, "
            "\"convex\": %s, "
            "\"soft_shadows\": %.6g, \"ao\": %s, \"shadow_steps\": %llu, \"secondary_rays\": %llu, "
-           "\"secondary_steps\": %llu, \"mean_secondary_steps\": %.4f}\n",
-           cpu_ms, p->materials ? "true" : "false", p->reflect_bounces, p->refract_bounces, p->eps_min, p->smooth_iters,
+           "\"secondary_steps\": %llu, \"mean_secondary_steps\": %.4f, \"dynamic_eps_hits\": %llu, "
+           "\"dynamic_eps_from_f\": %llu, \"secondary_self_hits\": %llu}\n",
+           cpu_ms, p->materials ? "true" : "false", p->reflect_bounces, p->refract_bounces,
+           p->eps_min > 0.0f ? p->eps_min : sdft_field_feature_size(&src->field), p->smooth_iters,
            p->convex ? "true" : "false", p->soft_shadows, p->ao ? "true" : "false",
            (unsigned long long)st->shadow_steps, (unsigned long long)st->secondary_rays,
-           (unsigned long long)st->secondary_steps, (double)st->secondary_steps / primary);
+           (unsigned long long)st->secondary_steps, (double)st->secondary_steps / primary,
+           (unsigned long long)st->dynamic_eps_hits, (unsigned long long)st->dynamic_eps_from_f,
+           (unsigned long long)st->secondary_self_hits);
 }
 
 /* The one line on stderr when a render is done: what was made, how much

@@ -246,6 +246,7 @@ typedef struct tile_stats {
     uint64_t rays, steps, fallbacks, hits, nonconverged;
     uint64_t primary_steps, primary_fallbacks;
     uint64_t shadow_steps, secondary_steps, secondary_rays;
+    uint64_t eps_hits, eps_from_f, self_hits;
     uint32_t cone_steps;
 } tile_stats;
 
@@ -265,6 +266,7 @@ static void store_pixel(const frame *fr, int x, int y, const pixel_result *px, s
     ts->primary_steps += px->primary_steps, ts->primary_fallbacks += px->primary_fallbacks;
     ts->shadow_steps += px->shadow_steps;
     ts->secondary_steps += px->secondary_steps, ts->secondary_rays += px->secondary_rays;
+    ts->eps_hits += px->eps_hits, ts->eps_from_f += px->eps_from_f, ts->self_hits += px->self_hits;
     ts->hits += px->status == SDFT_HIT;
     ts->nonconverged += px->status == SDFT_NOT_CONVERGED;
 }
@@ -635,6 +637,9 @@ sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sd
         st.shadow_steps += per_tile[tile].shadow_steps;
         st.secondary_steps += per_tile[tile].secondary_steps;
         st.secondary_rays += per_tile[tile].secondary_rays;
+        st.dynamic_eps_hits += per_tile[tile].eps_hits;
+        st.dynamic_eps_from_f += per_tile[tile].eps_from_f;
+        st.secondary_self_hits += per_tile[tile].self_hits;
     }
     free(per_tile);
     if (stats)

@@ -34,6 +34,8 @@ typedef struct pixel_result {
     uint32_t primary_steps, primary_fallbacks; /* the primary ray's share of steps and fallbacks */
     uint32_t shadow_steps;                     /* the shadow rays' and occlusion samples' share of steps */
     uint32_t secondary_steps, secondary_rays;  /* reflection and refraction rays: their share, their number */
+    uint32_t eps_hits, eps_from_f; /* hits shaded the Whitted way, and of them those whose rays left by 2 |f(p)| */
+    uint32_t self_hits;            /* secondary rays that hit within 2 eps_min of their origin */
     sdft_status status;
 } pixel_result;
 
