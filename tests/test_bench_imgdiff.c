@@ -96,8 +96,7 @@ static void test_bad_input(void **state)
     write("imgdiff-reference.exr", &ref, a, sizeof a);
     assert_int_equal(sdft_image_alloc(&tiny, 3, 2, msg, sizeof msg), SDFT_OK);
     write("imgdiff-small.exr", &tiny, small, sizeof small);
-    static const char *const cases[] = {"", "--threshold 300 %s %s", "--bogus %s %s", "%s", "%s /no/such.exr",
-                                        "%s %s"};
+    static const char *const cases[] = {"", "--threshold 300 %s %s", "--bogus %s %s", "%s", "%s /no/such.exr", "%s %s"};
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         char args[1200];
         snprintf(args, sizeof args, cases[k], a, k == 5 ? small : a);

@@ -99,8 +99,8 @@ static void fixed_tiny_eps_re_hits_its_own_surface(void **state)
 }
 
 /* The jewel rendered the Whitted way, relaxed 1.2, counted the papers'
- * way, rays inside the gem marching through it (no 3.5); *hits_far (if not NULL): primary hits with pixel_radius t above the
- * field's feature size, from the image's depth. */
+ * way, rays inside the gem marching through it (no 3.5); *hits_far (if not NULL): primary hits with pixel_radius t
+ * above the field's feature size, from the image's depth. */
 static sdft_render_stats render_jewel(int screen_space, int smooth_iters, float eps_min, int *hits_far)
 {
     const sdft_scene *sc = sdft_scene_find("jewel");
