@@ -24,7 +24,8 @@ static char dir[512];
 
 static const char *in_dir(char *buf, size_t len, const char *name)
 {
-    snprintf(buf, len, "%s/%s", dir, name);
+    const int n = snprintf(buf, len, "%s/%s", dir, name);
+    assert_true(n > 0 && (size_t)n < len);
     return buf;
 }
 
