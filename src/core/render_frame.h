@@ -5,10 +5,8 @@
 #define SDFTRACE_RENDER_FRAME_H
 
 #include "render_hull.h"
+#include "render_pixel.h"
 #include "sdftrace/render.h"
-
-/* The ambient share of the light on every surface. */
-#define RENDER_AMBIENT 0.12f
 
 /* What every pixel of one frame shares, set up once. */
 typedef struct frame {
