@@ -34,9 +34,9 @@ static const uint32_t hdda_spirv[] =
 
 enum { MOST_FRAMES = 64 };
 
-/* The study's Table rows (bench/study.c's STUDY_TABLE_METHODS), with Bán and
- * Valasek's RX 5700 frame times on their discrete 1024^3 Temple and Girl
- * (Section 4's table), which gpu.sh prints beside ours. */
+/* The study's Table rows (bench/study.c's STUDY_TABLE_METHODS: the paper's
+ * REL is its Algorithm 2, relaxed-bv); gpu.sh prints Bán and Valasek's
+ * RX 5700 frame times beside them. */
 static const struct {
     sdft_method method;
     float param; /* omega or beta; 0 for sphere */

@@ -32,15 +32,17 @@ PORT_INLINE void march_offer(PORT_INOUT(march_candidate) c, sdft_trace_params p,
     }
 }
 
-/* What Algorithms 1-4 keep between iterations: the accepted point (t, r),
- * the step z to the next trial point T = t + z, auto's slope m, the point
- * accepted before (t0, r0) for refinement, the count i of evaluations, the
- * fallbacks and the screen-space candidate; and root_t, up to where the
- * field's exact root was last asked for (march_root). A variant changes it
+/* What Algorithms 1-4 and Keinert's Listing 2 keep between iterations: the
+ * accepted point (t, r), the step z to the next trial point T = t + z,
+ * auto's slope m, the relaxation omega in force (Listing 2 drops it to 1 for
+ * the rest of the ray), the point accepted before (t0, r0) for refinement,
+ * the count i of evaluations, the fallbacks and the screen-space candidate;
+ * and root_t, up to where the field's exact root was last asked for
+ * (march_root). A variant changes it
  * in place (PORT_INOUT): where a march keeps many, in memory (march_many),
  * a copy in and out of each step would cost more than the step. */
 struct march_state {
-    float t, r, z, m;
+    float t, r, z, m, omega;
     float t0, r0;
     uint32_t i, fallbacks;
     march_candidate best;
@@ -48,14 +50,15 @@ struct march_state {
 };
 PORT_TYPEDEF(march_state)
 
-/* Line 4's first evaluation: (t, r) = (t, f(t)), i = 1; the variant's
- * start sets z (and m). */
+/* Line 4's first evaluation: (t, r) = (t, f(t)), i = 1, omega as given;
+ * the variant's start sets z (and m). */
 PORT_INLINE void march_begin(PORT_OUT(march_state) m, sdft_trace_params p, float t, float r)
 {
     PORT_DEREF(m).t = t;
     PORT_DEREF(m).r = r;
     PORT_DEREF(m).z = 0.0f;
     PORT_DEREF(m).m = 0.0f;
+    PORT_DEREF(m).omega = p.omega;
     PORT_DEREF(m).t0 = t;
     PORT_DEREF(m).r0 = r;
     PORT_DEREF(m).i = 1u;
@@ -78,8 +81,8 @@ PORT_INLINE void march_accept(PORT_INOUT(march_state) m, sdft_trace_params p, fl
 }
 
 /* Marching resumes at t, r = f(t), after the field's root proved the ray
- * free up to t: like line 4 (the variant's start follows), but the counts
- * and the candidate go on; f(t) is one more evaluation. */
+ * free up to t: like line 4 (the variant's start follows), but the counts,
+ * the candidate and the omega in force go on; f(t) is one more evaluation. */
 PORT_INLINE void march_restart(PORT_INOUT(march_state) m, sdft_trace_params p, float t, float r)
 {
     march_accept(m, p, t, r);

@@ -151,6 +151,7 @@ bool sdft_isfinite3(vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(
 #define SDFT_RELAXED 1
 #define SDFT_ENHANCED 2
 #define SDFT_AUTO 3
+#define SDFT_RELAXED_BV 4
 #define SDFT_HIT 0
 #define SDFT_MISS 1
 #define SDFT_NOT_CONVERGED 2

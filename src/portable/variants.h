@@ -12,6 +12,7 @@
 #include "variant_auto.h"
 #include "variant_enhanced.h"
 #include "variant_relaxed.h"
+#include "variant_relaxed_bv.h"
 #include "variant_sphere.h"
 
 /* X(method, name): name_start and name_step are the variant's. */
@@ -19,7 +20,8 @@
     X(SDFT_SPHERE, sphere)                                                                                             \
     X(SDFT_RELAXED, relaxed)                                                                                           \
     X(SDFT_ENHANCED, enhanced)                                                                                         \
-    X(SDFT_AUTO, auto)
+    X(SDFT_AUTO, auto)                                                                                                 \
+    X(SDFT_RELAXED_BV, relaxed_bv)
 
 #if defined(SDFT_GLSL)
 /* GLSL has no function pointers: the loop names a variant by its method,
