@@ -8,12 +8,13 @@
  * hit's depth then differs in its last bits, a pixel at a silhouette can
  * go the other way).
  *
- * Three handles, each with a create / release life (Open VKL's): an
+ * Two handles, each with a create / release life (Open VKL's): an
  * sdft_gpu is a Vulkan device, its queue and its pipelines; an
  * sdft_gpu_grid a grid uploaded to it (the NanoVDB buffer as it is, its
- * leaf directory, its far bound and its hull), which the sdft_grid it
- * came from may outlive or not. Every function is thread-safe: the device
- * serializes its queue. Errors follow sdftrace/error.h; nothing here
+ * leaf directory, its far bound and its hull). The sdft_grid must outlive
+ * its uploaded copy: each frame bins its hull on the host. Every function
+ * is thread-safe: the device serializes its queue, and a frame's buffers
+ * are its own. Errors follow sdftrace/error.h; nothing here
  * prints. */
 #ifndef SDFTRACE_GPU_H
 #define SDFTRACE_GPU_H
@@ -57,7 +58,7 @@ SDFT_API const char *sdft_gpu_device_name(const sdft_gpu *gpu);
 SDFT_API void sdft_gpu_release(sdft_gpu *gpu);
 
 /* Uploads grid g to the device into *out (free it with
- * sdft_gpu_grid_release); g may be freed afterwards. A deferred grid's
+ * sdft_gpu_grid_release, before g). A deferred grid's
  * leaves are all read first (sdft_grid_data). SDFT_EINVAL (a NULL
  * argument), SDFT_ENOTSCALAR (not a float grid: the GPU renders float
  * grids; a .vdb is loaded as float unless asked otherwise), SDFT_ENOMEM

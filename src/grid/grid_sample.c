@@ -24,19 +24,18 @@ static void grid_scratch_init(const void *ctx, sdft_scratch *s)
  * cannot bound: x's block is checked as in cell_from_leaves. */
 PORT_INLINE void prefetch_index(const sdft_grid *g, pnanovdb_grid_type_t type, const float x[3])
 {
-    if (!has_directory(type) || !g->leaves.top || !index_in_range(x))
+    if (!has_directory(type) || !g->leaves.top || !(fabsf(x[0]) < 1e9f && fabsf(x[1]) < 1e9f && fabsf(x[2]) < 1e9f))
         return;
     const int32_t c[3] = {ifloor(x[0]), ifloor(x[1]), ifloor(x[2])};
     uint32_t local;
-    size_t base;
-    const uint32_t w = directory_chunk(g, c, &local, &base) ? g->leaves.chunk[base + local] : 0u;
+    const uint32_t *e;
+    const uint32_t w = directory_chunk(g, c, &local, &e) ? e[local] : 0u;
     if (w < GRID_TILE_MARKERS) { /* no leaf known here: the far bound will be read */
         const grid_far *f = &g->far;
         float t[3], out2;
-        size_t at;
-        if (!far_cell_corner(g, x, t, &out2, &at))
+        const uint16_t *corner;
+        if (!far_cell_corner(g, x, t, &out2, &corner))
             return;
-        const uint16_t *corner = f->corner + at;
         const size_t sx = (size_t)f->n[0] + 1, sy = sx * ((size_t)f->n[1] + 1);
         __builtin_prefetch(corner), __builtin_prefetch(corner + sx);
         __builtin_prefetch(corner + sy), __builtin_prefetch(corner + sy + sx);

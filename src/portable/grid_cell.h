@@ -110,10 +110,11 @@ PORT_INLINE float entry_value(GRID_REF g, pnanovdb_grid_type_t type, uint32_t w,
     return leaf_value(g, type, w, n);
 }
 
-/* The directory's chunk holding voxel c's block: 1, with *base its first
- * entry in the chunk table and *local that block's entry in it; 0 when c
- * lies outside the regions or in one without a chunk (grid_leaves.c). */
-PORT_INLINE int directory_chunk(GRID_REF g, const int32_t c[3], PORT_OUT(uint32_t) local, PORT_OUT(size_t) base)
+/* The directory's chunk holding voxel c's block: 1, with *chunk its place
+ * and *local that block's entry in it; 0 when c lies outside the regions
+ * or in one without a chunk (grid_leaves.c). */
+PORT_INLINE int directory_chunk(GRID_REF g, const int32_t c[3], PORT_OUT(uint32_t) local,
+                                PORT_OUT(GRID_CHUNK_REF) chunk_at)
 {
     uint32_t r[3];
     for (int k = 0; k < 3; k++) {
@@ -127,7 +128,7 @@ PORT_INLINE int directory_chunk(GRID_REF g, const int32_t c[3], PORT_OUT(uint32_
         return 0;
     PORT_DEREF(local) = (PORT_UINT(c[0]) >> 3 & 7u) + GRID_CHUNK_SIDE * (PORT_UINT(c[1]) >> 3 & 7u) +
                         GRID_CHUNK_SIDE * GRID_CHUNK_SIDE * (PORT_UINT(c[2]) >> 3 & 7u);
-    PORT_DEREF(base) = PORT_INDEX(chunk - 1u) * GRID_CHUNK_ENTRIES;
+    PORT_DEREF(chunk_at) = GRID_CHUNK_BASE(g, PORT_INDEX(chunk - 1u) * GRID_CHUNK_ENTRIES);
     return 1;
 }
 
@@ -146,12 +147,12 @@ PORT_INLINE int cell_from_leaves(GRID_REF g, pnanovdb_grid_type_t type, pnanovdb
     const int32_t c[3] = {i0.x, i0.y, i0.z};
     const uint32_t lowest = with_tiles != 0 ? GRID_TILE_POSITIVE : GRID_TILE_MARKERS; /* entries below are unknown */
     uint32_t local;
-    size_t e;
+    GRID_CHUNK_REF e;
     if (directory_chunk(g, c, PORT_REF(local), PORT_REF(e)) == 0)
         return 0;
     const uint32_t ox = PORT_UINT(c[0]) & 7u, oy = PORT_UINT(c[1]) & 7u, oz = PORT_UINT(c[2]) & 7u;
     if (ox != 7u && oy != 7u && oz != 7u) { /* the whole cell in one block: two of every three cells */
-        const uint32_t w = GRID_CHUNK(g, e + local);
+        const uint32_t w = GRID_CHUNK_AT(g, e, local);
         if (w < lowest)
             return 0;
         if (w < GRID_TILE_MARKERS) {
@@ -182,7 +183,7 @@ PORT_INLINE int cell_from_leaves(GRID_REF g, pnanovdb_grid_type_t type, pnanovdb
     }
     for (int k = 0; k < 8; k++) {
         const int x = k & 1, y = k >> 1 & 1, z = k >> 2 & 1;
-        const uint32_t w = GRID_CHUNK(g, e + local + next[0][x] + next[1][y] + next[2][z]);
+        const uint32_t w = GRID_CHUNK_AT(g, e, local + next[0][x] + next[1][y] + next[2][z]);
         if (w < lowest)
             return 0;
         from_tiles |= PORT_UINT(w < GRID_TILE_MARKERS) << k;

@@ -30,8 +30,15 @@
 #define GRID(g) (*(g))
 #define GRID_WORD(g, w) ((g)->words[w])
 #define GRID_TOP(g, i) ((g)->leaves.top[i])
-#define GRID_CHUNK(g, i) ((g)->leaves.chunk[i])
-#define GRID_FAR_CORNER(g, i) ((g)->far.corner[i])
+/* A place in the directory's chunks and in the far bound's corner table:
+ * a pointer (as the library always had it: the same code); entry i from
+ * there; the place n entries from the table's start. */
+#define GRID_CHUNK_REF const uint32_t *
+#define GRID_CHUNK_AT(g, e, i) ((e)[i])
+#define GRID_CHUNK_BASE(g, n) ((g)->leaves.chunk + (n))
+#define GRID_FAR_REF const uint16_t *
+#define GRID_FAR_AT(g, d, i) ((d)[i])
+#define GRID_FAR_BASE(g, n) ((g)->far.corner + (n))
 #define GRID_HAS_DIRECTORY(g) ((g)->leaves.top != NULL)
 #define GRID_HAS_FAR(g) ((g)->far.corner != NULL)
 /* A deferred grid's leaf filled before it is read (grid_deferred.c). */
@@ -42,8 +49,12 @@
 #define GRID(g) GRID_SHAPE
 #define GRID_WORD(g, w) GRID_SHAPE.buf.data[w]
 #define GRID_TOP(g, i) GRID_SHAPE.top.data[i]
-#define GRID_CHUNK(g, i) GRID_SHAPE.chunk.data[i]
-#define GRID_FAR_CORNER(g, i) (GRID_SHAPE.far_corner.data[(i) >> 1u] >> (((i)&1u) << 4u) & 0xFFFFu)
+#define GRID_CHUNK_REF uint
+#define GRID_CHUNK_AT(g, e, i) GRID_SHAPE.chunk.data[(e) + (i)]
+#define GRID_CHUNK_BASE(g, n) (n)
+#define GRID_FAR_REF uint /* 16-bit words, two a 32-bit one */
+#define GRID_FAR_AT(g, d, i) (GRID_SHAPE.far_corner.data[((d) + (i)) >> 1u] >> ((((d) + (i)) & 1u) << 4u) & 0xFFFFu)
+#define GRID_FAR_BASE(g, n) (n)
 #define GRID_HAS_DIRECTORY(g) (GRID_SHAPE.has_directory != 0)
 #define GRID_HAS_FAR(g) (GRID_SHAPE.has_far != 0)
 #define GRID_LEAF_READY(g, at, ijk) /* the GPU's grids are loaded whole */

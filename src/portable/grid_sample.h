@@ -50,12 +50,6 @@
 #define SDFT_GRID_BOUND_NONE 2
 #endif
 
-/* Whether index point x is finite and not absurdly far (ifloor's range). */
-PORT_INLINE bool index_in_range(const float x[3])
-{
-    return fabsf(x[0]) < 1e9f && fabsf(x[1]) < 1e9f && fabsf(x[2]) < 1e9f;
-}
-
 /* The bound of the comment above for the node of `level` holding voxel c,
  * whose value is v; world units. */
 PORT_INLINE float tree_bound(GRID_REF g, const float x[3], pnanovdb_coord_t c, uint32_t level, float v)
@@ -84,7 +78,8 @@ PORT_INLINE int sample_leaves(GRID_REF g, pnanovdb_grid_type_t type, const float
                               int want_near, PORT_OUT(pnanovdb_coord_t) near_voxel, PORT_OUT(float) near_value,
                               PORT_OUT(int) near_tile)
 {
-    if (!has_directory(type) || !GRID_HAS_DIRECTORY(g) || !index_in_range(x))
+    if (!has_directory(type) || !GRID_HAS_DIRECTORY(g) ||
+        !(fabsf(x[0]) < 1e9f && fabsf(x[1]) < 1e9f && fabsf(x[2]) < 1e9f))
         return 0;
     const pnanovdb_coord_t i0 = grid_coord(ifloor(x[0]), ifloor(x[1]), ifloor(x[2]));
     const float tx = x[0] - PORT_FLOAT(i0.x), ty = x[1] - PORT_FLOAT(i0.y), tz = x[2] - PORT_FLOAT(i0.z);
@@ -110,7 +105,7 @@ PORT_INLINE int sample_leaves(GRID_REF g, pnanovdb_grid_type_t type, const float
 PORT_COLD float sample_tree(GRID_REF g, pnanovdb_grid_type_t type, PNANOVDB_INOUT(pnanovdb_readaccessor_t) acc,
                             const float x[3], PORT_OUT(int) level_out, int bound)
 {
-    if (!index_in_range(x)) { /* NaN or absurdly far: background */
+    if (!(fabsf(x[0]) < 1e9f && fabsf(x[1]) < 1e9f && fabsf(x[2]) < 1e9f)) { /* NaN or absurdly far: background */
         PORT_DEREF(level_out) = 4;
         return GRID(g).background;
     }
@@ -172,11 +167,11 @@ PORT_INLINE float sample_index(GRID_REF g, pnanovdb_grid_type_t type, PNANOVDB_I
 }
 
 /* The far bound's cell of index point x, taken to the nearest point xc of
- * the cells' box: 1, with *corner its lowest corner's index in the table
+ * the cells' box: 1, with *corner its lowest corner's place in the table
  * (x fastest, rows of n[0] + 1), x's weights t in it, and |x - xc|^2 in
  * cells^2 (*out2); 0 without a far bound, or for x NaN or absurdly far. */
 PORT_INLINE int far_cell_corner(GRID_REF g, const float x[3], PORT_ARRAY_OUT float t[3], PORT_OUT(float) out2,
-                                PORT_OUT(size_t) corner)
+                                PORT_OUT(GRID_FAR_REF) corner)
 {
     if (!GRID_HAS_FAR(g))
         return 0;
@@ -192,14 +187,16 @@ PORT_INLINE int far_cell_corner(GRID_REF g, const float x[3], PORT_ARRAY_OUT flo
         t[k] = uc - PORT_FLOAT(c[k]);
     }
     const size_t sx = PORT_INDEX(GRID(g).far.n[0]) + 1u, sy = sx * (PORT_INDEX(GRID(g).far.n[1]) + 1u);
-    PORT_DEREF(corner) = PORT_INDEX(c[2]) * sy + PORT_INDEX(c[1]) * sx + PORT_INDEX(c[0]);
+    PORT_DEREF(corner) = GRID_FAR_BASE(g, PORT_INDEX(c[2]) * sy + PORT_INDEX(c[1]) * sx + PORT_INDEX(c[0]));
     return 1;
 }
 
-/* A far-bound corner word's distance, index units x FAR_DISTANCE_SCALE. */
-PORT_INLINE float far_corner_distance(GRID_REF g, size_t i)
+/* Corner word i from corner d of the far bound's table: its distance, index
+ * units x FAR_DISTANCE_SCALE. */
+PORT_INLINE float far_corner_distance(GRID_REF g, GRID_FAR_REF d, size_t i)
 {
-    return PORT_FLOAT(PORT_UINT(GRID_FAR_CORNER(g, i)) & ((1u << FAR_DISTANCE_BITS) - 1u));
+    PORT_UNUSED(g);
+    return PORT_FLOAT(PORT_UINT(GRID_FAR_AT(g, d, i)) & ((1u << FAR_DISTANCE_BITS) - 1u));
 }
 
 /* The far bound of grid_bound.c at index point x (world units, signed), or
@@ -212,17 +209,17 @@ PORT_INLINE float far_corner_distance(GRID_REF g, size_t i)
 PORT_INLINE float far_bound(GRID_REF g, const float x[3])
 {
     float t[3], out2;
-    size_t d;
+    GRID_FAR_REF d;
     if (far_cell_corner(g, x, t, PORT_REF(out2), PORT_REF(d)) == 0)
         return 0.0f;
     const size_t sx = PORT_INDEX(GRID(g).far.n[0]) + 1u, sy = sx * (PORT_INDEX(GRID(g).far.n[1]) + 1u);
-    const uint32_t code = PORT_UINT(GRID_FAR_CORNER(g, d)) >> FAR_DISTANCE_BITS;
+    const uint32_t code = PORT_UINT(GRID_FAR_AT(g, d, 0u)) >> FAR_DISTANCE_BITS;
     if (code == 0u)
         return 0.0f;
-    const float d00 = lerp(far_corner_distance(g, d), far_corner_distance(g, d + 1u), t[0]);
-    const float d10 = lerp(far_corner_distance(g, d + sx), far_corner_distance(g, d + sx + 1u), t[0]);
-    const float d01 = lerp(far_corner_distance(g, d + sy), far_corner_distance(g, d + sy + 1u), t[0]);
-    const float d11 = lerp(far_corner_distance(g, d + sy + sx), far_corner_distance(g, d + sy + sx + 1u), t[0]);
+    const float d00 = lerp(far_corner_distance(g, d, 0u), far_corner_distance(g, d, 1u), t[0]);
+    const float d10 = lerp(far_corner_distance(g, d, sx), far_corner_distance(g, d, sx + 1u), t[0]);
+    const float d01 = lerp(far_corner_distance(g, d, sy), far_corner_distance(g, d, sy + 1u), t[0]);
+    const float d11 = lerp(far_corner_distance(g, d, sy + sx), far_corner_distance(g, d, sy + sx + 1u), t[0]);
     const float S = PORT_FLOAT(GRID(g).far.cell);
     float e = (1.0f / FAR_DISTANCE_SCALE) * lerp(lerp(d00, d10, t[1]), lerp(d01, d11, t[1]), t[2]) -
               S * sqrtf(t[0] * (1.0f - t[0]) + t[1] * (1.0f - t[1]) + t[2] * (1.0f - t[2]));
@@ -313,7 +310,7 @@ PORT_INLINE sdft_vec3 normal_of(GRID_REF g, pnanovdb_grid_type_t type, PNANOVDB_
 {
     float x[3], d[3] = {0.0f, 0.0f, 0.0f};
     to_index(g, PORT_INT(GRID(g).diagonal), p, x);
-    if (index_in_range(x)) {
+    if (fabsf(x[0]) < 1e9f && fabsf(x[1]) < 1e9f && fabsf(x[2]) < 1e9f) {
         const pnanovdb_coord_t i0 = grid_coord(ifloor(x[0]), ifloor(x[1]), ifloor(x[2]));
         const float tx = x[0] - PORT_FLOAT(i0.x), ty = x[1] - PORT_FLOAT(i0.y), tz = x[2] - PORT_FLOAT(i0.z);
         float v[8];

@@ -26,6 +26,15 @@
 #include "march_state.h"
 #include "ray_box.h"
 
+/* A ray against its field's box: the shader inlines ray_box_clip; the
+ * library calls it out of line (sdft_aabb_clip), out of the stream's
+ * loop, where inlined it cost more than the call. */
+#if defined(SDFT_GLSL)
+#define MARCH_CLIP_BOX ray_box_clip
+#else
+#define MARCH_CLIP_BOX sdft_aabb_clip
+#endif
+
 #if defined(SDFT_GLSL) || defined(MARCH_FINISH_BODY)
 /* Secant steps towards F(t) = 0 through the last two samples, until the
  * step the secant asks for is under a tenth of eps(t): the root is then
@@ -218,8 +227,8 @@ PORT_INLINE sdft_hit march_one(MARCH_FIELD f, MARCH_SCRATCH s, sdft_ray ray, sdf
 PORT_INLINE int march_clip(MARCH_FIELD f, sdft_ray ray, PORT_OUT(sdft_ray) clipped, PORT_OUT(sdft_hit) miss)
 {
     PORT_DEREF(clipped) = ray;
-    if (ray_box_clip(MARCH_BOUNDS(f), ray.org, ray.dir, ray.tnear, ray.tfar, PORT_REF(PORT_DEREF(clipped).tnear),
-                     PORT_REF(PORT_DEREF(clipped).tfar)) != 0)
+    if (MARCH_CLIP_BOX(MARCH_BOUNDS(f), ray.org, ray.dir, ray.tnear, ray.tfar, PORT_REF(PORT_DEREF(clipped).tnear),
+                       PORT_REF(PORT_DEREF(clipped).tfar)) != 0)
         return 1;
     PORT_DEREF(miss).t = ray.tfar;
     PORT_DEREF(miss).distance = INFINITY;
