@@ -12,7 +12,9 @@
 #     counting, hard shadows, 1000 steps) on the temple's and the figure's
 #     grids, beside Bán and Valasek's RX 5700 figures (discrete 1024^3).
 # Every time is the GPU's own (timestamps around the dispatch), the median
-# of FRAMES frames after a warm-up, the rows of a grid in turns.
+# of FRAMES frames after a warm-up and its 95% bootstrap interval
+# (bench/stats.h), the rows of a grid in turns; a ratio is the median of
+# the frames' ratios.
 #
 # usage: bench/gpu.sh [RES [WIDTH HEIGHT]]        (default 1024 1280 720)
 # env:   BUILD   the build folder (default build); OUT  where the grids go
@@ -73,7 +75,6 @@ run_bench() { # GRID VIEW LABEL ROWS
 }
 
 page() {
-    load_before=$(cut -d' ' -f1 /proc/loadavg)
     for g in $grids; do
         make_grid "$g" "$out/$g.vdb"
     done
@@ -101,8 +102,8 @@ page() {
 
     page_header "sdftrace on the GPU" "$command"
     echo "- device: $device_name"
-    echo "- load: $load_before at the start, $(cut -d' ' -f1 /proc/loadavg) at the end"
-    echo "- grids: ${res}³, images ${width}x${height}, the median of $frames frames after a warm-up"
+    echo "- grids: ${res}³, images ${width}x${height}; times: the median of $frames frames after a warm-up"
+    echo "  [its 95% bootstrap interval], the GPU's own timestamps around the frame's dispatch"
     echo
     case $device_name in
     llvmpipe* | *lavapipe* | *SwiftShader*)
@@ -135,11 +136,12 @@ page() {
     echo "The six methods of Bán and Valasek's table (\`bench/study\`'s Table rows): the papers' counting"
     echo "(\`--papers\`: every ray from the eye, every step to ε = 1e-4), a hard shadow ray per lit hit,"
     echo "1000 steps, the scene's camera and light; *rel* is the time over enhanced sphere tracing's"
-    echo "(ω = 0.88). *paper*: their RX 5700's frame on the discrete 1024³ Temple and Girl (a dense 3D"
-    echo "texture), and its rel. Target on a GPU: the Temple's AR 0.2 row under 1 ms."
+    echo "(ω = 0.88), the median of the frames' ratios. *paper*: their RX 5700's frame on the discrete"
+    echo "1024³ Temple and Girl (a dense 3D texture), and its rel. Target on a GPU: the Temple's AR 0.2"
+    echo "row under 1 ms."
     echo
-    echo "| grid | method | ms | min–max | rel | evaluations/px | paper ms | paper rel |"
-    echo "|---|---|--:|:-:|--:|--:|--:|--:|"
+    echo "| grid | method | ms | rel | evaluations/px | paper ms | paper rel |"
+    echo "|---|---|--:|--:|--:|--:|--:|"
     echo "$table" | awk -F' [|] ' '
         BEGIN {
             split("ST ENH REL_1.2 REL_1.5 AR_0.3 AR_0.2", m, " ")

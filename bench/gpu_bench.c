@@ -4,16 +4,18 @@
  * GLSL pnanovdb_hdda_zero_crossing) on the same uploaded grid, and the
  * study's Table rows (Bán and Valasek's methods, the papers' counting,
  * hard shadows, 1000 steps) in GPU milliseconds. Every time is the median
- * of --frames frames after one warm-up frame, the rows of a group taken in
- * turn, frame by frame (A B C A B C ...), each frame's time the GPU's own
- * (vkCmdWriteTimestamp around the dispatch). Prints markdown table rows;
- * gpu.sh writes the page around them.
+ * of --frames frames after one warm-up frame and its 95% bootstrap
+ * interval (bench/stats.h, as every page has them), the rows of a group
+ * taken in turn, frame by frame (A B C A B C ...), each frame's time the
+ * GPU's own (vkCmdWriteTimestamp around the dispatch); a ratio is the
+ * median of the frames' ratios. Prints markdown table rows; gpu.sh writes
+ * the page around them.
  *
  *   gpu_bench [options] GRID.vdb|GRID.nvdb SCENE|front
  *
  * --rows peer: | grid | HDDA ms | ours, depth ms | ours/HDDA | ours, shaded ms | depth within 1.5 voxels of
  *              HDDA's % | hit masks differ from the CPU's % | largest depth difference from the CPU's, voxels |
- * --rows study: | grid | method | ms | min–max | rel to ENH | evaluations/px |   one row per method */
+ * --rows study: | grid | method | ms [95%] | rel to ENH | evaluations/px |   one row per method */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,6 +28,7 @@
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
 #include "sdftrace/vdb.h"
+#include "stats.h"
 
 /* NanoVDB's caster, compiled by glslc at build time (bench/CMakeLists.txt). */
 static const uint32_t hdda_spirv[] =
@@ -72,18 +75,21 @@ static void fail(const char *what, const char *msg)
     exit(1);
 }
 
-static int by_value(const void *a, const void *b)
+/* The frames' times v[0..n) as the page shows them: "median [lo–hi]". */
+static const char *summary(const double *v, int n, char *buf, unsigned long len)
 {
-    const double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
+    bench_summary s;
+    bench_summarize(v, n, 0.95, &s);
+    return bench_summary_text(&s, 2, buf, len);
 }
 
-static double median(const double *v, int n)
+/* The median over frames of a[f] / b[f]. */
+static double median_ratio(const double *a, const double *b, int n)
 {
-    double s[MOST_FRAMES];
-    memcpy(s, v, (size_t)n * sizeof *s);
-    qsort(s, (size_t)n, sizeof *s, by_value);
-    return n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
+    double r[MOST_FRAMES];
+    for (int f = 0; f < n; f++)
+        r[f] = a[f] / b[f];
+    return bench_median(r, n);
 }
 
 /* NanoVDB's caster over the frame of p: its GPU time, and its depths into
@@ -185,9 +191,11 @@ static void peer_rows(const options *o, const sdft_grid *g, caster *c, sdft_rend
     const float voxel = sdft_grid_voxel_size(g).x;
     double differ, largest;
     against_cpu(&shaded, &cpu, voxel, &differ, &largest);
-    const double h = median(t[0], o->frames), d = median(t[1], o->frames), s = median(t[2], o->frames);
-    printf("| %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.3f | %.2g |\n", o->label, h, d, d / h, s,
-           100.0 * depth_agreement(ours.depth, hdda, n, 1.5f * voxel), 100.0 * differ, largest);
+    char h[64], d[64], s[64];
+    printf("| %s | %s | %s | %.2f | %s | %.2f | %.3f | %.2g |\n", o->label, summary(t[0], o->frames, h, sizeof h),
+           summary(t[1], o->frames, d, sizeof d), median_ratio(t[1], t[0], o->frames),
+           summary(t[2], o->frames, s, sizeof s), 100.0 * depth_agreement(ours.depth, hdda, n, 1.5f * voxel),
+           100.0 * differ, largest);
     sdft_image_free(&ours), sdft_image_free(&shaded), sdft_image_free(&cpu);
     free(hdda);
 }
@@ -218,14 +226,10 @@ static void study_rows(const options *o, sdft_gpu_grid *gg, sdft_render_params p
             if (f >= 0)
                 t[m][f] = ms;
         }
-    const double enh = median(t[ENH_ROW], o->frames);
     for (int m = 0; m < METHOD_ROWS; m++) {
-        double lo = t[m][0], hi = t[m][0];
-        for (int f = 1; f < o->frames; f++)
-            lo = fmin(lo, t[m][f]), hi = fmax(hi, t[m][f]);
-        const double med = median(t[m], o->frames);
-        printf("| %s | %s | %.2f | %.2f–%.2f | %.0f%% | %.2f |\n", o->label, METHODS[m].label, med, lo, hi,
-               100.0 * med / enh, steps[m]);
+        char ms[64];
+        printf("| %s | %s | %s | %.0f%% | %.2f |\n", o->label, METHODS[m].label,
+               summary(t[m], o->frames, ms, sizeof ms), 100.0 * median_ratio(t[m], t[ENH_ROW], o->frames), steps[m]);
     }
     sdft_image_free(&img);
 }

@@ -242,6 +242,18 @@ static void test_bad_input_is_refused(void **state)
     assert_int_equal(sdft_gpu_grid_create(gpu, NULL, &gg, msg, sizeof msg), SDFT_EINVAL);
     assert_int_equal(sdft_gpu_grid_create(NULL, g, &gg, msg, sizeof msg), SDFT_EINVAL);
 
+    /* A grid too big for the device: here, for a budget of 64 KiB. */
+    sdft_gpu *small = NULL;
+    o = sdft_gpu_options_defaults();
+    o.memory_budget = 64 << 10;
+    assert_int_equal(sdft_gpu_create(&o, &small, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_gpu_grid_create(small, g, &gg, msg, sizeof msg), SDFT_ENOMEM);
+    print_message("too big: %s\n", msg);
+    assert_int_equal(tu_lines(msg), 0);
+    assert_non_null(strstr(msg, "too big"));
+    assert_null(gg);
+    sdft_gpu_release(small);
+
     /* Shading the GPU does not do, a bad camera, an image of another size. */
     assert_int_equal(sdft_gpu_grid_create(gpu, g, &gg, msg, sizeof msg), SDFT_OK);
     sdft_render_params p = sdft_render_defaults();

@@ -38,6 +38,8 @@ typedef struct sdft_gpu_grid sdft_gpu_grid;
 typedef struct sdft_gpu_options {
     int device; /* the index of a Vulkan device, as vulkaninfo lists them; -1: the first discrete GPU, else the
                  * first integrated one, else the first device of any kind (a CPU's: lavapipe) [-1] */
+    size_t memory_budget; /* most bytes of device memory a grid and its tables may take (a share of a GPU
+                           * that others use too); 0: the device's largest memory heap [0] */
 } sdft_gpu_options;
 
 SDFT_API sdft_gpu_options sdft_gpu_options_defaults(void);
@@ -62,9 +64,9 @@ SDFT_API void sdft_gpu_release(sdft_gpu *gpu);
  * leaves are all read first (sdft_grid_data). SDFT_EINVAL (a NULL
  * argument), SDFT_ENOTSCALAR (not a float grid: the GPU renders float
  * grids; a .vdb is loaded as float unless asked otherwise), SDFT_ENOMEM
- * (the grid and its tables do not fit the device: more than its memory, a
- * buffer above its largest, or a grid above 4 GiB, which the shader's
- * 32-bit addresses cannot reach), SDFT_EINTERNAL. */
+ * (the grid and its tables do not fit the device: more than its memory or
+ * the options' memory_budget, a buffer above its largest, or a grid above
+ * 4 GiB, which the shader's 32-bit addresses cannot reach), SDFT_EINTERNAL. */
 SDFT_API sdft_error sdft_gpu_grid_create(sdft_gpu *gpu, const sdft_grid *g, sdft_gpu_grid **out, char *msg,
                                          size_t msg_len);
 

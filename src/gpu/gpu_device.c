@@ -220,6 +220,8 @@ sdft_error sdft_gpu_create(const sdft_gpu_options *o, sdft_gpu **out, char *msg,
         rc = gpu_fail(msg, msg_len, r, "starting Vulkan");
     else if ((rc = pick_device(gpu, o->device, msg, msg_len)) == SDFT_OK)
         rc = open_device(gpu, msg, msg_len);
+    if (!rc && o->memory_budget && o->memory_budget < gpu->device_memory)
+        gpu->device_memory = o->memory_budget;
     if (rc) {
         sdft_gpu_release(gpu);
         return rc;

@@ -67,8 +67,8 @@ static sdft_error check_fits(const sdft_gpu *gpu, const sdft_grid *g, const grid
         total += t->bytes[k];
     if (total > gpu->device_memory)
         return fail_with(msg, msg_len, SDFT_ENOMEM,
-                         "grid '%s' and its tables (%.1f MiB) are too big for %s (%.1f MiB of device memory)", g->name,
-                         (double)total / 1048576.0, gpu->name, (double)gpu->device_memory / 1048576.0);
+                         "grid '%s' and its tables (%.1f MiB) are too big for %s (%.1f MiB of device memory to use)",
+                         g->name, (double)total / 1048576.0, gpu->name, (double)gpu->device_memory / 1048576.0);
     return SDFT_OK;
 }
 
