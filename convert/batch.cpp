@@ -16,6 +16,8 @@
 #include <new>
 #include <sys/stat.h>
 
+#include "seam.h"
+
 namespace mesh2sdf
 {
 
@@ -154,7 +156,7 @@ BatchRow convertEntry(const Options &opt, const BatchEntry &entry)
     }
     if (!r.ok && interruptSignal())
         r.error = interruptReason();
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    r.seconds = seam::secondsSince(start);
     return jobRow(entry, r);
 }
 
@@ -213,7 +215,7 @@ void BatchSink::showProgress()
     const size_t total = mPlan.pending.size();
     if (total == 0 || mDone == total)
         return;
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - mStart).count();
+    const double elapsed = seam::secondsSince(mStart);
     mLabel = std::to_string(mDone) + "/" + std::to_string(total) + " meshes";
     if (mBytesDone > 0)
         mLabel += ", " + clock(elapsed * double(mBytesTotal - mBytesDone) / double(mBytesDone)) + " left";
@@ -228,7 +230,7 @@ int BatchSink::finish()
     std::string error;
     if (!mPlan.report->write(true, error))
         return fail(error);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - mStart).count();
+    const double seconds = seam::secondsSince(mStart);
     if (!mOpt.quiet && !mOpt.json)
         std::printf("batch: %zu meshes, %zu converted, %zu skipped, %zu failed, %.2f s; report %s\n",
                     mPlan.entries.size(), mConverted, mSkipped, mFailed, seconds, mPlan.report->path().c_str());

@@ -10,26 +10,10 @@
 #include <exception>
 #include <new>
 
-#include "path_stem.h"
+#include "seam.h"
 
 namespace mesh2sdf
 {
-
-namespace
-{
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
-
-} // namespace
-
-std::string fileStem(const std::string &path)
-{
-    const char *start;
-    const size_t length = path_stem(path.c_str(), &start);
-    return std::string(start, length);
-}
 
 std::vector<std::string> jobOutputs(const Options &opt)
 {
@@ -140,7 +124,7 @@ bool convertJobMesh(const Options &opt, const sdft_mesh *mesh, mesh_files *files
 JobResult convertMesh(const Options &opt, ProgressView &progress,
                       const std::function<void(const JobResult &)> &meshReady)
 {
-    const auto start = Clock::now();
+    const auto start = std::chrono::steady_clock::now();
     JobResult r;
     try {
         std::unique_ptr<mesh_files, MeshFree> files;
@@ -165,7 +149,7 @@ JobResult convertMesh(const Options &opt, ProgressView &progress,
         r.error = opt.input + ": out of memory";
     }
     progress.finish();
-    r.seconds = secondsSince(start);
+    r.seconds = seam::secondsSince(start);
     return r;
 }
 

@@ -48,10 +48,6 @@ struct MeshFree {
 };
 using MeshPtr = std::unique_ptr<sdft_mesh, MeshFree>;
 
-/// A path's file name without its folder and last extension: a batch's
-/// output name.
-std::string fileStem(const std::string &path);
-
 /// The grid files a conversion writes: opt.output (.vdb), opt.nvdb, and
 /// opt.npy with its sidecar JSON, each where given (a batch may leave out
 /// the .vdb). A batch asks whether all of them exist before converting a

@@ -466,25 +466,27 @@ static sdft_render_params make_params(const render_opts *o, const render_source 
     return p;
 }
 
-/* Writes every requested file; on a failure removes the ones this run
- * already wrote, so the outputs appear together or not at all. */
+/* Writes every requested file, together: all of them or none
+ * (src/common/atomic_file.h's sets). */
 static int write_outputs(const render_opts *o, const sdft_image *img, char *msg, size_t len)
 {
-    if (io_write_exr(o->out, img, msg, len))
+    const char *paths[3] = {o->out};
+    size_t n = 1;
+    if (o->png)
+        paths[n++] = o->png;
+    if (o->heatmap[1])
+        paths[n++] = o->heatmap[1];
+    atomic_file files[3];
+    if (atomic_files_begin(files, paths, n, msg, len))
         return -1;
-    if (o->png && io_write_png(o->png, img, msg, len)) {
-        remove(o->out);
-        return -1;
-    }
     const io_heatmap_kind kind =
         o->heatmap[0] && strcmp(o->heatmap[0], "steps") ? SDFT_HEATMAP_FALLBACKS : SDFT_HEATMAP_STEPS;
-    if (o->heatmap[1] && io_write_heatmap(o->heatmap[1], img, kind, (unsigned long)o->heatmap_max, msg, len)) {
-        remove(o->out);
-        if (o->png)
-            remove(o->png);
+    if (io_write_exr_into(&files[0], img, msg, len) || (o->png && io_write_png_into(&files[1], img, msg, len)) ||
+        (o->heatmap[1] && io_write_heatmap_into(&files[n - 1], img, kind, (unsigned long)o->heatmap_max, msg, len))) {
+        atomic_files_abort(files, n);
         return -1;
     }
-    return 0;
+    return atomic_files_commit(files, n, msg, len) ? -1 : 0;
 }
 
 /* The traced grid's NanoVDB bytes; 0 for a procedural scene. */

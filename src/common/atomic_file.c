@@ -90,33 +90,77 @@ static void sync_folder(const char *path)
     }
 }
 
-sdft_error atomic_file_commit(atomic_file *af, char *msg, size_t msg_len)
+/* The temporary file flushed to disk and closed (a device or pipe: closed):
+ * 0, or the errno of the failure. */
+static int flush(atomic_file *af)
 {
     int err = 0;
-    if (af->direct) {
-        if (af->fd >= 0 && close(af->fd) != 0)
-            err = errno;
-        af->fd = -1;
-        af->tmp_path[0] = '\0';
-        return err ? fail_with(msg, msg_len, SDFT_EIO, "cannot write %s: %s", af->path, strerror(err)) : SDFT_OK;
-    }
     if (af->fd >= 0) {
-        if (fsync(af->fd) != 0 && errno != EINVAL && errno != EROFS)
+        if (!af->direct && fsync(af->fd) != 0 && errno != EINVAL && errno != EROFS)
             err = errno;
         if (close(af->fd) != 0 && !err)
             err = errno;
         af->fd = -1;
     }
-    if (!err && rename(af->tmp_path, af->path) != 0)
-        err = errno;
-    if (err) {
-        unlink(af->tmp_path);
-        af->tmp_path[0] = '\0';
-        return fail_with(msg, msg_len, SDFT_EIO, "cannot write %s: %s", af->path, strerror(err));
+    return err;
+}
+
+/* The flushed temporary file renamed onto the target (a device or pipe:
+ * nothing to do): 0, or the errno of the failure. */
+static int place(atomic_file *af)
+{
+    int err = 0;
+    if (!af->direct && af->tmp_path[0]) {
+        if (rename(af->tmp_path, af->path) != 0)
+            err = errno;
+        else
+            sync_folder(af->path);
     }
-    af->tmp_path[0] = '\0';
-    sync_folder(af->path);
+    if (!err)
+        af->tmp_path[0] = '\0';
+    return err;
+}
+
+sdft_error atomic_file_commit(atomic_file *af, char *msg, size_t msg_len)
+{
+    return atomic_files_commit(af, 1, msg, msg_len);
+}
+
+sdft_error atomic_files_begin(atomic_file *files, const char *const *paths, size_t count, char *msg, size_t msg_len)
+{
+    for (size_t i = 0; i < count; i++) {
+        const sdft_error rc = atomic_file_begin(&files[i], paths[i], msg, msg_len);
+        if (rc != SDFT_OK) {
+            atomic_files_abort(files, i);
+            return rc;
+        }
+    }
     return SDFT_OK;
+}
+
+sdft_error atomic_files_commit(atomic_file *files, size_t count, char *msg, size_t msg_len)
+{
+    int err = 0;
+    size_t failed = 0;
+    for (size_t i = 0; i < count; i++) {
+        const int e = flush(&files[i]);
+        if (e && !err)
+            err = e, failed = i;
+    }
+    for (size_t i = 0; i < count && !err; i++) {
+        err = place(&files[i]);
+        failed = i;
+    }
+    if (!err)
+        return SDFT_OK;
+    atomic_files_abort(files, count);
+    return fail_with(msg, msg_len, SDFT_EIO, "cannot write %s: %s", files[failed].path, strerror(err));
+}
+
+void atomic_files_abort(atomic_file *files, size_t count)
+{
+    for (size_t i = 0; i < count; i++)
+        atomic_file_abort(&files[i]);
 }
 
 void atomic_file_abort(atomic_file *af)

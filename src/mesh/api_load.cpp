@@ -4,7 +4,6 @@
 #include "api.h"
 
 #include "io/mesh_io.h"
-#include "path_stem.h"
 
 using namespace meshsdf::api;
 
@@ -47,23 +46,6 @@ std::unique_ptr<sdft_mesh> newMesh(const sdft_mesh_params &p)
 sdft_error readError(const std::string &error) { return error.rfind("cannot open", 0) == 0 ? SDFT_EIO : SDFT_EFORMAT; }
 
 } // namespace
-
-namespace meshsdf::api
-{
-
-double secondsSince(std::chrono::steady_clock::time_point start)
-{
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-std::string fileStem(const std::string &path)
-{
-    const char *start;
-    const size_t length = path_stem(path.c_str(), &start);
-    return std::string(start, length);
-}
-
-} // namespace meshsdf::api
 
 namespace
 {

@@ -17,6 +17,7 @@
 #include "fail.h"
 #include "grid_file.h" /* nano_handle, write_grid: sdftrace_gridfile */
 #include "sdftrace/vdb.h"
+#include "seam.h"
 
 // sdft_vdb_open and sdft_vdb_bounds once their arguments are checked
 // (vdb_open.c).
@@ -34,20 +35,9 @@ inline sdft_error fail(char *msg, size_t msg_len, sdft_error code, const std::st
     return fail_with(msg, msg_len, code, "%s", line.c_str());
 }
 
-// Runs body() and returns its code; an exception becomes a code and one
-// line ("WHAT: reason"), so that none leaves an extern "C" function.
-template <typename Body> sdft_error guarded(const char *what, char *msg, size_t msg_len, Body &&body) noexcept
-{
-    try {
-        return body();
-    } catch (const std::bad_alloc &) {
-        return fail_with(msg, msg_len, SDFT_ENOMEM, "%s: out of memory", what);
-    } catch (const std::exception &e) {
-        return fail_with(msg, msg_len, SDFT_EINTERNAL, "%s: %s", what, e.what());
-    } catch (...) {
-        return fail_with(msg, msg_len, SDFT_EINTERNAL, "%s: unknown exception", what);
-    }
-}
+// The seams' one guard (src/common/seam.h): no exception leaves an
+// extern "C" function.
+using seam::guarded;
 
 // A read of a `.vdb` file through OpenVDB: fills out (when it succeeds)
 // and returns a code, with one line in msg otherwise.

@@ -372,11 +372,6 @@ void fillBox(openvdb::FloatGrid &grid, const BoxGeometry &box, const NearestTria
             tree.addLeaf(block.leaf); // the tree takes ownership
 }
 
-double seconds(std::chrono::steady_clock::time_point since)
-{
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
-
 } // namespace
 
 int buildGridEnd(const sdft_mesh_grid_params &p) { return p.full ? 95 : 90; }
@@ -470,7 +465,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
             progress.stage("sign off the band", bandEnd, signEnd);
             signTiles(grid->tree(), *sign, progress);
             stats.ambiguousVoxels = sign->ambiguousVoxels();
-            stats.windingSeconds = seconds(t0);
+            stats.windingSeconds = seam::secondsSince(t0);
         }
     }
     grid->setTransform(xform);

@@ -12,7 +12,6 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
-#include <unordered_map>
 
 namespace meshsdf
 {
@@ -29,42 +28,6 @@ std::string lowerExtension(const std::string &path)
     std::string ext = path.substr(dot + 1);
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     return ext;
-}
-
-// Twice the squared area of a triangle, in double.
-double doubleArea2(const std::array<float, 3> &a, const std::array<float, 3> &b, const std::array<float, 3> &c)
-{
-    const double e1[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
-    const double e2[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
-    const double x = e1[1] * e2[2] - e1[2] * e2[1], y = e1[2] * e2[0] - e1[0] * e2[2],
-                 z = e1[0] * e2[1] - e1[1] * e2[0];
-    return x * x + y * y + z * z;
-}
-
-// TriangleMesh::welded for `points`.
-std::vector<uint32_t> weldByPosition(const std::vector<std::array<float, 3>> &points)
-{
-    struct Key {
-        float x, y, z;
-        bool operator==(const Key &o) const { return x == o.x && y == o.y && z == o.z; }
-    };
-    struct KeyHash {
-        size_t operator()(const Key &k) const
-        {
-            uint32_t b[3];
-            std::memcpy(b, &k, sizeof b);
-            return (size_t(b[0]) * 73856093u) ^ (size_t(b[1]) * 19349663u) ^ (size_t(b[2]) * 83492791u);
-        }
-    };
-    std::unordered_map<Key, uint32_t, KeyHash> first;
-    first.reserve(points.size());
-    std::vector<uint32_t> welded(points.size());
-    for (size_t i = 0; i < points.size(); ++i) {
-        const auto &p = points[i];
-        // + 0.0f makes -0 +0, so that equal keys hash alike.
-        welded[i] = first.emplace(Key{p[0] + 0.0f, p[1] + 0.0f, p[2] + 0.0f}, uint32_t(i)).first->second;
-    }
-    return welded;
 }
 
 // True if the n corners are a polygon: three or more, all distinct.
@@ -126,26 +89,10 @@ bool finishMesh(const std::string &path, PolygonSoup &soup, TriangleMesh &mesh, 
         error = "mesh has no non-degenerate triangles: " + path;
         return false;
     }
-    mesh.lo = {INFINITY, INFINITY, INFINITY};
-    mesh.hi = {-INFINITY, -INFINITY, -INFINITY};
-    for (const auto &t : mesh.triangles)
-        for (uint32_t v : t)
-            for (int k = 0; k < 3; ++k) {
-                mesh.lo[k] = std::min(mesh.lo[k], double(mesh.points[v][k]));
-                mesh.hi[k] = std::max(mesh.hi[k], double(mesh.points[v][k]));
-            }
-    const double extent = std::max({mesh.hi[0] - mesh.lo[0], mesh.hi[1] - mesh.lo[1], mesh.hi[2] - mesh.lo[2]});
-    if (!(extent > 0.0)) {
+    if (!finishTriangles(mesh)) {
         error = "mesh bounding box has zero size: " + path;
         return false;
     }
-    mesh.welded = weldByPosition(mesh.points);
-    std::vector<char> used(mesh.points.size(), 0);
-    for (const auto &t : mesh.triangles)
-        for (uint32_t v : t)
-            used[v] = 1;
-    for (size_t v = 0; v < mesh.points.size(); ++v)
-        mesh.health.weldedVertices += used[v] && mesh.welded[v] != v;
     return true;
 }
 
