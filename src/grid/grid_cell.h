@@ -1,7 +1,7 @@
 /* sdftrace — reading a grid's voxel cells, shared by the sampler
  * (grid_sample.c) and the exact last-cell root (grid_root.c): world to
  * index, one stored value through the read accessor, the eight corners of
- * a trilinear cell through the leaf directory (grid_leaves.c). Internal
+ * a trilinear cell through the leaf directory (grid_directory.h). Internal
  * header; every helper inlines, so a caller specialised on a grid type
  * keeps no branch on it. */
 #ifndef SDFTRACE_GRID_CELL_H
@@ -9,22 +9,11 @@
 
 #include <math.h>
 
-#include "grid_internal.h"
+#include "grid_directory.h"
 
 _Static_assert(sizeof(pnanovdb_readaccessor_t) <= SDFT_SCRATCH_BYTES, "a read accessor must fit a thread's scratch");
 
 static inline pnanovdb_readaccessor_t *accessor(sdft_scratch *s) { return (pnanovdb_readaccessor_t *)(void *)s->bytes; }
-
-/* The hot path is written once and instantiated per grid type, transform
- * shape and bound (the GRID_DISTANCE table below), so the loop a ray runs
- * never branches on configuration; these helpers must inline to fold. */
-#if defined(__GNUC__)
-#define GRID_INLINE static inline __attribute__((always_inline))
-#define GRID_COLD static __attribute__((noinline))
-#else
-#define GRID_INLINE static inline
-#define GRID_COLD static
-#endif
 
 /* A deferred grid's leaf at byte `at`, holding voxel ijk, filled if it is
  * not yet (grid_deferred.c); nothing for a grid loaded whole, or for an
@@ -96,13 +85,6 @@ static inline float word_float(const sdft_grid *g, uint32_t w)
     return pnanovdb_read_float(g->buf, (pnanovdb_address_t){4u * w});
 }
 
-/* Whether grids of `type` have a leaf directory (grid_leaves.c). */
-static inline int has_directory(pnanovdb_grid_type_t type)
-{
-    return type == PNANOVDB_GRID_TYPE_FLOAT || type == PNANOVDB_GRID_TYPE_FP16 || type == PNANOVDB_GRID_TYPE_FP8 ||
-           type == PNANOVDB_GRID_TYPE_FP4;
-}
-
 /* Value n (64 x + 8 y + z) of the leaf whose value table starts at word w:
  * a float, or a code of 16, 8 or 4 bits times the leaf's quantum plus its
  * minimum, the two floats before the table (pnanovdb_leaf_fp_read_float,
@@ -133,25 +115,6 @@ GRID_INLINE float entry_value(const sdft_grid *g, pnanovdb_grid_type_t type, uin
     if (w < GRID_TILE_MARKERS)
         return w == GRID_TILE_POSITIVE ? g->background : -g->background;
     return leaf_value(g, type, w, n);
-}
-
-/* The directory's chunk holding voxel c's block, with *local that block's
- * entry in it; NULL when c lies outside the regions or in one without a
- * chunk (grid_leaves.c). */
-GRID_INLINE const uint32_t *directory_chunk(const grid_leaves *d, const int32_t c[3], uint32_t *local)
-{
-    uint32_t r[3];
-    for (int k = 0; k < 3; k++) {
-        r[k] = (uint32_t)((c[k] >> 6) - d->r0[k]);
-        if (r[k] >= (uint32_t)d->nr[k]) /* below r0 wraps above nr */
-            return NULL;
-    }
-    const uint32_t chunk = d->top[((size_t)r[2] * (size_t)d->nr[1] + r[1]) * (size_t)d->nr[0] + r[0]];
-    if (!chunk)
-        return NULL;
-    *local = ((uint32_t)c[0] >> 3 & 7u) + GRID_CHUNK_SIDE * ((uint32_t)c[1] >> 3 & 7u) +
-             GRID_CHUNK_SIDE * GRID_CHUNK_SIDE * ((uint32_t)c[2] >> 3 & 7u);
-    return d->chunk + (size_t)(chunk - 1u) * GRID_CHUNK_ENTRIES;
 }
 
 /* The eight values of the cell whose lowest corner is i0 (v[k]: corner

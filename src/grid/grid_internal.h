@@ -11,6 +11,18 @@
 #include "fail.h"
 #include "sdftrace/grid.h"
 
+/* The hot path is written once and instantiated per grid type, transform
+ * shape and bound (grid_sample.c's GRID_DISTANCE table), so the loop a ray
+ * runs never branches on configuration; the helpers it calls must inline
+ * to fold. */
+#if defined(__GNUC__)
+#define GRID_INLINE static inline __attribute__((always_inline))
+#define GRID_COLD static __attribute__((noinline))
+#else
+#define GRID_INLINE static inline
+#define GRID_COLD static
+#endif
+
 /* The far bound (grid_bound.c): cells of `cell`^3 voxels over the active
  * box (4^3, half a leaf's edge, unless the box is too big for the table's
  * cap), each occupied (it holds an active voxel, or inactive values of both
