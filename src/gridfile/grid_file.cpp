@@ -3,11 +3,17 @@
 // OpenVDB's. See grid_file.h.
 #include "grid_file.h"
 
+#include <cstdlib>
+#include <cstring>
+#include <new>
+
+#include <nanovdb/util/GridChecksum.h>
 #include <nanovdb/util/IO.h>
 #include <nanovdb/util/OpenToNanoVDB.h>
 #include <openvdb/openvdb.h>
 
 #include "fail.h"
+#include "sdftrace/grid.h"
 
 namespace sdft_vdb
 {
@@ -33,13 +39,64 @@ nanovdb::GridHandle<> nano_handle(const openvdb::FloatGrid &grid, sdft_quant qua
     }
 }
 
+// The checksum `grid` (a buffer's grid of type `type`) had, in the mode it
+// was made (none, partial or full), computed again over its bytes.
+template <typename BuildT> static void checksum_again(nanovdb::GridHandle<> &handle, uint64_t was)
+{
+    if (auto *grid = handle.grid<BuildT>())
+        nanovdb::updateChecksum(*grid, nanovdb::GridChecksum(was).mode());
+}
+
+nanovdb::GridHandle<> with_tables(nanovdb::GridHandle<> handle)
+{
+    sdft_grid_options o = sdft_grid_options_defaults();
+    o.data = handle.data(), o.size = handle.size(), o.memory = SDFT_GRID_BORROW;
+    sdft_grid *g = nullptr;
+    void *bytes = nullptr;
+    size_t size = 0;
+    sdft_error rc = sdft_grid_open(&o, &g, nullptr, 0);
+    if (rc == SDFT_OK)
+        rc = sdft_grid_export(g, &bytes, &size, nullptr, 0);
+    sdft_grid_free(g);
+    if (rc == SDFT_ENOMEM)
+        throw std::bad_alloc();
+    if (rc != SDFT_OK) // a grid the tracer does not take (not scalar, empty): as it is
+        return handle;
+    nanovdb::HostBuffer buffer = nanovdb::HostBuffer::create(size);
+    std::memcpy(buffer.data(), bytes, size);
+    std::free(bytes);
+    const uint64_t was = handle.gridMetaData()->checksum();
+    const nanovdb::GridType type = handle.gridMetaData()->gridType();
+    nanovdb::GridHandle<> out(std::move(buffer));
+    switch (type) {
+    case nanovdb::GridType::Float:
+        checksum_again<float>(out, was);
+        break;
+    case nanovdb::GridType::Fp16:
+        checksum_again<nanovdb::Fp16>(out, was);
+        break;
+    case nanovdb::GridType::Fp8:
+        checksum_again<nanovdb::Fp8>(out, was);
+        break;
+    case nanovdb::GridType::Fp4:
+        checksum_again<nanovdb::Fp4>(out, was);
+        break;
+    case nanovdb::GridType::FpN:
+        checksum_again<nanovdb::FpN>(out, was);
+        break;
+    default:
+        break;
+    }
+    return out;
+}
+
 sdft_error write_grid(const openvdb::FloatGrid &grid, bool nvdb, sdft_quant quant, const std::string &path,
                       const std::string &label, char *msg, size_t msg_len)
 {
     try {
         openvdb::initialize(); // the grid and metadata types a file names
         if (nvdb) {
-            nanovdb::io::writeGrid(path, nano_handle(grid, quant));
+            nanovdb::io::writeGrid(path, with_tables(nano_handle(grid, quant)));
         } else {
             // A shallow copy (own metadata, shared tree) carries the half-float flag.
             openvdb::FloatGrid::Ptr out = openvdb::ConstPtrCast<openvdb::FloatGrid>(grid.copy());
