@@ -41,6 +41,22 @@ double isolated_time_limit(const char *path);
  * 12 s") in a few words. */
 int isolated_read(const char *path, isolated_fn fn, void *ctx, char **answer, size_t *size, char *why, size_t why_len);
 
+/* What a caller of isolated_read_with adds to isolated_read's defaults. */
+typedef struct isolated_extra {
+    /* Address space the child may take beyond what the file allows (its
+     * threads' stacks and malloc arenas, a shared mapping it fills), bytes. */
+    double bytes;
+    /* Called about every 20 ms in the caller's thread while the child runs
+     * (a progress report from memory the child shares); non-zero stops the
+     * child: it is killed and the call returns -2. NULL: not called. */
+    int (*watch)(void *watch_ctx);
+    void *watch_ctx;
+} isolated_extra;
+
+/* isolated_read with `extra` (NULL: none); -2 when watch stopped it. */
+int isolated_read_with(const char *path, isolated_fn fn, void *ctx, const isolated_extra *extra, char **answer,
+                       size_t *size, char *why, size_t why_len);
+
 /* write(2) of all n bytes, through EINTR; 0 on success. For fn. */
 int isolated_write_all(int fd, const void *data, size_t n);
 
