@@ -1,0 +1,76 @@
+// sdftrace — building the distance grid: the exact narrow band (band.h)
+// signed by the winding number, or left unsigned; or, for --sign flood,
+// OpenVDB's own mesh-to-volume band and flood-fill sign, for comparison.
+// For --full, exact distances in the rest of the padded box.
+#ifndef SDFT_MESH_GRID_BUILD_H
+#define SDFT_MESH_GRID_BUILD_H
+
+#include "geometry/triangle_mesh.h"
+#include "progress/progress.h"
+#include "sdftrace/mesh.h"
+
+#include <openvdb/openvdb.h>
+
+#include <array>
+#include <string>
+
+namespace meshsdf
+{
+
+enum class SignMethod { Winding, Flood, None };
+const char *signMethodName(SignMethod m);
+
+/// Largest grid side in voxels (res, or the side a voxel size implies).
+constexpr int kMaxResolution = SDFT_MESH_MAX_RES;
+/// Largest dense output (full, .npy) in voxels.
+constexpr double kMaxDenseVoxels = SDFT_MESH_MAX_DENSE_VOXELS;
+
+/// A grid to build.
+struct GridSettings {
+    std::string source;     // the mesh the grid's metadata names
+    int res = 256;          // longest side of the padded box, in voxels
+    double voxelSize = 0.0; // world units; > 0 overrides res
+    double band = 3.0;      // narrow-band half-width, voxels
+    bool full = false;      // a distance in every voxel of the padded box
+    double padding = 4.0;   // voxels around the mesh bounds
+    SignMethod sign = SignMethod::Winding;
+    bool simd = true;        // vector instructions where the processor has them
+    bool simd512 = true;     // and AVX-512 among them
+    bool writesNpy = false;  // a dense array will be made of it (its size limit applies)
+    bool writesNvdb = false; // a NanoVDB copy will be made of it (its memory counts)
+};
+
+/// The padded box: voxel (i, j, k), 0 <= i < dims[0] ..., has its centre at
+/// world position origin + (i, j, k) * voxelSize. Index space of the grid is
+/// the same (i, j, k).
+struct BoxGeometry {
+    double voxelSize = 0;
+    std::array<double, 3> origin{};
+    std::array<int, 3> dims{};
+    double voxelCount() const { return double(dims[0]) * dims[1] * dims[2]; }
+};
+
+/// Voxel size and box from --res or --voxel-size and --padding. --res N puts
+/// N voxel centres along the padded box's longest side. Fails with one line
+/// when a side would exceed kMaxResolution or be too small for the padding,
+/// or a dense output would exceed kMaxDenseVoxels. (Whether the conversion
+/// fits memory is memory_estimate.h's question.)
+bool planBox(const TriangleMesh &mesh, const GridSettings &opt, BoxGeometry &box, std::string &error);
+
+struct BuildStats {
+    double windingSeconds = 0;    // exact band distances and winding sign (--sign winding only)
+    uint64_t ambiguousVoxels = 0; // voxels signed from a winding number in (0.25, 0.75)
+};
+
+/// The signed (or, with SignMethod::None, unsigned) distance grid in world
+/// units: a GRID_LEVEL_SET with background band * voxelSize and the box's
+/// transform. Its stages fill `progress` from 0 to buildGridEnd(opt) %.
+/// Where on the progress bar building ends and writing begins, in percent.
+int buildGridEnd(const GridSettings &opt);
+
+openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &box, const GridSettings &opt,
+                                  Progress &progress, BuildStats &stats);
+
+} // namespace meshsdf
+
+#endif
