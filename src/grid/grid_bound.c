@@ -55,6 +55,10 @@
 
 #include "grid_cell.h"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 enum { MAX_CELLS = 1 << 24 }; /* 16M cells: ~34 MiB of corners (distance and sign) */
 
 /* floor(a / b) for b > 0. */
@@ -104,75 +108,62 @@ enum { LANES = 16 }; /* adjacent x lines transformed together: a cache line of v
 enum { SQUARED_MOST = 1 << 24 };
 static inline uint32_t squared_store(uint64_t v) { return v < SQUARED_MOST ? (uint32_t)v : SQUARED_MOST; }
 
-/* edt_line on whole numbers, for `count` <= LANES lines at once of at
- * most EXACT_LINE values each: f[q LANES + l] is value q of line l, and so
- * is out's. f[p] + p^2 stays below 2^31, and the envelope's breakpoints,
- * rationals (F_q - F_p) / 2(q - p) with F_p = f[p] + p^2, are compared by
- * cross multiplication in 64 bits, exactly, with no division. edt_line's
- * doubles compare the same rationals exactly too (their numerators and
- * denominators are small enough that distinct ones never round together),
- * so both find the same envelope and the same minima. The lines go step
- * by step together, so that one line's chain of multiplications and
- * comparisons overlaps the others'. s: scratch of LANES (n + 1) lane
- * entries (env[i LANES + l]: line l's parabola i of its envelope, and
- * where it takes over). */
+/* edt_line on whole numbers, for `count` <= LANES lines of at most
+ * EXACT_LINE values each, one after the other: f[q LANES + l] is value q
+ * of line l, and so is out's. f[p] + p^2 stays below 2^31, and the
+ * envelope's breakpoints, rationals (F_q - F_p) / 2(q - p) with F_p = f[p]
+ * + p^2, are compared by cross multiplication in 64 bits, exactly, with no
+ * division. edt_line's doubles compare the same rationals exactly too
+ * (their numerators and denominators are small enough that distinct ones
+ * never round together), so both find the same envelope and the same
+ * minima. e: scratch for n + 1 parabolas of the envelope. */
 enum { EXACT_LINE = 1 << 15 };
 typedef struct envelope {
-    int32_t v;      /* the parabola's apex */
-    int32_t zn, zd; /* where it takes over from the one before: zn / zd (zd > 0) */
+    int32_t *v;       /* apexes */
+    int64_t *F;       /* f[v] + v^2 */
+    int64_t *zn, *zd; /* where each takes over from the one before: zn / zd (zd > 0) */
 } envelope;
 
-static void edt_lanes_exact(const uint32_t *f, uint32_t *out, int n, int count, envelope *env)
+static void edt_lanes_exact(const uint32_t *f, uint32_t *out, int n, int count, const envelope *e)
 {
-    int k[LANES], j[LANES];
-    for (int l = 0; l < count; l++)
-        k[l] = -1;
-    for (int q = 0; q < n; q++)
-        for (int l = 0; l < count; l++) {
+    int32_t *v = e->v;
+    int64_t *F = e->F, *zn = e->zn, *zd = e->zd;
+    for (int l = 0; l < count; l++) {
+        int k = -1;
+        for (int q = 0; q < n; q++) {
             const uint32_t fq = f[(size_t)q * LANES + l];
             if (fq == NO_SITE)
                 continue;
             const int64_t Fq = (int64_t)fq + (int64_t)q * q;
             int64_t sn = 0, sd = 1;
-            int top = k[l];
-            while (top >= 0) {
-                const envelope *e = &env[(size_t)top * LANES + l];
-                const int64_t Fv = (int64_t)f[(size_t)e->v * LANES + l] + (int64_t)e->v * e->v;
-                sn = Fq - Fv, sd = 2 * (int64_t)(q - e->v);
-                if (top == 0 || sn * e->zd > (int64_t)e->zn * sd) /* s > z[top]; z[0] is -infinity */
+            while (k >= 0) {
+                sn = Fq - F[k], sd = 2 * (int64_t)(q - v[k]);
+                if (k == 0 || sn * zd[k] > zn[k] * sd) /* s > z[k]; z[0] is -infinity */
                     break;
-                top--;
+                k--;
             }
-            top++;
-            env[(size_t)top * LANES + l] = (envelope){q, (int32_t)sn, (int32_t)sd};
-            k[l] = top;
+            k++;
+            v[k] = q, F[k] = Fq, zn[k] = sn, zd[k] = sd;
         }
-    for (int l = 0; l < count; l++)
-        j[l] = 0;
-    for (int q = 0; q < n; q++)
-        for (int l = 0; l < count; l++) {
-            if (k[l] < 0) {
+        if (k < 0) {
+            for (int q = 0; q < n; q++)
                 out[(size_t)q * LANES + l] = NO_SITE;
-                continue;
-            }
-            int at = j[l];
-            while (at < k[l]) { /* z[at + 1] < q; z[k + 1] is +infinity */
-                const envelope *e = &env[(size_t)(at + 1) * LANES + l];
-                if (!((int64_t)e->zn < (int64_t)q * e->zd))
-                    break;
-                at++;
-            }
-            j[l] = at;
-            const int v = env[(size_t)at * LANES + l].v;
-            const int64_t d = q - v;
-            out[(size_t)q * LANES + l] = squared_store((uint64_t)(d * d) + f[(size_t)v * LANES + l]);
+            continue;
         }
+        int j = 0;
+        for (int q = 0; q < n; q++) {
+            while (j < k && zn[j + 1] < (int64_t)q * zd[j + 1]) /* z[j + 1] < q; z[k + 1] is +infinity */
+                j++;
+            const int64_t d = q - v[j];
+            out[(size_t)q * LANES + l] = squared_store((uint64_t)(F[j] - (int64_t)v[j] * v[j] + d * d));
+        }
+    }
 }
 
 /* count <= LANES lines at once, laid out as edt_lanes_exact's: on whole
  * numbers where they are exact, else each through edt_line's doubles
  * (df, dout: scratch of n; z: of n + 1; v: of n). */
-static void transform_lines(const uint32_t *f, uint32_t *out, int n, int count, envelope *env, int *v, double *df,
+static void transform_lines(const uint32_t *f, uint32_t *out, int n, int count, const envelope *env, int *v, double *df,
                             double *dout, double *z)
 {
     if (n <= EXACT_LINE) {
@@ -202,12 +193,13 @@ static int edt_yz(uint32_t *d, const int n[3])
 #pragma omp parallel reduction(| : failed)
     {
         uint32_t *f = malloc(sizeof(uint32_t) * (size_t)m * LANES), *o = malloc(sizeof(uint32_t) * (size_t)m * LANES);
-        envelope *env = malloc(sizeof(envelope) * (size_t)(m + 1) * LANES);
+        const envelope env = {malloc(sizeof(int32_t) * (size_t)(m + 1)), malloc(sizeof(int64_t) * (size_t)(m + 1)),
+                              malloc(sizeof(int64_t) * (size_t)(m + 1)), malloc(sizeof(int64_t) * (size_t)(m + 1))};
         const size_t wide = m > EXACT_LINE ? (size_t)m : 1; /* edt_line's doubles, for long lines */
         int *v = malloc(sizeof(int) * wide);
         double *df = malloc(sizeof(double) * wide), *dout = malloc(sizeof(double) * wide),
                *z = malloc(sizeof(double) * (wide + 1));
-        failed = !f || !o || !env || !v || !df || !dout || !z;
+        failed = !f || !o || !env.v || !env.F || !env.zn || !env.zd || !v || !df || !dout || !z;
         for (int axis = 1; axis < 3; axis++) {
             /* Work items: (line group, other axis' index). */
             const int other = axis == 2 ? 1 : 2;
@@ -228,13 +220,13 @@ static int edt_yz(uint32_t *d, const int n[3])
                     }
                 if (seen == NO_SITE) /* no site on any of the lines: they stay as they are */
                     continue;
-                transform_lines(f, o, n[axis], count, env, v, df, dout, z);
+                transform_lines(f, o, n[axis], count, &env, v, df, dout, z);
                 for (int q = 0; q < n[axis]; q++)
                     for (int l = 0; l < count; l++)
                         line[(size_t)q * stride[axis] + l] = o[(size_t)q * LANES + l];
             }
         }
-        free(f), free(o), free(env), free(v), free(df), free(dout), free(z);
+        free(f), free(o), free(env.v), free(env.F), free(env.zn), free(env.zd), free(v), free(df), free(dout), free(z);
     }
     return failed ? -1 : 0;
 }
@@ -375,7 +367,17 @@ static void codes_to_bits(const int8_t *sign, cell_bits *b)
     for (long row = 0; row < (long)n[1] * n[2]; row++) {
         const int8_t *c = sign + (size_t)row * n[0];
         uint64_t *p = b->pos + (size_t)row * b->words, *m = b->neg + (size_t)row * b->words;
-        for (int x = 0; x < n[0]; x++) {
+        int x = 0;
+#if defined(__SSE2__)
+        const __m128i zero = _mm_setzero_si128();
+        for (; x + 16 <= n[0]; x += 16) { /* 16 codes at a time: a byte's sign to a bit */
+            const __m128i v = _mm_loadu_si128((const __m128i *)(const void *)(c + x));
+            const uint64_t pos = (uint16_t)_mm_movemask_epi8(_mm_cmpgt_epi8(v, zero)),
+                           neg = (uint16_t)_mm_movemask_epi8(_mm_cmplt_epi8(v, zero));
+            p[x >> 6] |= pos << (x & 63), m[x >> 6] |= neg << (x & 63);
+        }
+#endif
+        for (; x < n[0]; x++) {
             p[x >> 6] |= (uint64_t)(c[x] > 0) << (x & 63);
             m[x >> 6] |= (uint64_t)(c[x] < 0) << (x & 63);
         }
