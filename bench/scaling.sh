@@ -17,13 +17,14 @@
 #             NanoVDB's HDDA caster as one call (bench/hdda_caster
 #               --single: one fread of the .nvdb, one frame), its wall.
 # A section is a function that appends rows to $rows, one number each:
-#   SECTION <tab> SUBJECT <tab> TOOL <tab> THREADS <tab> METRIC <tab> MS
+#   SECTION <tab> SUBJECT <tab> TOOL <tab> THREADS <tab> ROUND <tab> METRIC <tab> MS
 # and the page is made from the rows alone: a table per subject, a row per
-# tool and metric, a column per thread count (medians), and the serial
-# fraction the 1-thread and the most-thread times imply (Karp-Flatt's
-# estimate of Amdahl's: e = (1/S - 1/p) / (1 - 1/p), S the speed-up on p
-# threads; 0 for work that halves with two threads, 1 for work that does
-# not move); then each section's targets. A section for mesh2sdf (read,
+# tool and metric, a column per thread count (the median and its 95%
+# interval, bench/page.sh's page_stats), and the serial fraction the
+# 1-thread and the most-thread medians imply (Karp-Flatt's estimate of
+# Amdahl's: e = (1/S - 1/p) / (1 - 1/p), S the speed-up on p threads; 0
+# for work that halves with two threads, 1 for work that does not move);
+# then each section's targets, as ratios of numbers of the same round. A section for mesh2sdf (read,
 # orient, index, sweep or samples, write; vdb_tool beside) goes in the same
 # way: a function, its name in SECTIONS, its targets.
 #
@@ -69,13 +70,14 @@ done
 rows=$out/rows.tsv
 : >"$rows"
 log() { echo "scaling.sh: $*" >&2; }
-load_at_start=$(cut -d' ' -f1-3 /proc/loadavg)
+page_need_stats
+round=0
 
 now_ms() { echo $(($(date +%s%N) / 1000000)); }
 # json FILE KEY: the number KEY has in the JSON object of FILE.
 json() { sed -n "s/.*\"$2\": \([-0-9.e]*\).*/\1/p" "$1"; }
-# row SECTION SUBJECT TOOL THREADS METRIC VALUE
-row() { [ -z "$6" ] || printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$@" >>"$rows"; }
+# row SECTION SUBJECT TOOL THREADS METRIC VALUE: one number of this round.
+row() { [ -z "$6" ] || printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$1" "$2" "$3" "$4" "$round" "$5" "$6" >>"$rows"; }
 
 # ---- render ---------------------------------------------------------------
 
@@ -140,15 +142,15 @@ render_section() {
     for g in $grids; do
         "$caster" --view "$out/$g.vdb" front "$width" "$height" >"$out/$g.view"
     done
-    i=0
-    while [ "$i" -lt "$repeat" ]; do
+    round=0
+    while [ "$round" -lt "$repeat" ]; do
         for t in $THREADS; do
             for g in $grids; do
-                log "render: round $((i + 1)) of $repeat, $g, $t threads"
+                log "render: round $((round + 1)) of $repeat, $g, $t threads"
                 render_round "$g" "$t"
             done
         done
-        i=$((i + 1))
+        round=$((round + 1))
     done
 }
 
@@ -157,8 +159,7 @@ render_page() {
     echo
     echo "Level sets made by \`vdb_tool -mesh2ls d=$res w=3\` from tests/data/meshes ($grids), as \`.vdb\` and as"
     echo "\`.nvdb\` (NanoVDB's \`nanovdb_convert\`: no stored tables, so sdftrace builds them), rendered at"
-    echo "${width}x${height} without shadows from the front framing. Each number is the median of $repeat rounds,"
-    echo "the tools in turns, in ms. sdftrace's rows are one \`render\` call's phases (\`--json\`): *start*, the"
+    echo "${width}x${height} without shadows from the front framing, in ms. sdftrace's rows are one \`render\` call's phases (\`--json\`): *start*, the"
     echo "process's start before main (its wall less its own); *read*, the grid into memory (a \`.vdb\`: a"
     echo "reader process converts it into shared memory, which this one maps); *serial*, the part of *read*"
     echo "on one thread before the first parallel phase; then the leaf directory, the stored tables found"
@@ -166,111 +167,116 @@ render_page() {
     echo "is the best later frame of a \`--repeat 4\` call. vdb_render's *read* and *trace* are its own"
     echo "timers (it reads a leaf when a ray first reaches it); the HDDA caster reads the \`.nvdb\` with one"
     echo "\`fread\` and traces one frame. *wall*: the whole process, timed by the script. The last column is"
-    echo "the serial fraction that 1 and $max_threads threads imply (Karp-Flatt; - for a number that is 0)."
+    echo "the serial fraction that 1 and $max_threads threads imply (Karp-Flatt; - for a number near 0)."
+    echo "A cell is the median [95% interval] of the rounds."
     echo
     table render
     render_targets
 }
 
-# The goals, at the most threads: one call's frame >= 5x vdb_render's trace
-# and >= 1.5x the caster's frame; the wall <= 0.5x vdb_render's, from .vdb and
-# .nvdb; serial work before the first parallel phase <= 5% of a 1-thread
-# call (its start, and the read's serial part); the first frame <= 1.2x a
-# warm one.
+# ---- the page --------------------------------------------------------------
+
+# samples SECTION SUBJECT TOOL THREADS METRIC: the numbers of every round.
+samples() {
+    awk -F'\t' -v a="$1" -v b="$2" -v c="$3" -v d="$4" -v e="$5" \
+        '$1 == a && $2 == b && $3 == c && $4 == d && $6 == e { print $7 }' "$rows"
+}
+
+# pairs SECTION THREADS SUBJECT TOOL METRIC SUBJECT TOOL METRIC: "a b" for
+# each round that has both numbers (for page_stats --ratio: a / b).
+pairs() {
+    awk -F'\t' -v s="$1" -v t="$2" -v s1="$3" -v t1="$4" -v m1="$5" -v s2="$6" -v t2="$7" -v m2="$8" '
+        $1 != s || $4 != t { next }
+        $2 == s1 && $3 == t1 && $6 == m1 { a[$5] = $7 }
+        $2 == s2 && $3 == t2 && $6 == m2 { b[$5] = $7 }
+        END { for (r in a) if (r in b) print a[r], b[r] }' "$rows"
+}
+
+# The median of samples on standard input ("" when there are none).
+median() {
+    awk 'NF { print }' | { read -r first || exit 0; { echo "$first"; cat; } | page_stats | cut -d' ' -f1; }
+}
+
+# stat_text: page_stats --text over standard input, "-" when empty.
+stat_text() {
+    awk 'NF { print }' | { read -r first || { echo -; exit 0; }; { echo "$first"; cat; } | page_stats --text "$@"; }
+}
+
+# table SECTION: per subject, each tool's metrics by threads (median [95%
+# interval]) and Karp-Flatt's serial fraction between 1 and the most threads.
+table() {
+    for subject in $(awk -F'\t' -v s="$1" '$1 == s { print $2 }' "$rows" | sort -u); do
+        echo "### $subject"
+        echo
+        printf '| tool | ms'
+        for t in $THREADS; do printf ' | %s threads' "$t"; done
+        printf ' | serial fraction |\n|---|---'
+        for t in $THREADS; do printf '|--:'; done
+        printf '|--:|\n'
+        awk -F'\t' -v s="$1" -v b="$subject" '$1 == s && $2 == b { print $3 "\t" $6 }' "$rows" | sort -u |
+            while IFS="$(printf '\t')" read -r tool metric; do
+                printf '| %s | %s' "$tool" "$metric"
+                for t in $THREADS; do
+                    printf ' | %s' "$(samples "$1" "$subject" "$tool" "$t" "$metric" | stat_text 1)"
+                done
+                one=$(samples "$1" "$subject" "$tool" 1 "$metric" | median)
+                most=$(samples "$1" "$subject" "$tool" "$max_threads" "$metric" | median)
+                awk -v a="${one:-0}" -v b="${most:-0}" -v p="$max_threads" 'BEGIN {
+                    if (p > 1 && a >= 0.1 && b >= 0.1) printf " | %.2f |\n", (b / a - 1 / p) / (1 - 1 / p)
+                    else print " | - |" }'
+            done
+        echo
+    done
+}
+
+# met VALUE-TEXT OP BAR: "yes" or "no" for the median (the text's first word).
+met() { awk -v v="${1%% *}" -v op="$2" -v bar="$3" 'BEGIN { ok = op == "<=" ? v + 0 <= bar : v + 0 >= bar; print ok ? "yes" : "no" }'; }
+
+# The goals, at the most threads: one call's first frame >= 5x vdb_render's
+# trace and >= 1.5x the caster's frame; the wall <= 0.5x vdb_render's, from
+# .vdb and .nvdb; serial work before the first parallel phase (the
+# process's start and the read's serial part) <= 5% of a 1-thread call;
+# the first frame <= 1.2x a warm one.
 render_targets() {
     echo "### render: the targets, at $max_threads threads"
     echo
-    echo "| grid | first frame ms | x vdb_render's trace (>= 5) | x HDDA's frame (>= 1.5) | wall ms | x vdb_render's wall (<= 0.5) | serial before the first parallel phase, of a 1-thread call (<= 5%) | first frame / warm (<= 1.2) | met |"
-    echo "|---|---|---|---|---|---|---|---|---|"
-    awk -F'\t' -v top="$max_threads" '
-        $1 != "render" { next }
-        { key = $2 SUBSEP $3 SUBSEP $4 SUBSEP $5; v[key] = v[key] " " $6 }
-        function median(s,    a, n, i, j, t) {
-            n = split(s, a, " ")
-            for (i = 2; i <= n; i++) for (j = i; j > 1 && a[j - 1] + 0 > a[j] + 0; j--) { t = a[j]; a[j] = a[j - 1]; a[j - 1] = t }
-            return n % 2 ? a[(n + 1) / 2] : (a[n / 2] + a[n / 2 + 1]) / 2
-        }
-        function m(s, tool, t, metric) { return median(v[s SUBSEP tool SUBSEP t SUBSEP metric]) }
-        END {
-            for (key in v) { split(key, k, SUBSEP); if (k[2] == "sdftrace") subj[k[1]] = 1 }
-            n = 0; for (s in subj) list[++n] = s
-            for (i = 2; i <= n; i++) for (j = i; j > 1 && list[j - 1] > list[j]; j--) { t = list[j]; list[j] = list[j - 1]; list[j - 1] = t }
-            for (i = 1; i <= n; i++) {
-                s = list[i]; g = s; sub(/\.n?vdb$/, "", g)
-                first = m(s, "sdftrace", top, "first_frame"); warm = m(s, "sdftrace", top, "warm_frame")
-                wall = m(s, "sdftrace", top, "wall")
-                vtrace = m(g ".vdb", "vdb_render", top, "trace"); vwall = m(g ".vdb", "vdb_render", top, "wall")
-                hframe = m(g ".nvdb", "hdda", top, "frame")
-                serial = (m(s, "sdftrace", 1, "start") + m(s, "sdftrace", 1, "serial")) / m(s, "sdftrace", 1, "wall")
-                xv = vtrace / first; xh = hframe / first; xw = wall / vwall; fw = first / warm
-                miss = (xv >= 5 ? "" : "trace-x-vdb_render ") (xh >= 1.5 ? "" : "trace-x-HDDA ") (xw <= 0.5 ? "" : "wall ") \
-                       (serial <= 0.05 ? "" : "serial ") (fw <= 1.2 ? "" : "first-frame")
-                printf "| %s | %.1f | %.2f | %.2f | %.0f | %.2f | %.1f%% | %.2f | %s |\n", s, first, xv, xh, wall, xw, 100 * serial, fw,
-                       miss == "" ? "all" : "missed: " miss
-            }
-        }' "$rows"
+    echo "Each cell is the median of the ratios of one round (the tools in turns) and its 95% interval;"
+    echo "*met* says whether the median meets the goal."
     echo
-}
-
-# ---- the page --------------------------------------------------------------
-
-# table SECTION: per subject, the medians of each tool's metrics by threads,
-# and Karp-Flatt's serial fraction between 1 and the most threads.
-table() {
-    awk -F'\t' -v section="$1" -v threads="$THREADS" '
-        $1 != section { next }
-        { key = $2 SUBSEP $3 SUBSEP $5; v[key SUBSEP $4] = v[key SUBSEP $4] " " $6; seen[key] = 1; subj[$2] = 1 }
-        function median(s,    a, n, i, j, t) {
-            n = split(s, a, " ")
-            if (n == 0) return ""
-            for (i = 2; i <= n; i++) for (j = i; j > 1 && a[j - 1] + 0 > a[j] + 0; j--) { t = a[j]; a[j] = a[j - 1]; a[j - 1] = t }
-            return n % 2 ? a[(n + 1) / 2] : (a[n / 2] + a[n / 2 + 1]) / 2
-        }
-        END {
-            nt = split(threads, T, " ")
-            ns = 0; for (s in subj) S[++ns] = s
-            for (i = 2; i <= ns; i++) for (j = i; j > 1 && S[j - 1] > S[j]; j--) { t = S[j]; S[j] = S[j - 1]; S[j - 1] = t }
-            for (i = 1; i <= ns; i++) {
-                printf "### %s\n\n| tool | ms", S[i]
-                for (k = 1; k <= nt; k++) printf " | %s thr", T[k]
-                printf " | serial fraction |\n|---|---"
-                for (k = 1; k <= nt; k++) printf "|--:"
-                printf "|--:|\n"
-                nk = 0
-                for (key in seen) { split(key, p, SUBSEP); if (p[1] == S[i]) K[++nk] = p[2] SUBSEP p[3] }
-                for (a = 2; a <= nk; a++) for (b = a; b > 1 && K[b - 1] > K[b]; b--) { t = K[b]; K[b] = K[b - 1]; K[b - 1] = t }
-                for (a = 1; a <= nk; a++) {
-                    split(K[a], p, SUBSEP)
-                    printf "| %s | %s", p[1], p[2]
-                    for (k = 1; k <= nt; k++) {
-                        md = median(v[S[i] SUBSEP K[a] SUBSEP T[k]])
-                        printf " | %s", md == "" ? "-" : sprintf("%.1f", md)
-                        if (k == 1) one = md
-                        if (k == nt) most = md
-                    }
-                    if (nt > 1 && one + 0 > 0 && most + 0 > 0) {
-                        sp = one / most; pth = T[nt]
-                        printf " | %.2f |\n", (1 / sp - 1 / pth) / (1 - 1 / pth)
-                    } else {
-                        printf " | - |\n"
-                    }
-                    delete K[a]
-                }
-                print ""
-            }
-        }' "$rows"
+    echo "| call | first frame ms | vdb_render's trace / first frame (>= 5) | HDDA's frame / first frame (>= 1.5) | wall / vdb_render's wall (<= 0.5) | serial before the first parallel phase / 1-thread wall (<= 0.05) | first frame / warm frame (<= 1.2) | met |"
+    echo "|---|---|---|---|---|---|---|---|"
+    for g in $grids; do
+        for kind in vdb nvdb; do
+            s="$g.$kind"
+            first=$(samples render "$s" sdftrace "$max_threads" first_frame | stat_text 1)
+            xv=$(pairs render "$max_threads" "$g.vdb" vdb_render trace "$s" sdftrace first_frame | stat_text 2 --ratio)
+            xh=$(pairs render "$max_threads" "$g.nvdb" hdda frame "$s" sdftrace first_frame | stat_text 2 --ratio)
+            xw=$(pairs render "$max_threads" "$s" sdftrace wall "$g.vdb" vdb_render wall | stat_text 2 --ratio)
+            serial=$(awk -F'\t' -v s="$s" '$1 == "render" && $2 == s && $3 == "sdftrace" && $4 == 1 {
+                         if ($6 == "start" || $6 == "serial") a[$5] += $7; if ($6 == "wall") w[$5] = $7 }
+                         END { for (r in a) if (r in w) print a[r], w[r] }' "$rows" | stat_text 3 --ratio)
+            fw=$(pairs render "$max_threads" "$s" sdftrace first_frame "$s" sdftrace warm_frame | stat_text 2 --ratio)
+            miss=
+            [ "$(met "$xv" ">=" 5)" = yes ] || miss="$miss trace/vdb_render"
+            [ "$(met "$xh" ">=" 1.5)" = yes ] || miss="$miss trace/HDDA"
+            [ "$(met "$xw" "<=" 0.5)" = yes ] || miss="$miss wall"
+            [ "$(met "$serial" "<=" 0.05)" = yes ] || miss="$miss serial"
+            [ "$(met "$fw" "<=" 1.2)" = yes ] || miss="$miss first-frame"
+            echo "| $s | $first | $xv | $xh | $xw | $serial | $fw | ${miss:+missed:}${miss:-all} |"
+        done
+    done
+    echo
 }
 
 max_threads=$(echo "$THREADS" | awk '{ print $NF }')
 for s in $sections; do
     "${s}_section"
 done
-load_at_end=$(cut -d' ' -f1-3 /proc/loadavg)
 
 page() {
     page_header "How one call scales with threads" "$command"
-    echo "Threads: $THREADS; $repeat rounds, the tools in turns; load average (1, 5, 15 min) $load_at_start at the"
-    echo "start, $load_at_end at the end. OUT is \`$out\`, where the grids and \`rows.tsv\` (every number) stay."
+    echo "Threads: $THREADS; $repeat rounds, the tools in turns. OUT is \`$out\`, where the grids and"
+    echo "\`rows.tsv\` (every number) stay."
     echo
     for s in $sections; do
         "${s}_page"

@@ -104,7 +104,7 @@ static void test_whole_load_is_the_readers_grid(void **state)
     remove(path);
     const sdft_scene *sc = sdft_scene_find("figure");
     assert_non_null(sc);
-    sdft_grid_free(bake(&sc->field, 160, 0, path));
+    sdft_grid_free(bake(&sc->field, 256, 0, path));
     static const int threads[3] = {1, 2, 5};
     sdft_grid *g[3];
     const int was = omp_get_max_threads();

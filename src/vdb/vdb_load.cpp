@@ -159,21 +159,23 @@ static int child_progress(void *user, float done)
 }
 
 // What the caller's thread watches while the child works: the child's
-// progress, handed to the caller's callback; its answer to stop.
+// progress, handed to the caller's callback a percent at a time (each one
+// the child has passed since the last look, in order), and its answer to
+// stop.
 struct Watch {
     const sdft_grid_options *o;
     const SharedProgress *shared;
-    float shown;
+    int shown; /* percent */
 };
 
 static int watch_child(void *ctx)
 {
     Watch *w = static_cast<Watch *>(ctx);
-    const float done = w->shared->done.load(std::memory_order_relaxed);
-    if (!w->o->progress || !(done > w->shown))
-        return 0;
-    w->shown = done;
-    return w->o->progress(w->o->progress_user, done);
+    const int done = int(100.0f * w->shared->done.load(std::memory_order_relaxed));
+    for (; w->o->progress && w->shown < done;)
+        if (w->o->progress(w->o->progress_user, float(++w->shown) / 100.0f))
+            return 1;
+    return 0;
 }
 
 // Whether the grid is loaded whole (by the child, into shared memory) or
@@ -205,7 +207,7 @@ static bool loaded_whole(const openvdb::FloatGrid &grid, const sdft_grid_options
 // caller reads the file itself, load every leaf once to see that OpenVDB
 // can. Leaves on `threads` threads of its own.
 static sdft_error read_in_child(const char *path, const char *name, const sdft_grid_options *o, int memfd, int threads,
-                                SharedProgress *shared, ChildAnswer *answer, char *msg, size_t msg_len)
+                                SharedProgress *shared, void *answer, char *msg, size_t msg_len)
 {
     openvdb::io::File file(path);
     std::string chosen;
@@ -214,7 +216,7 @@ static sdft_error read_in_child(const char *path, const char *name, const sdft_g
     sdft_vdb::Progress shown;
     shown.fn = child_progress;
     shown.user = shared;
-    *answer = ChildAnswer{0, 0};
+    std::memset(answer, 0, sizeof(ChildAnswer)); /* unaligned in the child's answer: bytes, not a ChildAnswer */
     try {
         openvdb::GridBase::Ptr base = file.readGrid(chosen); /* the topology, on one thread */
         shared->parallel_at.store(sdft_vdb::seconds_now());
@@ -243,7 +245,8 @@ static sdft_error read_in_child(const char *path, const char *name, const sdft_g
         if (sdft_error rc = sdft_vdb::stream_into(*grid, path, o->quant, threads, shown, place, &size, msg, msg_len))
             return rc;
         file.close();
-        *answer = ChildAnswer{size, 1};
+        const ChildAnswer converted{size, 1};
+        std::memcpy(answer, &converted, sizeof converted);
     } catch (const std::bad_alloc &) {
         throw;
     } catch (const std::exception &e) {
@@ -309,14 +312,13 @@ static sdft_error load(const char *path, const char *name, const sdft_grid_optio
         return fail(msg, msg_len, SDFT_ENOMEM, "out of memory for a reader process");
     std::unique_ptr<SharedProgress, void (*)(SharedProgress *)> shared(new (page) SharedProgress{{0.0f}, {0.0}},
                                                                        [](SharedProgress *p) { munmap(p, sizeof *p); });
-    Watch watch{o, shared.get(), 0.0f};
+    Watch watch{o, shared.get(), 0};
     const isolated_extra extra{threads * sdft_vdb::thread_bytes, watch_child, &watch};
     ChildAnswer answer{0, 0};
     if (sdft_error rc = sdft_vdb::read_isolated(
             path, &answer, sizeof answer,
             [&](void *ans, char *m, size_t n) {
-                return read_in_child(path, name, o, memfd.fd, threads, shared.get(), static_cast<ChildAnswer *>(ans), m,
-                                     n);
+                return read_in_child(path, name, o, memfd.fd, threads, shared.get(), ans, m, n);
             },
             msg, msg_len, &extra))
         return rc;
