@@ -122,26 +122,55 @@ static void run_child(const char *path, int fd, isolated_fn fn, void *ctx, doubl
     _exit(1);
 }
 
+/* The processor time child `pid` has spent, all its threads, in seconds;
+ * -1 where it cannot be read. */
+static double child_cpu_s(clockid_t clock)
+{
+    struct timespec t;
+    if (clock_gettime(clock, &t) != 0)
+        return -1.0;
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Why collect stopped a child before its end. */
+typedef enum { RAN_PAST_PROCESSOR, RAN_PAST_WALL, STALLED } stop_reason;
+
 /* Appends what the child writes to *buf until it closes the pipe (1) or
- * the deadline passes (0); -1 when memory runs out, -2 when the watch
- * (NULL: none) says stop. */
-static int collect(int fd, double deadline, const isolated_extra *x, char **buf, size_t *size)
+ * is stopped (0, *stopped says why): its processor time passes `limit`,
+ * it spends none for `limit` seconds of wall time in a row, or the wall
+ * time passes ISOLATED_WALL_FACTOR limit. -1 when memory runs out, -2 when
+ * the watch (NULL: none) says stop. The child's clock is looked at every
+ * 50 ms at most; where it cannot be read, `limit` is wall time. */
+static int collect(int fd, pid_t pid, double limit, const isolated_extra *x, char **buf, size_t *size,
+                   stop_reason *stopped)
 {
     size_t cap = 0;
     const int watching = x && x->watch;
+    double start = now_s(), deadline = start + ISOLATED_WALL_FACTOR * limit, last = start;
+    clockid_t clock;
+    const int timed = clock_getcpuclockid(pid, &clock) == 0;
+    double spent = 0.0, working_at = start; /* the child's processor time, and when it last grew */
     for (;;) {
-        const double left = deadline - now_s();
-        if (left <= 0)
+        const double now = now_s();
+        if (now - last > 1.0) /* this process was stopped (^Z) or starved itself: that time is not the child's */
+            start += now - last, deadline += now - last, working_at += now - last;
+        last = now;
+        const double left = deadline - now;
+        const double cpu = timed ? child_cpu_s(clock) : -1.0;
+        if (cpu > spent)
+            spent = cpu, working_at = now;
+        *stopped = !timed || spent > limit ? RAN_PAST_PROCESSOR : left <= 0 ? RAN_PAST_WALL : STALLED;
+        if (timed ? spent > limit || left <= 0 || now - working_at > limit : now - start > limit)
             return 0;
         if (watching && x->watch(x->watch_ctx))
             return -2;
         struct pollfd p = {fd, POLLIN, 0};
-        const int wait_ms = (int)(left * 1000) + 1;
-        const int r = poll(&p, 1, watching && wait_ms > 20 ? 20 : wait_ms);
+        const int wait_ms = (int)(left * 1000) + 1, most = watching ? 20 : 50;
+        const int r = poll(&p, 1, wait_ms > most ? most : wait_ms);
         if (r < 0 && errno == EINTR)
             continue;
         if (r == 0)
-            continue; /* the deadline, or the next watch, decides */
+            continue; /* the limits, or the next watch, decide */
         if (*size + 65536 > cap) {
             cap = 2 * (*size + 65536);
             char *grown = realloc(*buf, cap);
@@ -204,13 +233,18 @@ int isolated_read_with(const char *path, isolated_fn fn, void *ctx, const isolat
         run_child(path, fds[1], fn, ctx, extra ? extra->bytes : 0.0);
     }
     close(fds[1]);
-    const int done = collect(fds[0], now_s() + time_limit, extra, answer, size);
+    stop_reason stopped = RAN_PAST_PROCESSOR;
+    const int done = collect(fds[0], pid, time_limit, extra, answer, size, &stopped);
     close(fds[0]);
     if (done <= 0)
         kill(pid, SIGKILL);
     const int ended = reap(pid, why, why_len);
-    if (done == 0)
-        snprintf(why, why_len, "ran past %.0f s", time_limit);
+    if (done == 0 && stopped == RAN_PAST_PROCESSOR)
+        snprintf(why, why_len, "ran past %g s of processor time", time_limit);
+    else if (done == 0 && stopped == RAN_PAST_WALL)
+        snprintf(why, why_len, "ran past %g s", ISOLATED_WALL_FACTOR * time_limit);
+    else if (done == 0)
+        snprintf(why, why_len, "stalled for %g s", time_limit);
     else if (done == -1)
         snprintf(why, why_len, "out of memory for its answer");
     else if (done == -2)
