@@ -89,7 +89,9 @@ static void gather_signs(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const
 {
     const int32_t c0[3] = {8 * b[0], 8 * b[1], 8 * b[2]};
     uint32_t local = 0;
-    const uint32_t *e = directory_chunk(&g->leaves, c0, &local);
+    const uint32_t *e = NULL;
+    if (!directory_chunk(g, c0, &local, &e))
+        e = NULL;
     if (g->type == PNANOVDB_GRID_TYPE_FLOAT) { /* the leaf's own 512 floats, rows of 8 along z */
         const uint32_t *v = g->words + w;
         for (int x = 0; x < 8; x++)

@@ -37,7 +37,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "grid_directory.h"
+#include "grid_cell.h" /* has_directory */
 
 enum { MAX_REGIONS = 1 << 24 }; /* a 64 MiB top table: a box of 16384^3 voxels */
 
