@@ -16,17 +16,20 @@
 #               leaves read as rays reach them), its wall;
 #             NanoVDB's HDDA caster as one call (bench/hdda_caster
 #               --single: one fread of the .nvdb, one frame), its wall.
-# A section is a function that appends rows to $rows, one number each:
+# A section NAME is two functions: NAME_section runs its tools, REPEAT
+# rounds (in $round) of every thread count, and appends rows to $rows with
+# `row`, one number each:
 #   SECTION <tab> SUBJECT <tab> TOOL <tab> THREADS <tab> ROUND <tab> METRIC <tab> MS
-# and the page is made from the rows alone: a table per subject, a row per
-# tool and metric, a column per thread count (the median and its 95%
-# interval, bench/page.sh's page_stats), and the serial fraction the
-# 1-thread and the most-thread medians imply (Karp-Flatt's estimate of
-# Amdahl's: e = (1/S - 1/p) / (1 - 1/p), S the speed-up on p threads; 0
-# for work that halves with two threads, 1 for work that does not move);
-# then each section's targets, as ratios of numbers of the same round. A section for mesh2sdf (read,
+# NAME_page prints its part of the page from the rows alone: `table NAME`
+# (a table per subject, a row per tool and metric, a column per thread
+# count: the median and its 95% interval, bench/page.sh's page_stats; and
+# the serial fraction the 1-thread and the most-thread medians imply,
+# Karp-Flatt's estimate of Amdahl's: e = (1/S - 1/p) / (1 - 1/p), S the
+# speed-up on p threads; 0 for work that halves with two threads, 1 for
+# work that does not move), then its targets, as ratios of numbers of one
+# round (`pairs`, `stat_text --ratio`). A section for mesh2sdf (read,
 # orient, index, sweep or samples, write; vdb_tool beside) goes in the same
-# way: a function, its name in SECTIONS, its targets.
+# way: mesh2sdf_section, mesh2sdf_page, and SECTIONS="render mesh2sdf".
 #
 # usage: bench/scaling.sh [RES [WIDTH HEIGHT]]        (default 1024 1280 720)
 # env:   BUILD    the build folder (default build); OUT where the grids go
