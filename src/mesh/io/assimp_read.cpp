@@ -175,20 +175,25 @@ std::string formatName(const std::string &path)
     return ext == "gltf" ? "glTF" : ext == "glb" ? "GLB" : ext == "dae" ? "Collada" : ext == "fbx" ? "FBX" : "3MF";
 }
 
-// The JSON of a .gltf file, or of a .glb file's first chunk; "" if there
-// is none.
+// The JSON of a .gltf file, or of a .glb file's first chunk (read alone:
+// the binary chunk after it may be most of the file); "" if there is none.
 std::string gltfJson(const std::string &path)
 {
-    std::ifstream in(path, std::ios::binary);
-    std::string file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (file.compare(0, 4, "glTF") != 0)
-        return file;
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    const std::streamoff size = in.tellg();
+    char header[20];
+    if (!in.seekg(0) || !in.read(header, sizeof header) || std::memcmp(header, "glTF", 4) != 0) {
+        in.clear();
+        in.seekg(0);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    }
     uint32_t length = 0, type = 0;
-    if (file.size() < 20)
+    std::memcpy(&length, header + 12, 4);
+    std::memcpy(&type, header + 16, 4);
+    if (type != 0x4E4F534Au || std::streamoff(length) > size - 20)
         return "";
-    std::memcpy(&length, file.data() + 12, 4);
-    std::memcpy(&type, file.data() + 16, 4);
-    return type == 0x4E4F534Au && length <= file.size() - 20 ? file.substr(20, length) : "";
+    std::string json(length, '\0');
+    return in.read(&json[0], length) ? json : "";
 }
 
 // The faces glTF primitives declare that assimp's importer left out: it
