@@ -54,8 +54,9 @@ size_t sdft_mesh_health_text(const sdft_mesh_health *h, char *out, size_t out_le
             append(out, out_len, &at, ", %llu open patches turned by the rest's winding number",
                    ull(h->evidence_patches));
         if (h->ambiguous_patches)
-            append(out, out_len, &at, ", %llu open patches with no clear outside (%.3g%% of the area)",
-                   ull(h->ambiguous_patches), 100 * h->ambiguous_area);
+            append(out, out_len, &at, ", %llu open patches with no clear outside", ull(h->ambiguous_patches));
+        if (h->ambiguous_patches && h->ambiguous_area > 0)
+            append(out, out_len, &at, " (%.3g%% of the area)", 100 * h->ambiguous_area);
         if (h->non_orientable_patches)
             append(out, out_len, &at, ", %llu non-orientable patches", ull(h->non_orientable_patches));
     }
