@@ -155,7 +155,7 @@ void reader_process(void **)
             s.addPolygon(corners, 3);
             return true;
         },
-        path, soup, error);
+        path, "the test reader", soup, error);
     assert_true(ok);
     assert_int_equal(soup.points.size(), 3);
     assert_true(soup.points[1][0] == 1 && soup.ends.size() == 1 && soup.corners[2] == 2);
@@ -165,8 +165,9 @@ void reader_process(void **)
             std::abort();
             return true;
         },
-        path, soup, error));
-    assert_true(error.find("the reader failed") != std::string::npos && error.find(path) != std::string::npos);
+        path, "the test reader", soup, error));
+    assert_true(error.find("the test reader crashed on it") != std::string::npos &&
+                error.find(path) != std::string::npos);
 
     assert_false(meshsdf::readInChildProcess(
         [](PolygonSoup &s, std::string &) {
@@ -175,7 +176,7 @@ void reader_process(void **)
             s.addPolygon(corners, 3);
             return true;
         },
-        path, soup, error));
+        path, "the test reader", soup, error));
     assert_true(error.find("inconsistent") != std::string::npos);
     assert_true(soup.points.empty());
 
@@ -184,7 +185,7 @@ void reader_process(void **)
             e = "the reader's own words";
             return false;
         },
-        path, soup, error));
+        path, "the test reader", soup, error));
     assert_true(error == "the reader's own words");
 }
 
