@@ -5,8 +5,8 @@ with no subprocess and no files between them. Every call releases the GIL
 while the library works (on all cores), and errors raise ``ValueError`` (bad
 arguments, malformed files), ``OSError`` (files that cannot be read or
 written), ``MemoryError`` or ``RuntimeError`` with the library's message.
-Conversions and samples take a ``progress`` callable that can stop them, and
-Ctrl-C stops them, and queries of many points, at their next progress step
+Queries, conversions and samples take a ``progress`` callable that can stop
+them, and Ctrl-C stops them at their next progress step
 (``KeyboardInterrupt``).
 
 Meshes
@@ -36,8 +36,9 @@ Points
     memory order, and anything numpy can view: a PyTorch tensor on the CPU
     is read in place through DLPack (or ``__array__``), with no copy. The
     answers are float32 for float32 points and float64 otherwise, or
-    ``dtype=``; the library computes them to float32's precision, which is
-    finer than the mesh's own (its vertices are held as float32). Every call
+    ``dtype=``: either way the library's values, computed in double from the
+    mesh's vertices (held as float32) and rounded to float32 (a relative
+    6e-8), float64 ones widened from those. Every call
     takes ``threads=``: at most that many threads, the caller's included
     (0: the mesh's ``threads``, whose 0 is all cores).
 
