@@ -158,14 +158,15 @@ struct Table {
 };
 
 // How a setting of the library becomes an option: --NAME with dashes for
-// underscores, unless said here otherwise. The grid's threads follow the
-// mesh's (--threads), and the samples' count is --samples N or, per mesh
-// of a batch, --sample-count N.
+// underscores, unless said here otherwise. The grid's and the samples'
+// threads follow the mesh's (--threads), and the samples' count is
+// --samples N or, per mesh of a batch, --sample-count N.
 struct Renamed {
     sdft_mesh_settings_of of;
     const char *setting, *flag, *help; // flag NULL: not an option of its own
 };
 const Renamed kRenamed[] = {{SDFT_MESH_SETTINGS_GRID, "threads", nullptr, nullptr},
+                            {SDFT_MESH_SETTINGS_SAMPLES, "threads", nullptr, nullptr},
                             {SDFT_MESH_SETTINGS_SAMPLES, "count", "sample-count", "--batch --formats samples: "}};
 
 // The options of the settings of one params struct `params` of kind `of`,

@@ -92,9 +92,9 @@ static void page(FILE *out)
           "and its kin) and their ranges, which the calls check. `mesh2sdf` takes each as an\n"
           "option named for it, with dashes for underscores (`--voxel-size`), and Python's\n"
           "`sdftrace` as a keyword of the same name (`Mesh(...)`, `Mesh.to_grid`,\n"
-          "`Mesh.sample_near_surface`), with these defaults. Only a grid's `threads` has no\n"
-          "option of its own (it follows `--threads`, the mesh's), and the samples' `count`\n"
-          "is `--samples N` (`--sample-count N` in a batch; Python's `n`).\n"
+          "`Mesh.sample_near_surface`), with these defaults. Only the `threads` of a grid and\n"
+          "of samples have no option of their own (they follow `--threads`, the mesh's), and\n"
+          "the samples' `count` is `--samples N` (`--sample-count N` in a batch; Python's `n`).\n"
           "\n"
           "This page is written by `make docs` (`docs/settings_table.c`) from the library\n"
           "itself; `make test` fails while it differs.\n",

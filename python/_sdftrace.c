@@ -12,6 +12,7 @@
 #include <numpy/arrayobject.h>
 
 #include <limits.h>
+#include <omp.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -424,9 +425,10 @@ static PyObject *mesh_from_arrays(PyObject *module, PyObject *args, PyObject *kw
     return e == SDFT_OK ? Mesh_wrap(m) : raise_error(e, msg);
 }
 
-/* Distances (and winding numbers) at points: mode 0 distance, 1 winding
- * number, 2 both as a tuple. */
-static PyObject *mesh_query(MeshObject *self, PyObject *points, int mode)
+/* Distances (and winding numbers) at points (n, 3) on at most `threads`
+ * threads (0: the mesh's), telling `progress` (None: Ctrl-C alone): mode 0
+ * distance, 1 winding number, 2 both as a tuple. */
+static PyObject *mesh_query(MeshObject *self, PyObject *points, int mode, int threads, PyObject *progress)
 {
     sdft_mesh_points pts;
     PyArrayObject *in = points_of(points, &pts);
@@ -444,9 +446,10 @@ static PyObject *mesh_query(MeshObject *self, PyObject *points, int mode)
     float *dp = d ? (float *)PyArray_DATA(d) : NULL, *wp = w ? (float *)PyArray_DATA(w) : NULL;
     char msg[MSG_LEN] = "";
     sdft_error e;
-    progress_call pc; /* no callable: Ctrl-C alone */
+    progress_call pc;
     sdft_mesh_query_params q = sdft_mesh_query_params_defaults();
-    progress_of(NULL, &pc, &q.progress, &q.progress_user);
+    q.threads = threads;
+    progress_of(progress, &pc, &q.progress, &q.progress_user);
     PyThreadState *ts = PyEval_SaveThread();
     e = mode == 1 ? sdft_mesh_winding_number(self->mesh, &pts, wp, &q, msg, sizeof msg)
                   : sdft_mesh_signed_distance(self->mesh, &pts, dp, wp, &q, msg, sizeof msg);
@@ -462,17 +465,27 @@ static PyObject *mesh_query(MeshObject *self, PyObject *points, int mode)
     return (PyObject *)(d ? d : w);
 }
 
+/* signed_distance(points, winding=False, threads=0, progress=None) */
 static PyObject *mesh_signed_distance(MeshObject *self, PyObject *args, PyObject *kw)
 {
-    static char *names[] = {"points", "winding", NULL};
-    PyObject *points;
-    int winding = 0;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "O|p", names, &points, &winding))
+    static char *names[] = {"points", "winding", "threads", "progress", NULL};
+    PyObject *points, *progress = Py_None;
+    int winding = 0, threads = 0;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "O|piO", names, &points, &winding, &threads, &progress))
         return NULL;
-    return mesh_query(self, points, winding ? 2 : 0);
+    return mesh_query(self, points, winding ? 2 : 0, threads, progress);
 }
 
-static PyObject *mesh_winding_number(MeshObject *self, PyObject *points) { return mesh_query(self, points, 1); }
+/* winding_number(points, threads=0, progress=None) */
+static PyObject *mesh_winding_number(MeshObject *self, PyObject *args, PyObject *kw)
+{
+    static char *names[] = {"points", "threads", "progress", NULL};
+    PyObject *points, *progress = Py_None;
+    int threads = 0;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "O|iO", names, &points, &threads, &progress))
+        return NULL;
+    return mesh_query(self, points, 1, threads, progress);
+}
 
 /* samples(n, progress=None, **settings): settings of sdft_mesh_sample_params. */
 static PyObject *mesh_samples(MeshObject *self, PyObject *args, PyObject *kw)
@@ -555,7 +568,7 @@ static PyObject *mesh_to_grid(MeshObject *self, PyObject *args, PyObject *kw)
 
 static PyMethodDef mesh_methods[] = {
     {"signed_distance", (PyCFunction)(void (*)(void))mesh_signed_distance, METH_VARARGS | METH_KEYWORDS, NULL},
-    {"winding_number", (PyCFunction)mesh_winding_number, METH_O, NULL},
+    {"winding_number", (PyCFunction)(void (*)(void))mesh_winding_number, METH_VARARGS | METH_KEYWORDS, NULL},
     {"samples", (PyCFunction)(void (*)(void))mesh_samples, METH_VARARGS | METH_KEYWORDS, NULL},
     {"info", (PyCFunction)mesh_info, METH_NOARGS, NULL},
     {"to_grid", (PyCFunction)(void (*)(void))mesh_to_grid, METH_VARARGS | METH_KEYWORDS, NULL},
@@ -703,9 +716,18 @@ static PyObject *open_grid(PyObject *module, PyObject *args, PyObject *kw)
     return e == SDFT_OK ? NanoGrid_wrap(g) : raise_error(e, msg);
 }
 
-/* Trilinear values at points, through the field's sampler (sdft_grid_sample). */
-static PyObject *nano_grid_sample(NanoGridObject *self, PyObject *points)
+/* sample(points, threads=0): trilinear values at points (n, 3), through
+ * the field's sampler (sdft_grid_sample), on at most `threads` OpenMP
+ * threads (0: all cores), a scratch each. */
+static PyObject *nano_grid_sample(NanoGridObject *self, PyObject *args, PyObject *kw)
 {
+    static char *names[] = {"points", "threads", NULL};
+    PyObject *points;
+    int threads = 0;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "O|i", names, &points, &threads))
+        return NULL;
+    if (threads < 0 || threads > 1024)
+        return raise_error(SDFT_EINVAL, "threads must be in [0, 1024]");
     sdft_mesh_points pts;
     PyArrayObject *in = points_of(points, &pts);
     if (!in)
@@ -719,12 +741,13 @@ static PyObject *nano_grid_sample(NanoGridObject *self, PyObject *points)
     float *v = (float *)PyArray_DATA(out);
     const char *data = (const char *)pts.data;
     PyThreadState *ts = PyEval_SaveThread();
-
+    const sdft_field f = sdft_grid_field(self->grid, SDFT_GRID_BOUND_NONE);
+#pragma omp parallel num_threads(threads > 0 ? threads : omp_get_max_threads()) if (n > 4096)
     {
-        const sdft_field f = sdft_grid_field(self->grid, SDFT_GRID_BOUND_NONE);
         sdft_scratch s;
         memset(&s, 0, sizeof s);
         sdft_scratch_init(&f, &s);
+#pragma omp for schedule(static, 4096)
         for (npy_intp i = 0; i < n; i++) {
             float p[3];
             for (int k = 0; k < 3; k++) {
@@ -774,10 +797,11 @@ static PyObject *nano_grid_info(NanoGridObject *self, PyObject *unused)
                          b.hi.x, b.hi.y, b.hi.z);
 }
 
-static PyMethodDef nano_grid_methods[] = {{"sample", (PyCFunction)nano_grid_sample, METH_O, NULL},
-                                          {"dense", (PyCFunction)nano_grid_dense, METH_NOARGS, NULL},
-                                          {"info", (PyCFunction)nano_grid_info, METH_NOARGS, NULL},
-                                          {NULL, NULL, 0, NULL}};
+static PyMethodDef nano_grid_methods[] = {
+    {"sample", (PyCFunction)(void (*)(void))nano_grid_sample, METH_VARARGS | METH_KEYWORDS, NULL},
+    {"dense", (PyCFunction)nano_grid_dense, METH_NOARGS, NULL},
+    {"info", (PyCFunction)nano_grid_info, METH_NOARGS, NULL},
+    {NULL, NULL, 0, NULL}};
 
 static PyTypeObject NanoGridType = {
     PyVarObject_HEAD_INIT(NULL, 0).tp_name = "sdftrace._sdftrace.NanoGrid",

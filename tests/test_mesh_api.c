@@ -13,6 +13,7 @@
 #include <cmocka.h>
 
 #include <math.h>
+#include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -946,16 +947,23 @@ static void progress_and_cancel(void **state)
     sdft_mesh_free(m);
 }
 
+/* n points uniform in [-1.5, 1.5]^3 around Suzanne (malloc'd, packed rows). */
+static double *cube_points(int n, uint64_t seed)
+{
+    double *p = malloc(sizeof(double) * 3 * (size_t)n);
+    tu_rng r = tu_rng_seed(seed);
+    for (int i = 0; i < 3 * n; i++)
+        p[i] = tu_uniform(&r, -1.5f, 1.5f);
+    return p;
+}
+
 /* A query reports its progress rising to 1 and stops when told, with
  * SDFT_ECANCELED; its answers do not depend on being watched. */
 static void queries_report_and_stop(void **state)
 {
     (void)state;
     enum { N = 100000 };
-    double *p = malloc(sizeof(double) * 3 * N);
-    tu_rng r = tu_rng_seed(3);
-    for (int i = 0; i < 3 * N; i++)
-        p[i] = tu_uniform(&r, -1.5f, 1.5f);
+    double *p = cube_points(N, 3);
     const sdft_mesh_points pts = {p, SDFT_MESH_FLOAT64, N, {0, 0}};
     float *watched = malloc(sizeof(float) * N), *plain = malloc(sizeof(float) * N);
     char msg[256] = "";
@@ -977,6 +985,71 @@ static void queries_report_and_stop(void **state)
     free(p), free(watched), free(plain);
 }
 
+/* Notes whether a report came from a thread other than the caller's. */
+typedef struct {
+    pthread_t caller;
+    int calls, elsewhere;
+} thread_listener;
+
+static int listen_thread(void *user, float done)
+{
+    (void)done;
+    thread_listener *l = user; /* the library reports one at a time */
+    l->calls++;
+    l->elsewhere += !pthread_equal(pthread_self(), l->caller);
+    return 0;
+}
+
+/* A query's threads and a draw's bound that call, over the mesh's (all
+ * cores here): with 1, every report comes from the caller's thread; the
+ * answers are the same for any count; a count out of range is refused. */
+static void queries_and_samples_take_threads(void **state)
+{
+    (void)state;
+    enum { N = 200000 };
+    double *p = cube_points(N, 5);
+    const sdft_mesh_points pts = {p, SDFT_MESH_FLOAT64, N, {0, 0}};
+    float *one = malloc(sizeof(float) * N), *all = malloc(sizeof(float) * N);
+    char msg[256] = "";
+    sdft_mesh *m = load(SUZANNE);
+    thread_listener heard = {.caller = pthread_self()};
+    sdft_mesh_query_params q = sdft_mesh_query_params_defaults();
+    assert_int_equal(q.threads, 0);
+    q.progress = listen_thread;
+    q.progress_user = &heard;
+    q.threads = 1;
+    assert_int_equal(sdft_mesh_signed_distance(m, &pts, one, NULL, &q, msg, sizeof msg), SDFT_OK);
+    assert_true(heard.calls >= 10);
+    assert_int_equal(heard.elsewhere, 0);
+    assert_int_equal(sdft_mesh_signed_distance(m, &pts, all, NULL, NULL, msg, sizeof msg), SDFT_OK);
+    assert_memory_equal(one, all, sizeof(float) * N);
+    heard.calls = 0;
+    assert_int_equal(sdft_mesh_winding_number(m, &pts, one, &q, msg, sizeof msg), SDFT_OK);
+    assert_true(heard.calls >= 10);
+    assert_int_equal(heard.elsewhere, 0);
+    q.threads = -1;
+    assert_int_equal(sdft_mesh_winding_number(m, &pts, one, &q, msg, sizeof msg), SDFT_EINVAL);
+    assert_non_null(strstr(msg, "threads"));
+    q.threads = 1025;
+    assert_int_equal(sdft_mesh_signed_distance(m, &pts, one, NULL, &q, msg, sizeof msg), SDFT_EINVAL);
+
+    sdft_mesh_sample_params sp = sdft_mesh_sample_params_defaults();
+    assert_int_equal(sp.threads, 0);
+    sp.count = 20000;
+    float *rows_one = malloc(sizeof(float) * 4 * sp.count), *rows_all = malloc(sizeof(float) * 4 * sp.count);
+    assert_int_equal(sdft_mesh_samples(m, &sp, rows_all, 4 * sp.count, msg, sizeof msg), SDFT_OK);
+    sp.threads = 1;
+    sp.progress = listen_thread;
+    sp.progress_user = &heard;
+    heard.calls = 0;
+    assert_int_equal(sdft_mesh_samples(m, &sp, rows_one, 4 * sp.count, msg, sizeof msg), SDFT_OK);
+    assert_true(heard.calls >= 10);
+    assert_int_equal(heard.elsewhere, 0);
+    assert_memory_equal(rows_one, rows_all, sizeof(float) * 4 * sp.count);
+    sdft_mesh_free(m);
+    free(p), free(one), free(all), free(rows_one), free(rows_all);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -996,6 +1069,7 @@ int main(void)
         cmocka_unit_test(bad_files_and_calls),
         cmocka_unit_test(progress_and_cancel),
         cmocka_unit_test(queries_report_and_stop),
+        cmocka_unit_test(queries_and_samples_take_threads),
     };
     return cmocka_run_group_tests_name("mesh_api", tests, NULL, NULL);
 }

@@ -301,6 +301,7 @@ typedef struct sdft_mesh_points {
 typedef struct sdft_mesh_query_params {
     sdft_progress_fn progress; /* NULL: no reports; non-zero from it: SDFT_ECANCELED */
     void *progress_user;
+    int threads; /* at most this many threads, the caller's included, in [0, 1024]; 0: the mesh's */
 } sdft_mesh_query_params;
 
 SDFT_API sdft_mesh_query_params sdft_mesh_query_params_defaults(void);
@@ -309,9 +310,9 @@ SDFT_API sdft_mesh_query_params sdft_mesh_query_params_defaults(void);
  * exact to the triangles, signed by the winding number (negative inside,
  * where it exceeds 1/2); with winding not NULL, the winding number beside
  * it. In parallel, in the order of a Morton curve through the mesh's cube
- * (the answers do not depend on it). q: progress and cancelling (NULL:
- * none). SDFT_EINVAL (NULL m, pts, pts->data or distance; an unsupported
- * type; a count of 0 is fine), SDFT_ECANCELED, SDFT_ENOMEM. A non-finite
+ * (the answers do not depend on it). q: progress, cancelling and threads
+ * (NULL: none, the mesh's). SDFT_EINVAL (NULL m, pts, pts->data or distance;
+ * an unsupported type; q->threads out of its range; a count of 0 is fine), SDFT_ECANCELED, SDFT_ENOMEM. A non-finite
  * point gets NaN. */
 SDFT_API sdft_error sdft_mesh_signed_distance(const sdft_mesh *m, const sdft_mesh_points *pts, float *distance,
                                               float *winding, const sdft_mesh_query_params *q, char *msg,
@@ -335,7 +336,9 @@ SDFT_API sdft_error sdft_mesh_winding_number(const sdft_mesh *m, const sdft_mesh
       "square roots of 0.005 and 0.0005)")                                                                             \
     X(uniform_share, SDFT_MESH_SETTING_REAL, double, 1, (0.06), 0, 1, 0, NULL, NULL, "S",                              \
       "the share of points uniform in the cube around the mesh's sphere; the rest lie near the surface "               \
-      "(DeepSDF's: 3/50)")
+      "(DeepSDF's: 3/50)")                                                                                             \
+    X(threads, SDFT_MESH_SETTING_INT, int, 1, (0), 0, 1024, 0, NULL, NULL, "N",                                        \
+      "at most this many threads, the caller's included, for this draw; 0: the mesh's")
 
 /* Training samples drawn as DeepSDF draws them. It will grow: make one
  * with sdft_mesh_sample_params_defaults(). */

@@ -37,8 +37,8 @@ void pointAt(const sdft_mesh_points &pts, size_t i, double *p)
     }
 }
 
-sdft_error checkPoints(const char *what, const sdft_mesh *m, const sdft_mesh_points *pts, const void *out, char *msg,
-                       size_t msg_len)
+sdft_error checkPoints(const char *what, const sdft_mesh *m, const sdft_mesh_points *pts, const void *out,
+                       const sdft_mesh_query_params *q, char *msg, size_t msg_len)
 {
     if (!m || !pts || (!pts->data && pts->count) || !out)
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: %s is NULL", what,
@@ -48,6 +48,8 @@ sdft_error checkPoints(const char *what, const sdft_mesh *m, const sdft_mesh_poi
                                 : "pts->data");
     if (enumValue(pts->type) != SDFT_MESH_FLOAT32 && enumValue(pts->type) != SDFT_MESH_FLOAT64)
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: points must be float32 or float64", what);
+    if (q && (q->threads < 0 || q->threads > 1024))
+        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: threads must be in [0, 1024], not %d", what, q->threads);
     return SDFT_OK;
 }
 
@@ -63,7 +65,7 @@ sdft_error evaluate(const char *what, const sdft_mesh *m, const sdft_mesh_points
             return SDFT_OK;
         Listened listened(q ? q->progress : nullptr, nullptr, q ? q->progress_user : nullptr);
         meshsdf::Progress &progress = listened.progress;
-        return inArena(m->threads, [&] {
+        return inArena(q && q->threads > 0 ? q->threads : m->threads, [&] {
             const meshsdf::PointQuery &query = m->query();
             std::vector<double> xyz(pts->count * 3);
             tbb::parallel_for(tbb::blocked_range<size_t>(0, pts->count, 4096),
@@ -106,7 +108,7 @@ sdft_error sdft_mesh_signed_distance(const sdft_mesh *m, const sdft_mesh_points 
                                      const sdft_mesh_query_params *q, char *msg, size_t msg_len)
 {
     const char *what = "sdft_mesh_signed_distance";
-    const sdft_error e = checkPoints(what, m, pts, distance, msg, msg_len);
+    const sdft_error e = checkPoints(what, m, pts, distance, q, msg, msg_len);
     return e != SDFT_OK ? e : evaluate(what, m, pts, distance, winding, q, msg, msg_len);
 }
 
@@ -114,7 +116,7 @@ sdft_error sdft_mesh_winding_number(const sdft_mesh *m, const sdft_mesh_points *
                                     const sdft_mesh_query_params *q, char *msg, size_t msg_len)
 {
     const char *what = "sdft_mesh_winding_number";
-    const sdft_error e = checkPoints(what, m, pts, winding, msg, msg_len);
+    const sdft_error e = checkPoints(what, m, pts, winding, q, msg, msg_len);
     return e != SDFT_OK ? e : evaluate(what, m, pts, nullptr, winding, q, msg, msg_len);
 }
 
@@ -140,7 +142,7 @@ sdft_error sdft_mesh_samples(const sdft_mesh *m, const sdft_mesh_sample_params *
     return guarded(what, msg, msg_len, [&] {
         Listened listened(p->progress, p->stage, p->progress_user);
         meshsdf::Progress &progress = listened.progress;
-        return inArena(m->threads, [&] {
+        return inArena(p->threads > 0 ? p->threads : m->threads, [&] {
             progress.stage("hierarchies", 0, 20);
             const meshsdf::PointQuery &query = m->query();
             progress.stage("samples", 20, 100);
