@@ -10,7 +10,7 @@
 array rep[3] = ["procedural", "band", "full"]
 array title[8] = ["ST", "ENH", "REL 1.2", "REL 1.5", "AR 0.3", "AR 0.2", "", ""]
 array colour[8] = ["#000000", "#0072B2", "#E69F00", "#D55E00", "#009E73", "#CC79A7", "#56B4E9", "#F0E442"]
-array dash[8] = [1, 1, 2, 2, 1, 3, 4, 4]
+array dash[8] = [1, 1, 2, 2, 1, 4, 3, 5]
 file = sprintf("%s/caps.dat", dir)
 methods = int(system(sprintf("grep -c '^# %s procedural ' %s", word(scenes, 1), file)))
 do for [m = 1:methods] { title[m] = system(sprintf("grep '^# %s procedural ' %s | sed -n '%dp' | cut -d' ' -f4-", word(scenes, 1), file, m)) }

@@ -12,8 +12,8 @@
 array scene_rep[3] = ["procedural", "band", "full"]
 array mesh_rep[3] = ["vdb_tool", "mesh2sdf", ""]
 array colour[8] = ["#000000", "#0072B2", "#E69F00", "#D55E00", "#009E73", "#CC79A7", "#56B4E9", "#F0E442"]
-array dash[8] = [1, 1, 2, 2, 1, 3, 4, 4]
-array width[8] = [2, 2.5, 2, 2, 3, 2, 2, 2]
+array dash[8] = [1, 1, 2, 2, 1, 4, 3, 5]
+array width[8] = [2, 2.5, 2, 2, 3, 2.5, 2, 2]
 n = words(subjects)
 set terminal term size 1560, 430 * n font "sans,12"
 set output out
@@ -37,7 +37,7 @@ do for [s = 1:n] {
         } else {
             stats file using 1 nooutput
             methods = STATS_columns - 1
-            set title sprintf("%s, %s", subject, rep eq "procedural" ? "procedural" : sprintf("%s %d³", rep eq "band" ? "narrow band" : rep eq "full" ? "full grid" : rep, res))
+            set title sprintf("%s, %s", subject, rep eq "procedural" ? "procedural" : sprintf("%s %d³", rep eq "band" ? "narrow band" : rep eq "full" ? "full grid" : rep, res)) noenhanced
             plot for [m = 1:methods] file using ($1 >= 1 ? $1 : 1/0):(column(m + 1) > 0 ? column(m + 1) : 1/0) \
                 with lines lw width[m] dt dash[m] lc rgb colour[m] title columnheader(m + 1)
         }

@@ -28,7 +28,7 @@ do for [p = 1:np] {
     subject = panel[1:slash - 1]
     rep = panel[slash + 1:]
     median = system(sprintf("awk '$1 == \"%s\" && $2 == \"%s\" { printf \"%%.2f, %%.1f%%%%\", $5, 100 * $6 }' %s/fig5.txt", subject, rep, dir))
-    set title sprintf("%s, %s (median pixel, above 2: %s)", subject, rep eq "procedural" ? "procedural" : sprintf("%s %d³", rep, res), median)
+    set title sprintf("%s, %s (median pixel, above 2: %s)", subject, rep eq "procedural" ? "procedural" : sprintf("%s %d³", rep, res), median) noenhanced
     if (p % cols == 0 || p == np) { set colorbox } else { unset colorbox }
     plot sprintf("%s/fig5-%s-%s.f32", dir, subject, rep) binary array=(w, h) format='%float32' flipy with image
 }

@@ -82,7 +82,7 @@ done
 for mesh in $meshes; do
     [ -s "tests/data/meshes/$mesh.obj" ] || die "MESHES: no tests/data/meshes/$mesh.obj"
     [ -x "$mesh2sdf" ] || die "no $mesh2sdf (build first: make build)"
-    command -v vdb_tool >/dev/null 2>&1 || die "vdb_tool is missing (apt-get install openvdb-tools)"
+    command -v vdb_tool >/dev/null 2>&1 || die "vdb_tool is missing (apt-get install libopenvdb-tools)"
 done
 command -v gnuplot >/dev/null 2>&1 || die "gnuplot is missing (apt-get install gnuplot-nox)"
 [ -x /usr/bin/time ] || die "/usr/bin/time is missing (apt-get install time)"
@@ -137,7 +137,7 @@ page_header "The study's tables" "$command" >"$stage/header.md"
     echo "compiler:        $("${cc:-cc}" --version 2>/dev/null | head -1)"
     echo "build:           $type, C flags '$flags' (the library adds -fno-math-errno; OpenMP), sanitizers ${sanitize:-OFF}"
     echo "libraries:       $(dpkg-query -W -f='${Package} ${Version}, ' libopenvdb-dev libnanovdb-dev libopenexr-dev \
-        libpng-dev libtbb-dev libgomp1 gnuplot-nox openvdb-tools 2>/dev/null | sed 's/, $//')"
+        libpng-dev libtbb-dev libgomp1 gnuplot-nox libopenvdb-tools 2>/dev/null | sed 's/, $//')"
     echo "sizes:           ${width}x${height}, grids ${res}^3 (and $((res / 2))^3, $((res / 4))^3 for the resolution sweep), caps $caps, cap sweep $cap_sweep, 1 warm-up + $repeats timed repeats, sweep $sweep values per method, meshes: ${meshes:-none}"
     echo "plan:            $(cat "$stage/plan")"
     echo "load at start:   $(page_load) (1, 5, 15 minutes; $(nproc) cores)"
