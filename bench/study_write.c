@@ -408,6 +408,48 @@ static void table_step_cost(FILE *f, const study_options *o, const study_run *ru
     fputc('\n', f);
 }
 
+/* The paper's times over our counts: what each of its frame-time ratios
+ * would ask of one step of the method, against one of ENH's, if its scene
+ * took our evaluations (or our GPU cost). A model, not a measurement:
+ * ratios near 1 say the paper's time follows our counts; a method far from
+ * 1 (while ST, the cheapest step of all, stays near it) says its counts on
+ * the paper's scene were not ours. */
+static void table_paper_per_step(FILE *f, const study_options *o, const study_run *run)
+{
+    fprintf(f, "## The paper's times over our counts (shadows, 1000 steps)\n\n"
+               "Each cell: the paper's rel (a GPU's frame time over ENH's) divided by our evaluations over ENH's, "
+               "and in brackets by our GPU cost over ENH's: the cost of one of the method's steps against one of "
+               "ENH's that the paper's time would imply if its scene took our counts. ST's step is the simplest "
+               "of all, so its value bounds what a cheaper step can explain; a value well below ST's says the "
+               "paper's scene took fewer steps of that method than ours.\n\n");
+    method_header(f, "| paper's column | ours |", "|---|---|");
+    for (int s = 0; s < o->nscenes; s++) {
+        const int ps = paper_scene(o->scenes[s]);
+        for (int k = 0; k < 2 && ps >= 0; k++) {
+            const int rep = k ? STUDY_FULL : STUDY_PROCEDURAL;
+            if (!o->reps[rep])
+                continue;
+            const int e = find(o, run, o->scenes[s], rep, &STUDY_TABLE_METHODS[1], 1, 1000);
+            if (e < 0)
+                continue;
+            fprintf(f, "| %s, %s | %s, %s |", ps ? "Girl" : "Temple", k ? "discrete 1024³" : "procedural",
+                    o->scenes[s]->name, STUDY_REP_NAMES[rep]);
+            for (int m = 0; m < STUDY_TABLE_ROWS; m++) {
+                const int i = find(o, run, o->scenes[s], rep, &STUDY_TABLE_METHODS[m], 1, 1000);
+                if (i < 0) {
+                    fputs(" |", f);
+                    continue;
+                }
+                const double paper = PAPER_REL[ps][k][m] / 100.0;
+                fprintf(f, " %.2f (%.2f) |", paper / (sum_of(run, i)->steps / sum_of(run, e)->steps),
+                        paper / (sum_of(run, i)->gpu / sum_of(run, e)->gpu));
+            }
+            fputc('\n', f);
+        }
+    }
+    fputc('\n', f);
+}
+
 /* ---- Fig. 2 and Fig. 5's numbers ---------------------------------------- */
 
 /* The share of row c's primary rays not finished after k evaluations. */
@@ -854,6 +896,7 @@ static int write_table(const study_options *o, const study_run *run)
                     table_counts(f, o, run, subj[s], shadows, o->caps[k]);
             }
         table_step_cost(f, o, run);
+        table_paper_per_step(f, o, run);
         table_fig2(f, o, run);
         table_fig5(f, o, run);
     }
