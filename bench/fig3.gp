@@ -2,7 +2,7 @@
 # hyperparameter moves the cost, relative to sphere tracing, with the
 # shadow ray (solid) and without (dashed). One axis holds all three ranges:
 # beta in (0, 1/2] (auto), omega in [1/2, 1] (enhanced), omega in [1, 2)
-# (relaxed). Rows: the SDF evaluations of each scene, per representation
+# (relaxed: the paper's Algorithm 2, relaxed-bv, and Keinert's Listing 2). Rows: the SDF evaluations of each scene, per representation
 # (exact counts, free of the machine's noise); last, the processor time on
 # the paper's own panel (the temple's discrete version: our full grid), the
 # median of the timed passes with its 95% bootstrap interval as error bars,
@@ -10,10 +10,12 @@
 # scene's full grid.
 # bench/study.sh sets: term, dir, scenes (space-separated), res, out; data:
 # DIR/fig3-SCENE-REP.dat, one block per method and shadow setting (auto,
-# enhanced, relaxed; shadows, none): value evaluations/ST gpu/ST time/ST lo hi.
+# enhanced, relaxed-bv, relaxed; shadows, none): value evaluations/ST
+# gpu/ST time/ST lo hi.
 array rep[3] = ["procedural", "band", "full"]
-array name[3] = ["auto β", "enhanced ω", "relaxed ω"]
-array colour[3] = ["#009E73", "#0072B2", "#D55E00"]
+array name[4] = ["auto β", "enhanced ω", "relaxed ω (Alg. 2)", "relaxed ω (Keinert's Listing 2)"]
+array colour[4] = ["#009E73", "#0072B2", "#D55E00", "#E69F00"]
+nm = 4
 n = words(scenes)
 set terminal term size 1560, 430 * (n + 1) font "sans,12"
 set output out
@@ -30,20 +32,20 @@ do for [s = 1:n] {
         file = sprintf("%s/fig3-%s-%s.dat", dir, word(scenes, s), rep[r])
         set title sprintf("%s, %s: SDF evaluations / ST", word(scenes, s), repname(r))
         plot 1 with lines lc rgb "#777777" dt 2 notitle, \
-             for [k = 0:2] file index 2 * k using 1:2 with linespoints pt 7 ps 0.6 lw 2 lc rgb colour[k + 1] title name[k + 1], \
-             for [k = 0:2] file index 2 * k + 1 using 1:2 with linespoints pt 6 ps 0.6 lw 2 dt 2 lc rgb colour[k + 1] notitle
+             for [k = 0:nm - 1] file index 2 * k using 1:2 with linespoints pt 7 ps 0.6 lw 2 lc rgb colour[k + 1] title name[k + 1], \
+             for [k = 0:nm - 1] file index 2 * k + 1 using 1:2 with linespoints pt 6 ps 0.6 lw 2 dt 2 lc rgb colour[k + 1] notitle
     }
 }
 file = sprintf("%s/fig3-temple-full.dat", dir)
 set title sprintf("temple, full grid %d³: processor time / ST (median, 95%% interval)", res)
 plot 1 with lines lc rgb "#777777" dt 2 notitle, \
-     for [k = 0:2] file index 2 * k using 1:4:5:6 with yerrorlines pt 7 ps 0.6 lw 2 lc rgb colour[k + 1] title name[k + 1], \
-     for [k = 0:2] file index 2 * k + 1 using 1:4:5:6 with yerrorlines pt 6 ps 0.6 lw 2 dt 2 lc rgb colour[k + 1] notitle
+     for [k = 0:nm - 1] file index 2 * k using 1:4:5:6 with yerrorlines pt 7 ps 0.6 lw 2 lc rgb colour[k + 1] title name[k + 1], \
+     for [k = 0:nm - 1] file index 2 * k + 1 using 1:4:5:6 with yerrorlines pt 6 ps 0.6 lw 2 dt 2 lc rgb colour[k + 1] notitle
 do for [s = 1:(n < 2 ? n : 2)] {
     file = sprintf("%s/fig3-%s-full.dat", dir, word(scenes, s))
     set title sprintf("%s, full grid %d³: GPU cost / ST (8x4-lane wavefronts)", word(scenes, s), res)
     plot 1 with lines lc rgb "#777777" dt 2 notitle, \
-         for [k = 0:2] file index 2 * k using 1:3 with linespoints pt 7 ps 0.6 lw 2 lc rgb colour[k + 1] title name[k + 1], \
-         for [k = 0:2] file index 2 * k + 1 using 1:3 with linespoints pt 6 ps 0.6 lw 2 dt 2 lc rgb colour[k + 1] notitle
+         for [k = 0:nm - 1] file index 2 * k using 1:3 with linespoints pt 7 ps 0.6 lw 2 lc rgb colour[k + 1] title name[k + 1], \
+         for [k = 0:nm - 1] file index 2 * k + 1 using 1:3 with linespoints pt 6 ps 0.6 lw 2 dt 2 lc rgb colour[k + 1] notitle
 }
 unset multiplot

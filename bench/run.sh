@@ -1,7 +1,8 @@
 #!/bin/sh
 # The tracing variants on the procedural scenes: every scene with each
-# variant row of the papers' tables (sphere; relaxed omega 1.2 and 1.5;
-# enhanced omega 0.88; auto beta 0.3 and 0.2), rendered with shadows at
+# variant row of the papers' tables (sphere; relaxed omega 1.2 and 1.5, in
+# Keinert's form and in Bán–Valasek's; enhanced omega 0.88; auto beta 0.3
+# and 0.2), rendered with shadows at
 # 1280x720, counted the papers' way, through `sdftrace render --papers
 # --json` (grey, so that every scene, the jewel too, is a primary and a
 # shadow ray per pixel). Writes bench/results/variants.md (and prints it):
@@ -50,6 +51,8 @@ trap 'rm -rf "$tmp"' EXIT INT TERM
 variants='sphere|--method sphere
 relaxed-1.2|--method relaxed --omega 1.2
 relaxed-1.5|--method relaxed --omega 1.5
+relaxed-bv-1.2|--method relaxed-bv --omega 1.2
+relaxed-bv-1.5|--method relaxed-bv --omega 1.5
 enhanced-0.88|--method enhanced --omega 0.88
 auto-0.3|--method auto --beta 0.3
 auto-0.2|--method auto --beta 0.2'
@@ -101,7 +104,9 @@ interval in brackets; *cpu/enh* the median of the rounds' ratios to \`enhanced\`
 with its interval: an interval that holds 1.00 is no difference this run can tell.
 *evals/px* and *fallb/px* are SDF evaluations and fallbacks per pixel, primary plus shadow ray,
 *nonconv %* the share of primary rays that reached the step cap, *evals/enh* the evaluations over
-\`enhanced\`'s: exact, and the same in every round.
+\`enhanced\`'s: exact, and the same in every round. *relaxed* is Keinert et al.'s Listing 2 (plain
+sphere tracing after the first failed step), *relaxed-bv* Bán and Valasek's Algorithm 2 (relaxed
+again after each fallback).
 
 | scene | variant | cpu ms | cpu/enh | evals/px | fallb/px | nonconv % | evals/enh |
 |---|---|--:|--:|--:|--:|--:|--:|

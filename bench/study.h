@@ -39,7 +39,7 @@ enum {
     STUDY_MAX_SOURCES = 64,
     STUDY_MAX_DEPTHS = 512,
     STUDY_MAX_REPEATS = 100,
-    STUDY_TABLE_ROWS = 6,
+    STUDY_TABLE_ROWS = 8,
     STUDY_HIST = 1 << 16, /* Fig. 1's scale histograms: counts beyond are lumped */
     STUDY_TILE_W = 8,     /* a GPU wavefront's pixels: 8 x 4 = 32 lanes */
     STUDY_TILE_H = 4,
@@ -51,7 +51,7 @@ typedef struct study_method {
     const char *paper; /* the paper's row label */
 } study_method;
 extern const study_method STUDY_TABLE_METHODS[STUDY_TABLE_ROWS];
-enum { STUDY_BEST_ROW = 4 }; /* auto, beta 0.3: the variant of the rows beyond the paper, and of Fig. 5 */
+enum { STUDY_BEST_ROW = 6 }; /* auto, beta 0.3: the variant of the rows beyond the paper, and of Fig. 5 */
 
 typedef struct study_options {
     const char *out, *grids, *cli, *row_exr;

@@ -52,7 +52,9 @@ static void logged_scratch_init(const void *ctx, sdft_scratch *s)
  * z <= r + |R| with its own z, of which T - t is z rounded once more (T =
  * t + z in float): where the two sides lie within a few units in the last
  * place of t, the next trial says what was decided, as after a fallback
- * every variant steps z = r from the point it stayed at. */
+ * sphere tracing, enhanced, auto-relaxed and Algorithm 2 step z = r from
+ * the point they stayed at (Keinert's Listing 2 steps back from the failed
+ * point instead, so its replay is exact only away from such ties). */
 static int accepted(const eval_log *log, uint32_t k, double t, float r)
 {
     const double z = log->t[k] - t, slack = (double)r + fabs((double)log->r[k]);

@@ -13,10 +13,19 @@
 #include "parse.h" /* src/common: parse_number, as sdftrace's options */
 #include "study.h"
 
-/* The paper's six method settings, in its table's order. */
+/* The paper's six method settings, in its table's order; its REL is its
+ * Algorithm 2 (relaxed again after each fallback: `relaxed-bv`), and
+ * beside it Keinert et al.'s own Listing 2 (plain sphere tracing after the
+ * first fallback: `relaxed`), REL-K. */
 const study_method STUDY_TABLE_METHODS[STUDY_TABLE_ROWS] = {
-    {SDFT_SPHERE, "", "ST"},          {SDFT_ENHANCED, "0.88", "ENH"}, {SDFT_RELAXED, "1.2", "REL 1.2"},
-    {SDFT_RELAXED, "1.5", "REL 1.5"}, {SDFT_AUTO, "0.3", "AR 0.3"},   {SDFT_AUTO, "0.2", "AR 0.2"},
+    {SDFT_SPHERE, "", "ST"},
+    {SDFT_ENHANCED, "0.88", "ENH"},
+    {SDFT_RELAXED_BV, "1.2", "REL 1.2"},
+    {SDFT_RELAXED_BV, "1.5", "REL 1.5"},
+    {SDFT_RELAXED, "1.2", "REL-K 1.2"},
+    {SDFT_RELAXED, "1.5", "REL-K 1.5"},
+    {SDFT_AUTO, "0.3", "AR 0.3"},
+    {SDFT_AUTO, "0.2", "AR 0.2"},
 };
 
 const char *const STUDY_REP_NAMES[STUDY_REPS] = {"procedural", "band", "full", "vdb_tool", "mesh2sdf"};
@@ -59,6 +68,9 @@ static float cli_float(const char *text)
     return (float)v;
 }
 
+/* Whether a method's parameter is omega (the relaxed forms, enhanced). */
+static int takes_omega(sdft_method m) { return m == SDFT_RELAXED || m == SDFT_RELAXED_BV || m == SDFT_ENHANCED; }
+
 /* What `sdftrace render` makes of the command line study_command writes
  * (src/cli/cmd_render.c, make_params): the same defaults, the same parsing
  * of the numbers. */
@@ -66,8 +78,7 @@ sdft_render_params study_params(const study_options *o, const study_config *c)
 {
     sdft_render_params p = sdft_render_defaults();
     p.trace.method = c->method;
-    p.trace.omega =
-        (c->method == SDFT_RELAXED || c->method == SDFT_ENHANCED) ? cli_float(c->param) : sdft_default_omega(c->method);
+    p.trace.omega = takes_omega(c->method) ? cli_float(c->param) : sdft_default_omega(c->method);
     if (c->method == SDFT_AUTO)
         p.trace.beta = cli_float(c->param);
     p.trace.eps = cli_float(EPS_TEXT);
@@ -94,7 +105,7 @@ void study_command(const study_options *o, const study_config *c, char *buf, siz
     if (!study_rep_of_mesh(c->rep)) /* a mesh's grid is seen from its front view */
         snprintf(scene, sizeof scene, " --scene %s", c->scene->name);
     char param[48] = "";
-    if (c->method == SDFT_RELAXED || c->method == SDFT_ENHANCED)
+    if (takes_omega(c->method))
         snprintf(param, sizeof param, " --omega %s", c->param);
     else if (c->method == SDFT_AUTO)
         snprintf(param, sizeof param, " --beta %s", c->param);
@@ -115,7 +126,7 @@ int study_fig_row(const study_config *c)
 int study_fig1_method(const study_config *c)
 {
     return (c->method == SDFT_ENHANCED && !strcmp(c->param, "0.88")) ||
-           (c->method == SDFT_RELAXED && !strcmp(c->param, "1.5")) ||
+           (c->method == SDFT_RELAXED_BV && !strcmp(c->param, "1.5")) ||
            (c->method == SDFT_AUTO && !strcmp(c->param, "0.3"));
 }
 

@@ -218,10 +218,11 @@ static int write_csv(const study_options *o, const study_run *run)
 /* ---- table.md: the paper's table ---------------------------------------- */
 
 /* The paper's rel column (Bán–Valasek, Section 4), in STUDY_TABLE_METHODS'
- * order; its procedural and its discrete 1024^3 (a dense 3D texture) columns. */
+ * order (0: not in the paper, Keinert's Listing 2); its procedural and its
+ * discrete 1024^3 (a dense 3D texture) columns. */
 static const int PAPER_REL[2][2][STUDY_TABLE_ROWS] = {
-    {{125, 100, 106, 98, 94, 94}, {112, 100, 95, 85, 81, 79}}, /* Temple */
-    {{109, 100, 98, 100, 90, 91}, {102, 100, 95, 91, 87, 87}}, /* Girl */
+    {{125, 100, 106, 98, 0, 0, 94, 94}, {112, 100, 95, 85, 0, 0, 81, 79}}, /* Temple */
+    {{109, 100, 98, 100, 0, 0, 90, 91}, {102, 100, 95, 91, 0, 0, 87, 87}}, /* Girl */
 };
 
 static int paper_scene(const sdft_scene *s)
@@ -264,8 +265,13 @@ static void table_times(FILE *f, const study_options *o, const study_run *run, c
             else
                 fprintf(f, " %s | %s |", time_cell(a, sizeof a, &sum_of(run, i)->cpu),
                         rel_cell(b, sizeof b, &sum_of(run, i)->rel_enhanced));
-            if (paper && (rep == STUDY_PROCEDURAL || rep == STUDY_FULL))
-                fprintf(f, " %d%% |", PAPER_REL[ps][rep == STUDY_FULL][m]);
+            if (paper && (rep == STUDY_PROCEDURAL || rep == STUDY_FULL)) {
+                const int v = PAPER_REL[ps][rep == STUDY_FULL][m];
+                if (v)
+                    fprintf(f, " %d%% |", v);
+                else
+                    fputs(" – |", f);
+            }
         }
         fputc('\n', f);
     }
@@ -436,8 +442,8 @@ static void table_paper_per_step(FILE *f, const study_options *o, const study_ru
                     o->scenes[s]->name, STUDY_REP_NAMES[rep]);
             for (int m = 0; m < STUDY_TABLE_ROWS; m++) {
                 const int i = find(o, run, o->scenes[s], rep, &STUDY_TABLE_METHODS[m], 1, 1000);
-                if (i < 0) {
-                    fputs(" |", f);
+                if (i < 0 || !PAPER_REL[ps][k][m]) {
+                    fputs(" – |", f);
                     continue;
                 }
                 const double paper = PAPER_REL[ps][k][m] / 100.0;
@@ -542,7 +548,10 @@ static void table_fig5(FILE *f, const study_options *o, const study_run *run)
 
 /* ---- Fig. 3 and the transfer of its values ------------------------------ */
 
-static const sdft_method SWEEP_METHODS[3] = {SDFT_AUTO, SDFT_ENHANCED, SDFT_RELAXED};
+/* Fig. 3's methods, in its blocks' order: auto, enhanced, relaxed as the
+ * paper's Algorithm 2 and as Keinert's Listing 2. */
+enum { SWEEP_COUNT = 4 };
+static const sdft_method SWEEP_METHODS[SWEEP_COUNT] = {SDFT_AUTO, SDFT_ENHANCED, SDFT_RELAXED_BV, SDFT_RELAXED};
 
 static int sweep_params(const study_run *run, sdft_method m, char params[][16], int most)
 {
@@ -591,7 +600,7 @@ static void table_sweep(FILE *f, const study_options *o, const study_run *run)
             if (o->reps[rep])
                 fprintf(f, "--:|--:|");
         fprintf(f, "%s\n", timed ? "--:|--:|" : "");
-        for (int k = 0; k < 3; k++) {
+        for (int k = 0; k < SWEEP_COUNT; k++) {
             char params[128][16];
             const int n = sweep_params(run, SWEEP_METHODS[k], params, 128);
             for (int j = 0; j < n; j++) {
@@ -664,7 +673,7 @@ static void table_transfer(FILE *f, const study_options *o, const study_run *run
             "| method | representation | best on %s | best on %s | %s's value on %s: loss | %s's value on %s: "
             "loss | spread, %s / %s |\n|---|---|--:|--:|--:|--:|--:|\n",
             a->name, b->name, a->name, b->name, b->name, a->name, a->name, b->name);
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < SWEEP_COUNT; k++) {
         char params[128][16];
         const int n = sweep_params(run, SWEEP_METHODS[k], params, 128);
         for (int rep = 0; rep <= STUDY_FULL && n > 0; rep++) {
@@ -999,7 +1008,7 @@ static int write_fig2(const study_options *o, const study_run *run)
 }
 
 /* Fig. 3: per scene and representation, one gnuplot block per method
- * (auto, enhanced, relaxed) and shadow setting: value, evaluations /
+ * (SWEEP_METHODS) and shadow setting: value, evaluations /
  * sphere's, GPU cost / sphere's, and the processor time / sphere's with
  * its interval (NaN where not timed). */
 static int write_fig3(const study_options *o, const study_run *run)
@@ -1013,11 +1022,12 @@ static int write_fig3(const study_options *o, const study_run *run)
             out_file f;
             if (out_open(&f, o->out, name))
                 return -1;
-            fprintf(f.f,
-                    "# %s, %s, 1000 steps; blocks: auto, enhanced, relaxed, each with shadows then without: "
-                    "value evaluations/sphere gpu/sphere time/sphere time_lo time_hi\n",
-                    o->scenes[s]->name, STUDY_REP_NAMES[rep]);
-            for (int k = 0; k < 3; k++) {
+            fprintf(
+                f.f,
+                "# %s, %s, 1000 steps; blocks: auto, enhanced, relaxed-bv, relaxed, each with shadows then without: "
+                "value evaluations/sphere gpu/sphere time/sphere time_lo time_hi\n",
+                o->scenes[s]->name, STUDY_REP_NAMES[rep]);
+            for (int k = 0; k < SWEEP_COUNT; k++) {
                 char params[128][16];
                 const int n = sweep_params(run, SWEEP_METHODS[k], params, 128);
                 for (int shadows = 1; shadows >= 0; shadows--) {

@@ -187,8 +187,8 @@ static void test_params_and_method_names(void **state)
     const sdft_trace_params good = sdft_trace_defaults();
     assert_int_equal(good.method, SDFT_AUTO);
     assert_true(good.omega == 1.0f && good.beta == 0.3f && good.eps == 1e-4f && good.max_steps == 1000);
-    sdft_trace_params bad[12];
-    for (int i = 0; i < 12; i++)
+    sdft_trace_params bad[14];
+    for (int i = 0; i < 14; i++)
         bad[i] = good;
     bad[0].method = (sdft_method)9;
     bad[1].method = SDFT_RELAXED, bad[1].omega = 2.0f;
@@ -202,18 +202,20 @@ static void test_params_and_method_names(void **state)
     bad[9].pixel_radius = INFINITY;
     bad[10].eps = 0.0f, bad[10].pixel_radius = 0.0f;
     bad[11].max_steps = 0;
-    for (int i = 0; i < 12; i++)
+    bad[12].method = SDFT_RELAXED_BV, bad[12].omega = 2.0f;
+    bad[13].method = SDFT_RELAXED_BV, bad[13].omega = 0.99f;
+    for (int i = 0; i < 14; i++)
         expect_code(sdft_trace_params_check(&bad[i], msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_trace_params_check(NULL, msg, sizeof msg), SDFT_EINVAL);
 
-    static const char *const names[] = {"sphere", "relaxed", "enhanced", "auto"};
-    for (int m = 0; m < 4; m++) {
+    static const char *const names[] = {"sphere", "relaxed", "enhanced", "auto", "relaxed-bv"};
+    for (int m = 0; m < SDFT_METHOD_COUNT; m++) {
         sdft_method got = (sdft_method)-1;
         assert_int_equal(sdft_method_parse(names[m], &got, msg, sizeof msg), SDFT_OK);
         assert_int_equal(got, m);
         assert_string_equal(sdft_method_name((sdft_method)m), names[m]);
     }
-    assert_string_equal(sdft_method_name((sdft_method)4), "unknown");
+    assert_string_equal(sdft_method_name(SDFT_METHOD_COUNT), "unknown");
     sdft_method m = SDFT_SPHERE;
     expect_code(sdft_method_parse("Sphere", &m, msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_method_parse("", &m, msg, sizeof msg), SDFT_EINVAL);

@@ -158,7 +158,7 @@ static void test_rows_rerun_exactly(void **state)
     assert_int_equal(checked, 5 * 2 * 2 + 1 + 2 + 1);
     /* the table's rows (three representations of the temple and two of
      * spot), Keinert's, the resolution sweep's and the cap sweep's */
-    assert_int_equal(rows, 5 * 2 * 2 * 6 + 12 + 2 * 2 * 6 + 3 * 6);
+    assert_int_equal(rows, 5 * 2 * 2 * STUDY_TABLE_ROWS + 12 + 2 * 2 * STUDY_TABLE_ROWS + 3 * STUDY_TABLE_ROWS);
     print_message("%d of %d rows rerun through sdftrace render: the same counts\n", checked, rows);
 }
 
@@ -202,7 +202,7 @@ static float plane_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
  * auto-relaxed step is accepted (z <= 2 r / (1 + c) never crosses it), and
  * the slope it tracks follows m_0 = -1, m_j = -c + (1 - beta)^j (c - 1), so
  * step k's multiplier is 2 / (1 - m_(k-1)); sphere tracing's are all 1, and
- * relaxation's each 1 (a fallback, or after one) or omega. */
+ * Algorithm 2's each 1 (after a fallback) or omega. */
 static void test_multipliers_closed_form(void **state)
 {
     (void)state;
@@ -249,7 +249,7 @@ static void test_multipliers_closed_form(void **state)
                 fail_msg("sphere tracing, pixel %d: mean multiplier %.6f", i, tmap[i]);
         }
     assert_true(stepped > TW * TH / 2);
-    tp.method = SDFT_RELAXED, tp.omega = 1.5f;
+    tp.method = SDFT_RELAXED_BV, tp.omega = 1.5f; /* Algorithm 2: after a fallback a step of r */
     assert_int_equal(
         study_multiplier_map(&temple->field, &tp, &temple->camera, TW, TH, NULL, tmap, tsteps, msg, sizeof msg), 0);
     int relaxed = 0;
@@ -374,7 +374,7 @@ static void test_files_get_the_umask_mode(void **state)
                                         "fig1.txt",
                                         "fig2-temple-procedural.dat",
                                         "fig1-temple-procedural-auto0.3-steps.u32",
-                                        "fig1-temple-procedural-relaxed1.5-fallbacks.u32",
+                                        "fig1-temple-procedural-relaxed-bv1.5-fallbacks.u32",
                                         "fig5.txt",
                                         "fig5-temple-procedural.f32"};
     for (size_t m = 0; m < sizeof masks / sizeof masks[0]; m++) {

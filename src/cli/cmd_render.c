@@ -115,7 +115,7 @@ enum { RENDER_ROWS = 44 };
 static cmdline_spec render_options(render_opts *o, cmdline_option rows[RENDER_ROWS])
 {
     static char omega_def[64];
-    snprintf(omega_def, sizeof omega_def, "relaxed %g, enhanced %g", sdft_default_omega(SDFT_RELAXED),
+    snprintf(omega_def, sizeof omega_def, "relaxed, relaxed-bv %g; enhanced %g", sdft_default_omega(SDFT_RELAXED),
              sdft_default_omega(SDFT_ENHANCED));
     const double inf = INFINITY;
     const cmdline_option t[RENDER_ROWS] = {
@@ -127,10 +127,10 @@ static cmdline_spec render_options(render_opts *o, cmdline_option rows[RENDER_RO
          .def = "the first scalar level set"},
         {NULL, 'o', "OUT.exr", "OpenEXR output: R,G,B, Z, N.X,N.Y,N.Z, steps, fallbacks; required", CMDLINE_TEXT,
          &o->out, .def = ""},
-        {"method", 0, "M", "sphere | relaxed | enhanced | auto", CMDLINE_CALL, &o->method,
-         .def = sdft_method_name(o->method), .handle = set_method},
-        {"omega", 0, "W", "relaxed: [1, 2); enhanced: (0, 1]", CMDLINE_FLOAT, &o->omega, .lo = -inf, .hi = inf,
-         .def = omega_def, .seen = &o->omega_set},
+        {"method", 0, "M", "sphere | relaxed (Keinert) | relaxed-bv (Ban-Valasek Alg. 2) | enhanced | auto",
+         CMDLINE_CALL, &o->method, .def = sdft_method_name(o->method), .handle = set_method},
+        {"omega", 0, "W", "relaxed, relaxed-bv: [1, 2); enhanced: (0, 1]", CMDLINE_FLOAT, &o->omega, .lo = -inf,
+         .hi = inf, .def = omega_def, .seen = &o->omega_set},
         {"beta", 0, "B", "auto: (0, 1)", CMDLINE_FLOAT, &o->beta, .lo = -inf, .hi = inf},
         {"eps", 0, "E", "convergence radius, world units", CMDLINE_FLOAT, &o->eps, .lo = 0.0, .hi = inf},
         {"max-steps", 0, "N", "most SDF evaluations per ray", CMDLINE_INT, &o->max_steps, .lo = 1, .hi = MAX_STEPS},

@@ -1,4 +1,4 @@
-/* sdftrace — what the four tracing variants share: evaluating f along the
+/* sdftrace — what the five tracing variants share: evaluating f along the
  * ray, the termination rule, the screen-space candidate, hit refinement.
  * Internal header. */
 #ifndef SDFTRACE_MARCH_H
@@ -42,13 +42,15 @@ static inline void march_offer(march_candidate *c, const sdft_trace_params *p, f
 sdft_hit march_finish(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p, float t0,
                       float r0, float t, float r, uint32_t steps, uint32_t fallbacks, march_candidate best);
 
-/* What Algorithms 1-4 keep between iterations: the accepted point (t, r),
- * the step z to the next trial point T = t + z, auto's slope m, the point
- * accepted before (t0, r0) for refinement, the count i of evaluations, the
- * fallbacks and the screen-space candidate; and root_t, up to where the
- * field's exact root was last asked for (march_root). */
+/* What Algorithms 1-4 and Keinert's Listing 2 keep between iterations: the
+ * accepted point (t, r), the step z to the next trial point T = t + z,
+ * auto's slope m, the relaxation omega in force (Listing 2 drops it to 1 for
+ * the rest of the ray), the point accepted before (t0, r0) for refinement,
+ * the count i of evaluations, the fallbacks and the screen-space candidate;
+ * and root_t, up to where the field's exact root was last asked for
+ * (march_root). */
 typedef struct march_state {
-    float t, r, z, m;
+    float t, r, z, m, omega;
     float t0, r0;
     uint32_t i, fallbacks;
     march_candidate best;
@@ -62,17 +64,18 @@ typedef struct march_state {
 typedef void (*march_start_fn)(march_state *m, const sdft_trace_params *p);
 typedef void (*march_step_fn)(march_state *m, float T, float R, const sdft_trace_params *p);
 
-/* Line 4's first evaluation: (t, r) = (t, f(t)), i = 1; the variant's
- * start sets z (and m). */
+/* Line 4's first evaluation: (t, r) = (t, f(t)), i = 1, omega as given;
+ * the variant's start sets z (and m). */
 static inline void march_begin(march_state *m, const sdft_trace_params *p, float t, float r)
 {
-    *m = (march_state){.t = t, .r = r, .t0 = t, .r0 = r, .i = 1, .best = {t, r, INFINITY}, .root_t = -INFINITY};
+    *m = (march_state){
+        .t = t, .r = r, .omega = p->omega, .t0 = t, .r0 = r, .i = 1, .best = {t, r, INFINITY}, .root_t = -INFINITY};
     march_offer(&m->best, p, t, r);
 }
 
 /* Marching resumes at t, r = f(t), after the field's root proved the ray
- * free up to t: like line 4 (the variant's start follows), but the counts
- * and the candidate go on. */
+ * free up to t: like line 4 (the variant's start follows), but the counts,
+ * the candidate and the omega in force go on. */
 static inline void march_restart(march_state *m, const sdft_trace_params *p, float t, float r)
 {
     m->t0 = m->t, m->r0 = m->r;
@@ -277,6 +280,8 @@ void march_stream_sphere(const sdft_field *f, sdft_scratch *s, const sdft_ray *r
                          const sdft_trace_params *p);
 void march_stream_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
                           const sdft_trace_params *p);
+void march_stream_relaxed_bv(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
+                             const sdft_trace_params *p);
 void march_stream_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
                            const sdft_trace_params *p);
 void march_stream_auto(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,

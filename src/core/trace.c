@@ -7,7 +7,7 @@
 #include "fail.h"
 #include "march.h"
 
-static const char *const method_names[SDFT_METHOD_COUNT] = {"sphere", "relaxed", "enhanced", "auto"};
+static const char *const method_names[SDFT_METHOD_COUNT] = {"sphere", "relaxed", "enhanced", "auto", "relaxed-bv"};
 
 const char *sdft_method_name(sdft_method m) { return (unsigned)m < SDFT_METHOD_COUNT ? method_names[m] : "unknown"; }
 
@@ -20,10 +20,14 @@ sdft_error sdft_method_parse(const char *name, sdft_method *out, char *msg, size
             *out = (sdft_method)m;
             return SDFT_OK;
         }
-    return fail_with(msg, msg_len, SDFT_EINVAL, "unknown method '%s' (sphere, relaxed, enhanced or auto)", name);
+    return fail_with(msg, msg_len, SDFT_EINVAL, "unknown method '%s' (sphere, relaxed, relaxed-bv, enhanced or auto)",
+                     name);
 }
 
-float sdft_default_omega(sdft_method m) { return m == SDFT_RELAXED ? 1.5f : m == SDFT_ENHANCED ? 0.88f : 1.0f; }
+/* Over-relaxation (both forms) in [1, 2). */
+static int relaxes(sdft_method m) { return m == SDFT_RELAXED || m == SDFT_RELAXED_BV; }
+
+float sdft_default_omega(sdft_method m) { return relaxes(m) ? 1.5f : m == SDFT_ENHANCED ? 0.88f : 1.0f; }
 
 sdft_trace_params sdft_trace_defaults(void)
 {
@@ -45,7 +49,7 @@ sdft_error sdft_trace_params_check(const sdft_trace_params *p, char *msg, size_t
         why = "no trace parameters (NULL)";
     else if ((unsigned)p->method >= SDFT_METHOD_COUNT)
         why = "unknown tracing method";
-    else if (p->method == SDFT_RELAXED && !(p->omega >= 1.0f && p->omega < 2.0f))
+    else if (relaxes(p->method) && !(p->omega >= 1.0f && p->omega < 2.0f))
         why = "omega must be in [1, 2) for relaxed tracing";
     else if (p->method == SDFT_ENHANCED && !(p->omega > 0.0f && p->omega <= 1.0f))
         why = "omega must be in (0, 1] for enhanced tracing";
@@ -99,6 +103,7 @@ static const struct {
     [SDFT_RELAXED] = {sdft_trace_relaxed, march_stream_relaxed},
     [SDFT_ENHANCED] = {sdft_trace_enhanced, march_stream_enhanced},
     [SDFT_AUTO] = {sdft_trace_auto, march_stream_auto},
+    [SDFT_RELAXED_BV] = {sdft_trace_relaxed_bv, march_stream_relaxed_bv},
 };
 
 sdft_hit sdft_trace(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p)

@@ -1,23 +1,41 @@
-/* Keinert et al.'s over-relaxed sphere tracing: Bán–Valasek Algorithm 2
- * (Keinert et al. 2014, §3.1 and Listing 2), omega in [1, 2).
+/* Keinert et al.'s over-relaxed sphere tracing: Listing 2 of "Enhanced
+ * sphere tracing" (2014, §3.1), omega in [1, 2). Lines are the listing's,
+ * counted from its first comment line (`// o, d : ...` is line 1).
  *
- * The first iteration of Algorithm 2 (z = 0, r = 0) only evaluates f at t;
- * we do that before the loop, as Algorithms 3 and 4 do. The loop is
- * march_one's (march.h). */
+ * Each step is omega f. When the unbounding spheres of two consecutive
+ * points do not overlap (lines 17-18: |f(p_i)| + |f(p_i-1)| < stepLength),
+ * the ray steps back by stepLength (1 - omega) from the failed point
+ * (line 20), to t_i-1 + (2 - omega) stepLength = t_i-1 + omega (2 - omega)
+ * f(p_i-1), inside the last unbounding sphere since omega (2 - omega) <= 1,
+ * and omega is 1 for the rest of the ray (line 21): plain sphere tracing
+ * from there on, never another fallback. Bán and Valasek's Algorithm 2,
+ * which relaxes again after every fallback, is trace_relaxed_bv.c.
+ *
+ * In march_state terms the failed point is not accepted: (t, r) stays
+ * p_i-1 and z = stepLength, so line 20's fallback point is t + (2 - omega) z.
+ * Line 12's functionSign is the caller's (secondary_inside.c negates f for
+ * rays that start inside), and lines 27-35 are the shared termination and
+ * screen-space candidate (march.h), offered accepted points only, as line
+ * 29's !sorFail has it. The loop is march_one's (march.h). */
 #include "march.h"
 
-/* line 4 and the first pass: r := f(t), z := omega r */
-MARCH_VARIANT void relaxed_start(march_state *m, const sdft_trace_params *p) { m->z = p->omega * m->r; }
+/* lines 6-12 and the first pass of the loop: r := f(t), stepLength := omega r (line 23) */
+MARCH_VARIANT void relaxed_start(march_state *m, const sdft_trace_params *p)
+{
+    (void)p;
+    m->z = m->omega * m->r;
+}
 
-/* lines 6-12, given R = f(T) at the trial point T = t + z */
+/* lines 14-24, given R = f(T) at the trial point T = t + z */
 MARCH_VARIANT void relaxed_step(march_state *m, float T, float R, const sdft_trace_params *p)
 {
-    if (m->z <= m->r + fabsf(R)) { /* line 7: spheres overlap */
-        m->z = p->omega * R;       /* line 8 */
-        march_accept(m, p, T, R);  /* line 9 */
-    } else {
-        m->z = m->r; /* line 11: basic step */
+    if (m->omega > 1.0f && m->r + fabsf(R) < m->z) { /* lines 17-18: sorFail */
+        m->z *= 2.0f - m->omega;                     /* line 20: back by stepLength (1 - omega) from T */
+        m->omega = 1.0f;                             /* line 21 */
         m->fallbacks++;
+    } else {
+        m->z = m->omega * R; /* line 23 */
+        march_accept(m, p, T, R);
     }
 }
 
