@@ -421,19 +421,22 @@ static void build_configs(const study_options *o, study_run *run)
         subjects[nsubjects++] = o->scenes[s];
     for (int s = 0; s < o->nmeshes; s++)
         subjects[nsubjects++] = &o->meshes[s];
-    /* The paper's table: its time with the shadow ray; without it, the
-     * primary rays of Figs. 1, 2 and 5, counted. */
+    /* The paper's table: its time with the shadow ray; without it, at the
+     * paper's cap, the primary rays of Figs. 1, 2 and 5, counted. */
     for (int s = 0; s < nsubjects && (o->parts & STUDY_TABLE); s++)
         for (int rep = 0; rep < STUDY_REPS; rep++)
             for (int shadows = 1; shadows >= 0 && rep_of(o, subjects[s], rep); shadows--)
                 for (int k = 0; k < o->ncaps; k++)
-                    for (int m = 0; m < STUDY_TABLE_ROWS; m++)
+                    for (int m = 0; m < STUDY_TABLE_ROWS && (shadows || o->caps[k] == 1000); m++)
                         add_config(run, make_config(subjects[s], rep, o->res, &STUDY_TABLE_METHODS[m], shadows,
                                                     o->caps[k], STUDY_TABLE, shadows));
+    /* Fig. 3: with the shadow ray everywhere; without it where it is timed,
+     * as the paper shows both. */
     for (int s = 0; s < o->nscenes && (o->parts & STUDY_SWEEP) && o->sweep > 0; s++)
         for (int rep = 0; rep <= STUDY_FULL; rep++)
             for (int shadows = 1; shadows >= 0 && o->reps[rep]; shadows--)
-                add_sweep(o, run, o->scenes[s], rep, shadows);
+                if (shadows || study_sweep_timed(o->scenes[s], rep))
+                    add_sweep(o, run, o->scenes[s], rep, shadows);
     /* Keinert et al.: ray casting the city (no shadows), constant epsilon and
      * his screen-space criterion, at his step caps, relaxed as his Listing 2
      * has it; timed. */

@@ -189,7 +189,9 @@ rm -f "$stage/make.out" "$stage/make.time"
 
 # 3. The measurements, in one process.
 log "measuring (bench/study)"
-"$study" "$@" $([ "$quick" = 1 ] && echo --quiet)
+/usr/bin/time -f '%e %U %S' -o "$stage/study.time" "$study" "$@" $([ "$quick" = 1 ] && echo --quiet)
+read -r study_wall study_user study_sys <"$stage/study.time"
+rm -f "$stage/study.time"
 
 # The page: the header, the study's tables (bench/study's own title line
 # replaced by the header's), then the grids' table.
@@ -249,6 +251,9 @@ done
 rows=$(($(wc -l <"$stage/results.csv") - 1))
 elapsed=$(($(date +%s) - started))
 echo "took:            $((elapsed / 60)) min $((elapsed % 60)) s (grids, measurements and figures)" >>"$stage/machine.txt"
+awk -v w="$study_wall" -v u="$study_user" -v s="$study_sys" -v n="$(nproc)" 'BEGIN {
+    printf "bench/study:     %.0f s wall, %.0f s of processor time (%.0f s on %d idle cores)\n", w, u + s, (u + s) / n, n }' \
+    >>"$stage/machine.txt"
 echo "load at end:     $(page_load) (1, 5, 15 minutes; $(nproc) cores)" >>"$stage/machine.txt"
 printf '\nLoad average (1, 5, 15 minutes) when the run began: %s; at its end: %s (%s cores); the run took %d min %d s.\n' \
     "$_page_load_start" "$(page_load)" "$(nproc)" $((elapsed / 60)) $((elapsed % 60)) >>"$stage/table.md"

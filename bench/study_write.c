@@ -898,7 +898,7 @@ static int write_table(const study_options *o, const study_run *run)
                 table_times(f, o, run, subj[s], o->caps[k]);
         }
         for (int shadows = 1; shadows >= 0; shadows--)
-            for (int k = 0; k < o->ncaps; k++) {
+            for (int k = 0; k < o->ncaps && (shadows || o->caps[k] == 1000); k++) {
                 fprintf(f, "## Counts, %s, %d steps\n\n", shadows ? "with the hard shadow ray" : "no shadows",
                         o->caps[k]);
                 for (int s = 0; s < ns; s++)

@@ -155,10 +155,11 @@ static void test_rows_rerun_exactly(void **state)
         checked++;
     }
     fclose(f);
-    assert_int_equal(checked, 5 * 2 * 2 + 1 + 2 + 1);
+    assert_int_equal(checked, 5 * 3 + 1 + 2 + 1);
     /* the table's rows (three representations of the temple and two of
-     * spot), Keinert's, the resolution sweep's and the cap sweep's */
-    assert_int_equal(rows, 5 * 2 * 2 * STUDY_TABLE_ROWS + 12 + 2 * 2 * STUDY_TABLE_ROWS + 3 * STUDY_TABLE_ROWS);
+     * spot; with the shadow ray at both caps, without at 1000), Keinert's,
+     * the resolution sweep's and the cap sweep's */
+    assert_int_equal(rows, 5 * 3 * STUDY_TABLE_ROWS + 12 + 2 * 2 * STUDY_TABLE_ROWS + 3 * STUDY_TABLE_ROWS);
     print_message("%d of %d rows rerun through sdftrace render: the same counts\n", checked, rows);
 }
 
