@@ -12,16 +12,19 @@
  * transfer between scenes, the grids' resolution and the step cap swept,
  * and a mesh's level sets by two tools as a fourth representation.
  *
- * Method: every configuration renders once as a warm-up (its counts are
- * kept, and must be the same in every repeat; the figures' data come from
- * it). The rows whose time a page shows are then timed: REPEATS passes
- * render each once more. Within a pass, the configurations that are
- * compared with each other (same scene, representation, resolution,
- * shadows, step cap and options) run back to back; the order of those sets
- * and of the rows in each is shuffled anew every pass, so drift on a shared
- * machine hits all alike. A time is the median of the passes' processor
- * times with its bootstrap interval (bench/stats.h); a ratio the median of
- * the two rows' ratio in each pass, with its own.
+ * Method: the sources (a procedural scene, a grid) are measured one at a
+ * time, the procedural ones first, so that only one grid is in memory (the
+ * figure's full grid alone is 3.6 GiB). For each, every configuration on it
+ * renders once as a warm-up (its counts are kept, and must be the same in
+ * every repeat; the figures' data come from it); then the rows whose time a
+ * page shows are timed: REPEATS passes render each once more. Within a
+ * pass, the configurations that are compared with each other (same scene,
+ * representation, resolution, shadows, step cap and options: always one
+ * source) run back to back; the order of those sets and of the rows in
+ * each is shuffled anew every pass, so drift on a shared machine hits all
+ * alike. A time is the median of the passes' processor times with its
+ * bootstrap interval (bench/stats.h); a ratio the median of the two rows'
+ * ratio in each pass, with its own.
  *
  * usage: study --out DIR [options]      (study --help lists them)
  * Grids come from `sdftrace bake`, `vdb_tool -mesh2ls` and mesh2sdf
@@ -508,26 +511,47 @@ static void link_configs(study_run *run)
 
 /* ---- sources: the procedural scenes and their grids --------------------- */
 
-/* Opens every source some configuration uses, and gives each mesh its
- * front view; one line and -1 on failure. */
-static int open_sources(const study_options *o, study_run *run)
+/* Lists every source some configuration uses (the procedural ones first,
+ * so that their depth maps are kept before any grid's rows compare with
+ * them) and points each row at its own; -1 (and one line) when there are
+ * too many. Nothing is loaded yet: each grid is opened only while its rows
+ * are measured (open_source), so that one grid at a time is in memory. */
+static int list_sources(study_run *run)
 {
-    for (size_t i = 0; i < run->n; i++) {
-        const study_config *c = &run->configs[i];
-        int found = 0;
-        for (int k = 0; k < run->nsources && !found; k++)
-            found = run->sources[k].scene == c->scene && run->sources[k].rep == c->rep && run->sources[k].res == c->res;
-        if (found)
-            continue;
-        if (run->nsources == STUDY_MAX_SOURCES) {
-            fail("too many sources");
-            return -1;
+    for (int procedural = 1; procedural >= 0; procedural--)
+        for (size_t i = 0; i < run->n; i++) {
+            const study_config *c = &run->configs[i];
+            int found = (c->rep == STUDY_PROCEDURAL) != procedural;
+            for (int k = 0; k < run->nsources && !found; k++)
+                found =
+                    run->sources[k].scene == c->scene && run->sources[k].rep == c->rep && run->sources[k].res == c->res;
+            if (found)
+                continue;
+            if (run->nsources == STUDY_MAX_SOURCES) {
+                fail("too many sources");
+                return -1;
+            }
+            run->sources[run->nsources++] =
+                (study_source){.scene = c->scene, .rep = c->rep, .res = c->res, .field = c->scene->field};
         }
-        study_source *src = &run->sources[run->nsources++];
-        *src = (study_source){.scene = c->scene, .rep = c->rep, .res = c->res, .field = c->scene->field};
-        if (c->rep == STUDY_PROCEDURAL)
-            continue;
-        study_source_path(o, c->scene, c->rep, c->res, src->path, sizeof src->path);
+    for (size_t i = 0; i < run->n; i++) {
+        study_config *c = &run->configs[i];
+        for (int k = 0; k < run->nsources; k++)
+            if (run->sources[k].scene == c->scene && run->sources[k].rep == c->rep && run->sources[k].res == c->res)
+                c->source = k;
+    }
+    return 0;
+}
+
+/* Opens source k's grid (nothing for a procedural scene) and gives each of
+ * its rows its view: the scene's, or for a mesh's grid the front view
+ * `sdftrace render --grid` gives that grid (its command line names no
+ * scene). 0, or -1 with one line. */
+static int open_source(const study_options *o, study_run *run, int k)
+{
+    study_source *src = &run->sources[k];
+    if (src->rep != STUDY_PROCEDURAL) {
+        study_source_path(o, src->scene, src->rep, src->res, src->path, sizeof src->path);
         char msg[512];
         if (!o->quiet)
             fprintf(stderr, "study: loading %s\n", src->path);
@@ -540,20 +564,21 @@ static int open_sources(const study_options *o, study_run *run)
         src->field = sdft_grid_field(src->grid, SDFT_GRID_BOUND_FAR);
         src->voxel = sdft_grid_voxel_size(src->grid).x;
     }
-    /* Each row's view: its scene's, or for a mesh's grid the front view
-     * `sdftrace render --grid` gives that grid (its command line names no
-     * scene). */
     for (size_t i = 0; i < run->n; i++) {
         study_config *c = &run->configs[i];
-        for (int k = 0; k < run->nsources; k++)
-            if (run->sources[k].scene == c->scene && run->sources[k].rep == c->rep && run->sources[k].res == c->res)
-                c->source = k;
+        if (c->source != k)
+            continue;
         c->camera = c->scene->camera, c->light = c->scene->light;
         if (study_rep_of_mesh(c->rep))
-            study_front_view(sdft_grid_world_bounds(run->sources[c->source].grid), o->width, o->height, &c->camera,
-                             &c->light);
+            study_front_view(sdft_grid_world_bounds(src->grid), o->width, o->height, &c->camera, &c->light);
     }
     return 0;
+}
+
+static void close_source(study_run *run, int k)
+{
+    sdft_grid_free(run->sources[k].grid);
+    run->sources[k].grid = NULL;
 }
 
 /* ---- measuring ---------------------------------------------------------- */
@@ -564,11 +589,11 @@ static uint64_t rng_next(uint64_t *s)
     return *s * 0x2545F4914F6CDD1Dull;
 }
 
-/* This pass's order of the timed rows (*count of them): sets shuffled, each
- * set's rows together, shuffled. */
-static void pass_order(const study_run *run, int pass, size_t *order, size_t *count)
+/* This pass's order of source k's timed rows (*count of them): sets
+ * shuffled, each set's rows together, shuffled. */
+static void pass_order(const study_run *run, int k, int pass, size_t *order, size_t *count)
 {
-    uint64_t seed = 0x9E3779B97F4A7C15ull * (uint64_t)(pass + 1) + 1;
+    uint64_t seed = 0x9E3779B97F4A7C15ull * (uint64_t)(pass + 1) + 1 + 0x632BE59BD9B4E019ull * (uint64_t)k;
     uint64_t *set_key = malloc(run->n * sizeof *set_key), *row_key = malloc(run->n * sizeof *row_key);
     if (!set_key || !row_key) {
         fail("out of memory");
@@ -578,7 +603,7 @@ static void pass_order(const study_run *run, int pass, size_t *order, size_t *co
         set_key[i] = rng_next(&seed), row_key[i] = rng_next(&seed);
     size_t n = 0;
     for (size_t i = 0; i < run->n; i++)
-        if (run->configs[i].timed)
+        if (run->configs[i].timed && run->configs[i].source == k)
             order[n++] = i;
     /* Insertion sort by (the set's key, the row's key): n is a few hundred. */
     for (size_t i = 1; i < n; i++) {
@@ -745,19 +770,18 @@ static int keep_multipliers(const study_options *o, study_run *run, study_config
 
 /* ---- main --------------------------------------------------------------- */
 
-/* A pass's progress: a line that updates itself on a terminal, else one
- * line per pass. */
-static void progress(const study_options *o, int pass, size_t done, size_t total, double t0)
+/* Progress: a line that updates itself on a terminal, else a line every
+ * tenth of the frames. */
+static void progress(const study_options *o, const char *scene, const char *rep, size_t done, size_t total, double t0)
 {
     static int tty = -1;
     if (tty < 0)
         tty = isatty(2);
-    if (o->quiet || (!tty && done < total))
+    if (o->quiet || (!tty && done % (total / 10 + 1) != 0 && done < total))
         return;
-    double now = study_now(), per = done ? (now - t0) / (double)done : 0.0;
-    fprintf(stderr, "%sstudy: %s %d of %d: %zu/%zu frames, %.0f s, about %.0f s left in this pass%s", tty ? "\r" : "",
-            pass ? "pass" : "warm-up", pass, o->repeats, done, total, now - t0, per * (double)(total - done),
-            done == total ? "\n" : "   ");
+    double now = study_now(), per = (now - t0) / (double)done;
+    fprintf(stderr, "%sstudy: %s, %s: %zu/%zu frames, %.0f s, about %.0f s left%s", tty ? "\r" : "", scene, rep, done,
+            total, now - t0, per * (double)(total - done), tty && done < total ? "   " : "\n");
 }
 
 /* The warm-up's by-products of row i, rendered into img. */
@@ -779,7 +803,36 @@ static int warm_up_extras(const study_options *o, study_run *run, size_t i, cons
     return study_fig5_method(c) ? keep_multipliers(o, run, c, img) : 0;
 }
 
-static int run_passes(const study_options *o, study_run *run)
+/* Measures source k's rows: the warm-up, then the timed passes. */
+static int measure_source(const study_options *o, study_run *run, int k, sdft_image *img, size_t *order, double t0,
+                          size_t *done)
+{
+    const size_t total = run->n + run->timed_rows * (size_t)o->repeats;
+    const double warm = study_now();
+    int rc = 0;
+    for (size_t i = 0; i < run->n && !rc; i++) {
+        if (run->configs[i].source != k)
+            continue;
+        rc = render_one(o, run, i, 0, img);
+        if (!rc)
+            rc = warm_up_extras(o, run, i, img);
+        progress(o, run->sources[k].scene->name, STUDY_REP_NAMES[run->sources[k].rep], ++*done, total, t0);
+    }
+    run->warmup_s += study_now() - warm;
+    size_t count = 0;
+    for (int pass = 1; pass <= o->repeats && !rc; pass++) {
+        pass_order(run, k, pass, order, &count);
+        for (size_t j = 0; j < count && !rc; j++) {
+            rc = render_one(o, run, order[j], pass, img);
+            progress(o, run->sources[k].scene->name, STUDY_REP_NAMES[run->sources[k].rep], ++*done, total, t0);
+        }
+    }
+    return rc;
+}
+
+/* Every source in turn (the procedural scenes first), its grid in memory
+ * only while its rows are measured. */
+static int run_sources(const study_options *o, study_run *run)
 {
     sdft_image img;
     char msg[512];
@@ -787,33 +840,21 @@ static int run_passes(const study_options *o, study_run *run)
         fail("%s", msg);
         return -1;
     }
-    size_t *order = malloc(run->n * sizeof *order), count = 0;
+    size_t *order = malloc(run->n * sizeof *order), done = 0;
     int rc = order ? 0 : -1;
-    /* The warm-up: procedural rows first, so that their depth maps are kept
-     * when the discrete rows come. */
-    double t0 = study_now();
-    size_t done = 0;
-    run->load[0] = bench_load_average();
-    for (int procedural_first = 1; procedural_first >= 0 && !rc; procedural_first--)
-        for (size_t i = 0; i < run->n && !rc; i++) {
-            if ((run->configs[i].rep == STUDY_PROCEDURAL) != procedural_first)
-                continue;
-            rc = render_one(o, run, i, 0, &img);
-            if (!rc)
-                rc = warm_up_extras(o, run, i, &img);
-            progress(o, 0, ++done, run->n, t0);
-        }
-    run->warmup_s = study_now() - t0;
-    for (int pass = 1; pass <= o->repeats && !rc; pass++) {
-        pass_order(run, pass, order, &count);
-        run->load[pass] = bench_load_average();
-        t0 = study_now();
-        for (size_t k = 0; k < count && !rc; k++) {
-            rc = render_one(o, run, order[k], pass, &img);
-            progress(o, pass, k + 1, count, t0);
-        }
+    const double t0 = study_now();
+    run->load_first = bench_load_average();
+    run->load_lo = run->load_hi = run->load_first;
+    for (int k = 0; k < run->nsources && !rc; k++) {
+        const double load = bench_load_average();
+        run->load_lo = fmin(run->load_lo, load), run->load_hi = fmax(run->load_hi, load);
+        rc = open_source(o, run, k);
+        if (!rc)
+            rc = measure_source(o, run, k, &img, order, t0, &done);
+        close_source(run, k);
     }
-    run->load[o->repeats + 1] = bench_load_average();
+    run->load_last = bench_load_average();
+    run->load_lo = fmin(run->load_lo, run->load_last), run->load_hi = fmax(run->load_hi, run->load_last);
     free(order);
     sdft_image_free(&img);
     return rc;
@@ -852,13 +893,13 @@ int main(int argc, char **argv)
             return 1;
         }
     }
-    int rc = open_sources(&o, &run) ? 2 : 0;
+    int rc = list_sources(&run) ? 2 : 0;
     if (!rc && !o.quiet)
         fprintf(stderr, "study: %zu configurations, 1 warm-up each, %d timed repeats of %zu, %dx%d\n", run.n, o.repeats,
                 run.timed_rows, o.width, o.height);
     run.started = study_now();
     if (!rc)
-        rc = run_passes(&o, &run) ? 1 : 0;
+        rc = run_sources(&o, &run) ? 1 : 0;
     run.total_s = study_now() - run.started;
     if (!rc)
         rc = study_write_results(&o, &run) ? 1 : 0;

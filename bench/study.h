@@ -126,8 +126,8 @@ typedef struct study_run {
     size_t depth_of[STUDY_MAX_DEPTHS], ndepths;
     study_fig1 *fig1[STUDY_MAX_SCENES];
     int nfig1;
-    double
-        load[STUDY_MAX_REPEATS + 2]; /* the 1-minute load average as each pass began (0: the warm-up) and at the end */
+    double load_first, load_last, load_lo, load_hi; /* the 1-minute load average as the measuring began and
+                                                     * ended, and its least and most as each source began */
     double started, warmup_s, total_s;
     size_t timed_rows;
 } study_run;

@@ -873,8 +873,8 @@ static int write_table(const study_options *o, const study_run *run)
             "Written by `bench/study` (run by `bench/study.sh`, `make bench`); every row, with the exact "
             "`sdftrace render` command that reproduces its counts, is in `results.csv`; the machine is in "
             "`machine.txt`. %dx%d pixels, the table's step caps %s; %zu rows, each rendered once for its counts "
-            "(the warm-up), and the %zu whose time a table shows %d more times, interleaved in one process; "
-            "%.0f s in all (warm-up %.0f s).\n\n"
+            "(the warm-up), and the %zu whose time a table shows %d more times, interleaved in one process, one "
+            "grid in memory at a time; %.0f s in all (warm-up %.0f s).\n\n"
             "**Times.** *cpu ms* is a frame's processor time over both threads (trace only): on this shared "
             "machine its wall time measures the others' load more than the work (both are in `results.csv`). "
             "Each is the median of the %d timed passes, with its 95%% bootstrap interval in brackets "
@@ -921,10 +921,10 @@ static int write_table(const study_options *o, const study_run *run)
         table_keinert(f, o, run);
     if (o->parts & STUDY_BEYOND)
         table_beyond(f, o, run);
-    fprintf(f, "1-minute load average as each pass began (the warm-up first), and at the end:");
-    for (int p = 0; p <= o->repeats + 1; p++)
-        fprintf(f, " %.2f", run->load[p]);
-    fprintf(f, ".\n");
+    fprintf(f,
+            "1-minute load average as the measuring began: %.2f; as it ended: %.2f; between %.2f and %.2f as each "
+            "grid's rows began.\n",
+            run->load_first, run->load_last, run->load_lo, run->load_hi);
     return out_close(&of);
 }
 
