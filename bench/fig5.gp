@@ -1,6 +1,7 @@
 # Fig. 5 of Bán and Valasek's auto-relaxation paper: the mean step
-# multiplier auto-relaxation (beta 0.3) computes along each pixel's primary
-# ray, z / r = 2 / (1 - m) (Algorithm 4, line 14), black for 1 (a plain
+# multiplier of the steps auto-relaxation (beta 0.3) takes along each
+# pixel's primary ray, z / r = 2 / (1 - m) (Algorithm 4, line 14; a refused
+# trial, a fallback, is no step taken), black for 1 (a plain
 # sphere-tracing step) to white for 2 (the step that is right for a plane
 # met head on). Pixels whose ray took no step (it left the scene's box at
 # once) are dark blue. No shadows, 1000 steps.

@@ -183,8 +183,9 @@ double study_wavefront_cost(const uint32_t *primary, const uint32_t *total, int 
 /* Fig. 5: traces the primary rays of a width x height frame from camera
  * again, one by one, with sdft_trace and params tp (eps constant: tp's
  * pixel_radius 0), logging the field's evaluations, and gives each pixel's
- * mean step multiplier z / r over its march's steps in map (NAN for a ray
- * that took no step) and, unless NULL, the number of those steps in steps.
+ * mean step multiplier z / r over the steps its march took (the accepted
+ * trials) in map (NAN for a ray that took none) and, unless NULL, the
+ * number of those steps in steps.
  * With expect_steps (the frame's primary_steps plane), every ray must take
  * exactly that many evaluations. 0, or -1 with one line in msg. */
 int study_multiplier_map(const sdft_field *f, const sdft_trace_params *tp, const sdft_camera *camera, int width,

@@ -4,16 +4,14 @@
  *
  * The multiplier of a step is z / r, the step over the distance at the
  * point it leaves: auto-relaxation's 2 / (1 - m) (Bán–Valasek, Algorithm
- * 4, line 14), relaxation's omega, 1 for sphere tracing and for a
- * fallback. Nothing in the library is changed to see them: the library's
- * own tracer traces each pixel's primary ray again through a field that
- * logs every evaluation, t along the ray and the value, and the march is
- * replayed from the log: from the accepted point (t, r), the trial point T
- * with value R is the step z = T - t, accepted when z <= r + |R| (the
- * unbounding spheres overlap: every variant's line 7; `accepted` below),
- * until an accepted r is within eps (the evaluations after it refine the
- * hit). A multiplier is exact to the rounding of t, a few parts in a
- * thousand for the last steps before a hit. */
+ * 4, line 14), relaxation's omega, 1 for sphere tracing and for the plain
+ * step after a fallback. A pixel's value is the mean over the steps its ray
+ * took; a trial that was refused (a fallback, counted in Fig. 1) took none. Nothing in the library is changed to see
+ * them: the library's own tracer traces each pixel's primary ray again through a field that logs every evaluation, t
+ * along the ray and the value, and the march is replayed from the log: from the accepted point (t, r), the trial point
+ * T with value R is the step z = T - t, accepted when z <= r + |R| (the unbounding spheres overlap: every variant's
+ * line 7; `accepted` below), until an accepted r is within eps (the evaluations after it refine the hit). A multiplier
+ * is exact to the rounding of t, a few parts in a thousand for the last steps before a hit. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -64,8 +62,8 @@ static int accepted(const eval_log *log, uint32_t k, double t, float r)
     return fabs(log->t[k + 1] - (t + (double)r)) > ulps;
 }
 
-/* The mean multiplier of the logged march, and its number of steps; NAN
- * when it took none. */
+/* The mean multiplier of the steps the logged march took (its accepted
+ * trials), and their number; NAN when it took none. */
 static float replay(const eval_log *log, float eps, uint32_t *steps)
 {
     *steps = 0;
@@ -73,12 +71,12 @@ static float replay(const eval_log *log, float eps, uint32_t *steps)
         return NAN;
     double t = log->t[0], sum = 0.0;
     float r = log->r[0];
-    for (uint32_t k = 1; k < log->n && k < log->cap && r > eps; k++) {
-        sum += (log->t[k] - t) / (double)r;
-        ++*steps;
-        if (accepted(log, k, t, r))
+    for (uint32_t k = 1; k < log->n && k < log->cap && r > eps; k++)
+        if (accepted(log, k, t, r)) {
+            sum += (log->t[k] - t) / (double)r;
+            ++*steps;
             t = log->t[k], r = log->r[k];
-    }
+        }
     return *steps ? (float)(sum / *steps) : NAN;
 }
 

@@ -515,10 +515,11 @@ static void table_fig5(FILE *f, const study_options *o, const study_run *run)
     fprintf(f,
             "## Fig. 5's numbers: auto-relaxation's step multiplier (β = %s), no shadows, 1000 steps\n\n"
             "The multiplier of a step is z / r, the step over the distance at the point it leaves (Algorithm 4, "
-            "line 14: 2 / (1 − m)); a pixel's is the mean over its primary ray's steps. Each cell: the median "
-            "pixel's, over the pixels that took a step, and in brackets the share of them whose mean exceeds 2 "
-            "(rays that leave a surface behind: there the slope m turns positive and 2 / (1 − m) passes 2; "
-            "Fig. 5's scale stops at 2).\n\n| subject |",
+            "line 14: 2 / (1 − m)); a pixel's is the mean over the steps its primary ray took (a refused trial, "
+            "a fallback, takes none: Fig. 1 counts those). Each cell: the median pixel's, over the pixels that "
+            "took a step, and in brackets the share of them whose mean exceeds 2 (rays that leave a surface "
+            "behind: there the slope m turns positive and 2 / (1 − m) passes 2; Fig. 5's scale stops at 2).\n\n"
+            "| subject |",
             STUDY_TABLE_METHODS[STUDY_BEST_ROW].param);
     for (int rep = 0; rep < STUDY_REPS; rep++)
         if (o->reps[rep])
@@ -583,6 +584,10 @@ static int has_sweep(const study_run *run)
     return 0;
 }
 
+/* Whether the sweep on scene, rep ran without the shadow ray too (where it
+ * is timed, as the paper shows both). */
+static int swept_bare(const sdft_scene *scene, int rep) { return study_sweep_timed(scene, rep); }
+
 static void table_sweep(FILE *f, const study_options *o, const study_run *run)
 {
     fprintf(f, "## Fig. 3's numbers: 1000 steps, evaluations / sphere tracing's (GPU cost / sphere's)\n\n"
@@ -594,11 +599,14 @@ static void table_sweep(FILE *f, const study_options *o, const study_run *run)
         fprintf(f, "| %s | value |", scene->name);
         for (int rep = 0; rep <= STUDY_FULL; rep++)
             if (o->reps[rep])
-                fprintf(f, " %s, shadows | %s, none |", STUDY_REP_NAMES[rep], STUDY_REP_NAMES[rep]);
+                fprintf(f, " %s, shadows |", STUDY_REP_NAMES[rep]);
+        for (int rep = 0; rep <= STUDY_FULL; rep++)
+            if (o->reps[rep] && swept_bare(scene, rep))
+                fprintf(f, " %s, none |", STUDY_REP_NAMES[rep]);
         fprintf(f, "%s\n|---|--:|", timed ? " time, full, shadows | time, full, none |" : "");
         for (int rep = 0; rep <= STUDY_FULL; rep++)
             if (o->reps[rep])
-                fprintf(f, "--:|--:|");
+                fprintf(f, "--:|%s", swept_bare(scene, rep) ? "--:|" : "");
         fprintf(f, "%s\n", timed ? "--:|--:|" : "");
         for (int k = 0; k < SWEEP_COUNT; k++) {
             char params[128][16];
@@ -607,8 +615,10 @@ static void table_sweep(FILE *f, const study_options *o, const study_run *run)
                 fprintf(f, "| %s | %s |", sdft_method_name(SWEEP_METHODS[k]), params[j]);
                 const study_method m = {SWEEP_METHODS[k], params[j], ""};
                 bench_summary times[2] = {{NAN, NAN, NAN, 0}, {NAN, NAN, NAN, 0}};
-                for (int rep = 0; rep <= STUDY_FULL; rep++)
-                    for (int shadows = 1; shadows >= 0 && o->reps[rep]; shadows--) {
+                for (int shadows = 1; shadows >= 0; shadows--)
+                    for (int rep = 0; rep <= STUDY_FULL; rep++) {
+                        if (!o->reps[rep] || (!shadows && !swept_bare(scene, rep)))
+                            continue;
                         const int i = find(o, run, scene, rep, &m, shadows, 1000);
                         if (i < 0 || run->configs[i].ref_sphere < 0) {
                             fputs(" |", f);
@@ -1034,7 +1044,7 @@ static int write_fig3(const study_options *o, const study_run *run)
                     for (int j = 0; j < n; j++) {
                         const study_method m = {SWEEP_METHODS[k], params[j], ""};
                         const int i = find(o, run, o->scenes[s], rep, &m, shadows, 1000);
-                        if (i < 0 || run->configs[i].ref_sphere < 0)
+                        if (i < 0 || run->configs[i].ref_sphere < 0 || (!shadows && !swept_bare(o->scenes[s], rep)))
                             continue;
                         const study_summary *sm = sum_of(run, i), *sp = sum_of(run, run->configs[i].ref_sphere);
                         const bench_summary *t = &sm->rel_sphere;
