@@ -18,9 +18,9 @@
 // clearly on one side (below 0.25 or above 0.75) and the grid's sign is not.
 // With --samples, the points are the rows (x, y, z, d) of mesh2sdf
 // --samples, and the line has max_error (in the mesh's units) instead.
-#include "mesh.h"
+#include "io/mesh_io.h"
 #include "npy_read.h"
-#include "winding.h"
+#include "sign/winding.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
@@ -37,7 +37,7 @@
 #include <string>
 #include <vector>
 
-using namespace converter;
+using namespace meshsdf;
 using mesh2sdf::readNpyRows;
 
 namespace

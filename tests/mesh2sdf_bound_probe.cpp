@@ -5,9 +5,9 @@
 // usage: mesh2sdf_bound_probe MESH [SAMPLES]   (any mesh mesh2sdf reads)
 // Prints one line per bound with the largest ratio of the measured change to
 // the bound (must stay <= 1), and exits 1 if any exceeds it.
-#include "mesh.h"
-#include "winding.h"
-#include "winding_sign.h"
+#include "io/mesh_io.h"
+#include "sign/winding.h"
+#include "sign/winding_sign.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,7 +16,7 @@
 #include <random>
 #include <string>
 
-using namespace converter;
+using namespace meshsdf;
 
 namespace
 {

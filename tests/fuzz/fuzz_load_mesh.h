@@ -1,7 +1,7 @@
 // sdftrace fuzzing — one mesh input for the mesh harnesses (fuzz_mesh,
 // fuzz_scene): the first byte picks the extension among `formats` (its
 // value modulo their count), the rest is the file, read by mesh2sdf's
-// loader (convert/mesh.cpp's loadMesh) and its edges counted.
+// loader (src/mesh/io/mesh_io.h: loadMesh) and its edges counted.
 #ifndef SDFT_FUZZ_LOAD_MESH_H
 #define SDFT_FUZZ_LOAD_MESH_H
 
@@ -9,7 +9,7 @@
 #include <string>
 
 #include "fuzz_input_file.h"
-#include "mesh.h"
+#include "io/mesh_io.h"
 
 // `enabled`, when given, says per format whether to read its inputs (the
 // others are skipped).
@@ -23,10 +23,10 @@ inline void fuzz_load_mesh(const uint8_t *data, size_t size, const char *const *
     char path[256];
     if (fuzz_input_file(data + 1, size - 1, ext.c_str(), path, sizeof path))
         return;
-    converter::TriangleMesh mesh;
+    meshsdf::TriangleMesh mesh;
     std::string error;
-    if (converter::loadMesh(path, mesh, error))
-        converter::countEdges(mesh, converter::edgeUses(mesh));
+    if (meshsdf::loadMesh(path, mesh, error))
+        meshsdf::countEdges(mesh, meshsdf::edgeUses(mesh));
     unlink(path);
 }
 

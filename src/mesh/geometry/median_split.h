@@ -1,0 +1,40 @@
+// sdftrace — the split both bounding volume hierarchies use (the winding
+// tree, sign/winding.cpp, and the nearest-triangle tree, distance/nearest_triangle.cpp):
+// at the median centroid along the longest axis of the centroids' bounds.
+#ifndef SDFT_MESH_GEOMETRY_MEDIAN_SPLIT_H
+#define SDFT_MESH_GEOMETRY_MEDIAN_SPLIT_H
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace meshsdf
+{
+
+/// Reorders order[first, first + count) so that its first count / 2
+/// triangles have centroids no further along the longest axis than the rest;
+/// returns count / 2.
+inline uint32_t splitAtMedian(std::vector<uint32_t> &order, uint32_t first, uint32_t count,
+                              const std::vector<std::array<double, 3>> &centroids)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (uint32_t i = first; i < first + count; ++i)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], centroids[order[i]][k]);
+            hi[k] = std::max(hi[k], centroids[order[i]][k]);
+        }
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+        if (hi[k] - lo[k] > hi[axis] - lo[axis])
+            axis = k;
+    const uint32_t half = count / 2;
+    std::nth_element(order.begin() + first, order.begin() + first + half, order.begin() + first + count,
+                     [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+    return half;
+}
+
+} // namespace meshsdf
+
+#endif

@@ -1,0 +1,186 @@
+// sdftrace — reading a mesh file (see mesh_io.h): the extension picks the
+// reader, every reader hands over a polygon soup, and the soup is
+// triangulated and checked here the same way for all.
+#include "io/mesh_io.h"
+
+#include "io/assimp_read.h"
+#include "io/openmesh_read.h"
+#include "io/ply_read.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <unordered_map>
+
+namespace meshsdf
+{
+
+namespace
+{
+
+std::string lowerExtension(const std::string &path)
+{
+    const size_t dot = path.find_last_of('.');
+    const size_t slash = path.find_last_of('/');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash))
+        return "";
+    std::string ext = path.substr(dot + 1);
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+// Twice the squared area of a triangle, in double.
+double doubleArea2(const std::array<float, 3> &a, const std::array<float, 3> &b, const std::array<float, 3> &c)
+{
+    const double e1[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
+    const double e2[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
+    const double x = e1[1] * e2[2] - e1[2] * e2[1], y = e1[2] * e2[0] - e1[0] * e2[2],
+                 z = e1[0] * e2[1] - e1[1] * e2[0];
+    return x * x + y * y + z * z;
+}
+
+// TriangleMesh::welded for `points`.
+std::vector<uint32_t> weldByPosition(const std::vector<std::array<float, 3>> &points)
+{
+    struct Key {
+        float x, y, z;
+        bool operator==(const Key &o) const { return x == o.x && y == o.y && z == o.z; }
+    };
+    struct KeyHash {
+        size_t operator()(const Key &k) const
+        {
+            uint32_t b[3];
+            std::memcpy(b, &k, sizeof b);
+            return (size_t(b[0]) * 73856093u) ^ (size_t(b[1]) * 19349663u) ^ (size_t(b[2]) * 83492791u);
+        }
+    };
+    std::unordered_map<Key, uint32_t, KeyHash> first;
+    first.reserve(points.size());
+    std::vector<uint32_t> welded(points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+        const auto &p = points[i];
+        // + 0.0f makes -0 +0, so that equal keys hash alike.
+        welded[i] = first.emplace(Key{p[0] + 0.0f, p[1] + 0.0f, p[2] + 0.0f}, uint32_t(i)).first->second;
+    }
+    return welded;
+}
+
+// True if the n corners are a polygon: three or more, all distinct.
+// OpenMesh's importer refuses the others, and every reader is held to that.
+// A long polygon is checked sorted, so that a face of a million corners
+// costs n log n, not n^2.
+bool isPolygon(const uint32_t *corners, size_t n)
+{
+    if (n < 3)
+        return false;
+    if (n <= 16) {
+        for (size_t i = 0; i < n; ++i)
+            for (size_t j = i + 1; j < n; ++j)
+                if (corners[i] == corners[j])
+                    return false;
+        return true;
+    }
+    std::vector<uint32_t> sorted(corners, corners + n);
+    std::sort(sorted.begin(), sorted.end());
+    return std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
+}
+
+// The soup's polygons as fans of triangles, zero-area ones skipped and
+// counted, the box and the welding: the loader's checks, the same for every
+// reader. Corner indices are within soup.points (each reader's promise).
+bool finishMesh(const std::string &path, PolygonSoup &soup, TriangleMesh &mesh, std::string &error)
+{
+    mesh = TriangleMesh{};
+    mesh.points = std::move(soup.points);
+    mesh.health.vertices = mesh.points.size();
+    for (size_t v = 0; v < mesh.points.size(); ++v) {
+        const auto &p = mesh.points[v];
+        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
+            error = "mesh has a non-finite coordinate (vertex " + std::to_string(v) + "): " + path;
+            return false;
+        }
+    }
+    for (size_t f = 0, begin = 0; f < soup.ends.size(); begin = soup.ends[f++]) {
+        const uint32_t *corners = soup.corners.data() + begin;
+        const size_t n = soup.ends[f] - begin;
+        if (!isPolygon(corners, n))
+            continue;
+        ++mesh.health.faces;
+        for (size_t k = 1; k + 1 < n; ++k) {
+            const std::array<uint32_t, 3> t{corners[0], corners[k], corners[k + 1]};
+            if (doubleArea2(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]) <= 0.0) {
+                ++mesh.health.degenerateFaces;
+                continue;
+            }
+            mesh.triangles.push_back(t);
+        }
+    }
+    if (mesh.health.faces == 0) {
+        error = "mesh has no faces: " + path;
+        return false;
+    }
+    mesh.health.triangles = mesh.triangles.size();
+    if (mesh.triangles.empty()) {
+        error = "mesh has no non-degenerate triangles: " + path;
+        return false;
+    }
+    mesh.lo = {INFINITY, INFINITY, INFINITY};
+    mesh.hi = {-INFINITY, -INFINITY, -INFINITY};
+    for (const auto &t : mesh.triangles)
+        for (uint32_t v : t)
+            for (int k = 0; k < 3; ++k) {
+                mesh.lo[k] = std::min(mesh.lo[k], double(mesh.points[v][k]));
+                mesh.hi[k] = std::max(mesh.hi[k], double(mesh.points[v][k]));
+            }
+    const double extent = std::max({mesh.hi[0] - mesh.lo[0], mesh.hi[1] - mesh.lo[1], mesh.hi[2] - mesh.lo[2]});
+    if (!(extent > 0.0)) {
+        error = "mesh bounding box has zero size: " + path;
+        return false;
+    }
+    mesh.welded = weldByPosition(mesh.points);
+    std::vector<char> used(mesh.points.size(), 0);
+    for (const auto &t : mesh.triangles)
+        for (uint32_t v : t)
+            used[v] = 1;
+    for (size_t v = 0; v < mesh.points.size(); ++v)
+        mesh.health.weldedVertices += used[v] && mesh.welded[v] != v;
+    return true;
+}
+
+} // namespace
+
+bool isMeshExtension(const std::string &path)
+{
+    const std::string ext = lowerExtension(path);
+    return ext == "obj" || ext == "ply" || ext == "off" || ext == "stl" || ext == "om" || isAssimpExtension(ext);
+}
+
+bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
+{
+    const std::string ext = lowerExtension(path);
+    if (!isMeshExtension(path)) {
+        std::string known = std::string("obj ply off stl om ") + kAssimpExtensions;
+        for (size_t at = 0; (at = known.find(' ', at)) != std::string::npos; at += 2)
+            known.replace(at, 1, " .");
+        error = "unknown mesh extension '" + ext + "' (use ." + known + "): " + path;
+        return false;
+    }
+    if (!std::ifstream(path).good()) {
+        error = "cannot open mesh: " + path;
+        return false;
+    }
+    PolygonSoup soup;
+    try {
+        const bool read = ext == "ply"             ? readPly(path, soup, error)
+                          : isAssimpExtension(ext) ? readAssimp(path, soup, error)
+                                                   : readOpenMesh(path, ext, soup, error);
+        return read && finishMesh(path, soup, mesh, error);
+    } catch (const std::bad_alloc &) {
+        error = "mesh is larger than memory allows: " + path;
+        return false;
+    }
+}
+
+} // namespace meshsdf

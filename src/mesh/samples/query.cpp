@@ -1,0 +1,58 @@
+// sdftrace — signed distances at points (see query.h).
+#include "samples/query.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+
+namespace meshsdf
+{
+
+PointQuery::PointQuery(const TriangleMesh &mesh, bool simd, bool wide)
+{
+    tbb::parallel_invoke([&] { mNearest.reset(new NearestTriangle(mesh, simd, wide)); },
+                         [&] { mWinding.reset(new FastWinding(mesh.points, mesh.triangles, 2.0, simd)); });
+}
+
+namespace
+{
+
+// Spreads the low 21 bits of x to every third bit (a Morton code's axis).
+uint64_t spread(uint64_t x)
+{
+    x &= 0x1fffff;
+    x = (x | x << 32) & 0x1f00000000ffffull;
+    x = (x | x << 16) & 0x1f0000ff0000ffull;
+    x = (x | x << 8) & 0x100f00f00f00f00full;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+    return (x | x << 2) & 0x1249249249249249ull;
+}
+
+} // namespace
+
+std::vector<size_t> mortonOrder(const std::vector<double> &xyz, const MeshSphere &cube)
+{
+    const size_t n = xyz.size() / 3;
+    std::vector<std::pair<uint64_t, size_t>> keyed(n);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t> &r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+            uint64_t code = 0;
+            for (int k = 0; k < 3; ++k) {
+                const double t = (xyz[i * 3 + k] - cube.centre[k]) / (2 * cube.radius) + 0.5;
+                const double at = t >= 0 ? std::min(t, 1.0) : 0.0; // NaN too: a cast of NaN is undefined
+                code |= spread(uint64_t(at * 2097151.0)) << k;
+            }
+            keyed[i] = {code, i};
+        }
+    });
+    tbb::parallel_sort(keyed.begin(), keyed.end());
+    std::vector<size_t> order(n);
+    for (size_t j = 0; j < n; ++j)
+        order[j] = keyed[j].second;
+    return order;
+}
+
+} // namespace meshsdf

@@ -1,0 +1,160 @@
+// sdftrace — training samples (see samples.h).
+#include "samples/samples.h"
+
+#include "geometry/triangle_distance.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <random>
+
+namespace meshsdf
+{
+
+SampleCounts sampleCounts(size_t count, double uniformShare)
+{
+    SampleCounts c;
+    c.uniform = std::min(count, size_t(std::floor(uniformShare * double(count) + 0.5)));
+    const size_t near = count - c.uniform;
+    c.near[0] = (near + 1) / 2;
+    c.near[1] = near / 2;
+    return c;
+}
+
+namespace
+{
+
+// One chunk's generator: uniforms in [0, 1) from the top 53 bits, Gaussians
+// by Box–Muller, both from the mt19937_64 stream alone.
+class ChunkRandom
+{
+  public:
+    ChunkRandom(uint64_t seed, uint64_t chunk) : mBits(mix(seed * 0x9e3779b97f4a7c15ull + chunk)) {}
+
+    double uniform() { return double(mBits() >> 11) * 0x1p-53; }
+
+    // A standard normal value: a pair from two uniforms, the second kept.
+    double gaussian()
+    {
+        if (mHasSpare) {
+            mHasSpare = false;
+            return mSpare;
+        }
+        const double u = 1.0 - uniform(), v = uniform(); // u in (0, 1]
+        const double r = std::sqrt(-2.0 * std::log(u)), a = 6.283185307179586 * v;
+        mSpare = r * std::sin(a);
+        mHasSpare = true;
+        return r * std::cos(a);
+    }
+
+  private:
+    // SplitMix64's finalizer: neighbouring chunks get unrelated seeds.
+    static uint64_t mix(uint64_t z)
+    {
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+        return z ^ (z >> 31);
+    }
+    std::mt19937_64 mBits;
+    double mSpare = 0;
+    bool mHasSpare = false;
+};
+
+// The running sum of the triangles' areas, to pick one by area.
+std::vector<double> areaSums(const TriangleMesh &mesh)
+{
+    std::vector<double> sums(mesh.triangles.size());
+    double total = 0;
+    for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const auto &a = mesh.points[mesh.triangles[t][0]], &b = mesh.points[mesh.triangles[t][1]],
+                   &c = mesh.points[mesh.triangles[t][2]];
+        double e1[3], e2[3];
+        for (int k = 0; k < 3; ++k) {
+            e1[k] = double(b[k]) - a[k];
+            e2[k] = double(c[k]) - a[k];
+        }
+        const double x = e1[1] * e2[2] - e1[2] * e2[1], y = e1[2] * e2[0] - e1[0] * e2[2],
+                     z = e1[0] * e2[1] - e1[1] * e2[0];
+        total += std::sqrt(x * x + y * y + z * z);
+        sums[t] = total;
+    }
+    return sums;
+}
+
+// A point on the mesh: a triangle by area, then uniform barycentric
+// coordinates (1 - sqrt(r1), sqrt(r1) (1 - r2), sqrt(r1) r2). Returns the
+// triangle.
+size_t surfacePoint(const TriangleMesh &mesh, const std::vector<double> &sums, ChunkRandom &random, double *p)
+{
+    const double at = random.uniform() * sums.back();
+    const size_t t = std::min(size_t(std::upper_bound(sums.begin(), sums.end(), at) - sums.begin()), sums.size() - 1);
+    const double s = std::sqrt(random.uniform()), r2 = random.uniform();
+    const double wa = 1 - s, wb = s * (1 - r2), wc = s * r2;
+    const auto &a = mesh.points[mesh.triangles[t][0]], &b = mesh.points[mesh.triangles[t][1]],
+               &c = mesh.points[mesh.triangles[t][2]];
+    for (int k = 0; k < 3; ++k)
+        p[k] = wa * a[k] + wb * b[k] + wc * c[k];
+    return t;
+}
+
+// The squared distance from p to triangle t of the mesh.
+double triangleBound2(const TriangleMesh &mesh, size_t t, const double *p)
+{
+    double corners[9];
+    for (int v = 0; v < 3; ++v)
+        for (int k = 0; k < 3; ++k)
+            corners[v * 3 + k] = mesh.points[mesh.triangles[t][v]][k];
+    return triangleDistance2(corners, p);
+}
+
+} // namespace
+
+void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const PointQuery &query,
+                 const sdft_mesh_sample_params &p, float *rows, Progress &progress)
+{
+    const SampleCounts counts = sampleCounts(size_t(p.count), p.uniform_share);
+    const size_t near = counts.near[0] + counts.near[1], n = size_t(p.count);
+    const std::vector<double> sums = areaSums(mesh);
+    const double sigma[2] = {p.near_sigma[0] * sphere.radius, p.near_sigma[1] * sphere.radius};
+    // The points, chunk by chunk, each with a bound on its squared distance
+    // (to the triangle it left, grown past rounding; none for a uniform
+    // point).
+    std::vector<double> points(n * 3), bounds(n, INFINITY);
+    const size_t chunks = (n + kSampleChunk - 1) / kSampleChunk;
+    tbb::parallel_for(size_t(0), chunks, [&](size_t chunk) {
+        ChunkRandom random(p.seed, chunk);
+        for (size_t i = chunk * kSampleChunk; i < std::min(n, (chunk + 1) * kSampleChunk); ++i) {
+            double *p = &points[i * 3];
+            if (i < near) {
+                const size_t t = surfacePoint(mesh, sums, random, p);
+                for (int k = 0; k < 3; ++k)
+                    p[k] += sigma[i % 2] * random.gaussian();
+                bounds[i] = triangleBound2(mesh, t, p) * (1 + 1e-9) + 1e-300;
+            } else {
+                for (int k = 0; k < 3; ++k)
+                    p[k] = sphere.centre[k] + sphere.radius * (2 * random.uniform() - 1);
+            }
+        }
+    });
+    // Each row's value is the same in any order.
+    const std::vector<size_t> order = mortonOrder(points, sphere);
+    // Progress per block of rows evaluated (a cancelled one throws out).
+    std::atomic<size_t> evaluated{0};
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t> &r) {
+        for (size_t j = r.begin(); j != r.end(); ++j) {
+            const size_t i = order[j];
+            double w;
+            const double d = query.signedDistance(&points[i * 3], bounds[i], &w);
+            float *row = &rows[i * 4];
+            for (int k = 0; k < 3; ++k)
+                row[k] = float(points[i * 3 + k]);
+            row[3] = float(d);
+        }
+        progress.report(int(100 * (evaluated += r.size()) / n));
+    });
+}
+
+} // namespace meshsdf
