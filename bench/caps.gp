@@ -8,9 +8,11 @@
 # DIR/caps.dat, one block per scene, representation and method:
 # cap evaluations/px not_converged_% gpu_cost/px.
 array rep[3] = ["procedural", "band", "full"]
-array title[8] = ["ST", "ENH", "REL 1.2", "REL 1.5", "AR 0.3", "AR 0.2", "", ""]
-array colour[8] = ["#000000", "#0072B2", "#E69F00", "#D55E00", "#009E73", "#CC79A7", "#56B4E9", "#F0E442"]
-array dash[8] = [1, 1, 2, 2, 1, 4, 3, 5]
+array title[8] = ["", "", "", "", "", "", "", ""] # read from caps.dat below
+# In the table's order: ST, ENH, REL 1.2, REL 1.5 (Algorithm 2: dashed), REL-K 1.2, REL-K 1.5
+# (Keinert's Listing 2: dash-dotted, the same colours), AR 0.3, AR 0.2 (solid, thick).
+array colour[8] = ["#000000", "#0072B2", "#E69F00", "#D55E00", "#E69F00", "#D55E00", "#009E73", "#CC79A7"]
+array dash[8] = [1, 1, 2, 2, 4, 4, 1, 1]
 file = sprintf("%s/caps.dat", dir)
 methods = int(system(sprintf("grep -c '^# %s procedural ' %s", word(scenes, 1), file)))
 do for [m = 1:methods] { title[m] = system(sprintf("grep '^# %s procedural ' %s | sed -n '%dp' | cut -d' ' -f4-", word(scenes, 1), file, m)) }
@@ -28,7 +30,7 @@ do for [s = 1:n] {
         do for [r = 1:3] {
             set title sprintf("%s, %s: %s", word(scenes, s), repname(r), what == 1 ? "primary rays not converged, %" : "GPU cost, evaluations per pixel")
             base = ((s - 1) * 3 + (r - 1)) * methods
-            plot for [m = 1:methods] file index base + m - 1 using 1:(what == 1 ? $3 : $4) with linespoints pt 7 ps 0.6 lw 2 dt dash[m] lc rgb colour[m] title title[m]
+            plot for [m = 1:methods] file index base + m - 1 using 1:(what == 1 ? $3 : $4) with linespoints pt 7 ps 0.6 lw (m >= 7 ? 3 : 2) dt dash[m] lc rgb colour[m] title title[m]
         }
     }
 }

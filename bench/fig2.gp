@@ -11,9 +11,11 @@
 # the methods.
 array scene_rep[3] = ["procedural", "band", "full"]
 array mesh_rep[3] = ["vdb_tool", "mesh2sdf", ""]
-array colour[8] = ["#000000", "#0072B2", "#E69F00", "#D55E00", "#009E73", "#CC79A7", "#56B4E9", "#F0E442"]
-array dash[8] = [1, 1, 2, 2, 1, 4, 3, 5]
-array width[8] = [2, 2.5, 2, 2, 3, 2.5, 2, 2]
+# In the table's order: ST, ENH, REL 1.2, REL 1.5 (Algorithm 2: dashed), REL-K 1.2, REL-K 1.5
+# (Keinert's Listing 2: dash-dotted, the same colours), AR 0.3, AR 0.2 (solid, thick).
+array colour[8] = ["#000000", "#0072B2", "#E69F00", "#D55E00", "#E69F00", "#D55E00", "#009E73", "#CC79A7"]
+array dash[8] = [1, 1, 2, 2, 4, 4, 1, 1]
+array width[8] = [2, 2.5, 2, 2, 2, 2, 3.5, 2.5]
 n = words(subjects)
 set terminal term size 1560, 430 * n font "sans,12"
 set output out
