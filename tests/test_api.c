@@ -258,8 +258,18 @@ static void test_image_and_render_errors(void **state)
     bad[9].threads = -1;
     bad[10].trace.beta = 2.0f;
     bad[11].trace.method = (sdft_method)7;
-    for (int i = 0; i < N; i++)
+    for (int i = 0; i < N; i++) {
         expect_code(sdft_render(&f, &bad[i], &img, NULL, msg, sizeof msg), SDFT_EINVAL);
+        /* the same checks without the image: all but bad[1], the image's size */
+        if (i == 1)
+            assert_int_equal(sdft_render_params_check(&f, &bad[i], msg, sizeof msg), SDFT_OK);
+        else
+            expect_code(sdft_render_params_check(&f, &bad[i], msg, sizeof msg), SDFT_EINVAL);
+    }
+    assert_int_equal(sdft_render_params_check(&f, &good, msg, sizeof msg), SDFT_OK);
+    expect_code(sdft_render_params_check(NULL, &good, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_render_params_check(&none, &good, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_render_params_check(&f, NULL, msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_render(NULL, &good, &img, NULL, msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_render(&none, &good, &img, NULL, msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_render(&f, NULL, &img, NULL, msg, sizeof msg), SDFT_EINVAL);
@@ -361,6 +371,13 @@ static void test_grid_errors(void **state)
     sdft_grid_options vdb_file = d;
     vdb_file.path = "x.vdb";
     expect_code(sdft_grid_open(&vdb_file, &out, msg, sizeof msg), SDFT_EFORMAT);
+
+    /* Exporting: no grid or no place for the bytes. */
+    void *exported = (void *)&out;
+    size_t exported_size = 1;
+    expect_code(sdft_grid_export(NULL, &exported, &exported_size, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_grid_export(g, NULL, &exported_size, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_grid_export(g, &exported, NULL, msg, sizeof msg), SDFT_EINVAL);
 
     /* Fields of no grid, or of an unknown bound, are empty; tracing refuses them. */
     sdft_field zero = sdft_grid_field(NULL, SDFT_GRID_BOUND_FAR), odd = sdft_grid_field(g, (sdft_grid_bound)3);

@@ -9,6 +9,7 @@
 #include <nanovdb/PNanoVDB.h>
 
 #include "fail.h"
+#include "grid_layout.h"
 #include "sdftrace/grid.h"
 
 /* The far bound (grid_bound.c): cells of `cell`^3 voxels over the active
@@ -29,10 +30,11 @@ typedef struct grid_far {
     float inv_cell;   /* 1 / S */
     float origin[3];  /* index coordinates of corner 0: c0 S - 1/2 */
     float bonus;      /* world units added to smin e(x): the band's guarantee */
+    int stored;       /* 1: corner lies in the grid's own bytes (grid_tables.c), not ours to free */
 } grid_far;
 
-enum { FAR_DISTANCE_BITS = 14, FAR_EMPTY_POSITIVE = 1, FAR_EMPTY_NEGATIVE = 2 };
-#define FAR_DISTANCE_SCALE 4.0f /* corner words per index unit */
+/* FAR_DISTANCE_BITS, FAR_EMPTY_POSITIVE, FAR_EMPTY_NEGATIVE and
+ * FAR_DISTANCE_SCALE: grid_layout.h. */
 
 /* The leaf directory (grid_leaves.c): for each region of 8^3 blocks of
  * the active box, a chunk of 9^3 entries (the region's blocks and its
@@ -41,8 +43,9 @@ enum { FAR_DISTANCE_BITS = 14, FAR_EMPTY_POSITIVE = 1, FAR_EMPTY_NEGATIVE = 2 };
  * GRID_TILE_POSITIVE / GRID_TILE_NEGATIVE for a tile of value +background
  * / -background, else 0. Float, Fp16, Fp8 and Fp4 grids; top NULL: none
  * (the accessor serves). */
-enum { GRID_CHUNK_SIDE = 9, GRID_CHUNK_ENTRIES = 9 * 9 * 9 };
-enum { GRID_TILE_POSITIVE = 1, GRID_TILE_NEGATIVE = 2, GRID_TILE_MARKERS = 3 }; /* below any value table's word */
+/* GRID_CHUNK_SIDE, GRID_CHUNK_ENTRIES and the markers GRID_TILE_POSITIVE,
+ * GRID_TILE_NEGATIVE (below GRID_TILE_MARKERS, under any value table's
+ * word): grid_layout.h. */
 typedef struct grid_leaves {
     uint32_t *top;   /* nr[0] x nr[1] x nr[2] regions, x fastest: chunk index + 1, 0 none */
     uint32_t *chunk; /* chunks x GRID_CHUNK_ENTRIES, x fastest */
@@ -101,7 +104,9 @@ struct sdft_grid {
     sdft_slab *hull_slab;     /* with each box, a world slab that holds its cells too */
     sdft_aabb *hull_gradient; /* with each box, world bounds on its cells' gradients */
     size_t hull_count;
-    sdft_field_accel accel; /* what its fields point to (grid_accel_init) */
+    int hull_stored;         /* 1: the hull's arrays lie in the grid's own bytes (grid_tables.c) */
+    sdft_field_accel accel;  /* what its fields point to (grid_accel_init) */
+    sdft_grid_phases phases; /* what loading it took (sdft_grid_load_phases) */
     /* Its surface's materials (sdft_grid_set_materials, grid_material.c): the grid of indices
      * into the table; NULL: none. */
     const sdft_grid *material_ids;
@@ -138,7 +143,11 @@ sdft_error grid_init(sdft_grid *g, char *msg, size_t msg_len);
 /* Builds / frees g->far (grid_bound.c). Needs g fully decoded, its
  * directory included. SDFT_OK or SDFT_ENOMEM. */
 sdft_error grid_far_build(sdft_grid *g);
-int grid_far_cell(const sdft_grid *g);                            /* the S grid_far_build picks: voxels per cell edge */
+/* Lays far's cells and constants over g (no table), as grid_far_build
+ * would; 1 when g gets a far bound (a level set, background > 0). */
+int grid_far_plan(const sdft_grid *g, grid_far *far);
+int grid_far_cell(const int32_t lo[3],
+                  const int32_t hi[3]); /* the S grid_far_build picks for a box: voxels per cell edge */
 sdft_error grid_far_build_cells(sdft_grid *g, size_t most_cells); /* cells of 4 * 2^k voxels, at most most_cells */
 void grid_far_free(sdft_grid *g);
 
@@ -179,6 +188,17 @@ int grid_cell_root(const float v[8], const double u0[3], const double du[3], dou
  * (also when the grid gets none) or SDFT_ENOMEM. */
 sdft_error grid_hull_build(sdft_grid *g);
 void grid_hull_free(sdft_grid *g);
+int grid_hull_wanted(const sdft_grid *g);    /* whether g gets a hull */
+uint64_t grid_hull_most(const sdft_grid *g); /* the most boxes it can have: a leaf's and the face patches' */
+
+/* Takes the far bound and the hull from the tables stored in g's own bytes
+ * (grid_tables.c), each where it holds every check; what it does not take
+ * is left as it was (NULL), to be built. */
+void grid_tables_take(sdft_grid *g);
+/* Sets the hashes in the header of the tables that the grid buffer `bytes`
+ * (size bytes) stores, for what it holds now (sdft_grid_export; a test's
+ * forged tables). Nothing when it stores none. */
+void grid_tables_seal(void *bytes, size_t size);
 
 /* Fills g->accel, which every field of g points to: its exact root,
  * prefetch hints and hull (grid_sample.c). Last at load, after the hull. */
@@ -191,5 +211,24 @@ sdft_material grid_material(const void *ctx, sdft_vec3 p);
 /* Memory for a big table (grid_memory.c): 64-byte aligned; free() releases
  * it. */
 void *grid_table_alloc(size_t bytes);
+
+_Static_assert(sizeof(pnanovdb_readaccessor_t) <= SDFT_SCRATCH_BYTES, "a read accessor must fit a thread's scratch");
+
+/* A thread's read accessor, kept in its scratch. */
+static inline pnanovdb_readaccessor_t *accessor(sdft_scratch *s) { return (pnanovdb_readaccessor_t *)(void *)s->bytes; }
+
+/* A deferred grid's leaf at byte `at`, holding voxel ijk, filled if it is
+ * not yet (grid_deferred.c); nothing for a grid loaded whole, or for an
+ * address that is not one of its leaves (a corrupt child offset is then
+ * read as it stands, as in any grid, never filled out of place). */
+static inline __attribute__((always_inline)) void grid_leaf_ready(const sdft_grid *g, uint64_t at, pnanovdb_coord_t ijk)
+{
+    const grid_deferred *d = &g->deferred;
+    if (!d->state)
+        return;
+    const uint64_t i = deferred_leaf_index(d, at);
+    if (i < d->count && __atomic_load_n(&d->state[i], __ATOMIC_ACQUIRE) != LEAF_READY)
+        grid_leaf_fill(g, at, ijk);
+}
 
 #endif
