@@ -31,7 +31,7 @@ static double median_sorting(double *v, int n)
 
 double bench_median(const double *x, int n)
 {
-    if (n < 1 || n > BENCH_MAX_SAMPLES)
+    if (n < 1 || n > BENCH_MAX_MEDIAN)
         return NAN;
     double *v = malloc((size_t)n * sizeof *v);
     if (!v)

@@ -24,12 +24,14 @@ typedef struct bench_summary {
 } bench_summary;
 
 enum {
-    BENCH_RESAMPLES = 10000, /* bootstrap resamples */
-    BENCH_MAX_SAMPLES = 100000,
+    BENCH_RESAMPLES = 10000,    /* bootstrap resamples */
+    BENCH_MAX_SAMPLES = 10000,  /* bench_summarize's most: 10^8 draws */
+    BENCH_MAX_MEDIAN = 1 << 26, /* bench_median's most */
 };
 
 /* The median of x[0..n) (n >= 1; the mean of the middle two for even n). x
- * is left as it was. NAN for n < 1. */
+ * is left as it was. NAN for n outside [1, BENCH_MAX_MEDIAN] or out of
+ * memory. */
 double bench_median(const double *x, int n);
 
 /* The median of x[0..n) and its percentile-bootstrap interval at `level`

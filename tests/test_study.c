@@ -1,8 +1,11 @@
 /* sdftrace tests — the study (bench/study): a rerun of a row's command line
  * through `sdftrace render --json` gives that row's counts to the last
- * digit, on the procedural scene and on both grids, for a fresh small run
- * and for the results committed in bench/results/; and bad arguments get
- * one line and a non-zero exit, from the program and from bench/study.sh. */
+ * digit, on the procedural scene, both grids at each resolution and a
+ * mesh's level sets by both tools, for a fresh small run and for the
+ * results committed in bench/results/; the GPU cost on step maps made by
+ * hand; Fig. 5's step multipliers against their closed form on a plane;
+ * and bad arguments get one line and a non-zero exit, from the program and
+ * from bench/study.sh. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -14,6 +17,8 @@
 
 #include <cmocka.h>
 
+#include "sdftrace/scene.h"
+#include "study.h" /* bench/: study_wavefront_cost, study_multiplier_map */
 #include "testutil.h"
 
 static char out[1 << 16];
@@ -39,7 +44,7 @@ static const char *csv_field(const char *line, int col, char *buf, size_t len)
 static int csv_column(const char *header, const char *name)
 {
     char buf[64];
-    for (int col = 0; col < 40; col++)
+    for (int col = 0; col < 64; col++)
         if (!strcmp(csv_field(header, col, buf, sizeof buf), name))
             return col;
     fail_msg("no column %s", name);
@@ -96,13 +101,23 @@ static void test_rows_rerun_exactly(void **state)
     (void)state;
     const char *grids = SDFT_TEST_TMP "/study-grids", *res = SDFT_TEST_TMP "/study-out";
     assert_int_equal(tu_run(out, sizeof out, "rm -rf %s %s && mkdir -p %s %s", grids, res, grids, res), 0);
-    for (int full = 0; full < 2; full++)
-        assert_int_equal(tu_run(out, sizeof out, "%s bake --scene temple --res 32%s -o %s/temple-%s-32.nvdb", SDFT_CLI,
-                                full ? " --full" : "", grids, full ? "full" : "band"),
-                         0);
+    /* The temple at 32^3 and, for the resolution rows, 16^3 and 8^3; spot's
+     * level sets by vdb_tool and by mesh2sdf. */
+    for (int r = 8; r <= 32; r *= 2)
+        for (int full = 0; full < 2; full++)
+            assert_int_equal(tu_run(out, sizeof out, "%s bake --scene temple --res %d%s -o %s/temple-%s-%d.nvdb",
+                                    SDFT_CLI, r, full ? " --full" : "", grids, full ? "full" : "band", r),
+                             0);
+    if (tu_run(out, sizeof out, "vdb_tool -read %s/spot.obj -mesh2ls d=32 w=3 -write %s/spot-vdb_tool-32.nvdb",
+               SDFT_MESH_DIR, grids))
+        fail_msg("vdb_tool failed: %s", out);
+    if (tu_run(out, sizeof out, "%s %s/spot.obj -o %s/spot.vdb --nvdb %s/spot-mesh2sdf-32.nvdb --res 32 --quiet",
+               SDFT_MESH2SDF, SDFT_MESH_DIR, grids, grids))
+        fail_msg("mesh2sdf failed: %s", out);
     int rc = tu_run(out, sizeof out,
                     "%s --out %s --grids %s --res 32 --width 40 --height 24 --repeats 1 --sweep 0 --scenes temple "
-                    "--caps 1000,16 --parts table,keinert --cli %s --row-exr %s/study-row.exr --quiet",
+                    "--meshes spot --caps 1000,16 --cap-sweep 24 --parts table,keinert,res,caps --cli %s "
+                    "--row-exr %s/study-row.exr --quiet",
                     SDFT_STUDY, res, grids, SDFT_CLI, SDFT_TEST_TMP);
     if (rc)
         fail_msg("study failed: %s", out);
@@ -112,27 +127,143 @@ static void test_rows_rerun_exactly(void **state)
     static char header[4096], line[8192];
     FILE *f = csv_open(path, header, sizeof header);
     /* A few small rows of each kind: every representation, with and without
-     * shadows, both caps, and one of Keinert's screen-space rows. */
-    int checked = 0, seen[3][2][2] = {{{0}}}, screen_space = 0, rows = 0;
+     * shadows, both caps, one of Keinert's screen-space rows, and one row of
+     * each other resolution and of the cap sweep. */
+    int checked = 0, seen[STUDY_REPS][2][2] = {{{0}}}, screen_space = 0, other_res[2] = {0}, swept = 0, rows = 0;
     while (fgets(line, sizeof line, f)) {
         rows++;
-        char rep[32], shadows[8], cap[16], ss[8], cmd[4096];
+        char rep[32], shadows[8], cap[16], ss[8], grid_res[16], cmd[4096];
         row_field(header, line, "representation", rep, sizeof rep);
         row_field(header, line, "shadows", shadows, sizeof shadows);
         row_field(header, line, "max_steps", cap, sizeof cap);
         row_field(header, line, "screen_space", ss, sizeof ss);
-        const int r = !strcmp(rep, "procedural") ? 0 : !strcmp(rep, "band") ? 1 : 2, s = atoi(shadows);
-        const int k = !strcmp(cap, "16");
-        const int take = *ss == '1' ? !screen_space++ : !seen[r][s][k]++;
+        row_field(header, line, "res", grid_res, sizeof grid_res);
+        const int r = study_rep_parse(rep), s = atoi(shadows), k = !strcmp(cap, "16"), g = atoi(grid_res);
+        assert_true(r >= 0);
+        int take;
+        if (*ss == '1')
+            take = !screen_space++;
+        else if (g == 8 || g == 16)
+            take = !other_res[g == 16]++;
+        else if (!strcmp(cap, "24"))
+            take = !swept++;
+        else
+            take = !seen[r][s][k]++;
         if (!take)
             continue;
         rerun_row(header, line, row_field(header, line, "command", cmd, sizeof cmd), "the study's row");
         checked++;
     }
     fclose(f);
-    assert_int_equal(checked, 3 * 2 * 2 + 1);
-    assert_int_equal(rows, 3 * 2 * 2 * 6 + 12); /* the table's rows and Keinert's */
+    assert_int_equal(checked, 5 * 3 + 1 + 2 + 1);
+    /* the table's rows (three representations of the temple and two of
+     * spot; with the shadow ray at both caps, without at 1000), Keinert's,
+     * the resolution sweep's and the cap sweep's */
+    assert_int_equal(rows, 5 * 3 * STUDY_TABLE_ROWS + 12 + 2 * 2 * STUDY_TABLE_ROWS + 3 * STUDY_TABLE_ROWS);
     print_message("%d of %d rows rerun through sdftrace render: the same counts\n", checked, rows);
+}
+
+/* The GPU cost on maps made by hand: 16x8 pixels are four 8x4 tiles, each
+ * paying its largest primary count plus its largest shadow count. */
+static void test_wavefront_cost_by_hand(void **state)
+{
+    (void)state;
+    uint32_t primary[16 * 8], total[16 * 8];
+    for (int i = 0; i < 16 * 8; i++)
+        primary[i] = total[i] = 1;
+    primary[1 * 16 + 2] = 10, total[1 * 16 + 2] = 10;   /* tile (0, 0): 10 + 0 */
+    total[6 * 16 + 9] = 6, total[7 * 16 + 15] = 4;      /* tile (1, 1): 1 + 5 */
+    primary[5 * 16 + 3] = 3, total[5 * 16 + 3] = 3 + 2; /* tile (0, 1): 3 + 2 */
+    /* tile (1, 0): 1 + 0 */
+    assert_true(fabs(study_wavefront_cost(primary, total, 16, 8, 8, 4) - (10.0 + 6.0 + 5.0 + 1.0) / 4.0) < 1e-12);
+    assert_true(fabs(study_wavefront_cost(primary, NULL, 16, 8, 8, 4) - (10.0 + 1.0 + 3.0 + 1.0) / 4.0) < 1e-12);
+    /* One lane per tile: the mean of the counts. */
+    double sum = 0.0;
+    for (int i = 0; i < 16 * 8; i++)
+        sum += total[i];
+    assert_true(fabs(study_wavefront_cost(primary, total, 16, 8, 1, 1) - sum / 128.0) < 1e-12);
+    /* The image's edges: 10x6 pixels of the same maps' first rows are tiles
+     * of 8x4, 2x4, 8x2 and 2x2 pixels: 10 + 0, 1 + 0, 3 + 2 and 1 + 0. */
+    uint32_t p2[10 * 6], t2[10 * 6];
+    for (int y = 0; y < 6; y++)
+        for (int x = 0; x < 10; x++)
+            p2[y * 10 + x] = primary[y * 16 + x], t2[y * 10 + x] = total[y * 16 + x];
+    assert_true(fabs(study_wavefront_cost(p2, t2, 10, 6, 8, 4) - (10.0 + 1.0 + 5.0 + 1.0) / 4.0) < 1e-12);
+}
+
+/* A plane z = 0 seen from (0, 0, 5): f(o + t d) = 5 + t d.z, the slope
+ * M = d.z = -c on every step. */
+static float plane_distance(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    (void)ctx, (void)s;
+    return p.z;
+}
+
+/* Fig. 5's multipliers against their closed form. On the plane every
+ * auto-relaxed step is accepted (z <= 2 r / (1 + c) never crosses it), and
+ * the slope it tracks follows m_0 = -1, m_j = -c + (1 - beta)^j (c - 1), so
+ * step k's multiplier is 2 / (1 - m_(k-1)); sphere tracing's are all 1, and
+ * Algorithm 2's each 1 (after a fallback) or omega. */
+static void test_multipliers_closed_form(void **state)
+{
+    (void)state;
+    enum { W = 9, H = 7 };
+    sdft_field plane = sdft_field_defaults();
+    plane.distance = plane_distance;
+    plane.bounds = (sdft_aabb){sdft_v3(-20, -20, -1), sdft_v3(20, 20, 6)};
+    const sdft_camera cam = {sdft_v3(0, 0, 5), sdft_v3(0, 0, 0), sdft_v3(0, 1, 0), 60.0f};
+    sdft_trace_params tp = sdft_trace_defaults();
+    tp.method = SDFT_AUTO, tp.beta = 0.3f, tp.exact_root = 0;
+    float map[W * H];
+    uint32_t steps[W * H];
+    char msg[256];
+    assert_int_equal(study_multiplier_map(&plane, &tp, &cam, W, H, NULL, map, steps, msg, sizeof msg), 0);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            const sdft_ray ray = sdft_camera_ray(&cam, W, H, (float)x + 0.5f, (float)y + 0.5f);
+            const double c = -ray.dir.z, beta = 0.3;
+            const uint32_t k = steps[y * W + x];
+            assert_true(k >= 1);
+            double sum = 0.0;
+            for (uint32_t j = 0; j < k; j++)
+                sum += 2.0 / (1.0 + c - pow(1.0 - beta, j) * (c - 1.0));
+            if (fabs(map[y * W + x] - sum / k) > 1e-3 * sum / k)
+                fail_msg("pixel (%d, %d): mean multiplier %.6f over %u steps, closed form %.6f", x, y, map[y * W + x],
+                         k, sum / k);
+        }
+    /* Head on (the middle pixel), m stays -1: the one step is the distance. */
+    assert_true(fabs(map[(H / 2) * W + W / 2] - 1.0) < 1e-4 && steps[(H / 2) * W + W / 2] == 1);
+    /* Sphere tracing and relaxation on the temple. */
+    const sdft_scene *temple = sdft_scene_find("temple");
+    assert_non_null(temple);
+    enum { TW = 48, TH = 27 };
+    static float tmap[TW * TH];
+    static uint32_t tsteps[TW * TH];
+    tp.method = SDFT_SPHERE;
+    assert_int_equal(
+        study_multiplier_map(&temple->field, &tp, &temple->camera, TW, TH, NULL, tmap, tsteps, msg, sizeof msg), 0);
+    int stepped = 0;
+    for (int i = 0; i < TW * TH; i++)
+        if (isfinite(tmap[i])) {
+            stepped++;
+            if (fabs(tmap[i] - 1.0) > 1e-2) /* t's rounding: 2 ulp(t) / r on a step near the hit */
+                fail_msg("sphere tracing, pixel %d: mean multiplier %.6f", i, tmap[i]);
+        }
+    assert_true(stepped > TW * TH / 2);
+    tp.method = SDFT_RELAXED_BV, tp.omega = 1.5f; /* Algorithm 2: after a fallback a step of r */
+    assert_int_equal(
+        study_multiplier_map(&temple->field, &tp, &temple->camera, TW, TH, NULL, tmap, tsteps, msg, sizeof msg), 0);
+    int relaxed = 0;
+    for (int i = 0; i < TW * TH; i++) {
+        if (!isfinite(tmap[i]))
+            continue;
+        const double omega_steps = (tmap[i] - 1.0) / 0.5 * tsteps[i];
+        if (fabs(omega_steps - round(omega_steps)) > 0.02 * tsteps[i] || tmap[i] < 1.0 - 1e-3 || tmap[i] > 1.5 + 1e-3)
+            fail_msg("relaxed, pixel %d: mean multiplier %.6f over %u steps is no mix of 1 and 1.5", i, tmap[i],
+                     tsteps[i]);
+        relaxed += omega_steps > 0.5;
+    }
+    assert_true(relaxed > TW * TH / 2);
 }
 
 /* A copy of src in dst with every `from` replaced by `to`. */
@@ -203,7 +334,7 @@ static void test_committed_rows_rerun_exactly(void **state)
     FILE *f = csv_open(SDFT_SOURCE_DIR "/bench/results/results.csv", header, sizeof header);
     int checked = 0, grids = 0;
     while (fgets(line, sizeof line, f)) {
-        char scene[32], rep[32], method[32], param[16], shadows[8], cap[16], ss[8], cones[8];
+        char scene[32], rep[32], method[32], param[16], shadows[8], cap[16], ss[8], cones[8], grid_res[16];
         row_field(header, line, "scene", scene, sizeof scene);
         row_field(header, line, "representation", rep, sizeof rep);
         row_field(header, line, "method", method, sizeof method);
@@ -212,12 +343,13 @@ static void test_committed_rows_rerun_exactly(void **state)
         row_field(header, line, "max_steps", cap, sizeof cap);
         row_field(header, line, "screen_space", ss, sizeof ss);
         row_field(header, line, "cones", cones, sizeof cones);
+        row_field(header, line, "res", grid_res, sizeof grid_res);
         /* auto 0.3 on the temple, shadows, 1000 steps, ε: the papers' row on
          * the procedural scene and the band, the cones' row on both grids */
         const int papers = !strcmp(cones, "0");
         if (strcmp(scene, "temple") || strcmp(method, "auto") || strcmp(param, "0.3") || strcmp(shadows, "1") ||
-            strcmp(cap, "1000") || strcmp(ss, "0") || (papers && !strcmp(rep, "full")) ||
-            (!papers && !strcmp(rep, "procedural")))
+            strcmp(cap, "1000") || strcmp(ss, "0") || (strcmp(grid_res, "0") && strcmp(grid_res, "1024")) ||
+            (papers && !strcmp(rep, "full")) || (!papers && !strcmp(rep, "procedural")))
             continue;
         static char row[8192], run[8192];
         row_field(header, line, "command", row, sizeof row);
@@ -244,7 +376,9 @@ static void test_files_get_the_umask_mode(void **state)
                                         "fig1.txt",
                                         "fig2-temple-procedural.dat",
                                         "fig1-temple-procedural-auto0.3-steps.u32",
-                                        "fig1-temple-procedural-relaxed-bv1.5-fallbacks.u32"};
+                                        "fig1-temple-procedural-relaxed-bv1.5-fallbacks.u32",
+                                        "fig5.txt",
+                                        "fig5-temple-procedural.f32"};
     for (size_t m = 0; m < sizeof masks / sizeof masks[0]; m++) {
         assert_int_equal(tu_run(out, sizeof out, "rm -rf %s && mkdir -p %s", res, res), 0);
         int rc = tu_run(out, sizeof out,
@@ -325,10 +459,9 @@ static void test_bad_arguments(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_rows_rerun_exactly),
-        cmocka_unit_test(test_committed_rows_rerun_exactly),
-        cmocka_unit_test(test_files_get_the_umask_mode),
-        cmocka_unit_test(test_bad_arguments),
+        cmocka_unit_test(test_rows_rerun_exactly),       cmocka_unit_test(test_wavefront_cost_by_hand),
+        cmocka_unit_test(test_multipliers_closed_form),  cmocka_unit_test(test_committed_rows_rerun_exactly),
+        cmocka_unit_test(test_files_get_the_umask_mode), cmocka_unit_test(test_bad_arguments),
     };
     return cmocka_run_group_tests_name("study", tests, NULL, NULL);
 }
