@@ -149,11 +149,24 @@ typedef struct sdft_points {
     ptrdiff_t stride[2]; /* bytes; 0, 0: packed rows */
 } sdft_points;
 
+/* How exactly winding numbers, and the inside and outside they decide, are
+ * evaluated (the fast winding number's expansions, Barill et al. 2018). */
+typedef enum sdft_winding_accuracy {
+    SDFT_WINDING_FAST = 0, /* within 5e-3 of the exact sum over every triangle [the default] */
+    SDFT_WINDING_EXACT = 1 /* within 1e-5, and inside (above 1/2) exactly where the exact sum is, by
+                            * a proven error bound, refined where it does not decide; winding numbers
+                            * cost about 15 times the fast ones, signs near 1/2 alone more */
+} sdft_winding_accuracy;
+
+/* "fast" or "exact"; "?" for another value. */
+SDFT_API const char *sdft_winding_accuracy_name(sdft_winding_accuracy accuracy);
+
 /* What else a query of many points takes. It will grow: zero it, or make
  * one with sdft_query_params_defaults(); NULL for the defaults. */
 typedef struct sdft_query_params {
     sdft_progress_fn progress; /* NULL: no reports [NULL]; non-zero from it: SDFT_ECANCELED */
     void *progress_user;
+    sdft_winding_accuracy accuracy; /* the winding numbers' and the signs' [SDFT_WINDING_FAST] */
 } sdft_query_params;
 
 SDFT_API sdft_query_params sdft_query_params_defaults(void);
@@ -175,14 +188,15 @@ SDFT_API sdft_error sdft_mesh_winding_number(const sdft_mesh *m, const sdft_poin
 /* Training samples as `mesh2sdf --samples` draws them (DeepSDF's
  * distribution). It will grow: make one with sdft_sample_params_defaults(). */
 typedef struct sdft_sample_params {
-    size_t count;              /* rows, 1..1e8 [250000] */
-    uint64_t seed;             /* the same seed, the same rows, for any thread count [1] */
-    double near_sigma[2];      /* the two Gaussians' sigmas, per axis, in units of the sphere's radius
-                                * [0.0707, 0.0224: DeepSDF's] */
-    double uniform_share;      /* the share of uniform points in the sphere's cube, 0..1 [0.06] */
-    sdft_progress_fn progress; /* NULL: no reports [NULL] */
-    void *progress_user;       /* handed to progress and stage */
-    sdft_stage_fn stage;       /* NULL: not told [NULL] */
+    size_t count;                   /* rows, 1..1e8 [250000] */
+    uint64_t seed;                  /* the same seed, the same rows, for any thread count [1] */
+    double near_sigma[2];           /* the two Gaussians' sigmas, per axis, in units of the sphere's radius
+                                     * [0.0707, 0.0224: DeepSDF's] */
+    double uniform_share;           /* the share of uniform points in the sphere's cube, 0..1 [0.06] */
+    sdft_progress_fn progress;      /* NULL: no reports [NULL] */
+    void *progress_user;            /* handed to progress and stage */
+    sdft_stage_fn stage;            /* NULL: not told [NULL] */
+    sdft_winding_accuracy accuracy; /* the signs' [SDFT_WINDING_FAST] */
 } sdft_sample_params;
 
 SDFT_API sdft_sample_params sdft_sample_params_defaults(void);
@@ -216,20 +230,21 @@ SDFT_API const char *sdft_mesh_sign_name(sdft_mesh_sign sign);
 /* How to convert, mesh2sdf's options. It will grow: make one with
  * sdft_mesh_grid_params_defaults(). */
 typedef struct sdft_mesh_grid_params {
-    int res;                   /* voxel centres along the padded box's longest side, --res [256] */
-    double voxel_size;         /* world units; > 0 overrides res, --voxel-size [0] */
-    double band;               /* narrow-band half-width in voxels, --band [3] */
-    int full;                  /* 1: a distance in every voxel of the padded box, --full [0] */
-    double padding;            /* voxels around the mesh's box; < 0: band + 1, --padding [-1] */
-    sdft_mesh_sign sign;       /* --sign [SDFT_SIGN_WINDING] */
-    const char *name;          /* the grid's name; NULL: the mesh file's stem ("mesh" for arrays) [NULL] */
-    sdft_progress_fn progress; /* NULL: no reports [NULL] */
-    void *progress_user;       /* handed to progress and stage */
-    int threads;               /* at most this many threads, the caller's included, for the grid and
-                                * what is done with it later; 0: the mesh's (sdft_mesh_params) [0] */
-    unsigned writes;           /* the files the grid will be written as (SDFT_WRITES_*): their limits and
-                                * memory are checked before the grid is built, not after [0] */
-    sdft_stage_fn stage;       /* NULL: not told [NULL] */
+    int res;                        /* voxel centres along the padded box's longest side, --res [256] */
+    double voxel_size;              /* world units; > 0 overrides res, --voxel-size [0] */
+    double band;                    /* narrow-band half-width in voxels, --band [3] */
+    int full;                       /* 1: a distance in every voxel of the padded box, --full [0] */
+    double padding;                 /* voxels around the mesh's box; < 0: band + 1, --padding [-1] */
+    sdft_mesh_sign sign;            /* --sign [SDFT_SIGN_WINDING] */
+    const char *name;               /* the grid's name; NULL: the mesh file's stem ("mesh" for arrays) [NULL] */
+    sdft_progress_fn progress;      /* NULL: no reports [NULL] */
+    void *progress_user;            /* handed to progress and stage */
+    int threads;                    /* at most this many threads, the caller's included, for the grid and
+                                     * what is done with it later; 0: the mesh's (sdft_mesh_params) [0] */
+    unsigned writes;                /* the files the grid will be written as (SDFT_WRITES_*): their limits and
+                                     * memory are checked before the grid is built, not after [0] */
+    sdft_stage_fn stage;            /* NULL: not told [NULL] */
+    sdft_winding_accuracy accuracy; /* the winding sign's [SDFT_WINDING_FAST] */
 } sdft_mesh_grid_params;
 
 /* sdft_mesh_grid_params.writes: */

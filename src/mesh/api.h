@@ -117,6 +117,14 @@ template <class Enum> int enumValue(const Enum &e)
     return v;
 }
 
+// The accuracy a caller stored (an int in C): false for an unknown value.
+inline bool windingAccuracy(const sdft_winding_accuracy &a, meshsdf::WindingAccuracy &out)
+{
+    const int v = enumValue(a);
+    out = v == SDFT_WINDING_EXACT ? meshsdf::WindingAccuracy::Exact : meshsdf::WindingAccuracy::Fast;
+    return v == SDFT_WINDING_FAST || v == SDFT_WINDING_EXACT;
+}
+
 // A path's file name without its folder and last extension: a grid's
 // default name.
 std::string fileStem(const std::string &path);

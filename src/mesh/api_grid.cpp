@@ -39,6 +39,9 @@ sdft_error checkGridParams(const sdft_mesh_grid_params &p, char *msg, size_t msg
     const int sign = enumValue(p.sign);
     if (sign != SDFT_SIGN_WINDING && sign != SDFT_SIGN_FLOOD && sign != SDFT_SIGN_NONE)
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: unknown sign method %d", what, sign);
+    meshsdf::WindingAccuracy accuracy;
+    if (!windingAccuracy(p.accuracy, accuracy))
+        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: unknown winding accuracy %d", what, enumValue(p.accuracy));
     return SDFT_OK;
 }
 
@@ -54,6 +57,7 @@ meshsdf::GridSettings gridSettings(const sdft_mesh &m, const sdft_mesh_grid_para
     opt.sign = p.sign == SDFT_SIGN_FLOOD  ? meshsdf::SignMethod::Flood
                : p.sign == SDFT_SIGN_NONE ? meshsdf::SignMethod::None
                                           : meshsdf::SignMethod::Winding;
+    windingAccuracy(p.accuracy, opt.accuracy);
     opt.simd = m.simd;
     opt.simd512 = m.simd512;
     opt.writesNvdb = (p.writes & SDFT_WRITES_NVDB) != 0;

@@ -58,6 +58,9 @@ sdft_error checkPoints(const char *what, const sdft_mesh *m, const sdft_points *
 sdft_error evaluate(const char *what, const sdft_mesh *m, const sdft_points *pts, float *distance, float *winding,
                     const sdft_query_params *q, char *msg, size_t msg_len)
 {
+    meshsdf::WindingAccuracy accuracy = meshsdf::WindingAccuracy::Fast;
+    if (q && !windingAccuracy(q->accuracy, accuracy))
+        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: unknown winding accuracy %d", what, enumValue(q->accuracy));
     return guarded(what, msg, msg_len, [&] {
         if (pts->count == 0)
             return SDFT_OK;
@@ -80,10 +83,12 @@ sdft_error evaluate(const char *what, const sdft_mesh *m, const sdft_points *pts
                     const double *p = &xyz[i * 3];
                     double w = NAN, d = NAN;
                     const bool finite = std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
-                    if (finite && distance)
-                        d = query.signedDistance(p, INFINITY, &w);
+                    if (finite && distance && winding)
+                        d = query.signedDistance(p, INFINITY, accuracy, &w);
+                    else if (finite && distance)
+                        d = query.signedDistance(p, INFINITY, accuracy); // the sign alone: its side
                     else if (finite)
-                        w = query.winding(p); // the winding number alone: no nearest triangle
+                        w = query.winding(p, accuracy); // the winding number alone: no nearest triangle
                     if (distance)
                         distance[i] = float(d);
                     if (winding)
@@ -101,6 +106,17 @@ sdft_error evaluate(const char *what, const sdft_mesh *m, const sdft_points *pts
 extern "C" {
 
 sdft_query_params sdft_query_params_defaults(void) { return sdft_query_params{}; }
+
+const char *sdft_winding_accuracy_name(sdft_winding_accuracy accuracy)
+{
+    switch (enumValue(accuracy)) {
+    case SDFT_WINDING_FAST:
+        return "fast";
+    case SDFT_WINDING_EXACT:
+        return "exact";
+    }
+    return "?";
+}
 
 sdft_error sdft_mesh_signed_distance(const sdft_mesh *m, const sdft_points *pts, float *distance, float *winding,
                                      const sdft_query_params *q, char *msg, size_t msg_len)
@@ -162,6 +178,9 @@ sdft_error sdft_mesh_samples(const sdft_mesh *m, const sdft_sample_params *p, fl
     if (p->seed > 2147483647u)
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: seed %llu is above 2^31 - 1", what,
                          (unsigned long long)p->seed);
+    meshsdf::WindingAccuracy accuracy;
+    if (!windingAccuracy(p->accuracy, accuracy))
+        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: unknown winding accuracy %d", what, enumValue(p->accuracy));
     return guarded(what, msg, msg_len, [&] {
         Listened listened(p->progress, p->stage, p->progress_user);
         meshsdf::Progress &progress = listened.progress;
@@ -175,6 +194,7 @@ sdft_error sdft_mesh_samples(const sdft_mesh *m, const sdft_sample_params *p, fl
             opt.nearSigma[0] = p->near_sigma[0];
             opt.nearSigma[1] = p->near_sigma[1];
             opt.uniformShare = p->uniform_share;
+            opt.accuracy = accuracy;
             meshsdf::drawSamples(m->mesh, m->frame(), query, opt, rows, progress);
             progress.report(100);
             return SDFT_OK;

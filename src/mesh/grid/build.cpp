@@ -449,7 +449,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
     tbb::parallel_invoke(
         [&] {
             if (winding)
-                tree.reset(new FastWinding(mesh.points, mesh.triangles, 2.0, opt.simd));
+                tree.reset(new FastWinding(mesh.points, mesh.triangles, opt.simd));
         },
         [&] {
             if (winding)
@@ -475,7 +475,8 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
         progress.stage(winding ? "exact distance, sign" : "exact distance", 0, winding ? bandEnd : signEnd);
         std::unique_ptr<WindingSign> sign;
         if (winding)
-            sign.reset(new WindingSign(std::move(*edges), *tree, box.origin, box.voxelSize, band, opt.simd));
+            sign.reset(
+                new WindingSign(std::move(*edges), *tree, box.origin, box.voxelSize, band, opt.simd, opt.accuracy));
         grid = exactBandGrid(mesh, box, band, sign.get(), opt.simd, progress);
         if (winding) {
             progress.stage("sign off the band", bandEnd, signEnd);

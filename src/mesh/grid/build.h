@@ -8,6 +8,7 @@
 #include "geometry/triangle_mesh.h"
 #include "progress/progress.h"
 #include "sdftrace/mesh.h"
+#include "sign/winding.h"
 
 #include <openvdb/openvdb.h>
 
@@ -34,10 +35,11 @@ struct GridSettings {
     bool full = false;      // a distance in every voxel of the padded box
     double padding = 4.0;   // voxels around the mesh bounds
     SignMethod sign = SignMethod::Winding;
-    bool simd = true;        // vector instructions where the processor has them
-    bool simd512 = true;     // and AVX-512 among them
-    bool writesNpy = false;  // a dense array will be made of it (its size limit applies)
-    bool writesNvdb = false; // a NanoVDB copy will be made of it (its memory counts)
+    WindingAccuracy accuracy = WindingAccuracy::Fast; // the winding sign's
+    bool simd = true;                                 // vector instructions where the processor has them
+    bool simd512 = true;                              // and AVX-512 among them
+    bool writesNpy = false;                           // a dense array will be made of it (its size limit applies)
+    bool writesNvdb = false;                          // a NanoVDB copy will be made of it (its memory counts)
 };
 
 /// The padded box: voxel (i, j, k), 0 <= i < dims[0] ..., has its centre at

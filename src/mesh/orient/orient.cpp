@@ -402,7 +402,7 @@ OrientCounts orientMesh(TriangleMesh &mesh, bool simd)
                 for (uint32_t t = 0; t < n; ++t)
                     if (p.reversed[t])
                         std::swap(oriented[t][1], oriented[t][2]);
-                winding.reset(new FastWinding(mesh.points, oriented, 2.0, simd));
+                winding.reset(new FastWinding(mesh.points, oriented, simd));
             }
             cavity = !turnsOutward(mesh, p, id, areaVec, area, *winding);
         }

@@ -37,6 +37,7 @@ struct SampleSettings {
     double nearSigma[2] = {0.070710678118654752, 0.022360679774997897}; // sqrt(0.005), sqrt(0.0005)
     double uniformShare = 0.06;                                         // 3/50
     uint64_t seed = 1;
+    WindingAccuracy accuracy = WindingAccuracy::Fast; // of the signs
 };
 
 /// Rows drawn from one generator.

@@ -80,9 +80,10 @@ class WindingSign
     /// has its centre at origin + (i, j, k) * voxelSize. `halfWidth` is the
     /// exact band's (distance/band.h), in voxels: every voxel off the band is at
     /// least that far from the mesh. `simd`: the near field four voxels at
-    /// a time with AVX2 where the processor has it.
+    /// a time with AVX2 where the processor has it. `accuracy`: how the
+    /// voxels that decide are evaluated (FastWinding::side).
     WindingSign(EdgeField field, const FastWinding &winding, const std::array<double, 3> &origin, double voxelSize,
-                double halfWidth, bool simd = true);
+                double halfWidth, bool simd = true, WindingAccuracy accuracy = WindingAccuracy::Fast);
 
     /// Signs every voxel of the block at `origin` (distance/band.h's layout) by
     /// whether the winding number exceeds 1/2 there: band voxels (finite
@@ -115,6 +116,7 @@ class WindingSign
     double mOffBand; // world distance that every voxel off the band keeps from the mesh
     EdgeField mField;
     bool mVectorized;
+    WindingAccuracy mAccuracy;
 };
 
 } // namespace meshsdf
