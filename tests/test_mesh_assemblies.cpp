@@ -5,8 +5,8 @@
 // (sdftrace/mesh.h): every voxel clear of 1/2 has the sign of the
 // brute-force winding number of the parts as given, and the touching faces
 // are kept (they cancel in pairs: dropping one would open both parts).
+#include "mesh_shapes.h"
 #include "sdftrace/mesh.h"
-#include "support/mesh_shapes.h"
 
 #include <algorithm>
 #include <cmath>
@@ -27,33 +27,6 @@ using shapes::Soup;
 
 namespace
 {
-
-constexpr double kPi = 3.14159265358979323846;
-
-// The exact winding number of the soup as given: every triangle's solid
-// angle (Van Oosterom–Strackee, libm's atan2), in double precision.
-double bruteWinding(const Soup &s, const double *q)
-{
-    double w = 0;
-    for (const auto &t : s.triangles) {
-        double a[3], b[3], c[3];
-        for (int k = 0; k < 3; ++k) {
-            a[k] = s.points[t[0]][k] - q[k];
-            b[k] = s.points[t[1]][k] - q[k];
-            c[k] = s.points[t[2]][k] - q[k];
-        }
-        const double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-        const double lb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-        const double lc = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-        const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
-                           a[2] * (b[0] * c[1] - b[1] * c[0]);
-        const double den = la * lb * lc + (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) * lc +
-                           (b[0] * c[0] + b[1] * c[1] + b[2] * c[2]) * la +
-                           (c[0] * a[0] + c[1] * a[1] + c[2] * a[2]) * lb;
-        w += 2 * std::atan2(det, den);
-    }
-    return w / (4 * kPi);
-}
 
 struct Checked {
     int voxels = 0, wrong = 0;
@@ -83,6 +56,7 @@ Checked convert(const char *name, const Soup &s, int res, sdft_winding_accuracy 
     const size_t count = size_t(c.box.dims[0]) * c.box.dims[1] * c.box.dims[2];
     std::vector<float> values(count);
     assert_int_equal(sdft_mesh_grid_dense(g, values.data(), count, msg, sizeof msg), SDFT_OK);
+    const shapes::Brute brute(s);
     std::mt19937_64 rng(17);
     std::uniform_int_distribution<size_t> pick(0, count - 1);
     for (int i = 0; i < samples; ++i) {
@@ -92,7 +66,7 @@ Checked convert(const char *name, const Soup &s, int res, sdft_winding_accuracy 
         const double q[3] = {c.box.origin[0] + double(x) * c.box.voxel_size,
                              c.box.origin[1] + double(y) * c.box.voxel_size,
                              c.box.origin[2] + double(z) * c.box.voxel_size};
-        const double w = bruteWinding(s, q);
+        const double w = brute.winding(q);
         if (!(std::abs(w - 0.5) > clear))
             continue;
         ++c.voxels;

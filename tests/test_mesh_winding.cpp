@@ -7,8 +7,8 @@
 // the exact one within 1e-5 and within its own proven bound, and the side
 // of 1/2 that both give; the tree the same for any thread count.
 #include "io/mesh_io.h"
+#include "mesh_shapes.h"
 #include "sign/winding.h"
-#include "support/mesh_shapes.h"
 
 #include <tbb/global_control.h>
 #include <tbb/task_arena.h>
@@ -35,31 +35,6 @@ namespace
 {
 
 constexpr double kPi = 3.14159265358979323846;
-
-// The exact winding number: Van Oosterom–Strackee's solid angle of every
-// triangle with libm's atan2, in double precision.
-double bruteWinding(const Soup &s, const Vec3 &q)
-{
-    double w = 0;
-    for (const auto &t : s.triangles) {
-        double a[3], b[3], c[3];
-        for (int k = 0; k < 3; ++k) {
-            a[k] = s.points[t[0]][k] - q[k];
-            b[k] = s.points[t[1]][k] - q[k];
-            c[k] = s.points[t[2]][k] - q[k];
-        }
-        const double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-        const double lb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-        const double lc = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-        const double det = a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
-                           a[2] * (b[0] * c[1] - b[1] * c[0]);
-        const double den = la * lb * lc + (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) * lc +
-                           (b[0] * c[0] + b[1] * c[1] + b[2] * c[2]) * la +
-                           (c[0] * a[0] + c[1] * a[1] + c[2] * a[2]) * lb;
-        w += 2 * std::atan2(det, den);
-    }
-    return w / (4 * kPi);
-}
 
 Soup fromMesh(const char *name)
 {
@@ -165,9 +140,10 @@ struct Errors {
 Errors measure(const char *name, const Soup &s, const std::vector<Vec3> &points)
 {
     const FastWinding tree(s.points, s.triangles);
+    const shapes::Brute brute(s);
     Errors e;
     for (const Vec3 &q : points) {
-        const double truth = bruteWinding(s, q);
+        const double truth = brute.winding(q.data());
         const double w = tree(q);
         const WindingValue x = tree.exact(q);
         e.fast = std::max(e.fast, std::abs(w - truth));
@@ -235,6 +211,7 @@ void test_side_near_half(void **)
 {
     const Soup s = shapes::sphere(0, 0, 0, 1, 40, 80, kPi / 2);
     const FastWinding tree(s.points, s.triangles);
+    const shapes::Brute brute(s);
     std::mt19937_64 rng(9);
     std::uniform_real_distribution<double> u(-1, 1);
     int decided = 0, wrong = 0;
@@ -242,7 +219,7 @@ void test_side_near_half(void **)
     for (int i = 0; i < 300; ++i) {
         const double scale = std::pow(10.0, -6 + 5 * (u(rng) + 1) / 2);
         const Vec3 q{scale * u(rng), scale * u(rng), scale * u(rng)};
-        const double truth = bruteWinding(s, q);
+        const double truth = brute.winding(q.data());
         const WindingValue side = tree.side(q, WindingAccuracy::Exact);
         worst = std::max(worst, std::abs(side.w - truth) / (side.bound * (1 + 1e-9) + 1e-15));
         if (std::abs(truth - 0.5) > 1e-6) { // beyond the rounding the bound allows
@@ -317,68 +294,13 @@ void test_distance(void **)
 {
     const Soup s = shapes::withoutFaces(fromMesh("fandisk.obj"), 13);
     const FastWinding tree(s.points, s.triangles);
+    const shapes::Brute brute(s);
     std::vector<Vec3> points = nearPoints(s, 100, 11);
     const std::vector<Vec3> far = farPoints(s, 100, 12);
     points.insert(points.end(), far.begin(), far.end());
     for (const Vec3 &q : points) {
-        double best = INFINITY;
-        for (const auto &t : s.triangles) {
-            // Closest point of the triangle by dense barycentric search is
-            // too slow; use the segment-and-plane construction instead.
-            double tri[9];
-            for (int v = 0; v < 3; ++v)
-                for (int k = 0; k < 3; ++k)
-                    tri[v * 3 + k] = s.points[t[v]][k];
-            double ab[3], ac[3], n[3];
-            for (int k = 0; k < 3; ++k) {
-                ab[k] = tri[3 + k] - tri[k];
-                ac[k] = tri[6 + k] - tri[k];
-            }
-            n[0] = ab[1] * ac[2] - ab[2] * ac[1];
-            n[1] = ab[2] * ac[0] - ab[0] * ac[2];
-            n[2] = ab[0] * ac[1] - ab[1] * ac[0];
-            const double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-            // Projection onto the plane, inside the triangle: the distance to the plane.
-            double ap[3];
-            for (int k = 0; k < 3; ++k)
-                ap[k] = q[k] - tri[k];
-            const double h = (ap[0] * n[0] + ap[1] * n[1] + ap[2] * n[2]) / nn;
-            double p[3];
-            for (int k = 0; k < 3; ++k)
-                p[k] = q[k] - h * n[k];
-            bool inside = true;
-            for (int e = 0; e < 3; ++e) {
-                const double *a = tri + e * 3, *b = tri + ((e + 1) % 3) * 3;
-                double ea[3], pa[3], c[3];
-                for (int k = 0; k < 3; ++k) {
-                    ea[k] = b[k] - a[k];
-                    pa[k] = p[k] - a[k];
-                }
-                c[0] = ea[1] * pa[2] - ea[2] * pa[1];
-                c[1] = ea[2] * pa[0] - ea[0] * pa[2];
-                c[2] = ea[0] * pa[1] - ea[1] * pa[0];
-                inside = inside && c[0] * n[0] + c[1] * n[1] + c[2] * n[2] >= 0;
-            }
-            double d2 = inside ? h * h * nn : INFINITY;
-            for (int e = 0; e < 3; ++e) {
-                const double *a = tri + e * 3, *b = tri + ((e + 1) % 3) * 3;
-                double ea[3], qa[3], l2 = 0, along = 0;
-                for (int k = 0; k < 3; ++k) {
-                    ea[k] = b[k] - a[k];
-                    qa[k] = q[k] - a[k];
-                    l2 += ea[k] * ea[k];
-                    along += ea[k] * qa[k];
-                }
-                const double f = std::min(std::max(along / l2, 0.0), 1.0);
-                double dd = 0;
-                for (int k = 0; k < 3; ++k)
-                    dd += (qa[k] - f * ea[k]) * (qa[k] - f * ea[k]);
-                d2 = std::min(d2, dd);
-            }
-            best = std::min(best, d2);
-        }
-        const double d = tree.distance(q);
-        assert_true(std::abs(d - std::sqrt(best)) <= 1e-9 * (1 + std::sqrt(best)));
+        const double truth = brute.distance(q.data());
+        assert_true(std::abs(tree.distance(q) - truth) <= 1e-9 * (1 + truth));
     }
 }
 

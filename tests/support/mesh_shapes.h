@@ -1,7 +1,8 @@
 // Meshes made in code for the winding-number tests: open ones (a cut
 // sphere, a scan-like patch, a mesh with faces removed) and assemblies of
 // closed parts (touching cubes, nested shells, a gear train). Plain arrays:
-// points and triangles, outward-facing where the shape has an outside.
+// points and triangles, outward-facing where the shape has an outside; as
+// mesh_support.h's mesh for its brute-force winding number and distance.
 #ifndef SDFT_TESTS_MESH_SHAPES_H
 #define SDFT_TESTS_MESH_SHAPES_H
 
@@ -10,6 +11,10 @@
 #include <cstdint>
 #include <random>
 #include <vector>
+
+extern "C" {
+#include "mesh_support.h"
+}
 
 namespace shapes
 {
@@ -185,6 +190,24 @@ inline Soup scanPatch() { return sphere(0, 0, 0, 1, 60, 120, 110 * kPi / 180, 0.
 
 // A cut sphere: the cap above z = 0.5 removed.
 inline Soup cutSphere() { return sphere(0, 0, 0, 1, 48, 96, std::acos(-0.5), 0, 1); }
+
+// A soup as mesh_support.h's mesh (brute force: winding, mesh_distance),
+// freed with it.
+struct Brute {
+    mesh m{};
+    explicit Brute(const Soup &s)
+    {
+        for (const auto &p : s.points)
+            mesh_vertex(&m, p[0], p[1], p[2]);
+        for (const auto &t : s.triangles)
+            mesh_triangle(&m, int(t[0]), int(t[1]), int(t[2]));
+    }
+    ~Brute() { mesh_free(&m); }
+    Brute(const Brute &) = delete;
+    Brute &operator=(const Brute &) = delete;
+    double winding(const double *q) const { return ::winding(&m, q); }
+    double distance(const double *q) const { return mesh_distance(&m, q); }
+};
 
 // The soup without every `every`-th triangle (holes all over it).
 inline Soup withoutFaces(const Soup &in, int every)
