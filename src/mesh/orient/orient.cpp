@@ -82,6 +82,8 @@
 
 #include "sign/winding.h"
 
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -174,7 +176,7 @@ size_t dropDuplicates(TriangleMesh &mesh, std::vector<EdgeUse> &edges, std::vect
                 }
         k.t = t;
     }
-    std::sort(keyed.begin(), keyed.end());
+    tbb::parallel_sort(keyed.begin(), keyed.end()); // keys unique: the same order for any thread count
     std::vector<char> drop(n, 0), twin(n, 0);
     auto dropTriangle = [&](uint32_t t) {
         drop[t] = 1;

@@ -205,20 +205,21 @@ inline V4 splat(double x) { return V4{x, x, x, x}; }
 // sqrt and the sign mask, without vector instructions (compiled for any
 // x86-64: SSE2, two lanes at a time) or with AVX2.
 struct PlainLanes {
-    static V4 sqrt(V4 x) { return V4{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])}; }
-    static unsigned mask(M4 m) { return unsigned((m[0] & 1) | (m[1] & 2) | (m[2] & 4) | (m[3] & 8)); }
+    static V4 sqrt(const V4 &x) { return V4{std::sqrt(x[0]), std::sqrt(x[1]), std::sqrt(x[2]), std::sqrt(x[3])}; }
+    static unsigned mask(const M4 &m) { return unsigned((m[0] & 1) | (m[1] & 2) | (m[2] & 4) | (m[3] & 8)); }
 };
 #ifdef SDFT_WINDING_AVX2
 #define SDFT_WINDING_AVX2_INLINE __attribute__((target("avx2"))) inline
 struct Avx2Lanes {
-    SDFT_WINDING_AVX2_INLINE static V4 sqrt(V4 x) { return _mm256_sqrt_pd(x); }
-    SDFT_WINDING_AVX2_INLINE static unsigned mask(M4 m) { return unsigned(_mm256_movemask_pd(__m256d(m))); }
+    SDFT_WINDING_AVX2_INLINE static V4 sqrt(const V4 &x) { return _mm256_sqrt_pd(x); }
+    SDFT_WINDING_AVX2_INLINE static unsigned mask(const M4 &m) { return unsigned(_mm256_movemask_pd(__m256d(m))); }
 };
 #endif
 
 // The expansions of a node's four children at r = centre - q (d2 = |r|^2),
 // each over 4 pi (see THE EXPANSION).
-template <class Lanes, class Node> inline V4 farField(const Node &n, V4 rx, V4 ry, V4 rz, V4 d2)
+template <class Lanes, class Node>
+inline V4 farField(const Node &n, const V4 &rx, const V4 &ry, const V4 &rz, const V4 &d2)
 {
     const V4 inv = splat(1.0) / Lanes::sqrt(d2), inv2 = inv * inv, inv3 = inv2 * inv;
     const V4 xx = rx * rx, yy = ry * ry, zz = rz * rz, xy = rx * ry, xz = rx * rz, yz = ry * rz;
@@ -234,7 +235,7 @@ template <class Lanes, class Node> inline V4 farField(const Node &n, V4 rx, V4 r
 }
 
 // The bound of THE BOUND at x = R / D < 1 for each lane, area A.
-inline V4 expansionBound(V4 area, V4 x, V4 d2)
+inline V4 expansionBound(const V4 &area, const V4 &x, const V4 &d2)
 {
     const V4 one = splat(1.0), rest = one - x;
     return area * splat(kInv4Pi) / d2 * x * x * x * (splat(4.0) - splat(3.0) * x) / (rest * rest);
