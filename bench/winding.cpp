@@ -12,7 +12,7 @@
 // MESH: a file mesh2sdf reads, or a shape made in code: cut-sphere,
 // scan-patch, nested-shells, cube-block, gear-train. Points: NEAR on the
 // surface moved along the normal by 1e-4 to 5e-2 of the size (both ways),
-// UNIFORM in the box grown to three times its size. One thread (TBB) for
+// UNIFORM in the box grown to three times its size (tests/support/mesh_shapes.h). One thread (TBB) for
 // the queries. The reference sum uses the tree's own solid angle (atan to
 // 1e-9 rad): its error is far below the fast evaluation's, and at most the
 // triangles times 1.6e-10 for the exact one's.
@@ -81,45 +81,9 @@ shapes::Soup load(const std::string &name)
 
 std::vector<Vec3> points(const shapes::Soup &s, int near, int uniform)
 {
-    std::mt19937_64 rng(1);
-    std::uniform_real_distribution<double> u(0, 1);
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, size = 0;
-    for (const auto &p : s.points)
-        for (int k = 0; k < 3; ++k) {
-            lo[k] = std::min(lo[k], double(p[k]));
-            hi[k] = std::max(hi[k], double(p[k]));
-        }
-    for (int k = 0; k < 3; ++k)
-        size = std::max(size, hi[k] - lo[k]);
-    std::vector<Vec3> out;
-    while (int(out.size()) < near) {
-        const auto &t = s.triangles[size_t(u(rng) * double(s.triangles.size())) % s.triangles.size()];
-        double a = u(rng), b = u(rng), e1[3], e2[3];
-        if (a + b > 1) {
-            a = 1 - a;
-            b = 1 - b;
-        }
-        for (int k = 0; k < 3; ++k) {
-            e1[k] = s.points[t[1]][k] - s.points[t[0]][k];
-            e2[k] = s.points[t[2]][k] - s.points[t[0]][k];
-        }
-        const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                             e1[0] * e2[1] - e1[1] * e2[0]};
-        const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        if (!(len > 0))
-            continue;
-        const double offset = size * std::pow(10.0, -4 + 2.7 * u(rng)) * (u(rng) < 0.5 ? -1 : 1);
-        Vec3 p;
-        for (int k = 0; k < 3; ++k)
-            p[k] = s.points[t[0]][k] + a * e1[k] + b * e2[k] + offset * n[k] / len;
-        out.push_back(p);
-    }
-    for (int i = 0; i < uniform; ++i) {
-        Vec3 p;
-        for (int k = 0; k < 3; ++k)
-            p[k] = lo[k] - (hi[k] - lo[k]) + 3 * (hi[k] - lo[k]) * u(rng);
-        out.push_back(p);
-    }
+    std::vector<Vec3> out = shapes::nearPoints(s, near, 1);
+    const std::vector<Vec3> far = shapes::farPoints(s, uniform, 2);
+    out.insert(out.end(), far.begin(), far.end());
     return out;
 }
 

@@ -49,88 +49,6 @@ Soup fromMesh(const char *name)
     return s;
 }
 
-struct Box {
-    double lo[3], hi[3], size;
-};
-
-Box boxOf(const Soup &s)
-{
-    Box b{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}, 0};
-    for (const auto &t : s.triangles)
-        for (uint32_t v : t)
-            for (int k = 0; k < 3; ++k) {
-                b.lo[k] = std::min(b.lo[k], double(s.points[v][k]));
-                b.hi[k] = std::max(b.hi[k], double(s.points[v][k]));
-            }
-    for (int k = 0; k < 3; ++k)
-        b.size = std::max(b.size, b.hi[k] - b.lo[k]);
-    return b;
-}
-
-// Points near the surface: on random triangles (by area), moved along the
-// normal by 1e-4 to 5e-2 of the mesh's size, log-uniform, either way (the
-// inside of an open scan too).
-std::vector<Vec3> nearPoints(const Soup &s, int count, uint64_t seed)
-{
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> u(0, 1);
-    std::vector<double> sums;
-    double total = 0;
-    for (const auto &t : s.triangles) {
-        double e1[3], e2[3];
-        for (int k = 0; k < 3; ++k) {
-            e1[k] = s.points[t[1]][k] - s.points[t[0]][k];
-            e2[k] = s.points[t[2]][k] - s.points[t[0]][k];
-        }
-        const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                             e1[0] * e2[1] - e1[1] * e2[0]};
-        total += std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        sums.push_back(total);
-    }
-    const double size = boxOf(s).size;
-    std::vector<Vec3> points;
-    while (int(points.size()) < count) {
-        const size_t i = std::min(size_t(std::lower_bound(sums.begin(), sums.end(), u(rng) * total) - sums.begin()),
-                                  sums.size() - 1);
-        const auto &t = s.triangles[i];
-        double a = u(rng), b = u(rng);
-        if (a + b > 1) {
-            a = 1 - a;
-            b = 1 - b;
-        }
-        double e1[3], e2[3], n[3];
-        for (int k = 0; k < 3; ++k) {
-            e1[k] = s.points[t[1]][k] - s.points[t[0]][k];
-            e2[k] = s.points[t[2]][k] - s.points[t[0]][k];
-        }
-        n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-        n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-        n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-        const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-        if (!(len > 0))
-            continue;
-        const double offset = size * std::pow(10.0, -4 + 2.7 * u(rng)) * (u(rng) < 0.5 ? -1 : 1);
-        Vec3 p;
-        for (int k = 0; k < 3; ++k)
-            p[k] = s.points[t[0]][k] + a * e1[k] + b * e2[k] + offset * n[k] / len;
-        points.push_back(p);
-    }
-    return points;
-}
-
-// Points uniform in the box grown to three times its size.
-std::vector<Vec3> farPoints(const Soup &s, int count, uint64_t seed)
-{
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> u(0, 1);
-    const Box b = boxOf(s);
-    std::vector<Vec3> points(static_cast<size_t>(count));
-    for (Vec3 &p : points)
-        for (int k = 0; k < 3; ++k)
-            p[k] = b.lo[k] - (b.hi[k] - b.lo[k]) + 3 * (b.hi[k] - b.lo[k]) * u(rng);
-    return points;
-}
-
 struct Errors {
     double fast = 0, exact = 0, exactOverBound = 0;
     int sideWrong = 0, exactSideWrong = 0, clear = 0;
@@ -175,8 +93,8 @@ void expectWithin(const Errors &e)
 void checkShape(const char *name, const Soup &s, int near, int far)
 {
     const std::string n = name;
-    expectWithin(measure((n + " near").c_str(), s, nearPoints(s, near, 1)));
-    expectWithin(measure((n + " far").c_str(), s, farPoints(s, far, 2)));
+    expectWithin(measure((n + " near").c_str(), s, shapes::nearPoints(s, near, 1)));
+    expectWithin(measure((n + " far").c_str(), s, shapes::farPoints(s, far, 2)));
 }
 
 void test_open_generated(void **)
@@ -269,7 +187,7 @@ void test_assemblies(void **)
 void test_threads_and_simd(void **)
 {
     const Soup s = shapes::withoutFaces(shapes::sphere(0, 0, 0, 1, 60, 120, kPi, 0.02, 4), 5);
-    const std::vector<Vec3> points = nearPoints(s, 200, 7);
+    const std::vector<Vec3> points = shapes::nearPoints(s, 200, 7);
     std::vector<double> serial, parallel;
     {
         tbb::task_arena one(1);
@@ -295,8 +213,8 @@ void test_distance(void **)
     const Soup s = shapes::withoutFaces(fromMesh("fandisk.obj"), 13);
     const FastWinding tree(s.points, s.triangles);
     const shapes::Brute brute(s);
-    std::vector<Vec3> points = nearPoints(s, 100, 11);
-    const std::vector<Vec3> far = farPoints(s, 100, 12);
+    std::vector<Vec3> points = shapes::nearPoints(s, 100, 11);
+    const std::vector<Vec3> far = shapes::farPoints(s, 100, 12);
     points.insert(points.end(), far.begin(), far.end());
     for (const Vec3 &q : points) {
         const double truth = brute.distance(q.data());

@@ -6,6 +6,7 @@
 #ifndef SDFT_TESTS_MESH_SHAPES_H
 #define SDFT_TESTS_MESH_SHAPES_H
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -190,6 +191,83 @@ inline Soup scanPatch() { return sphere(0, 0, 0, 1, 60, 120, 110 * kPi / 180, 0.
 
 // A cut sphere: the cap above z = 0.5 removed.
 inline Soup cutSphere() { return sphere(0, 0, 0, 1, 48, 96, std::acos(-0.5), 0, 1); }
+
+// The soup's bounding box and its longest side.
+struct Bounds {
+    double lo[3], hi[3], size;
+};
+inline Bounds boundsOf(const Soup &s)
+{
+    Bounds b{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}, 0};
+    for (const auto &t : s.triangles)
+        for (uint32_t v : t)
+            for (int k = 0; k < 3; ++k) {
+                b.lo[k] = std::min(b.lo[k], double(s.points[v][k]));
+                b.hi[k] = std::max(b.hi[k], double(s.points[v][k]));
+            }
+    for (int k = 0; k < 3; ++k)
+        b.size = std::max(b.size, b.hi[k] - b.lo[k]);
+    return b;
+}
+
+using Point = std::array<double, 3>;
+
+// Points near the surface: on random triangles (by area), moved along the
+// normal by 1e-4 to 5e-2 of the soup's size, log-uniform, either way (the
+// inside of an open scan too).
+inline std::vector<Point> nearPoints(const Soup &s, int count, uint64_t seed)
+{
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    auto normal = [&](const std::array<uint32_t, 3> &t, double *e1, double *e2, double *n) {
+        for (int k = 0; k < 3; ++k) {
+            e1[k] = s.points[t[1]][k] - s.points[t[0]][k];
+            e2[k] = s.points[t[2]][k] - s.points[t[0]][k];
+        }
+        n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+        n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+        n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+        return std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    };
+    std::vector<double> sums;
+    double total = 0, e1[3], e2[3], n[3];
+    for (const auto &t : s.triangles)
+        sums.push_back(total += normal(t, e1, e2, n));
+    const double size = boundsOf(s).size;
+    std::vector<Point> points;
+    while (int(points.size()) < count) {
+        const size_t i = std::min(size_t(std::lower_bound(sums.begin(), sums.end(), u(rng) * total) - sums.begin()),
+                                  sums.size() - 1);
+        const auto &t = s.triangles[i];
+        double a = u(rng), b = u(rng);
+        if (a + b > 1) {
+            a = 1 - a;
+            b = 1 - b;
+        }
+        const double len = normal(t, e1, e2, n);
+        if (!(len > 0))
+            continue;
+        const double offset = size * std::pow(10.0, -4 + 2.7 * u(rng)) * (u(rng) < 0.5 ? -1 : 1);
+        Point p;
+        for (int k = 0; k < 3; ++k)
+            p[k] = s.points[t[0]][k] + a * e1[k] + b * e2[k] + offset * n[k] / len;
+        points.push_back(p);
+    }
+    return points;
+}
+
+// Points uniform in the soup's box grown to three times its size.
+inline std::vector<Point> farPoints(const Soup &s, int count, uint64_t seed)
+{
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    const Bounds b = boundsOf(s);
+    std::vector<Point> points(static_cast<size_t>(count));
+    for (Point &p : points)
+        for (int k = 0; k < 3; ++k)
+            p[k] = b.lo[k] - (b.hi[k] - b.lo[k]) + 3 * (b.hi[k] - b.lo[k]) * u(rng);
+    return points;
+}
 
 // A soup as mesh_support.h's mesh (brute force: winding, mesh_distance),
 // freed with it.
