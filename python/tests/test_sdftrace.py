@@ -125,6 +125,22 @@ def test_signed_distance_and_winding_against_brute_force(suzanne, points):
     assert np.array_equal(d2, d) and np.array_equal(w2, w)
 
 
+def test_accuracy_exact_within_1e5(suzanne, points):
+    """accuracy="exact": every winding number within 1e-5 of brute force, and
+    the signs of the distances its side of 1/2; the fast default within 5e-3."""
+    vertices, faces = suzanne
+    truth = brute_winding(vertices, faces, points)
+    fast = sdftrace.Mesh(SUZANNE).winding_number(points)
+    exact = sdftrace.Mesh(SUZANNE, accuracy="exact")
+    assert np.abs(fast - truth).max() <= 5e-3
+    assert np.abs(exact.winding_number(points) - truth).max() <= 1e-5 + 1e-7  # float32 output
+    d = exact.signed_distance(points)
+    decided = np.abs(truth - 0.5) > 1e-6
+    assert np.array_equal(d[decided] < 0, truth[decided] > 0.5)
+    with pytest.raises(ValueError, match="accuracy"):
+        sdftrace.Mesh(SUZANNE, accuracy="sloppy")
+
+
 class Trimeshlike:
     def __init__(self, vertices, faces):
         self.vertices, self.faces = vertices, faces
@@ -285,6 +301,51 @@ def test_readme_example_runs(tmp_path, monkeypatch):
     exec(compile(code, "README.md", "exec"), {})
     saved = np.load(tmp_path / "spot-samples.npz")
     assert saved["points"].shape == (250_000, 3)
+
+
+def test_keywords_are_the_library_settings(tmp_path):
+    """Every setting of the library's tables is a keyword of the call that
+    takes it, with the library's default, and reaches the library: a value
+    past its range is refused there (ValueError), and the default works."""
+    import inspect
+
+    calls = {
+        "mesh": inspect.signature(sdftrace.Mesh),
+        "grid": inspect.signature(sdftrace.Mesh.to_grid),
+        "samples": inspect.signature(sdftrace.Mesh.sample_near_surface),
+    }
+    for of, signature in calls.items():
+        for row in sdftrace.settings(of):
+            if of == "samples" and row["name"] == "count":
+                assert "n" in signature.parameters  # Python's name for it
+                continue
+            param = signature.parameters[row["name"]]
+            default = param.default
+            if row["kind"] == "choice":
+                assert row["choices"].split()[int(row["default"][0])] == default
+            elif row["kind"] == "text":
+                assert default is None
+            else:
+                assert tuple(np.atleast_1d(default).astype(float)) == row["default"], row["name"]
+    mesh = sdftrace.Mesh(SUZANNE, threads=1, simd="none")
+    with pytest.raises(ValueError, match="threads"):
+        sdftrace.Mesh(SUZANNE, threads=100000)
+    with pytest.raises(ValueError, match="band"):
+        mesh.to_grid(res=16, band=0)
+    with pytest.raises(ValueError, match="uniform_share"):
+        mesh.sample_near_surface(10, uniform_share=2)
+    with pytest.raises(ValueError, match="sign"):
+        mesh.to_grid(res=16, sign="sideways")
+    with pytest.raises(TypeError):
+        mesh.to_grid(res=16, no_such_setting=1)
+    # orient takes its names and, as before, True and False.
+    assert sdftrace.Mesh(SUZANNE, orient="none").info()["oriented"] is False
+    assert sdftrace.Mesh(SUZANNE, orient=False).info()["oriented"] is False
+    assert sdftrace.Mesh(SUZANNE, orient=True).info()["oriented"] is True
+    # Positional, in the order the keywords always had.
+    a = mesh.to_grid(24, 2.0, False).to_numpy()
+    b = mesh.to_grid(res=24, band=2.0).to_numpy()
+    assert np.array_equal(a, b)
 
 
 def test_errors_raise(tmp_path):

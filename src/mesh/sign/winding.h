@@ -34,7 +34,7 @@ struct WindingValue {
 };
 
 /// How exactly a winding number is evaluated (sdftrace/mesh.h's
-/// sdft_winding_accuracy). The bounds are measured against brute force on
+/// sdft_mesh_accuracy). The bounds are measured against brute force on
 /// the test meshes (tests/test_mesh_winding.cpp), open and closed.
 enum class WindingAccuracy {
     Fast, // within 5e-3 of the exact sum
