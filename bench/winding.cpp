@@ -1,11 +1,11 @@
 // The winding tree (src/mesh/sign/winding.h) measured: its error against the
 // sum over every triangle, the time a point of its three evaluations takes
-// (the fast value, the sign, the exact value), the time its tree takes to
+// (the fast value, the sign, the sign at the exact accuracy, the exact value), the time its tree takes to
 // build with 1 and more threads, and instructions a point under callgrind.
 // bench/winding.sh runs it and writes bench/results/winding.md.
 //
 // usage: winding MESH accuracy [NEAR UNIFORM]     errors (Markdown row cells)
-//        winding MESH time ROUNDS [NEAR UNIFORM]  per round: "fast side exact" us a point
+//        winding MESH time ROUNDS [NEAR UNIFORM]  per round: "fast side side-exact exact" us a point
 //        winding MESH build ROUNDS THREADS...     per round: seconds per thread count
 //        winding MESH count MODE [POINTS]         MODE's queries alone, for callgrind (no AVX2)
 //        winding SHAPE obj OUT.obj                a generated mesh as OBJ
@@ -148,7 +148,10 @@ int main(int argc, char **argv)
         double sum = 0;
         CALLGRIND_START_INSTRUMENTATION;
         for (const Vec3 &p : q)
-            sum += what == "side" ? tree.side(p).w : what == "exact" ? tree.exact(p).w : tree(p);
+            sum += what == "side"         ? tree.side(p).w
+                   : what == "side-exact" ? tree.side(p, WindingAccuracy::Exact).w
+                   : what == "exact"      ? tree.exact(p).w
+                                          : tree(p);
         CALLGRIND_STOP_INSTRUMENTATION;
         std::printf("%zu points, sum %g\n", q.size(), sum);
         return 0;
@@ -189,10 +192,14 @@ int main(int argc, char **argv)
             const double side = seconds(start);
             start = std::chrono::steady_clock::now();
             for (const Vec3 &p : q)
+                sink += tree.side(p, WindingAccuracy::Exact).w;
+            const double sideExact = seconds(start);
+            start = std::chrono::steady_clock::now();
+            for (const Vec3 &p : q)
                 sink += tree.exact(p).w;
             const double exact = seconds(start);
             const double n = double(q.size()) * 1e-6;
-            std::printf("%.4f %.4f %.4f\n", fast / n, side / n, exact / n);
+            std::printf("%.4f %.4f %.4f %.4f\n", fast / n, side / n, sideExact / n, exact / n);
         }
         return sink == 12345.678; // keeps the sums
     }

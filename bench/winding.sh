@@ -8,12 +8,13 @@
 # nested shells, a block of touching cubes, a gear train); the exact
 # evaluation's largest proven bound; points signed wrong by either.
 #
-# Cost: microseconds a point of the fast value, the sign alone and the exact
-# value on one thread (median of ROUNDS rounds and its 95% interval, the
-# three in turns each round); with valgrind, instructions a point (callgrind,
-# machine-independent; without AVX2) on the bunny; the tree's build on 1 thread and on
-# THREADS, in turns, on the bunny and on spot split twice into four (93,696
-# faces, bench/mesh_subdivide.awk).
+# Cost: microseconds a point of the fast value, the sign alone (fast and
+# exact accuracy) and the exact value on one thread (median of ROUNDS
+# rounds and its 95% interval, the four in turns each round); with
+# valgrind, instructions a point (callgrind, machine-independent; without
+# AVX2) on the bunny; the tree's build on 1 thread and on THREADS, in turns,
+# on the bunny and on spot split twice into four (93,696 faces,
+# bench/mesh_subdivide.awk).
 #
 # Assemblies: mesh2sdf --res RES with --sign winding against --sign flood
 # (the conversion's seconds from --json, both in turns each round; the
@@ -68,12 +69,12 @@ done
 echo
 echo "Microseconds a point on one thread, median [95% interval] of $ROUNDS rounds:"
 echo
-echo "| mesh | fast value | sign alone | exact value |"
-echo "|---|---|---|---|"
+echo "| mesh | fast value | sign alone | sign alone, exact | exact value |"
+echo "|---|---|---|---|---|"
 for m in tests/data/meshes/stanford-bunny.obj tests/data/meshes/fandisk.obj scan-patch cube-block; do
     "$WINDING" "$m" time "$ROUNDS" "$NEAR" "$UNIFORM" >"$OUT/time.txt"
     printf '| %s |' "$(basename "$m" .obj)"
-    for k in 1 2 3; do printf ' %s |' "$(column "$OUT/time.txt" $k | page_stats --text 2)"; done
+    for k in 1 2 3 4; do printf ' %s |' "$(column "$OUT/time.txt" $k | page_stats --text 2)"; done
     echo
 done
 echo
@@ -81,10 +82,10 @@ if command -v valgrind >/dev/null; then
     echo "Instructions a point on the bunny (callgrind, $NEAR points near the surface; without AVX2,"
     echo "which callgrind does not run in full):"
     echo
-    echo "| fast value | sign alone | exact value |"
-    echo "|---|---|---|"
+    echo "| fast value | sign alone | sign alone, exact | exact value |"
+    echo "|---|---|---|---|"
     printf '|'
-    for mode in fast side exact; do
+    for mode in fast side side-exact exact; do
         n=$NEAR
         [ "$mode" = exact ] && n=$((NEAR / 5))
         valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file="$OUT/callgrind.out" \

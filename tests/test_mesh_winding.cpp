@@ -73,8 +73,11 @@ Errors measure(const char *name, const Soup &s, const std::vector<Vec3> &points)
             ++e.clear;
             e.sideWrong += (tree.side(q).w > 0.5) != (truth > 0.5);
         }
+        // The exact side's margin is proven too.
+        const WindingValue side = tree.side(q, WindingAccuracy::Exact);
+        e.exactOverBound = std::max(e.exactOverBound, std::abs(side.w - truth) / (side.bound * (1 + 1e-9) + 1e-15));
         if (std::abs(truth - 0.5) > 1e-6)
-            e.exactSideWrong += (tree.side(q, WindingAccuracy::Exact).w > 0.5) != (truth > 0.5);
+            e.exactSideWrong += (side.w > 0.5) != (truth > 0.5);
     }
     print_message("%-24s %4zu points: fast error %.2g, exact %.2g (%.2g of its bound), sides wrong %d + %d of %d\n",
                   name, points.size(), e.fast, e.exact, e.exactOverBound, e.sideWrong, e.exactSideWrong, e.clear);

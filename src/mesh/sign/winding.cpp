@@ -532,13 +532,17 @@ __attribute__((target("avx2"), flatten)) double FastWinding::fastAvx2(const Vec3
 {
     return fast<Avx2Lanes>(q, beta2);
 }
-__attribute__((target("avx2"), flatten)) WindingValue FastWinding::boundedAvx2(const Vec3 &q) const
+__attribute__((target("avx2"), flatten)) WindingValue FastWinding::boundedAvx2(const Vec3 &q, double ratio,
+                                                                               double term) const
 {
-    return bounded<Avx2Lanes>(q);
+    return bounded<Avx2Lanes>(q, ratio, term);
 }
 #else
 double FastWinding::fastAvx2(const Vec3 &q, double beta2) const { return fast<PlainLanes>(q, beta2); }
-WindingValue FastWinding::boundedAvx2(const Vec3 &q) const { return bounded<PlainLanes>(q); }
+WindingValue FastWinding::boundedAvx2(const Vec3 &q, double ratio, double term) const
+{
+    return bounded<PlainLanes>(q, ratio, term);
+}
 #endif
 
 double FastWinding::fastAt(const Vec3 &q, double beta) const
@@ -552,26 +556,30 @@ double FastWinding::operator()(const Vec3 &q) const { return fastAt(q, kBeta); }
 
 WindingValue FastWinding::side(const Vec3 &q, WindingAccuracy accuracy) const
 {
+    if (accuracy == WindingAccuracy::Exact) // the coarse pass's expansions, proven
+        return boundedAt(q, 1 / kSideBeta, INFINITY);
     const double w = fastAt(q, kSideBeta);
     if (std::abs(w - 0.5) > kSideMargin)
         return {w, kSideMargin};
-    if (accuracy == WindingAccuracy::Exact)
-        return exact(q);
     return {fastAt(q, kBeta), kFastMargin};
 }
 
-WindingValue FastWinding::exact(const Vec3 &q) const
+WindingValue FastWinding::exact(const Vec3 &q) const { return boundedAt(q, kExactRatio, kExactTerm); }
+
+WindingValue FastWinding::boundedAt(const Vec3 &q, double ratio, double term) const
 {
     if (mNodes.empty())
         return {0.0, 0.0};
-    return mVectorized ? boundedAvx2(q) : bounded<PlainLanes>(q);
+    return mVectorized ? boundedAvx2(q, ratio, term) : bounded<PlainLanes>(q, ratio, term);
 }
 
-// The exact evaluation (see THE BOUND): first depth first, a child's
-// expansion where x < kExactRatio and its bound is below kExactTerm; then,
-// while the bounds do not keep w on one side of 1/2, the expansion with the
-// largest bound replaced by its children's (or its leaf's triangles).
-template <class Lanes> WindingValue FastWinding::bounded(const Vec3 &q) const
+// The evaluation with a proven bound (see THE BOUND): first depth first, a
+// child's expansion where x < ratio and its bound is below term (exact():
+// kExactRatio, kExactTerm; side(): the coarse pass's ratio, any bound);
+// then, while the bounds do not keep w on one side of 1/2, the expansion
+// with the largest bound replaced by its children's (or its leaf's
+// triangles).
+template <class Lanes> WindingValue FastWinding::bounded(const Vec3 &q, double ratio, double term) const
 {
     struct Entry {
         double bound, value;
@@ -616,7 +624,7 @@ template <class Lanes> WindingValue FastWinding::bounded(const Vec3 &q) const
     };
     stack[top++] = 0;
     while (top > 0)
-        visit(stack[--top], kExactRatio, kExactTerm);
+        visit(stack[--top], ratio, term);
     double far = 0, bound = 0;
     for (const Entry &e : frontier) {
         far += e.value;

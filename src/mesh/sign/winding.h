@@ -77,11 +77,14 @@ class FastWinding
     static constexpr double kSideMargin = 0.1, kFastMargin = 0.01;
 
     /// Which side of 1/2 the winding number at q is on, at less cost than
-    /// its value: a coarser pass (within kSideMargin) where that is clear
-    /// of 1/2 by more than its margin, else operator() (within kFastMargin)
-    /// or exact(q) (its proven bound). Returns that evaluation and its
-    /// margin: w > 1/2 as operator(q, accuracy) has it wherever the margins
-    /// hold, and the exact side wherever |w - 1/2| > bound. Thread-safe.
+    /// its value. Fast: a coarser pass (within kSideMargin) where that is
+    /// clear of 1/2 by more than its margin, else operator() (within
+    /// kFastMargin); w > 1/2 as operator() has it wherever the margins
+    /// hold. Exact: the coarser pass's expansions with their proven bounds,
+    /// the largest opened as in exact(q) until they keep w on one side of
+    /// 1/2 (not within 1e-5: only the side is proven); w > 1/2 exactly
+    /// where the exact sum is, wherever |w - 1/2| > bound. Returns the
+    /// evaluation and its margin. Thread-safe.
     WindingValue side(const Vec3 &q, WindingAccuracy accuracy = WindingAccuracy::Fast) const;
 
     /// Exact sum over every triangle, for checks (O(triangles) per query).
@@ -119,9 +122,10 @@ class FastWinding
 
     double fastAt(const Vec3 &q, double beta) const;
     template <class Lanes> double fast(const Vec3 &q, double beta2) const;
-    template <class Lanes> WindingValue bounded(const Vec3 &q) const;
+    WindingValue boundedAt(const Vec3 &q, double ratio, double term) const;
+    template <class Lanes> WindingValue bounded(const Vec3 &q, double ratio, double term) const;
     double fastAvx2(const Vec3 &q, double beta2) const;
-    WindingValue boundedAvx2(const Vec3 &q) const;
+    WindingValue boundedAvx2(const Vec3 &q, double ratio, double term) const;
     double leafExact(uint32_t leaf, const Vec3 &q) const;
 
     std::vector<double> mTris;       // 9 doubles per triangle, in BVH order
