@@ -38,7 +38,6 @@
 #include <vector>
 
 using namespace meshsdf;
-using mesh2sdf::readNpyRows;
 
 namespace
 {
@@ -129,12 +128,15 @@ int main(int argc, char **argv)
         return 1;
     }
     if (samples) {
-        std::vector<double> rows;
-        if (!readNpyRows(argv[3], 4, rows, error)) {
-            std::fprintf(stderr, "mesh2sdf_points: %s\n", error.c_str());
+        double *values = nullptr;
+        size_t count = 0;
+        char why[1024];
+        if (npy_read_rows(argv[3], 4, &values, &count, why, sizeof why) != 0) {
+            std::fprintf(stderr, "mesh2sdf_points: %s\n", why);
             return 1;
         }
-        const size_t count = rows.size() / 4;
+        const std::vector<double> rows(values, values + count * 4);
+        std::free(values);
         std::vector<float> d(count);
         for (size_t i = 0; i < count; ++i)
             d[i] = float(rows[i * 4 + 3]);

@@ -7,6 +7,8 @@
 #include <set>
 #include <sys/stat.h>
 
+#include "seam.h"
+
 namespace mesh2sdf
 {
 
@@ -56,7 +58,7 @@ bool readBatchList(const std::string &list, std::vector<BatchEntry> &entries, st
         BatchEntry e;
         e.line = line;
         e.path = line[0] == '/' ? line : folder + line;
-        e.name = uniqueName(fileStem(line), taken);
+        e.name = uniqueName(seam::fileStem(line), taken);
         e.position = entries.size();
         e.bytes = fileBytes(e.path);
         entries.push_back(e);

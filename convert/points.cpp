@@ -2,7 +2,6 @@
 #include "points.h"
 
 #include "mesh_tool.h"
-#include "npy_read.h"
 #include "options.h"
 #include "text.h"
 
@@ -10,11 +9,14 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 #include "json.h"
 #include "memory_limit.h"
+#include "npy_read.h"
 #include "npy_write.h"
+#include "seam.h"
 
 namespace mesh2sdf
 {
@@ -23,8 +25,6 @@ namespace
 {
 
 using Clock = std::chrono::steady_clock;
-
-double secondsBetween(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
 
 bool writeArray(const char *tmp, const std::string &shape, const float *values, size_t count)
 {
@@ -35,37 +35,11 @@ bool writeArray(const char *tmp, const std::string &shape, const float *values, 
     return std::fclose(f) == 0 && ok;
 }
 
-bool writeSidecar(const char *tmp, const std::string &fields, const Options &opt, const sdft_mesh_frame &info,
-                  bool oriented)
-{
-    FILE *f = std::fopen(tmp, "w");
-    if (!f)
-        return false;
-    std::fprintf(f, "{\n%s", fields.c_str());
-    std::fprintf(f,
-                 "  \"normalized\": %s,\n"
-                 "  \"centre\": [%.17g, %.17g, %.17g],\n"
-                 "  \"radius\": %.17g,\n",
-                 info.normalized ? "true" : "false", info.centre[0], info.centre[1], info.centre[2], info.radius);
-    if (info.normalized)
-        std::fprintf(f, "  \"to_mesh_units\": \"point * radius + centre; distance * radius\",\n");
-    else
-        std::fprintf(f, "  \"to_unit_sphere\": \"(point - centre) / radius; distance / radius\",\n");
-    std::fprintf(f,
-                 "  \"sign\": \"negative inside: winding number > 0.5\",\n  \"orient\": \"%s\",\n"
-                 "  \"source_mesh\": ",
-                 settingChoice(SDFT_MESH_SETTINGS_MESH, "orient", oriented).c_str());
-    json_put_string(f, opt.input.c_str());
-    std::fprintf(f, "\n}\n");
-    const bool ok = !std::ferror(f);
-    return std::fclose(f) == 0 && ok;
-}
-
-// The sidecar's "array" line: the file name of `path`.
-std::string arrayField(const std::string &path)
+// The file name of `path`.
+std::string fileName(const std::string &path)
 {
     const size_t slash = path.find_last_of('/');
-    return "  \"array\": " + jsonString(slash == std::string::npos ? path : path.substr(slash + 1)) + ",\n";
+    return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
 // One line in `error` from the library's message; false.
@@ -79,44 +53,54 @@ bool failed(const char *msg, std::string &error)
 
 bool PointFiles::reserve(const std::string &npy, std::string &error)
 {
+    const std::string sidecar = sidecarPath(npy);
+    const char *paths[2] = {npy.c_str(), sidecar.c_str()};
     char msg[1024];
-    if (atomic_file_begin(&mArray, npy.c_str(), msg, sizeof msg) != SDFT_OK)
+    if (atomic_files_begin(mFiles, paths, 2, msg, sizeof msg) != SDFT_OK)
         return failed(msg, error);
-    if (atomic_file_begin(&mSidecar, sidecarPath(npy).c_str(), msg, sizeof msg) != SDFT_OK) {
-        atomic_file_abort(&mArray);
-        return failed(msg, error);
-    }
     mReserved = true;
     return true;
 }
 
 bool PointFiles::discard()
 {
-    if (mReserved) {
-        atomic_file_abort(&mArray);
-        atomic_file_abort(&mSidecar);
-        mReserved = false;
-    }
+    if (mReserved)
+        atomic_files_abort(mFiles, 2);
+    mReserved = false;
     return false;
 }
 
-bool PointFiles::write(const std::string &shape, const float *values, size_t count, const std::string &fields,
+bool PointFiles::write(const std::string &shape, const float *values, size_t count, std::vector<Member> members,
                        const Options &opt, const sdft_mesh_frame &frame, bool oriented, std::string &error)
 {
-    if (!writeArray(mArray.tmp_path, shape, values, count) ||
-        !writeSidecar(mSidecar.tmp_path, fields, opt, frame, oriented)) {
-        error = std::string("cannot write beside ") + mArray.path + ": " + std::strerror(errno);
+    // The members of every sidecar after the caller's: the mesh's frame,
+    // how to map the points back, the sign, the orientation, the source.
+    members.insert(members.begin(), {"array", fileName(mFiles[0].path), false});
+    members.push_back({"normalized", frame.normalized ? "true" : "false", true});
+    members.push_back(
+        {"centre", format("[%.17g, %.17g, %.17g]", frame.centre[0], frame.centre[1], frame.centre[2]), true});
+    members.push_back({"radius", format("%.17g", frame.radius), true});
+    if (frame.normalized)
+        members.push_back({"to_mesh_units", "point * radius + centre; distance * radius", false});
+    else
+        members.push_back({"to_unit_sphere", "(point - centre) / radius; distance / radius", false});
+    members.push_back({"sign", "negative inside: winding number > 0.5", false});
+    members.push_back({"orient", settingChoice(SDFT_MESH_SETTINGS_MESH, "orient", oriented), false});
+    members.push_back({"source_mesh", opt.input, false});
+    std::vector<json_member> json;
+    for (const Member &m : members)
+        json.push_back({m.key.c_str(), m.value.c_str(), m.raw});
+    char msg[1024];
+    if (!writeArray(mFiles[0].tmp_path, shape, values, count)) {
+        error = std::string("cannot write ") + mFiles[0].path + ": " + std::strerror(errno);
         return discard();
     }
-    char msg[1024];
-    const bool ok = atomic_file_commit(&mArray, msg, sizeof msg) == SDFT_OK &&
-                    atomic_file_commit(&mSidecar, msg, sizeof msg) == SDFT_OK;
-    if (!ok) {
+    if (json_write_object(mFiles[1].tmp_path, json.data(), json.size(), msg, sizeof msg) != 0) {
         error = msg;
         return discard();
     }
-    mReserved = false;
-    return true;
+    mReserved = false; // committed or removed, either way
+    return atomic_files_commit(mFiles, 2, msg, sizeof msg) == SDFT_OK || failed(msg, error);
 }
 
 bool trainingSamplesFitMemory(size_t count, std::string &error)
@@ -148,7 +132,7 @@ bool writeSamples(const Options &opt, const sdft_mesh *mesh, PointFiles &files, 
     const auto t0 = Clock::now();
     if (sdft_mesh_samples(mesh, &p, rows.data(), rows.size(), msg, sizeof msg) != SDFT_OK)
         return failed(msg, error);
-    const double seconds = secondsBetween(t0, Clock::now());
+    const double seconds = seam::secondsSince(t0);
     if (interruptSignal())
         return failed("interrupted", error);
     sdft_mesh_timings after;
@@ -156,22 +140,24 @@ bool writeSamples(const Options &opt, const sdft_mesh *mesh, PointFiles &files, 
     run.indexSeconds = after.index_seconds - before.index_seconds; // built by this call, or before it
     run.sampleSeconds = seconds - run.indexSeconds;
     mesh_sample_counts(&p, &run.near[0], &run.near[1], &run.uniform);
-    const std::string fields =
-        arrayField(opt.samplesOut) +
-        format("  \"dtype\": \"float32\",\n  \"shape\": [%zu, 4],\n"
-               "  \"columns\": [\"x\", \"y\", \"z\", \"distance\"],\n"
-               "  \"rows\": \"near the surface first, alternating the two sigmas, then uniform\",\n"
-               "  \"near_samples\": [%zu, %zu],\n  \"uniform_samples\": %zu,\n"
-               "  \"near_sigma\": [%.17g, %.17g],\n  \"near_sigma_units\": \"times the sphere's radius\",\n"
-               "  \"uniform_share\": %.17g,\n  \"uniform_region\": \"centre +- radius on each axis\",\n"
-               "  \"seed\": %llu,\n",
-               count, run.near[0], run.near[1], run.uniform, p.near_sigma[0], p.near_sigma[1], p.uniform_share,
-               (unsigned long long)p.seed);
+    const std::vector<PointFiles::Member> members = {
+        {"dtype", "float32", false},
+        {"shape", format("[%zu, 4]", count), true},
+        {"columns", "[\"x\", \"y\", \"z\", \"distance\"]", true},
+        {"rows", "near the surface first, alternating the two sigmas, then uniform", false},
+        {"near_samples", format("[%zu, %zu]", run.near[0], run.near[1]), true},
+        {"uniform_samples", format("%zu", run.uniform), true},
+        {"near_sigma", format("[%.17g, %.17g]", p.near_sigma[0], p.near_sigma[1]), true},
+        {"near_sigma_units", "times the sphere's radius", false},
+        {"uniform_share", format("%.17g", p.uniform_share), true},
+        {"uniform_region", "centre +- radius on each axis", false},
+        {"seed", format("%llu", (unsigned long long)p.seed), true},
+    };
     sdft_mesh_frame frame;
     sdft_mesh_health health;
     sdft_mesh_get_frame(mesh, &frame, nullptr, 0);
     sdft_mesh_get_health(mesh, &health, nullptr, 0);
-    return files.write("(" + std::to_string(count) + ", 4)", rows.data(), rows.size(), fields, opt, frame,
+    return files.write("(" + std::to_string(count) + ", 4)", rows.data(), rows.size(), members, opt, frame,
                        health.oriented, error);
 }
 
@@ -193,7 +179,7 @@ bool runSamples(const Options &opt, std::string &error)
     progress.finish();
     if (!ok)
         return false;
-    const double seconds = secondsBetween(t0, Clock::now());
+    const double seconds = seam::secondsSince(t0);
     const double rate = double(count) / run.sampleSeconds;
     if (opt.json) {
         std::printf("{\"mesh\": ");
@@ -219,15 +205,19 @@ bool runQuery(const Options &opt, std::string &error)
     PointFiles files;
     if (!files.reserve(opt.queryOut, error))
         return false;
-    std::vector<double> xyz;
-    if (!readNpyPoints(opt.queryIn, xyz, error))
-        return false;
+    char why[1024];
+    double *values = nullptr;
+    size_t count = 0;
+    if (npy_read_rows(opt.queryIn.c_str(), 3, &values, &count, why, sizeof why) != 0)
+        return failed(why, error);
+    const std::vector<double> xyz(values, values + count * 3);
+    std::free(values);
     ProgressView progress(!opt.quiet && !opt.json);
     JobResult r;
     const MeshPtr mesh = loadJobMesh(opt, progress, 0, 50, r);
     if (!mesh)
         return failed(r.error.c_str(), error);
-    const size_t count = xyz.size() / 3, columns = opt.winding ? 2 : 1;
+    const size_t columns = opt.winding ? 2 : 1;
     std::vector<float> distance(count), winding(opt.winding ? count : 0);
     sdft_mesh_points pts{};
     pts.data = xyz.data();
@@ -243,7 +233,7 @@ bool runQuery(const Options &opt, std::string &error)
                                   sizeof msg) != SDFT_OK)
         return failed(msg, error); // the files are removed on the way out
     progress.finish();
-    const double querySeconds = secondsBetween(t1, Clock::now());
+    const double querySeconds = seam::secondsSince(t1);
     std::vector<float> out(count * columns);
     for (size_t i = 0; i < count; ++i) {
         out[i * columns] = distance[i];
@@ -251,14 +241,15 @@ bool runQuery(const Options &opt, std::string &error)
             out[i * columns + 1] = winding[i];
     }
     const std::string shape = "(" + std::to_string(count) + (opt.winding ? ", 2)" : ",)");
-    const std::string fields =
-        arrayField(opt.queryOut) +
-        format("  \"points\": %s,\n  \"dtype\": \"float32\",\n  \"shape\": [%zu%s],\n  \"columns\": [%s],\n",
-               jsonString(opt.queryIn).c_str(), count, opt.winding ? ", 2" : "",
-               opt.winding ? "\"distance\", \"winding\"" : "\"distance\"");
-    if (!files.write(shape, out.data(), out.size(), fields, opt, r.frame, r.health.oriented, error))
+    const std::vector<PointFiles::Member> members = {
+        {"points", opt.queryIn, false},
+        {"dtype", "float32", false},
+        {"shape", format("[%zu%s]", count, opt.winding ? ", 2" : ""), true},
+        {"columns", opt.winding ? "[\"distance\", \"winding\"]" : "[\"distance\"]", true},
+    };
+    if (!files.write(shape, out.data(), out.size(), members, opt, r.frame, r.health.oriented, error))
         return false;
-    const double seconds = secondsBetween(t0, Clock::now());
+    const double seconds = seam::secondsSince(t0);
     if (opt.json) {
         std::printf("{\"mesh\": ");
         json_put_string(stdout, opt.input.c_str());

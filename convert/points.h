@@ -17,29 +17,37 @@ namespace mesh2sdf
 {
 
 /// OUT.npy and OUT.json of --samples and --query: reserved before any work
-/// (src/common/atomic_file.h), written and renamed into place at the end,
-/// or removed.
+/// and renamed into place together at the end, or removed
+/// (src/common/atomic_file.h's sets); the JSON through the one sidecar
+/// writer (src/common/json.h).
 class PointFiles
 {
   public:
+    /// A member of the sidecar: its value JSON text when `raw`, else a
+    /// string.
+    struct Member {
+        std::string key, value;
+        bool raw;
+    };
+
     PointFiles() = default;
     PointFiles(const PointFiles &) = delete;
     PointFiles &operator=(const PointFiles &) = delete;
     ~PointFiles() { discard(); }
 
     bool reserve(const std::string &npy, std::string &error);
-    /// The float32 array of `shape` ("(n, 4)") and the sidecar: `fields`
-    /// (its own lines, each ending in ",\n"), then the mesh's frame:
-    /// whether the points are normalized, the sphere, how to map a point and
-    /// a distance back, the sign, the orientation and the source mesh. On
+    /// The float32 array of `shape` ("(n, 4)") and the sidecar: "array"
+    /// (the array's file name), `members`, then the mesh's frame: whether
+    /// the points are normalized, the sphere, how to map a point and a
+    /// distance back, the sign, the orientation and the source mesh. On
     /// failure, removes both.
-    bool write(const std::string &shape, const float *values, size_t count, const std::string &fields,
+    bool write(const std::string &shape, const float *values, size_t count, std::vector<Member> members,
                const Options &opt, const sdft_mesh_frame &frame, bool oriented, std::string &error);
     /// Removes both temporary files; returns false.
     bool discard();
 
   private:
-    atomic_file mArray{}, mSidecar{};
+    atomic_file mFiles[2]{}; // the array, its sidecar
     bool mReserved = false;
 };
 

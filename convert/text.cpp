@@ -2,7 +2,6 @@
 #include "text.h"
 
 #include <algorithm>
-#include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
 #include <new>
@@ -13,20 +12,6 @@
 
 namespace mesh2sdf
 {
-
-std::string format(const char *fmt, ...)
-{
-    va_list args, again;
-    va_start(args, fmt);
-    va_copy(again, args);
-    const int n = std::vsnprintf(nullptr, 0, fmt, args);
-    va_end(args);
-    std::string out(size_t(std::max(n, 0)) + 1, '\0');
-    std::vsnprintf(&out[0], out.size(), fmt, again);
-    va_end(again);
-    out.resize(out.size() - 1);
-    return out;
-}
 
 std::string jsonString(const std::string &text)
 {

@@ -5,11 +5,13 @@
 
 #include <string>
 
+#include "seam.h"
+
 namespace mesh2sdf
 {
 
-/// printf into a std::string.
-std::string format(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/// printf into a std::string (src/common/seam.h).
+using seam::format;
 
 /// `text` as a quoted JSON string, quotes included (json.h).
 std::string jsonString(const std::string &text);

@@ -304,28 +304,31 @@ static int set_settings(sdft_mesh_settings_of of, void *params, PyObject *kw)
 
 /* ---- Mesh ----------------------------------------------------------- */
 
-typedef struct {
-    PyObject_HEAD sdft_mesh *mesh;
-} MeshObject;
-
-static PyTypeObject MeshType;
-
-static void mesh_dealloc(MeshObject *self)
-{
-    sdft_mesh_free(self->mesh);
-    Py_TYPE(self)->tp_free((PyObject *)self);
-}
-
-static PyObject *wrap_mesh(sdft_mesh *m)
-{
-    MeshObject *o = PyObject_New(MeshObject, &MeshType);
-    if (!o) {
-        sdft_mesh_free(m);
-        return NULL;
+/* A Python object that owns one of the library's handles: its struct
+ * (the handle in `field`), the type's dealloc, which frees the handle, and
+ * NAME_wrap(handle), which makes one (or frees the handle and fails). */
+#define HANDLE_OBJECT(Name, type, field, release)                                                                      \
+    typedef struct {                                                                                                   \
+        PyObject_HEAD type *field;                                                                                     \
+    } Name##Object;                                                                                                    \
+    static PyTypeObject Name##Type;                                                                                    \
+    static void Name##_dealloc(Name##Object *self)                                                                     \
+    {                                                                                                                  \
+        release(self->field);                                                                                          \
+        Py_TYPE(self)->tp_free((PyObject *)self);                                                                      \
+    }                                                                                                                  \
+    static PyObject *Name##_wrap(type *handle)                                                                         \
+    {                                                                                                                  \
+        Name##Object *o = PyObject_New(Name##Object, &Name##Type);                                                     \
+        if (!o) {                                                                                                      \
+            release(handle);                                                                                           \
+            return NULL;                                                                                               \
+        }                                                                                                              \
+        o->field = handle;                                                                                             \
+        return (PyObject *)o;                                                                                          \
     }
-    o->mesh = m;
-    return (PyObject *)o;
-}
+
+HANDLE_OBJECT(Mesh, sdft_mesh, mesh, sdft_mesh_free)
 
 /* load_mesh(path, **settings): settings of sdft_mesh_params. */
 static PyObject *load_mesh(PyObject *module, PyObject *args, PyObject *kw)
@@ -347,7 +350,7 @@ static PyObject *load_mesh(PyObject *module, PyObject *args, PyObject *kw)
     e = sdft_mesh_load(path, &p, &m, msg, sizeof msg);
     PyEval_RestoreThread(ts);
     Py_DECREF(path_obj);
-    return e == SDFT_OK ? wrap_mesh(m) : raise_error(e, msg);
+    return e == SDFT_OK ? Mesh_wrap(m) : raise_error(e, msg);
 }
 
 /* faces as int32, uint32 or int64, C order (other integer types become int64). */
@@ -418,7 +421,7 @@ static PyObject *mesh_from_arrays(PyObject *module, PyObject *args, PyObject *kw
     PyEval_RestoreThread(ts);
     Py_DECREF(v);
     Py_DECREF(f);
-    return e == SDFT_OK ? wrap_mesh(m) : raise_error(e, msg);
+    return e == SDFT_OK ? Mesh_wrap(m) : raise_error(e, msg);
 }
 
 /* Distances (and winding numbers) at points: mode 0 distance, 1 winding
@@ -509,20 +512,23 @@ static PyObject *mesh_info(MeshObject *self, PyObject *unused)
         e = sdft_mesh_get_frame(self->mesh, &f, msg, sizeof msg);
     if (e != SDFT_OK)
         return raise_error(e, msg);
-    /* The health report and the frame, member by member. */
-    return Py_BuildValue("{sKsKsKsKsKsKsKsOsOsKsKsKsKsKsKsKs(ddd)s(ddd)s(ddd)sdsO}", "vertices", i.vertices, "faces",
-                         i.faces, "triangles", i.triangles, "degenerate_faces", i.degenerate_faces, "welded_vertices",
-                         i.welded_vertices, "boundary_edges", i.boundary_edges, "non_manifold_edges",
+    /* The health report and the frame, member by member, and the warnings. */
+    char warnings[4096];
+    sdft_mesh_warnings(self->mesh, warnings, sizeof warnings);
+    return Py_BuildValue("{sKsKsKsKsKsKsKsOsOsKsKsKsKsKsKsKsKsKsdsss(ddd)s(ddd)s(ddd)sdsO}", "vertices", i.vertices,
+                         "faces", i.faces, "triangles", i.triangles, "degenerate_faces", i.degenerate_faces,
+                         "welded_vertices", i.welded_vertices, "boundary_edges", i.boundary_edges, "non_manifold_edges",
                          i.non_manifold_edges, "closed", i.closed ? Py_True : Py_False, "oriented",
                          i.oriented ? Py_True : Py_False, "duplicate_faces", i.duplicate_faces, "patches", i.patches,
                          "non_orientable_patches", i.non_orientable_patches, "reoriented_faces", i.reoriented_faces,
                          "outward_patches", i.outward_patches, "cavity_patches", i.cavity_patches, "ambiguous_patches",
-                         i.ambiguous_patches, "lo", f.lo[0], f.lo[1], f.lo[2], "hi", f.hi[0], f.hi[1], f.hi[2],
-                         "centre", f.centre[0], f.centre[1], f.centre[2], "radius", f.radius, "normalized",
-                         f.normalized ? Py_True : Py_False);
+                         i.ambiguous_patches, "skipped_faces", i.skipped_faces, "evidence_patches", i.evidence_patches,
+                         "ambiguous_area", i.ambiguous_area, "warnings", warnings, "lo", f.lo[0], f.lo[1], f.lo[2],
+                         "hi", f.hi[0], f.hi[1], f.hi[2], "centre", f.centre[0], f.centre[1], f.centre[2], "radius",
+                         f.radius, "normalized", f.normalized ? Py_True : Py_False);
 }
 
-static PyObject *wrap_mesh_grid(sdft_mesh_grid *g);
+static PyObject *MeshGrid_wrap(sdft_mesh_grid *handle);
 
 /* to_grid(progress=None, **settings): settings of sdft_mesh_grid_params. */
 static PyObject *mesh_to_grid(MeshObject *self, PyObject *args, PyObject *kw)
@@ -541,7 +547,7 @@ static PyObject *mesh_to_grid(MeshObject *self, PyObject *args, PyObject *kw)
     PyThreadState *ts = PyEval_SaveThread();
     e = sdft_mesh_to_grid(self->mesh, &p, &g, msg, sizeof msg);
     PyEval_RestoreThread(ts);
-    PyObject *grid = e == SDFT_OK ? wrap_mesh_grid(g) : NULL;
+    PyObject *grid = e == SDFT_OK ? MeshGrid_wrap(g) : NULL;
     if (e == SDFT_OK && !grid)
         return NULL;
     return progress_result(&pc, e, msg, grid);
@@ -558,7 +564,7 @@ static PyMethodDef mesh_methods[] = {
 static PyTypeObject MeshType = {
     PyVarObject_HEAD_INIT(NULL, 0).tp_name = "sdftrace._sdftrace.Mesh",
     .tp_basicsize = sizeof(MeshObject),
-    .tp_dealloc = (destructor)mesh_dealloc,
+    .tp_dealloc = (destructor)Mesh_dealloc,
     .tp_flags = Py_TPFLAGS_DEFAULT,
     .tp_doc = "A triangle mesh held by libsdftrace_mesh (see sdftrace.Mesh).",
     .tp_methods = mesh_methods,
@@ -566,28 +572,7 @@ static PyTypeObject MeshType = {
 
 /* ---- MeshGrid: a converted grid --------------------------------------- */
 
-typedef struct {
-    PyObject_HEAD sdft_mesh_grid *grid;
-} MeshGridObject;
-
-static PyTypeObject MeshGridType;
-
-static void mesh_grid_dealloc(MeshGridObject *self)
-{
-    sdft_mesh_grid_free(self->grid);
-    Py_TYPE(self)->tp_free((PyObject *)self);
-}
-
-static PyObject *wrap_mesh_grid(sdft_mesh_grid *g)
-{
-    MeshGridObject *o = PyObject_New(MeshGridObject, &MeshGridType);
-    if (!o) {
-        sdft_mesh_grid_free(g);
-        return NULL;
-    }
-    o->grid = g;
-    return (PyObject *)o;
-}
+HANDLE_OBJECT(MeshGrid, sdft_mesh_grid, grid, sdft_mesh_grid_free)
 
 static PyObject *mesh_grid_write(MeshGridObject *self, PyObject *args, PyObject *kw)
 {
@@ -663,7 +648,7 @@ static PyObject *mesh_grid_dense(MeshGridObject *self, PyObject *unused)
     return (PyObject *)a;
 }
 
-static PyObject *wrap_grid(sdft_grid *g);
+static PyObject *NanoGrid_wrap(sdft_grid *handle);
 
 static PyObject *mesh_grid_nano(MeshGridObject *self, PyObject *unused)
 {
@@ -674,7 +659,7 @@ static PyObject *mesh_grid_nano(MeshGridObject *self, PyObject *unused)
     PyThreadState *ts = PyEval_SaveThread();
     e = sdft_mesh_grid_nano(self->grid, &g, msg, sizeof msg);
     PyEval_RestoreThread(ts);
-    return e == SDFT_OK ? wrap_grid(g) : raise_error(e, msg);
+    return e == SDFT_OK ? NanoGrid_wrap(g) : raise_error(e, msg);
 }
 
 static PyMethodDef mesh_grid_methods[] = {
@@ -687,7 +672,7 @@ static PyMethodDef mesh_grid_methods[] = {
 static PyTypeObject MeshGridType = {
     PyVarObject_HEAD_INIT(NULL, 0).tp_name = "sdftrace._sdftrace.MeshGrid",
     .tp_basicsize = sizeof(MeshGridObject),
-    .tp_dealloc = (destructor)mesh_grid_dealloc,
+    .tp_dealloc = (destructor)MeshGrid_dealloc,
     .tp_flags = Py_TPFLAGS_DEFAULT,
     .tp_doc = "A grid converted from a mesh (see sdftrace.Grid).",
     .tp_methods = mesh_grid_methods,
@@ -695,28 +680,7 @@ static PyTypeObject MeshGridType = {
 
 /* ---- NanoGrid: the tracer's grid --------------------------------------- */
 
-typedef struct {
-    PyObject_HEAD sdft_grid *grid;
-} NanoGridObject;
-
-static PyTypeObject NanoGridType;
-
-static void nano_grid_dealloc(NanoGridObject *self)
-{
-    sdft_grid_free(self->grid);
-    Py_TYPE(self)->tp_free((PyObject *)self);
-}
-
-static PyObject *wrap_grid(sdft_grid *g)
-{
-    NanoGridObject *o = PyObject_New(NanoGridObject, &NanoGridType);
-    if (!o) {
-        sdft_grid_free(g);
-        return NULL;
-    }
-    o->grid = g;
-    return (PyObject *)o;
-}
+HANDLE_OBJECT(NanoGrid, sdft_grid, grid, sdft_grid_free)
 
 static PyObject *open_grid(PyObject *module, PyObject *args, PyObject *kw)
 {
@@ -736,7 +700,7 @@ static PyObject *open_grid(PyObject *module, PyObject *args, PyObject *kw)
     e = sdft_vdb_open(&o, &g, msg, sizeof msg);
     PyEval_RestoreThread(ts);
     Py_DECREF(path_obj);
-    return e == SDFT_OK ? wrap_grid(g) : raise_error(e, msg);
+    return e == SDFT_OK ? NanoGrid_wrap(g) : raise_error(e, msg);
 }
 
 /* Trilinear values at points, through the field's sampler (sdft_grid_sample). */
@@ -818,7 +782,7 @@ static PyMethodDef nano_grid_methods[] = {{"sample", (PyCFunction)nano_grid_samp
 static PyTypeObject NanoGridType = {
     PyVarObject_HEAD_INIT(NULL, 0).tp_name = "sdftrace._sdftrace.NanoGrid",
     .tp_basicsize = sizeof(NanoGridObject),
-    .tp_dealloc = (destructor)nano_grid_dealloc,
+    .tp_dealloc = (destructor)NanoGrid_dealloc,
     .tp_flags = Py_TPFLAGS_DEFAULT,
     .tp_doc = "A NanoVDB grid the tracer renders (see sdftrace.Grid).",
     .tp_methods = nano_grid_methods,

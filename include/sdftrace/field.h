@@ -222,11 +222,10 @@ static inline float sdft_field_distance(const sdft_field *f, sdft_scratch *s, sd
  * sdft_field_distance would give, in order. Where the field takes hints
  * (accel->prefetch), each point is hinted SDFT_FIELD_DISTANCES_AHEAD points
  * before its evaluation, so that scattered points wait for their memory
- * together: a 1024^3 grid's random band points, one call each, take
- * 1.6-1.8x a dense float array's time per point, and 1.1-1.3x through
- * this call (bench/sample_bench). For many independent points (queries
- * for learning, a batch of probes); a ray's own steps depend on each
- * other and gain nothing. s must serve f (sdft_scratch_serves). */
+ * together rather than one after another (bench/sample_bench measures
+ * what that saves). For many independent points (queries for learning, a
+ * batch of probes); a ray's own steps depend on each other and gain
+ * nothing. s must serve f (sdft_scratch_serves). */
 #define SDFT_FIELD_DISTANCES_AHEAD 16
 SDFT_API void sdft_field_distances(const sdft_field *f, sdft_scratch *s, const sdft_vec3 *p, size_t n, float *d);
 

@@ -153,8 +153,9 @@ static exr_result_t exr_write_planes(exr_context_t ctx, int part, const exr_plan
     return first_error;
 }
 
-int io_write_exr(const char *path, const sdft_image *img, char *msg, size_t msg_len)
+int io_write_exr_into(atomic_file *to, const sdft_image *img, char *msg, size_t msg_len)
 {
+    const char *path = to->path;
     const int w = img->width, h = img->height;
     const size_t n = (size_t)w * (size_t)h;
     float *split = malloc(6 * n * sizeof *split); /* R, G, B, N.X, N.Y, N.Z planes */
@@ -180,18 +181,13 @@ int io_write_exr(const char *path, const sdft_image *img, char *msg, size_t msg_
         {"primary_steps", EXR_PIXEL_UINT, img->primary_steps},
     };
 
-    atomic_file af;
-    if (atomic_file_begin(&af, path, msg, msg_len)) {
-        free(split);
-        return -1;
-    }
     exr_errors errors = {{0}};
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
     init.error_handler_fn = exr_error_cb;
     init.user_data = &errors;
     exr_context_t ctx = NULL;
     int part = 0;
-    exr_result_t rc = exr_start_write(&ctx, af.tmp_path, EXR_WRITE_FILE_DIRECTLY, &init);
+    exr_result_t rc = exr_start_write(&ctx, to->tmp_path, EXR_WRITE_FILE_DIRECTLY, &init);
     if (rc == EXR_ERR_SUCCESS)
         rc = exr_add_part(ctx, "sdftrace", EXR_STORAGE_SCANLINE, &part);
     if (rc == EXR_ERR_SUCCESS)
@@ -205,8 +201,17 @@ int io_write_exr(const char *path, const sdft_image *img, char *msg, size_t msg_
     if (rc != EXR_ERR_SUCCESS) {
         snprintf(msg, msg_len, "cannot write %s: %s", path,
                  errors.text[0] ? errors.text : exr_get_default_error_message(rc));
-        atomic_file_abort(&af);
         return -1;
     }
-    return atomic_file_commit(&af, msg, msg_len);
+    return 0;
+}
+
+static int exr_writer(atomic_file *to, const void *img, char *msg, size_t msg_len)
+{
+    return io_write_exr_into(to, img, msg, msg_len);
+}
+
+int io_write_exr(const char *path, const sdft_image *img, char *msg, size_t msg_len)
+{
+    return io_write_whole(path, exr_writer, img, msg, msg_len);
 }

@@ -101,22 +101,41 @@ static void draw_legend(canvas *c, int top, unsigned long scale)
     }
 }
 
-int io_write_heatmap(const char *path, const sdft_image *img, io_heatmap_kind kind, unsigned long max, char *msg,
-                     size_t msg_len)
+int io_write_heatmap_into(atomic_file *to, const sdft_image *img, io_heatmap_kind kind, unsigned long max, char *msg,
+                          size_t msg_len)
 {
     const uint32_t *counts = kind == SDFT_HEATMAP_FALLBACKS ? img->fallbacks : img->steps;
     size_t n = (size_t)img->width * (size_t)img->height;
     canvas c = {.width = img->width, .height = img->height + LEGEND_H};
     c.rgb = malloc((size_t)3 * (size_t)c.width * (size_t)c.height);
     if (!c.rgb) {
-        snprintf(msg, msg_len, "out of memory writing %s", path);
+        snprintf(msg, msg_len, "out of memory writing %s", to->path);
         return -1;
     }
     unsigned long scale = max ? max : heatmap_scale(counts, n);
     for (size_t i = 0; i < n; i++)
         io_heatmap_colour((double)counts[i], (double)scale, c.rgb + 3 * i);
     draw_legend(&c, img->height, scale);
-    int rc = io_png_write_rgb8(path, c.rgb, c.width, c.height, 0, msg, msg_len);
+    int rc = io_png_write_rgb8(to, c.rgb, c.width, c.height, 0, msg, msg_len);
     free(c.rgb);
     return rc;
+}
+
+typedef struct heatmap_job {
+    const sdft_image *img;
+    io_heatmap_kind kind;
+    unsigned long max;
+} heatmap_job;
+
+static int heatmap_writer(atomic_file *to, const void *ctx, char *msg, size_t msg_len)
+{
+    const heatmap_job *job = ctx;
+    return io_write_heatmap_into(to, job->img, job->kind, job->max, msg, msg_len);
+}
+
+int io_write_heatmap(const char *path, const sdft_image *img, io_heatmap_kind kind, unsigned long max, char *msg,
+                     size_t msg_len)
+{
+    const heatmap_job job = {img, kind, max};
+    return io_write_whole(path, heatmap_writer, &job, msg, msg_len);
 }

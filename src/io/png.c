@@ -54,31 +54,40 @@ static int png_encode(FILE *fp, const unsigned char *rgb, int width, int height,
     return 0;
 }
 
-int io_png_write_rgb8(const char *path, const unsigned char *rgb, int width, int height, int srgb, char *msg,
+int io_png_write_rgb8(atomic_file *to, const unsigned char *rgb, int width, int height, int srgb, char *msg,
                       size_t msg_len)
 {
-    atomic_file af;
-    if (atomic_file_begin(&af, path, msg, msg_len))
-        return -1;
-    FILE *fp = fdopen(af.fd, "wb");
+    /* A stream on a copy of the reserved file's descriptor: closing the
+     * stream leaves the descriptor open for the commit. */
+    const int fd = dup(to->fd);
+    FILE *fp = fd >= 0 ? fdopen(fd, "wb") : NULL;
     if (!fp) {
-        snprintf(msg, msg_len, "cannot write %s", path);
-        atomic_file_abort(&af);
+        if (fd >= 0)
+            close(fd);
+        snprintf(msg, msg_len, "cannot write %s", to->path);
         return -1;
     }
     png_errors errors = {{0}};
     int rc = png_encode(fp, rgb, width, height, srgb, &errors);
-    if (fflush(fp) != 0)
+    if (fclose(fp) != 0)
         rc = -1;
-    /* The stream owns the descriptor now; keep it open for the commit. */
-    af.fd = dup(fileno(fp));
-    fclose(fp);
     if (rc != 0) {
-        snprintf(msg, msg_len, "cannot write %s: %s", path, errors.text[0] ? errors.text : "write failed");
+        snprintf(msg, msg_len, "cannot write %s: %s", to->path, errors.text[0] ? errors.text : "write failed");
+        return -1;
+    }
+    return 0;
+}
+
+int io_write_whole(const char *path, io_writer write, const void *ctx, char *msg, size_t msg_len)
+{
+    atomic_file af;
+    if (atomic_file_begin(&af, path, msg, msg_len))
+        return -1;
+    if (write(&af, ctx, msg, msg_len)) {
         atomic_file_abort(&af);
         return -1;
     }
-    return atomic_file_commit(&af, msg, msg_len);
+    return atomic_file_commit(&af, msg, msg_len) ? -1 : 0;
 }
 
 unsigned char io_srgb8(float linear)
@@ -88,17 +97,27 @@ unsigned char io_srgb8(float linear)
     return (unsigned char)(s * 255.0f + 0.5f);
 }
 
-int io_write_png(const char *path, const sdft_image *img, char *msg, size_t msg_len)
+int io_write_png_into(atomic_file *to, const sdft_image *img, char *msg, size_t msg_len)
 {
     size_t n = (size_t)img->width * (size_t)img->height;
     unsigned char *rgb = malloc(3 * n);
     if (!rgb) {
-        snprintf(msg, msg_len, "out of memory writing %s", path);
+        snprintf(msg, msg_len, "out of memory writing %s", to->path);
         return -1;
     }
     for (size_t i = 0; i < 3 * n; i++)
         rgb[i] = io_srgb8(img->rgb[i]);
-    int rc = io_png_write_rgb8(path, rgb, img->width, img->height, 1, msg, msg_len);
+    int rc = io_png_write_rgb8(to, rgb, img->width, img->height, 1, msg, msg_len);
     free(rgb);
     return rc;
+}
+
+static int png_writer(atomic_file *to, const void *img, char *msg, size_t msg_len)
+{
+    return io_write_png_into(to, img, msg, msg_len);
+}
+
+int io_write_png(const char *path, const sdft_image *img, char *msg, size_t msg_len)
+{
+    return io_write_whole(path, png_writer, img, msg, msg_len);
 }

@@ -9,6 +9,7 @@
 
 #include "sdftrace/mesh.h"
 
+#include "atomic_file.h"
 #include "fail.h"
 #include "geometry/triangle_mesh.h"
 #include "geometry/unit_sphere.h"
@@ -17,6 +18,7 @@
 #include "orient/orient.h"
 #include "progress/progress.h"
 #include "samples/query.h"
+#include "seam.h"
 
 #include <tbb/task_arena.h>
 
@@ -26,6 +28,7 @@
 #include <memory>
 #include <mutex>
 #include <new>
+#include <shared_mutex>
 #include <string>
 #include <vector>
 
@@ -35,6 +38,7 @@ struct sdft_mesh {
     bool oriented = false;
     meshsdf::MeshSphere sphere; // in the input's units
     bool normalized = false;
+    std::string warnings;                                               // sdft_mesh_warnings
     std::string source;                                                 // the grids' provenance
     std::string stem;                                                   // the grids' default name
     int threads = 0;                                                    // sdft_mesh_params.threads
@@ -54,7 +58,7 @@ struct sdft_mesh {
         std::call_once(mQueryOnce, [this] {
             const auto start = std::chrono::steady_clock::now();
             mQuery.reset(new meshsdf::PointQuery(mesh, simd.vector, simd.wide, accuracy));
-            mIndexSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            mIndexSeconds = seam::secondsSince(start);
         });
         return *mQuery;
     }
@@ -75,28 +79,20 @@ struct sdft_mesh_grid {
     bool surface = false;
     uint64_t activeVoxels = 0, memoryBytes = 0; // counted once, in its arena
     double seconds = 0;
+    // NanoVDB's converter (openToNanoVDB) rewrites the tree's node origins
+    // while it runs and restores them after: it takes this lock alone, and
+    // every other reader of the tree (the .vdb and .npy writers, the dense
+    // copy) shares it.
+    mutable std::shared_mutex treeLock;
 };
 
 namespace meshsdf::api
 {
 
-// Runs body() (returning an sdft_error) so that no exception leaves it: a
-// cancelled progress is SDFT_ECANCELED, out of memory SDFT_ENOMEM, any
-// other exception SDFT_EINTERNAL, each with `what` and the reason in msg.
-template <class Body> sdft_error guarded(const char *what, char *msg, size_t msg_len, Body &&body)
-{
-    try {
-        return body();
-    } catch (const meshsdf::Cancelled &) {
-        return fail_with(msg, msg_len, SDFT_ECANCELED, "%s: canceled by the progress callback", what);
-    } catch (const std::bad_alloc &) {
-        return fail_with(msg, msg_len, SDFT_ENOMEM, "%s: out of memory", what);
-    } catch (const std::exception &e) {
-        return fail_with(msg, msg_len, SDFT_EINTERNAL, "%s: %s", what, e.what());
-    } catch (...) {
-        return fail_with(msg, msg_len, SDFT_EINTERNAL, "%s: an unknown exception", what);
-    }
-}
+// The seams' one guard (src/common/seam.h): a cancelled progress is
+// SDFT_ECANCELED, out of memory SDFT_ENOMEM, any other exception
+// SDFT_EINTERNAL, each with `what` and the reason in msg.
+using seam::guarded;
 
 // Runs body() on at most `threads` worker threads (0: all cores), in an
 // arena of its own: TBB's loops inside it, OpenVDB's too, stay there.
@@ -106,7 +102,7 @@ template <class Body> auto inArena(int threads, Body &&body) -> decltype(body())
     return arena.execute(std::forward<Body>(body));
 }
 
-double secondsSince(std::chrono::steady_clock::time_point start);
+using seam::secondsSince;
 
 // The value a caller stored in one of the API's enums, read as an int: a C
 // caller may store any int there, and C++ may not load one outside the
@@ -119,9 +115,7 @@ template <class Enum> int enumValue(const Enum &e)
     return v;
 }
 
-// A path's file name without its folder and last extension: a grid's
-// default name.
-std::string fileStem(const std::string &path);
+using seam::fileStem;
 
 // The rows of a params struct's settings table (sdft_mesh_settings).
 struct Settings {
@@ -181,11 +175,10 @@ class GridFiles
     void discard();
 
   private:
-    struct Entry {
-        File file;
-        meshsdf::PendingFile data, sidecar; // the sidecar: an .npy's JSON
-    };
-    std::vector<Entry> mEntries;
+    std::vector<File> mFiles;
+    std::vector<atomic_file> mTargets; // each file's, an .npy's sidecar after it
+    std::vector<size_t> mFirst;        // mFiles[i]'s first of mTargets
+    bool mOpen = false;                // mTargets hold temporary files
 };
 
 // The Progress of a call whose params carry these callbacks.

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 
 namespace meshsdf::api
 {
@@ -14,37 +13,6 @@ namespace
 {
 
 using meshsdf::TriangleMesh;
-
-// Twice the squared area of triangle t, in double: zero for a degenerate one.
-double doubledArea2(const TriangleMesh &mesh, const std::array<uint32_t, 3> &t)
-{
-    double e[2][3];
-    for (int k = 0; k < 3; ++k) {
-        e[0][k] = double(mesh.points[t[1]][k]) - double(mesh.points[t[0]][k]);
-        e[1][k] = double(mesh.points[t[2]][k]) - double(mesh.points[t[0]][k]);
-    }
-    const double c[3] = {e[0][1] * e[1][2] - e[0][2] * e[1][1], e[0][2] * e[1][0] - e[0][0] * e[1][2],
-                         e[0][0] * e[1][1] - e[0][1] * e[1][0]};
-    return c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
-}
-
-// Per point, the first point at the same position (-0 and +0 alike): the
-// points sorted by position, each run of equal ones mapped to its smallest
-// index.
-std::vector<uint32_t> weldSorted(const std::vector<std::array<float, 3>> &points)
-{
-    std::vector<uint32_t> order(points.size());
-    std::iota(order.begin(), order.end(), 0u);
-    auto key = [&](uint32_t i) {
-        const auto &p = points[i];
-        return std::array<float, 3>{p[0] + 0.0f, p[1] + 0.0f, p[2] + 0.0f};
-    };
-    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
-    std::vector<uint32_t> welded(points.size());
-    for (size_t i = 0; i < order.size(); ++i)
-        welded[order[i]] = i > 0 && key(order[i]) == key(order[i - 1]) ? welded[order[i - 1]] : order[i];
-    return welded;
-}
 
 int64_t indexAt(const void *faces, sdft_mesh_dtype type, size_t i)
 {
@@ -107,7 +75,7 @@ sdft_error meshFromArrays(const void *vertices, sdft_mesh_dtype vertexType, size
             }
             t[k] = uint32_t(i);
         }
-        if (doubledArea2(mesh, t) <= 0.0)
+        if (meshsdf::doubleArea2(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]) <= 0.0)
             ++mesh.health.degenerateFaces;
         else
             mesh.triangles.push_back(t);
@@ -117,25 +85,10 @@ sdft_error meshFromArrays(const void *vertices, sdft_mesh_dtype vertexType, size
         error = "mesh has no non-degenerate triangles";
         return SDFT_EFORMAT;
     }
-    mesh.lo = {INFINITY, INFINITY, INFINITY};
-    mesh.hi = {-INFINITY, -INFINITY, -INFINITY};
-    std::vector<char> used(vertexCount, 0);
-    for (const auto &t : mesh.triangles)
-        for (uint32_t v : t) {
-            used[v] = 1;
-            for (int k = 0; k < 3; ++k) {
-                mesh.lo[k] = std::min(mesh.lo[k], double(mesh.points[v][k]));
-                mesh.hi[k] = std::max(mesh.hi[k], double(mesh.points[v][k]));
-            }
-        }
-    const double extent = std::max({mesh.hi[0] - mesh.lo[0], mesh.hi[1] - mesh.lo[1], mesh.hi[2] - mesh.lo[2]});
-    if (!(extent > 0.0)) {
+    if (!meshsdf::finishTriangles(mesh)) {
         error = "mesh bounding box has zero size";
         return SDFT_EFORMAT;
     }
-    mesh.welded = weldSorted(mesh.points);
-    for (size_t v = 0; v < vertexCount; ++v)
-        mesh.health.weldedVertices += used[v] && mesh.welded[v] != v;
     return SDFT_OK;
 }
 

@@ -146,6 +146,7 @@ sdft_error sdft_mesh_grid_dense(const sdft_mesh_grid *g, float *values, size_t c
         return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_grid_dense: %zu values, the box has %zu x %zu x %zu",
                          count, nx, ny, nz);
     return guarded("sdft_mesh_grid_dense", msg, msg_len, [&] {
+        std::shared_lock<std::shared_mutex> reading(g->treeLock); // no NanoVDB conversion meanwhile
         // Leaf-sized blocks in parallel, each copied from its leaf or
         // filled with the tile's value; voxel (0, 0, 0) of the box is the
         // grid's index origin and leaves are aligned to Leaf::DIM.
@@ -180,8 +181,10 @@ sdft_error sdft_mesh_grid_nano(const sdft_mesh_grid *g, sdft_grid **out, char *m
     if (!g || !out)
         return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_grid_nano: %s is NULL", g ? "out" : "g");
     return guarded("sdft_mesh_grid_nano", msg, msg_len, [&] {
+        std::unique_lock<std::shared_mutex> alone(g->treeLock); // the converter rewrites the tree for a while
         nanovdb::GridHandle<> handle =
             inArena(g->threads, [&] { return sdft_vdb::nano_handle(*g->grid, SDFT_QUANT_NONE); });
+        alone.unlock();
         sdft_grid_options o = sdft_grid_options_defaults();
         o.data = handle.data();
         o.size = handle.size();

@@ -1,7 +1,7 @@
 // sdftrace — a converted grid written (grid/grid_files.h): the files of one
 // grid reserved before the work and renamed into place together
-// (GridFiles, api.h), and one file whole or not at all
-// (sdft_mesh_grid_write).
+// (GridFiles, api.h, over src/common/atomic_file.h's sets), and one file
+// whole or not at all (sdft_mesh_grid_write).
 #include "api.h"
 
 #include <tbb/parallel_for.h>
@@ -17,47 +17,48 @@ namespace meshsdf::api
 sdft_error GridFiles::reserve(const std::vector<File> &files, char *msg, size_t msg_len)
 {
     discard();
-    mEntries.clear();
-    std::string error;
+    mFiles = files;
+    mFirst.clear();
+    std::vector<std::string> paths;
     for (const File &f : files) {
-        mEntries.push_back(Entry{f, {}, {}});
-        Entry &e = mEntries.back();
-        if (!meshsdf::reserveFile(f.path, e.data, error) ||
-            (f.format == SDFT_MESH_FORMAT_NPY &&
-             !meshsdf::reserveFile(meshsdf::sidecarPath(f.path), e.sidecar, error))) {
-            discard();
-            mEntries.clear();
-            return fail_with(msg, msg_len, SDFT_EIO, "%s", error.c_str());
-        }
+        mFirst.push_back(paths.size());
+        paths.push_back(f.path);
+        if (f.format == SDFT_MESH_FORMAT_NPY)
+            paths.push_back(meshsdf::sidecarPath(f.path));
     }
-    return SDFT_OK;
+    std::vector<const char *> names;
+    for (const std::string &p : paths)
+        names.push_back(p.c_str());
+    mTargets.assign(paths.size(), atomic_file{});
+    const sdft_error e = atomic_files_begin(mTargets.data(), names.data(), names.size(), msg, msg_len);
+    mOpen = e == SDFT_OK;
+    return e;
 }
 
 void GridFiles::discard()
 {
-    for (Entry &e : mEntries) {
-        meshsdf::discardFile(e.data);
-        meshsdf::discardFile(e.sidecar);
-    }
+    if (mOpen)
+        atomic_files_abort(mTargets.data(), mTargets.size());
+    mOpen = false;
 }
 
 namespace
 {
 
-// Entry e's file(s) written from g into its temporary file(s).
-bool writeEntry(const meshsdf::api::GridFiles::File &f, const meshsdf::PendingFile &data,
-                const meshsdf::PendingFile &sidecar, const sdft_mesh_grid &g, bool fp16, std::string &error)
+// File f written from g into its temporary file (an .npy's sidecar into
+// the next).
+bool writeFile(const GridFiles::File &f, const atomic_file *to, const sdft_mesh_grid &g, bool fp16, std::string &error)
 {
     switch (f.format) {
     case SDFT_MESH_FORMAT_VDB:
-        return meshsdf::writeVdb(*g.grid, data.tmp, error);
+        return meshsdf::writeVdb(*g.grid, to[0].tmp_path, error);
     case SDFT_MESH_FORMAT_NVDB:
-        return meshsdf::writeNvdb(*g.grid, fp16, data.tmp, error);
+        return meshsdf::writeNvdb(*g.grid, fp16, to[0].tmp_path, error);
     case SDFT_MESH_FORMAT_NPY: {
         const size_t slash = f.path.find_last_of('/');
         const std::string name = slash == std::string::npos ? f.path : f.path.substr(slash + 1);
-        return meshsdf::writeNpy(*g.grid, g.box, data.tmp, error) &&
-               meshsdf::writeNpyJson(g.box, name, g.how, g.grid->background(), sidecar.tmp, error);
+        return meshsdf::writeNpy(*g.grid, g.box, to[0].tmp_path, error) &&
+               meshsdf::writeNpyJson(g.box, name, g.how, g.grid->background(), to[1].tmp_path, error);
     }
     }
     error = "unknown format";
@@ -68,23 +69,29 @@ bool writeEntry(const meshsdf::api::GridFiles::File &f, const meshsdf::PendingFi
 
 sdft_error GridFiles::write(const sdft_mesh_grid &g, bool fp16, char *msg, size_t msg_len)
 {
-    for (const Entry &e : mEntries)
-        if (e.file.format == SDFT_MESH_FORMAT_NPY && g.box.voxelCount() > meshsdf::kMaxDenseVoxels) {
+    for (const File &f : mFiles)
+        if (f.format == SDFT_MESH_FORMAT_NPY && g.box.voxelCount() > meshsdf::kMaxDenseVoxels) {
             discard();
             return fail_with(msg, msg_len, SDFT_EINVAL, "%s: a dense array of %.0f voxels is above the limit of 2^31",
-                             e.file.path.c_str(), g.box.voxelCount());
+                             f.path.c_str(), g.box.voxelCount());
         }
-    // Every file side by side (each reads the finished tree only, and
-    // OpenVDB's writer runs on one thread), then renamed into place side by
-    // side too (replacing a large old file frees its blocks within
-    // rename()).
-    const size_t n = mEntries.size();
+    // The NanoVDB files first, one at a time (the converter rewrites the
+    // tree while it runs: api.h's treeLock); then every other file side by
+    // side, each only reading the tree (and OpenVDB's writer runs on one
+    // thread); then all flushed and renamed into place.
+    const size_t n = mFiles.size();
     std::vector<std::string> errors(n);
     std::vector<char> ok(n, 0);
     inArena(g.threads, [&] {
+        std::unique_lock<std::shared_mutex> alone(g.treeLock);
+        for (size_t i = 0; i < n; ++i)
+            if (mFiles[i].format == SDFT_MESH_FORMAT_NVDB)
+                ok[i] = writeFile(mFiles[i], &mTargets[mFirst[i]], g, fp16, errors[i]);
+        alone.unlock();
+        std::shared_lock<std::shared_mutex> reading(g.treeLock);
         tbb::parallel_for(size_t(0), n, [&](size_t i) {
-            const Entry &e = mEntries[i];
-            ok[i] = writeEntry(e.file, e.data, e.sidecar, g, fp16, errors[i]);
+            if (mFiles[i].format != SDFT_MESH_FORMAT_NVDB)
+                ok[i] = writeFile(mFiles[i], &mTargets[mFirst[i]], g, fp16, errors[i]);
         });
     });
     for (size_t i = 0; i < n; ++i)
@@ -92,23 +99,8 @@ sdft_error GridFiles::write(const sdft_mesh_grid &g, bool fp16, char *msg, size_
             discard();
             return fail_with(msg, msg_len, SDFT_EIO, "%s", errors[i].c_str());
         }
-    std::vector<meshsdf::PendingFile *> pending;
-    for (Entry &e : mEntries) {
-        pending.push_back(&e.data);
-        if (e.file.format == SDFT_MESH_FORMAT_NPY)
-            pending.push_back(&e.sidecar);
-    }
-    errors.assign(pending.size(), std::string());
-    ok.assign(pending.size(), 0);
-    inArena(g.threads, [&] {
-        tbb::parallel_for(size_t(0), pending.size(),
-                          [&](size_t i) { ok[i] = meshsdf::commitFile(*pending[i], errors[i]); });
-    });
-    discard(); // whatever was not renamed into place
-    for (size_t i = 0; i < pending.size(); ++i)
-        if (!ok[i])
-            return fail_with(msg, msg_len, SDFT_EIO, "%s", errors[i].c_str());
-    return SDFT_OK;
+    mOpen = false; // committed or removed, either way
+    return atomic_files_commit(mTargets.data(), mTargets.size(), msg, msg_len);
 }
 
 } // namespace meshsdf::api

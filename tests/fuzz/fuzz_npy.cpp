@@ -1,6 +1,7 @@
-// sdftrace fuzzing — mesh2sdf's reader of --query points (convert/npy_read's
-// readNpyPoints): the whole input is the .npy file.
+// sdftrace fuzzing — the strict .npy reader of mesh2sdf's --query points
+// (src/common/npy_read.h): the whole input is the .npy file.
 #include <cstdint>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -12,9 +13,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     char path[256];
     if (fuzz_input_file(data, size, ".npy", path, sizeof path))
         return 0;
-    std::vector<double> xyz;
-    std::string error;
-    mesh2sdf::readNpyPoints(path, xyz, error);
+    double *xyz = nullptr;
+    size_t rows = 0;
+    char msg[512];
+    npy_read_rows(path, 3, &xyz, &rows, msg, sizeof msg);
+    std::free(xyz);
     unlink(path);
     return 0;
 }

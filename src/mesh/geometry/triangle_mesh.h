@@ -20,6 +20,8 @@ struct MeshHealth {
     size_t boundaryEdges = 0;    // edges used by one triangle
     size_t nonManifoldEdges = 0; // edges used by three or more triangles
     size_t degenerateFaces = 0;  // zero-area triangles (skipped)
+    size_t skippedFaces = 0;     // faces of the file left out as malformed: a corner out of range, fewer
+                                 // than three corners, a corner repeated
     size_t weldedVertices = 0;   // used vertices at the position of an earlier one
     bool closed() const { return boundaryEdges == 0 && nonManifoldEdges == 0; }
 };
@@ -34,6 +36,26 @@ struct TriangleMesh {
     /// vertices joins its triangles (the health counts, the open edges).
     std::vector<uint32_t> welded;
 };
+
+/// Twice the squared area of triangle (a, b, c), in double: zero for a
+/// degenerate one, and its square root twice the area.
+inline double doubleArea2(const std::array<float, 3> &a, const std::array<float, 3> &b, const std::array<float, 3> &c)
+{
+    const double e1[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
+    const double e2[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
+    const double x = e1[1] * e2[2] - e1[2] * e2[1], y = e1[2] * e2[0] - e1[0] * e2[2],
+                 z = e1[0] * e2[1] - e1[1] * e2[0];
+    return x * x + y * y + z * z;
+}
+
+/// Sets mesh.lo and mesh.hi: the box of the points its triangles use.
+void computeBox(TriangleMesh &mesh);
+
+/// What every way of taking a mesh in does once its triangles are in
+/// place: the box, the welded numbering (TriangleMesh::welded) and
+/// health.weldedVertices. False, with nothing welded, when the box has
+/// zero size.
+bool finishTriangles(TriangleMesh &mesh);
 
 /// One triangle edge: corner `halfEdge % 3` of triangle `halfEdge / 3` to
 /// the next corner, keyed by its welded endpoints (smaller in the high

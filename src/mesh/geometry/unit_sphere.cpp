@@ -45,15 +45,7 @@ void normalizeMesh(TriangleMesh &mesh, const MeshSphere &sphere)
     for (auto &p : mesh.points)
         for (int k = 0; k < 3; ++k)
             p[k] = float((p[k] - sphere.centre[k]) * scale);
-    // The box again, of the rounded points.
-    mesh.lo.fill(INFINITY);
-    mesh.hi.fill(-INFINITY);
-    for (const auto &t : mesh.triangles)
-        for (uint32_t v : t)
-            for (int k = 0; k < 3; ++k) {
-                mesh.lo[k] = std::min(mesh.lo[k], double(mesh.points[v][k]));
-                mesh.hi[k] = std::max(mesh.hi[k], double(mesh.points[v][k]));
-            }
+    computeBox(mesh); // again, of the rounded points
 }
 
 } // namespace meshsdf

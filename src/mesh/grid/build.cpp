@@ -372,11 +372,6 @@ void fillBox(openvdb::FloatGrid &grid, const BoxGeometry &box, const NearestTria
             tree.addLeaf(block.leaf); // the tree takes ownership
 }
 
-double seconds(std::chrono::steady_clock::time_point since)
-{
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
-
 } // namespace
 
 int buildGridEnd(const sdft_mesh_grid_params &p) { return p.full ? 95 : 90; }
@@ -463,15 +458,17 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
         const auto t0 = std::chrono::steady_clock::now();
         progress.stage(winding ? "exact distance, sign" : "exact distance", 0, winding ? bandEnd : signEnd);
         std::unique_ptr<WindingSign> sign;
+        // The ambiguous voxels counted are the grid's active ones: the band's,
+        // and with --full the whole box's.
         if (winding)
-            sign.reset(
-                new WindingSign(std::move(*edges), *tree, box.origin, box.voxelSize, band, simd.vector, accuracy));
+            sign.reset(new WindingSign(std::move(*edges), *tree, box.origin, box.voxelSize, band, simd.vector, accuracy,
+                                       p.full ? box.dims : std::array<int, 3>{0, 0, 0}));
         grid = exactBandGrid(mesh, box, band, sign.get(), simd.vector, progress);
         if (winding) {
             progress.stage("sign off the band", bandEnd, signEnd);
             signTiles(grid->tree(), *sign, progress);
             stats.ambiguousVoxels = sign->ambiguousVoxels();
-            stats.windingSeconds = seconds(t0);
+            stats.windingSeconds = seam::secondsSince(t0);
         }
     }
     grid->setTransform(xform);

@@ -12,40 +12,10 @@
 #include "grid_file.h"
 #include "json.h"
 #include "npy_write.h"
+#include "seam.h"
 
 namespace meshsdf
 {
-
-bool reserveFile(const std::string &path, PendingFile &file, std::string &error)
-{
-    char msg[512];
-    if (atomic_file_begin(&file.file, path.c_str(), msg, sizeof msg)) {
-        error = msg;
-        return false;
-    }
-    file.tmp = file.file.tmp_path;
-    return true;
-}
-
-bool commitFile(PendingFile &file, std::string &error)
-{
-    if (file.tmp.empty())
-        return true;
-    char msg[512];
-    file.tmp.clear();
-    if (atomic_file_commit(&file.file, msg, sizeof msg)) {
-        error = msg;
-        return false;
-    }
-    return true;
-}
-
-void discardFile(PendingFile &file)
-{
-    if (!file.tmp.empty())
-        atomic_file_abort(&file.file);
-    file.tmp.clear();
-}
 
 void describeGrid(openvdb::FloatGrid &grid, const std::string &name, const Provenance &how)
 {
@@ -132,37 +102,30 @@ bool writeNpy(const openvdb::FloatGrid &grid, const BoxGeometry &box, const std:
 bool writeNpyJson(const BoxGeometry &box, const std::string &npyName, const Provenance &how, float background,
                   const std::string &tmp, std::string &error)
 {
-    FILE *f = std::fopen(tmp.c_str(), "w");
-    if (!f) {
-        error = "cannot write " + tmp + ": " + std::strerror(errno);
-        return false;
-    }
-    std::fprintf(f, "{\n  \"array\": ");
-    json_put_string(f, npyName.c_str());
-    std::fprintf(f,
-                 ",\n"
-                 "  \"dtype\": \"float32\",\n"
-                 "  \"shape\": [%d, %d, %d],\n"
-                 "  \"axis_order\": \"a[i, j, k] is the distance at origin + (i, j, k) * voxel_size (x, y, z); C "
-                 "order, k fastest\",\n"
-                 "  \"origin\": [%.17g, %.17g, %.17g],\n"
-                 "  \"voxel_size\": %.17g,\n"
-                 "  \"units\": \"world units of the mesh; negative inside\",\n"
-                 "  \"background\": %.9g,\n"
-                 "  \"band_voxels\": %.17g,\n"
-                 "  \"full\": %s,\n"
-                 "  \"sign\": ",
-                 box.dims[0], box.dims[1], box.dims[2], box.origin[0], box.origin[1], box.origin[2], box.voxelSize,
-                 double(background), how.band, how.full ? "true" : "false");
-    json_put_string(f, how.sign.c_str());
-    std::fprintf(f, ",\n  \"source_mesh\": ");
-    json_put_string(f, how.source.c_str());
-    std::fprintf(f, "\n}\n");
-    const bool bad = std::ferror(f) != 0;
-    const bool ok = (std::fclose(f) == 0) && !bad;
-    if (!ok)
-        error = "cannot write " + tmp + ": " + std::strerror(errno);
-    return ok;
+    const std::string shape = seam::format("[%d, %d, %d]", box.dims[0], box.dims[1], box.dims[2]),
+                      origin = seam::format("[%.17g, %.17g, %.17g]", box.origin[0], box.origin[1], box.origin[2]),
+                      voxel = seam::format("%.17g", box.voxelSize), back = seam::format("%.9g", double(background)),
+                      band = seam::format("%.17g", how.band);
+    const json_member members[] = {
+        {"array", npyName.c_str(), 0},
+        {"dtype", "float32", 0},
+        {"shape", shape.c_str(), 1},
+        {"axis_order", "a[i, j, k] is the distance at origin + (i, j, k) * voxel_size (x, y, z); C order, k fastest",
+         0},
+        {"origin", origin.c_str(), 1},
+        {"voxel_size", voxel.c_str(), 1},
+        {"units", "world units of the mesh; negative inside", 0},
+        {"background", back.c_str(), 1},
+        {"band_voxels", band.c_str(), 1},
+        {"full", how.full ? "true" : "false", 1},
+        {"sign", how.sign.c_str(), 0},
+        {"source_mesh", how.source.c_str(), 0},
+    };
+    char msg[512];
+    if (json_write_object(tmp.c_str(), members, sizeof members / sizeof *members, msg, sizeof msg) == 0)
+        return true;
+    error = msg;
+    return false;
 }
 
 std::string sidecarPath(const std::string &npyPath)

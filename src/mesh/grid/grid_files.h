@@ -1,9 +1,9 @@
-// sdftrace — writing a converted grid: OpenVDB (.vdb), NanoVDB (.nvdb), dense NumPy
-// (.npy) with a sidecar JSON. Every file is written under a temporary name
-// in its destination folder and renamed at the end, so a failure never
-// leaves a half-written file at the destination: sdftrace's one atomic
-// writer (src/common/atomic_file.h), and its one grid-file writer
-// (src/gridfile/grid_file.h) for .vdb and .nvdb.
+// sdftrace — a converted grid's files: OpenVDB (.vdb), NanoVDB (.nvdb),
+// dense NumPy (.npy) with a sidecar JSON, each written by name into a file
+// its caller reserved (the API's GridFiles: temporary files renamed into
+// place together, src/common/atomic_file.h). .vdb and .nvdb through
+// sdftrace's one grid-file writer (src/gridfile/grid_file.h), the sidecar
+// through its one sidecar writer (src/common/json.h).
 #ifndef SDFT_MESH_GRID_GRID_FILES_H
 #define SDFT_MESH_GRID_GRID_FILES_H
 
@@ -11,27 +11,10 @@
 
 #include <openvdb/openvdb.h>
 
-#include <cstdio>
 #include <string>
-
-#include "atomic_file.h"
 
 namespace meshsdf
 {
-
-/// A destination and the temporary file reserved next to it (`tmp`).
-struct PendingFile {
-    atomic_file file{};
-    std::string tmp;
-};
-
-/// Creates the temporary file (proving the folder is writable). Fails with
-/// one line if the folder is missing or unwritable, or `path` is a folder.
-bool reserveFile(const std::string &path, PendingFile &file, std::string &error);
-/// Flushes the temporary file and renames it onto the destination.
-bool commitFile(PendingFile &file, std::string &error);
-/// Removes the temporary file, if any.
-void discardFile(PendingFile &file);
 
 /// What the metadata records about the conversion.
 struct Provenance {

@@ -38,12 +38,7 @@ double surfaceArea(const TriangleMesh &mesh)
 {
     double area = 0;
     for (const auto &t : mesh.triangles) {
-        const auto &a = mesh.points[t[0]], &b = mesh.points[t[1]], &c = mesh.points[t[2]];
-        const double e1[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
-        const double e2[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
-        const double x = e1[1] * e2[2] - e1[2] * e2[1], y = e1[2] * e2[0] - e1[0] * e2[2],
-                     z = e1[0] * e2[1] - e1[1] * e2[0];
-        area += 0.5 * std::sqrt(x * x + y * y + z * z);
+        area += 0.5 * std::sqrt(doubleArea2(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]]));
     }
     return area;
 }

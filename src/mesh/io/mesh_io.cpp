@@ -10,9 +10,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <unordered_map>
+#include <limits>
+#include <sys/stat.h>
 
 namespace meshsdf
 {
@@ -29,42 +31,6 @@ std::string lowerExtension(const std::string &path)
     std::string ext = path.substr(dot + 1);
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     return ext;
-}
-
-// Twice the squared area of a triangle, in double.
-double doubleArea2(const std::array<float, 3> &a, const std::array<float, 3> &b, const std::array<float, 3> &c)
-{
-    const double e1[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
-    const double e2[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
-    const double x = e1[1] * e2[2] - e1[2] * e2[1], y = e1[2] * e2[0] - e1[0] * e2[2],
-                 z = e1[0] * e2[1] - e1[1] * e2[0];
-    return x * x + y * y + z * z;
-}
-
-// TriangleMesh::welded for `points`.
-std::vector<uint32_t> weldByPosition(const std::vector<std::array<float, 3>> &points)
-{
-    struct Key {
-        float x, y, z;
-        bool operator==(const Key &o) const { return x == o.x && y == o.y && z == o.z; }
-    };
-    struct KeyHash {
-        size_t operator()(const Key &k) const
-        {
-            uint32_t b[3];
-            std::memcpy(b, &k, sizeof b);
-            return (size_t(b[0]) * 73856093u) ^ (size_t(b[1]) * 19349663u) ^ (size_t(b[2]) * 83492791u);
-        }
-    };
-    std::unordered_map<Key, uint32_t, KeyHash> first;
-    first.reserve(points.size());
-    std::vector<uint32_t> welded(points.size());
-    for (size_t i = 0; i < points.size(); ++i) {
-        const auto &p = points[i];
-        // + 0.0f makes -0 +0, so that equal keys hash alike.
-        welded[i] = first.emplace(Key{p[0] + 0.0f, p[1] + 0.0f, p[2] + 0.0f}, uint32_t(i)).first->second;
-    }
-    return welded;
 }
 
 // True if the n corners are a polygon: three or more, all distinct.
@@ -87,6 +53,16 @@ bool isPolygon(const uint32_t *corners, size_t n)
     return std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
 }
 
+// Whether a coordinate is one no model has: beyond kAbsurdCoordinate, or
+// subnormal (below float's smallest normal number and not zero: the
+// integers and pointers a reader that read past its data turns into
+// floats look so).
+bool absurd(float x)
+{
+    const float m = std::abs(x);
+    return m > kAbsurdCoordinate || (m > 0 && m < std::numeric_limits<float>::min());
+}
+
 // The soup's polygons as fans of triangles, zero-area ones skipped and
 // counted, the box and the welding: the loader's checks, the same for every
 // reader. Corner indices are within soup.points (each reader's promise).
@@ -101,12 +77,24 @@ bool finishMesh(const std::string &path, PolygonSoup &soup, TriangleMesh &mesh, 
             error = "mesh has a non-finite coordinate (vertex " + std::to_string(v) + "): " + path;
             return false;
         }
+        for (int k = 0; k < 3; ++k)
+            if (absurd(p[k])) {
+                char value[32];
+                std::snprintf(value, sizeof value, "%.3g", double(p[k]));
+                error = "mesh has a coordinate of absurd size (vertex " + std::to_string(v) + ": " + value +
+                        "; garbage from a broken file or reader?): " + path;
+                return false;
+            }
     }
+    mesh.health.skippedFaces = soup.skippedFaces;
+    mesh.health.faces = mesh.health.degenerateFaces = soup.degenerateFaces;
     for (size_t f = 0, begin = 0; f < soup.ends.size(); begin = soup.ends[f++]) {
         const uint32_t *corners = soup.corners.data() + begin;
         const size_t n = soup.ends[f] - begin;
-        if (!isPolygon(corners, n))
+        if (!isPolygon(corners, n)) {
+            ++mesh.health.skippedFaces;
             continue;
+        }
         ++mesh.health.faces;
         for (size_t k = 1; k + 1 < n; ++k) {
             const std::array<uint32_t, 3> t{corners[0], corners[k], corners[k + 1]};
@@ -126,26 +114,10 @@ bool finishMesh(const std::string &path, PolygonSoup &soup, TriangleMesh &mesh, 
         error = "mesh has no non-degenerate triangles: " + path;
         return false;
     }
-    mesh.lo = {INFINITY, INFINITY, INFINITY};
-    mesh.hi = {-INFINITY, -INFINITY, -INFINITY};
-    for (const auto &t : mesh.triangles)
-        for (uint32_t v : t)
-            for (int k = 0; k < 3; ++k) {
-                mesh.lo[k] = std::min(mesh.lo[k], double(mesh.points[v][k]));
-                mesh.hi[k] = std::max(mesh.hi[k], double(mesh.points[v][k]));
-            }
-    const double extent = std::max({mesh.hi[0] - mesh.lo[0], mesh.hi[1] - mesh.lo[1], mesh.hi[2] - mesh.lo[2]});
-    if (!(extent > 0.0)) {
+    if (!finishTriangles(mesh)) {
         error = "mesh bounding box has zero size: " + path;
         return false;
     }
-    mesh.welded = weldByPosition(mesh.points);
-    std::vector<char> used(mesh.points.size(), 0);
-    for (const auto &t : mesh.triangles)
-        for (uint32_t v : t)
-            used[v] = 1;
-    for (size_t v = 0; v < mesh.points.size(); ++v)
-        mesh.health.weldedVertices += used[v] && mesh.welded[v] != v;
     return true;
 }
 
@@ -157,9 +129,14 @@ bool isMeshExtension(const std::string &path)
     return ext == "obj" || ext == "ply" || ext == "off" || ext == "stl" || ext == "om" || isAssimpExtension(ext);
 }
 
-bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
+bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error, std::vector<std::string> *warnings)
 {
     const std::string ext = lowerExtension(path);
+    struct stat st;
+    if (stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) {
+        error = "mesh is a folder, not a file: " + path;
+        return false;
+    }
     if (!isMeshExtension(path)) {
         std::string known = std::string("obj ply off stl om ") + kAssimpExtensions;
         for (size_t at = 0; (at = known.find(' ', at)) != std::string::npos; at += 2)
@@ -176,7 +153,20 @@ bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
         const bool read = ext == "ply"             ? readPly(path, soup, error)
                           : isAssimpExtension(ext) ? readAssimp(path, soup, error)
                                                    : readOpenMesh(path, ext, soup, error);
-        return read && finishMesh(path, soup, mesh, error);
+        const std::string doubts = soup.warnings;
+        if (!read || !finishMesh(path, soup, mesh, error))
+            return false;
+        if (warnings) {
+            warnings->clear();
+            for (size_t at = 0, end; (end = doubts.find('\n', at)) != std::string::npos; at = end + 1)
+                warnings->push_back(doubts.substr(at, end - at));
+            const size_t n = mesh.health.skippedFaces;
+            if (n)
+                warnings->push_back(std::to_string(n) + (n == 1 ? " face of the file was" : " faces of the file were") +
+                                    " left out: a corner out of range, fewer than three corners or a corner "
+                                    "repeated");
+        }
+        return true;
     } catch (const std::bad_alloc &) {
         error = "mesh is larger than memory allows: " + path;
         return false;

@@ -13,14 +13,14 @@
 #include <mutex>
 
 #include "sdftrace/mesh.h"
+#include "seam.h"
 
 namespace meshsdf
 {
 
-/// Thrown by Progress::report when the listener asked to stop.
-struct Cancelled : std::exception {
-    const char *what() const noexcept override { return "canceled"; }
-};
+/// Thrown by Progress::report when the listener asked to stop (the seams'
+/// guard answers it with SDFT_ECANCELED).
+using Cancelled = seam::Cancelled;
 
 class Progress final : public openvdb::util::NullInterrupter
 {

@@ -69,16 +69,8 @@ std::vector<double> areaSums(const TriangleMesh &mesh)
     std::vector<double> sums(mesh.triangles.size());
     double total = 0;
     for (size_t t = 0; t < mesh.triangles.size(); ++t) {
-        const auto &a = mesh.points[mesh.triangles[t][0]], &b = mesh.points[mesh.triangles[t][1]],
-                   &c = mesh.points[mesh.triangles[t][2]];
-        double e1[3], e2[3];
-        for (int k = 0; k < 3; ++k) {
-            e1[k] = double(b[k]) - a[k];
-            e2[k] = double(c[k]) - a[k];
-        }
-        const double x = e1[1] * e2[2] - e1[2] * e2[1], y = e1[2] * e2[0] - e1[0] * e2[2],
-                     z = e1[0] * e2[1] - e1[1] * e2[0];
-        total += std::sqrt(x * x + y * y + z * z);
+        const auto &tri = mesh.triangles[t];
+        total += std::sqrt(doubleArea2(mesh.points[tri[0]], mesh.points[tri[1]], mesh.points[tri[2]]));
         sums[t] = total;
     }
     return sums;

@@ -81,9 +81,13 @@ class WindingSign
     /// exact band's (distance/band.h), in voxels: every voxel off the band is at
     /// least that far from the mesh. `simd`: the near field four voxels at
     /// a time with AVX2 where the processor has it. `accuracy`: how the
-    /// voxels that decide are evaluated (FastWinding::side).
+    /// voxels that decide are evaluated (FastWinding::side). `counted`: the
+    /// box of voxels [0, counted) whose voxels off the band count in
+    /// ambiguousVoxels (a grid with a distance in every voxel of its box);
+    /// band voxels always count.
     WindingSign(EdgeField field, const FastWinding &winding, const std::array<double, 3> &origin, double voxelSize,
-                double halfWidth, bool simd = true, WindingAccuracy accuracy = WindingAccuracy::Fast);
+                double halfWidth, bool simd = true, WindingAccuracy accuracy = WindingAccuracy::Fast,
+                const std::array<int, 3> &counted = {0, 0, 0});
 
     /// Signs every voxel of the block at `origin` (distance/band.h's layout) by
     /// whether the winding number exceeds 1/2 there: band voxels (finite
@@ -99,10 +103,15 @@ class WindingSign
 
     /// How many voxels signBlock and cubeSide have signed from a winding
     /// number between 1/2 - kAmbiguous and 1/2 + kAmbiguous (0.25 to 0.75):
-    /// near holes, or where a patch has no clear outside.
+    /// near holes, or where a patch has no clear outside. Only band voxels
+    /// and those off the band in the `counted` box count: the voxels a
+    /// grid stores (a narrow band's are its band's).
     uint64_t ambiguousVoxels() const { return mAmbiguous.load(); }
 
   private:
+    // The voxels of the cube of size^3 from `origin` within mCounted's box.
+    uint64_t countedOffBand(const std::array<int, 3> &origin, int size) const;
+
     void countAmbiguous(uint64_t voxels) const
     {
         if (voxels)
@@ -117,6 +126,7 @@ class WindingSign
     EdgeField mField;
     bool mVectorized;
     WindingAccuracy mAccuracy;
+    std::array<int, 3> mCounted;
 };
 
 } // namespace meshsdf
