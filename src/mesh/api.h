@@ -38,11 +38,12 @@ struct sdft_mesh {
     bool oriented = false;
     meshsdf::MeshSphere sphere; // in the input's units
     bool normalized = false;
-    std::string warnings; // sdft_mesh_warnings
-    std::string source;   // the grids' provenance
-    std::string stem;     // the grids' default name
-    int threads = 0;      // sdft_mesh_params.threads
-    meshsdf::Simd simd;   // sdft_mesh_params.simd
+    std::string warnings;                                               // sdft_mesh_warnings
+    std::string source;                                                 // the grids' provenance
+    std::string stem;                                                   // the grids' default name
+    int threads = 0;                                                    // sdft_mesh_params.threads
+    meshsdf::Simd simd;                                                 // sdft_mesh_params.simd
+    meshsdf::WindingAccuracy accuracy = meshsdf::WindingAccuracy::Fast; // sdft_mesh_params.accuracy
     double readSeconds = 0, orientSeconds = 0;
 
     // The mesh's sphere where the mesh now is: the unit sphere once
@@ -56,7 +57,7 @@ struct sdft_mesh {
     {
         std::call_once(mQueryOnce, [this] {
             const auto start = std::chrono::steady_clock::now();
-            mQuery.reset(new meshsdf::PointQuery(mesh, simd.vector, simd.wide));
+            mQuery.reset(new meshsdf::PointQuery(mesh, simd.vector, simd.wide, accuracy));
             mIndexSeconds = seam::secondsSince(start);
         });
         return *mQuery;

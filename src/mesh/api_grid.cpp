@@ -87,7 +87,7 @@ sdft_error sdft_mesh_to_grid(const sdft_mesh *m, const sdft_mesh_grid_params *pa
             return unplanned;
         Listened listened(p.progress, p.stage, p.progress_user);
         inArena(g->threads, [&] {
-            g->grid = meshsdf::buildGrid(m->mesh, g->box, p, m->simd, listened.progress, g->stats);
+            g->grid = meshsdf::buildGrid(m->mesh, g->box, p, m->simd, m->accuracy, listened.progress, g->stats);
             g->surface = hasSurface(*g->grid); // one pass over the tree
             g->activeVoxels = g->grid->activeVoxelCount();
             g->memoryBytes = g->grid->memUsage();

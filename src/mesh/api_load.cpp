@@ -35,13 +35,16 @@ void finishMesh(sdft_mesh &m, const sdft_mesh_params &p, meshsdf::Progress &prog
     progress.report(100);
 }
 
-// The mesh's share of the cores and its vector instructions, from p.
+// The mesh's share of the cores, its vector instructions and its winding
+// numbers' accuracy, from p.
 std::unique_ptr<sdft_mesh> newMesh(const sdft_mesh_params &p)
 {
     std::unique_ptr<sdft_mesh> m(new sdft_mesh);
     m->threads = p.threads;
     m->simd.vector = p.simd != SDFT_MESH_SIMD_NONE;
     m->simd.wide = p.simd == SDFT_MESH_SIMD_AUTO;
+    m->accuracy =
+        p.accuracy == SDFT_MESH_ACCURACY_EXACT ? meshsdf::WindingAccuracy::Exact : meshsdf::WindingAccuracy::Fast;
     return m;
 }
 

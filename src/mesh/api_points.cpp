@@ -83,7 +83,8 @@ sdft_error evaluate(const char *what, const sdft_mesh *m, const sdft_mesh_points
                     double w = NAN, d = NAN;
                     const bool finite = std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
                     if (finite && distance)
-                        d = query.signedDistance(p, INFINITY, &w);
+                        d = winding ? query.signedDistance(p, INFINITY, &w)
+                                    : query.signedDistance(p, INFINITY); // the sign alone: its side
                     else if (finite)
                         w = query.winding(p); // the winding number alone: no nearest triangle
                     if (distance)

@@ -1,6 +1,7 @@
 // sdftrace — the split both bounding volume hierarchies use (the winding
 // tree, sign/winding.cpp, and the nearest-triangle tree, distance/nearest_triangle.cpp):
-// at the median centroid along the longest axis of the centroids' bounds.
+// along the longest axis of the centroids' bounds, at the median (the
+// winding tree rounds it to whole groups of four triangles).
 #ifndef SDFT_MESH_GEOMETRY_MEDIAN_SPLIT_H
 #define SDFT_MESH_GEOMETRY_MEDIAN_SPLIT_H
 
@@ -13,11 +14,11 @@
 namespace meshsdf
 {
 
-/// Reorders order[first, first + count) so that its first count / 2
-/// triangles have centroids no further along the longest axis than the rest;
-/// returns count / 2.
-inline uint32_t splitAtMedian(std::vector<uint32_t> &order, uint32_t first, uint32_t count,
-                              const std::vector<std::array<double, 3>> &centroids)
+/// Reorders order[first, first + count) so that its first `at` triangles
+/// have centroids no further along the longest axis than the rest
+/// (0 < at < count).
+inline void splitAt(std::vector<uint32_t> &order, uint32_t first, uint32_t count, uint32_t at,
+                    const std::vector<std::array<double, 3>> &centroids)
 {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (uint32_t i = first; i < first + count; ++i)
@@ -29,9 +30,16 @@ inline uint32_t splitAtMedian(std::vector<uint32_t> &order, uint32_t first, uint
     for (int k = 1; k < 3; ++k)
         if (hi[k] - lo[k] > hi[axis] - lo[axis])
             axis = k;
-    const uint32_t half = count / 2;
-    std::nth_element(order.begin() + first, order.begin() + first + half, order.begin() + first + count,
+    std::nth_element(order.begin() + first, order.begin() + first + at, order.begin() + first + count,
                      [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+}
+
+/// splitAt the median: returns count / 2.
+inline uint32_t splitAtMedian(std::vector<uint32_t> &order, uint32_t first, uint32_t count,
+                              const std::vector<std::array<double, 3>> &centroids)
+{
+    const uint32_t half = count / 2;
+    splitAt(order, first, count, half, centroids);
     return half;
 }
 

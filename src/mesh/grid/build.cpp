@@ -416,7 +416,7 @@ bool planBox(const TriangleMesh &mesh, const sdft_mesh_grid_params &p, BoxGeomet
 }
 
 openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &box, const sdft_mesh_grid_params &p,
-                                  Simd simd, Progress &progress, BuildStats &stats)
+                                  Simd simd, WindingAccuracy accuracy, Progress &progress, BuildStats &stats)
 {
     openvdb::math::Transform::Ptr xform = openvdb::math::Transform::createLinearTransform(box.voxelSize);
     xform->postTranslate(openvdb::Vec3d(box.origin[0], box.origin[1], box.origin[2]));
@@ -433,7 +433,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
     tbb::parallel_invoke(
         [&] {
             if (winding)
-                tree.reset(new FastWinding(mesh.points, mesh.triangles, 2.0, simd.vector));
+                tree.reset(new FastWinding(mesh.points, mesh.triangles, simd.vector));
         },
         [&] {
             if (winding)
@@ -461,7 +461,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
         // The ambiguous voxels counted are the grid's active ones: the band's,
         // and with --full the whole box's.
         if (winding)
-            sign.reset(new WindingSign(std::move(*edges), *tree, box.origin, box.voxelSize, band, simd.vector,
+            sign.reset(new WindingSign(std::move(*edges), *tree, box.origin, box.voxelSize, band, simd.vector, accuracy,
                                        p.full ? box.dims : std::array<int, 3>{0, 0, 0}));
         grid = exactBandGrid(mesh, box, band, sign.get(), simd.vector, progress);
         if (winding) {

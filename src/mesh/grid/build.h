@@ -8,6 +8,7 @@
 #include "geometry/triangle_mesh.h"
 #include "progress/progress.h"
 #include "sdftrace/mesh.h"
+#include "sign/winding.h"
 
 #include <openvdb/openvdb.h>
 
@@ -56,11 +57,12 @@ struct BuildStats {
 /// The signed (or, with SDFT_MESH_SIGN_NONE, unsigned) distance grid in world
 /// units: a GRID_LEVEL_SET with background band * voxelSize and the box's
 /// transform. Its stages fill `progress` from 0 to buildGridEnd(p) %.
+/// `accuracy`: the winding sign's (WindingSign).
 /// Where on the progress bar building ends and writing begins, in percent.
 int buildGridEnd(const sdft_mesh_grid_params &p);
 
 openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &box, const sdft_mesh_grid_params &p,
-                                  Simd simd, Progress &progress, BuildStats &stats);
+                                  Simd simd, WindingAccuracy accuracy, Progress &progress, BuildStats &stats);
 
 } // namespace meshsdf
 

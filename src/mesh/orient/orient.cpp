@@ -2,9 +2,22 @@
 //
 // THE STEPS
 // 1. Weld (loadMesh already did: TriangleMesh::welded) and drop duplicate
-//    triangles: a second triangle on the same three welded vertices adds
-//    nothing to the surface, and with the opposite orientation it cancels
-//    the first one's solid angle, a hole in the winding number.
+//    triangles: a second triangle on the same three welded vertices and in
+//    the same orientation adds nothing to the surface but a second count
+//    of its solid angle. One in the opposite orientation cancels the
+//    first's solid angle, and which is right depends on the rest: where
+//    two closed parts touch (a face of each on the same vertices) or a
+//    sheet is modelled from both sides, every edge's net current (uses one
+//    way less the other, winding_sign.cpp) is 0 with both kept, and the
+//    winding number is the parts' sum, 1 in each; dropping either would
+//    open both parts along the face (w near 1/2 beside it). Where a closed
+//    surface has one face again reversed, the pair's edges carry the
+//    copy's current, and dropping the copy balances them. So of an
+//    opposite pair the triangle whose going leaves its three edges' |net
+//    current| smallest is dropped, if that is smaller than keeping both
+//    (ties: the later one); pairs in the order of their first triangle.
+//    A patch (step 2) of such twins alone is left as it is (the pair
+//    cancels only as given) and not counted as lacking an outside.
 // 2. Patches: triangles joined across edges that exactly two of them share
 //    (an edge of one is open, of three or more is a seam between patches).
 //    Breadth first from each patch's first triangle, a neighbour is reversed
@@ -85,6 +98,8 @@
 
 #include "sign/winding.h"
 
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -133,38 +148,106 @@ Vec centroid(const TriangleMesh &mesh, uint32_t t)
 double dot(const Vec &a, const Vec &b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 double norm(const Vec &a) { return std::sqrt(dot(a, a)); }
 
-// Step 1: drops every triangle on the same welded vertices as an earlier
-// one (such triangles share all three edges, so they meet in the runs of
-// `edges`). Returns how many were dropped; `edges` is recomputed.
-size_t dropDuplicates(TriangleMesh &mesh, std::vector<EdgeUse> &edges)
+// Step 1: of the triangles on the same three welded vertices, keeps the
+// first of each orientation; a pair of opposite orientations then stays
+// unless dropping one of the two balances its edges (see THE STEPS, 1).
+// Returns how many were dropped; `edges` is recomputed, and `paired`
+// marks each triangle that stays beside its opposite twin.
+size_t dropDuplicates(TriangleMesh &mesh, std::vector<EdgeUse> &edges, std::vector<char> &paired)
 {
-    auto third = [&](uint32_t h) { return mesh.welded[mesh.triangles[h / 3][(h % 3 + 2) % 3]]; };
-    std::vector<char> drop(mesh.triangles.size(), 0);
-    std::vector<std::pair<uint32_t, uint32_t>> run; // (third vertex, triangle)
+    const uint32_t n = uint32_t(mesh.triangles.size());
+    // Each edge's net current (uses from its smaller welded vertex to the
+    // larger, less those the other way), and which edge each half-edge is.
+    std::vector<int> current;
+    std::vector<uint32_t> edgeOf(size_t(n) * 3);
     for (size_t i = 0, j; i < edges.size(); i = j) {
-        for (j = i + 1; j < edges.size() && edges[j].key == edges[i].key;)
-            ++j;
-        if (j - i < 2)
-            continue;
-        if (j - i == 2) { // a manifold edge, most of them: no sort
-            if (third(edges[i].halfEdge) == third(edges[i + 1].halfEdge))
-                drop[std::max(edges[i].halfEdge, edges[i + 1].halfEdge) / 3] = 1;
-            continue;
+        int net = 0;
+        for (j = i; j < edges.size() && edges[j].key == edges[i].key; ++j) {
+            net += edgeFrom(mesh, edges[j].halfEdge) < edgeTo(mesh, edges[j].halfEdge) ? 1 : -1;
+            edgeOf[edges[j].halfEdge] = uint32_t(current.size());
         }
-        run.clear();
-        for (size_t k = i; k < j; ++k)
-            run.emplace_back(third(edges[k].halfEdge), edges[k].halfEdge / 3);
-        std::sort(run.begin(), run.end());
-        for (size_t k = 1; k < run.size(); ++k)
-            if (run[k].first == run[k - 1].first)
-                drop[run[k].second] = 1; // the later triangle of the two
+        current.push_back(net);
+    }
+    auto direction = [&](uint32_t h) { return edgeFrom(mesh, h) < edgeTo(mesh, h) ? 1 : -1; };
+    // The triangles by their sorted welded vertices, and the orientation
+    // (an even or odd permutation of them).
+    struct Keyed {
+        uint32_t v[3];
+        bool odd;
+        uint32_t t;
+        bool operator<(const Keyed &o) const
+        {
+            return std::lexicographical_compare(v, v + 3, o.v, o.v + 3) ||
+                   (std::equal(v, v + 3, o.v) && (odd < o.odd || (odd == o.odd && t < o.t)));
+        }
+    };
+    std::vector<Keyed> keyed(n);
+    for (uint32_t t = 0; t < n; ++t) {
+        Keyed &k = keyed[t];
+        for (int c = 0; c < 3; ++c)
+            k.v[c] = mesh.welded[mesh.triangles[t][c]];
+        // Sorting three by swaps: each swap flips the parity.
+        k.odd = false;
+        for (int a = 0; a < 2; ++a)
+            for (int b = 0; b < 2 - a; ++b)
+                if (k.v[b] > k.v[b + 1]) {
+                    std::swap(k.v[b], k.v[b + 1]);
+                    k.odd = !k.odd;
+                }
+        k.t = t;
+    }
+    tbb::parallel_sort(keyed.begin(), keyed.end()); // keys unique: the same order for any thread count
+    std::vector<char> drop(n, 0), twin(n, 0);
+    auto dropTriangle = [&](uint32_t t) {
+        drop[t] = 1;
+        for (int c = 0; c < 3; ++c)
+            current[edgeOf[t * 3 + c]] -= direction(t * 3 + c);
+    };
+    std::vector<std::pair<uint32_t, uint32_t>> pairs; // kept (even, odd) pairs, in order
+    for (size_t i = 0, j; i < keyed.size(); i = j) {
+        for (j = i + 1; j < keyed.size() && std::equal(keyed[j].v, keyed[j].v + 3, keyed[i].v);)
+            ++j;
+        uint32_t first[2] = {kNone, kNone}; // the earliest triangle of each orientation
+        for (size_t k = i; k < j; ++k) {
+            uint32_t &f = first[keyed[k].odd];
+            if (f == kNone)
+                f = keyed[k].t; // sorted by triangle within an orientation
+            else
+                dropTriangle(keyed[k].t);
+        }
+        if (first[0] != kNone && first[1] != kNone)
+            pairs.emplace_back(std::min(first[0], first[1]), std::max(first[0], first[1]));
+    }
+    // Opposite pairs in the order of their first triangle: drop the one
+    // whose going leaves the least imbalance |net| on its three edges, if
+    // less than keeping both.
+    std::sort(pairs.begin(), pairs.end());
+    for (const auto &pr : pairs) {
+        const uint32_t a = pr.first;
+        int keep = 0, dropA = 0, dropB = 0;
+        for (int c = 0; c < 3; ++c) {
+            const int net = current[edgeOf[a * 3 + c]], d = direction(a * 3 + c);
+            keep += std::abs(net);
+            dropA += std::abs(net - d);
+            dropB += std::abs(net + d);
+        }
+        if (dropB < keep && dropB <= dropA)
+            dropTriangle(pr.second); // the later one, on a tie
+        else if (dropA < keep)
+            dropTriangle(a);
+        else
+            twin[pr.first] = twin[pr.second] = 1;
     }
     size_t dropped = 0;
+    paired.assign(n, 0);
     for (size_t t = 0; t < mesh.triangles.size(); ++t)
-        if (!drop[t])
+        if (!drop[t]) {
+            paired[t - dropped] = twin[t];
             mesh.triangles[t - dropped] = mesh.triangles[t];
-        else
+        } else {
             ++dropped;
+        }
+    paired.resize(n - dropped);
     if (dropped) {
         mesh.triangles.resize(mesh.triangles.size() - dropped);
         edges = edgeUses(mesh);
@@ -518,7 +601,8 @@ OrientCounts orientMesh(TriangleMesh &mesh, bool simd)
     OrientCounts counts;
     counts.weldedVertices = mesh.health.weldedVertices;
     std::vector<EdgeUse> edges = edgeUses(mesh);
-    counts.duplicateFaces = dropDuplicates(mesh, edges);
+    std::vector<char> paired;
+    counts.duplicateFaces = dropDuplicates(mesh, edges, paired);
     countEdges(mesh, edges);
 
     const uint32_t n = uint32_t(mesh.triangles.size());
@@ -533,6 +617,13 @@ OrientCounts orientMesh(TriangleMesh &mesh, bool simd)
     std::vector<uint32_t> inward, undecided;
     for (uint32_t id = 0; id < p.count(); ++id) {
         counts.nonOrientablePatches += !p.orientable[id];
+        // A patch of triangles each beside its opposite twin (faces where
+        // closed parts touch) cancels whatever its orientation: it stays.
+        bool twins = true;
+        for (uint32_t i = p.start[id]; i < p.start[id + 1] && twins; ++i)
+            twins = paired[p.order[i]] != 0;
+        if (twins)
+            continue;
         const int side = outwardSide(mesh, p, id, areaVec, area);
         if (side == 0)
             undecided.push_back(id);
@@ -553,7 +644,7 @@ OrientCounts orientMesh(TriangleMesh &mesh, bool simd)
                 for (uint32_t t = 0; t < n; ++t)
                     if (p.reversed[t])
                         std::swap(oriented[t][1], oriented[t][2]);
-                winding.reset(new FastWinding(mesh.points, oriented, 2.0, simd));
+                winding.reset(new FastWinding(mesh.points, oriented, simd));
             }
             cavity = !turnsOutward(mesh, p, id, areaVec, area, *winding);
         }

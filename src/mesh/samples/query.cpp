@@ -11,10 +11,10 @@
 namespace meshsdf
 {
 
-PointQuery::PointQuery(const TriangleMesh &mesh, bool simd, bool wide)
+PointQuery::PointQuery(const TriangleMesh &mesh, bool simd, bool wide, WindingAccuracy accuracy) : mAccuracy(accuracy)
 {
     tbb::parallel_invoke([&] { mNearest.reset(new NearestTriangle(mesh, simd, wide)); },
-                         [&] { mWinding.reset(new FastWinding(mesh.points, mesh.triangles, 2.0, simd)); });
+                         [&] { mWinding.reset(new FastWinding(mesh.points, mesh.triangles, simd)); });
 }
 
 namespace

@@ -138,8 +138,7 @@ void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const Point
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t> &r) {
         for (size_t j = r.begin(); j != r.end(); ++j) {
             const size_t i = order[j];
-            double w;
-            const double d = query.signedDistance(&points[i * 3], bounds[i], &w);
+            const double d = query.signedDistance(&points[i * 3], bounds[i]); // the sign alone
             float *row = &rows[i * 4];
             for (int k = 0; k < 3; ++k)
                 row[k] = float(points[i * 3 + k]);

@@ -59,17 +59,17 @@
 // the ball of that radius, bounds sup |g''|. A step takes the smaller of
 // this and l times the larger edge by edge bound G at its ends.
 //
-// w is evaluated by FastWinding (winding.h), whose far-field expansion
-// (beta = 2, order 2) is not exact: against the brute-force sum it errs by up
-// to 0.06 at random points of the test meshes (median 0.003). Its Taylor
-// remainder, 3 M2 / (4 pi (D - R)^4) per node (M2 the node's second area
-// moment, D the distance to its centre, R its radius), is of order 1 at
-// D = 2R and proves nothing useful, so the error is not bounded here:
-// instead every decision that reaches beyond an evaluated point keeps a
-// margin kMargin = 0.1 for it. With that, a voxel whose sign is inferred
-// from an anchor evaluated at w0 gets the sign of its own true winding
-// number whenever |w0 - w(anchor)| < kMargin, which is what evaluating the
-// voxel itself would need as well.
+// w is evaluated by FastWinding::side (winding.h), which is not exact: it
+// returns w0 with an error margin m0, its coarse pass's kSideMargin = 0.1
+// where that pass is clear of 1/2 by more (it errs by up to 0.007 on the
+// test meshes, 0.04 where twenty closed shells nest), else the fast
+// evaluation's kFastMargin = 0.01 (measured below 0.003), or with
+// --winding-accuracy exact a proven bound (winding.cpp) that keeps w0 on
+// the exact sum's side of 1/2. Every decision that reaches beyond an
+// evaluated point keeps that point's margin: a voxel whose sign is
+// inferred from an anchor evaluated at w0 gets the sign of its own true
+// winding number whenever |w0 - w(anchor)| < m0, which is what evaluating
+// the voxel itself would need as well.
 //
 // Off the band. The band is exact (distance/band.h), so a voxel off it is at least
 // r = halfWidth voxels from the mesh, and every point of a cube of such
@@ -80,7 +80,7 @@
 // bounds sup |grad w| over the cube by the field bound above at a lower
 // bound of each edge's distance to the cube (the larger of the boxes' gap,
 // the edge's distance from c less rho, and r - sqrt(3)/2 voxels), and gives
-// the cube the side of w(c) when |w(c) - 1/2| > rho * bound + kMargin. (With
+// the cube the side of w(c) when |w(c) - 1/2| > rho * bound + m(c). (With
 // a band of r <= sqrt(3)/2 the clearance comes from the exact distance of c
 // less rho instead.)
 #include "sign/winding_sign.h"
@@ -107,8 +107,6 @@ constexpr double kPi = 3.14159265358979323846;
 // farther ones once for the whole block.
 constexpr double kNearVoxels = 12;
 
-// What a decision keeps for FastWinding's error (see the top of the file).
-constexpr double kMargin = 0.1;
 // A winding number within this of 1/2 signs its voxels, but says little:
 // WindingSign::ambiguousVoxels counts them.
 constexpr double kAmbiguous = 0.25;
@@ -512,9 +510,10 @@ bool signByComponents(float *distance, const float *reach, const BlockGradientBo
             if (seed < 0 || reach[v] > reach[seed])
                 seed = v;
         });
-        const double w = windingAt(seed);
-        // The most steps that keep |w - 1/2| - steps * perStep > kMargin.
-        const double margin = std::abs(w - 0.5) - kMargin;
+        const WindingValue value = windingAt(seed);
+        const double w = value.w;
+        // The most steps that keep |w - 1/2| - steps * perStep > its margin.
+        const double margin = std::abs(w - 0.5) - value.bound;
         int maxLayers = 0;
         if (margin > 0)
             maxLayers = perStep > 0 ? int(std::min(std::ceil(margin / perStep) - 1, double(kBlockSize))) : kBlockSize;
@@ -539,9 +538,10 @@ bool signByComponents(float *distance, const float *reach, const BlockGradientBo
 } // namespace
 
 WindingSign::WindingSign(EdgeField field, const FastWinding &winding, const std::array<double, 3> &origin,
-                         double voxelSize, double halfWidth, bool simd, const std::array<int, 3> &counted)
+                         double voxelSize, double halfWidth, bool simd, WindingAccuracy accuracy,
+                         const std::array<int, 3> &counted)
     : mWinding(winding), mOrigin(origin), mVoxelSize(voxelSize), mOffBand(halfWidth * voxelSize),
-      mField(std::move(field)), mVectorized(simd && rowsVectorizable()), mCounted(counted)
+      mField(std::move(field)), mVectorized(simd && rowsVectorizable()), mAccuracy(accuracy), mCounted(counted)
 {
 }
 
@@ -572,9 +572,10 @@ int WindingSign::cubeSide(const std::array<int, 3> &origin, int size) const
     if (!(clearance > 0))
         return 0;
     const double gradient = mField.overBox(lo, hi, 0.0, clearance);
-    const double w = mWinding({centre[0], centre[1], centre[2]});
+    const WindingValue value = mWinding.side({centre[0], centre[1], centre[2]}, mAccuracy);
+    const double w = value.w;
     // A margin for rounding in the bound, as in signBlock.
-    if (!(std::abs(w - 0.5) > rho * gradient * (1 + 1e-6) + kMargin))
+    if (!(std::abs(w - 0.5) > rho * gradient * (1 + 1e-6) + value.bound))
         return 0;
     if (ambiguous(w))
         countAmbiguous(countedOffBand(origin, size));
@@ -601,7 +602,7 @@ int WindingSign::cubeSide(const std::array<int, 3> &origin, int size) const
 // steps; evaluate w at the voxel farthest from the surface and walk the
 // component from it, most certain first; a voxel whose walk from the last
 // evaluated voxel (its anchor, value w0) can have changed w by at most D has
-// the anchor's sign when |w0 - 1/2| > D + kMargin; any other is evaluated
+// the anchor's sign when |w0 - 1/2| > D + m0; any other is evaluated
 // and becomes the anchor of the voxels reached through it. Then the voxels
 // off the band, breadth first from the band's: the same rule, the first walk
 // that decides a voxel kept (any walk proves its side), a voxel no walk
@@ -619,7 +620,7 @@ int WindingSign::cubeSide(const std::array<int, 3> &origin, int size) const
 // surface, evaluated at w0: a voxel L steps from it has a walk of L joined
 // steps within the block, so its w differs from w(seed) by at most
 // L * perStep, and it takes the seed's side when |w0 - 1/2| - L * perStep >
-// kMargin, the walk's own rule with every step at its longest and largest
+// m0, the walk's own rule with every step at its longest and largest
 // bound. Where that holds for every component the block is done, with one
 // evaluation per component; where not (open edges near the block make G
 // large), the walk above decides it, reusing the evaluations made.
@@ -641,7 +642,7 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
     auto windingAt = [&](int v) {
         double p[3];
         world(v, p);
-        return mWinding({p[0], p[1], p[2]});
+        return mWinding.side({p[0], p[1], p[2]}, mAccuracy);
     };
     double lo[3], hi[3];
     world(0, lo);
@@ -653,11 +654,11 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
     float reach[kBlockSize];
     for (int v = 0; v < kBlockSize; ++v)
         reach[v] = std::isfinite(distance[v]) ? distance[v] : offBand;
-    // Winding numbers evaluated so far (NaN: not yet).
-    double evaluated[kBlockSize];
-    std::fill(evaluated, evaluated + kBlockSize, NAN);
+    // Winding numbers evaluated so far, with their margins (NaN: not yet).
+    WindingValue evaluated[kBlockSize];
+    std::fill(evaluated, evaluated + kBlockSize, WindingValue{NAN, NAN});
     auto windingOnce = [&](int v) {
-        if (std::isnan(evaluated[v]))
+        if (std::isnan(evaluated[v].w))
             evaluated[v] = windingAt(v);
         return evaluated[v];
     };
@@ -762,8 +763,9 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
             visit(v + s.delta, s);
         }
     };
-    // Most certain first: a max-heap on margin = |w(anchor) - 1/2| - drift.
-    double margin[kBlockSize], drift[kBlockSize], anchorW[kBlockSize];
+    // Most certain first: a max-heap on margin = |w(anchor) - 1/2| - drift -
+    // the anchor's own margin (decided where positive).
+    double margin[kBlockSize], drift[kBlockSize], anchorW[kBlockSize], anchorError[kBlockSize];
     bool decided[kBlockSize];
     std::fill(margin, margin + kBlockSize, -INFINITY);
     std::fill(decided, decided + kBlockSize, false);
@@ -774,9 +776,11 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
         std::push_heap(heap.begin(), heap.end());
     };
     auto evaluate = [&](int v) {
-        anchorW[v] = windingOnce(v);
+        const WindingValue value = windingOnce(v);
+        anchorW[v] = value.w;
+        anchorError[v] = value.bound;
         drift[v] = 0;
-        margin[v] = std::abs(anchorW[v] - 0.5);
+        margin[v] = std::abs(anchorW[v] - 0.5) - anchorError[v];
     };
     // First the band voxels, most certain first.
     for (;;) {
@@ -796,18 +800,19 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
         heap.pop_back();
         if (decided[v] || top < margin[v])
             continue; // settled already, or a stale entry
-        if (!(margin[v] > kMargin))
+        if (!(margin[v] > 0))
             evaluate(v); // no walk from an evaluated voxel decides it
         decided[v] = true;
         neighbours(v, [&](int u, const Step &s) {
             if (decided[u] || !inBand(u))
                 return;
             const double d = mField.edges().empty() ? 0.0 : drift[v] + change(v, u, s.offset, s.length);
-            const double m = std::abs(anchorW[v] - 0.5) - d;
+            const double m = std::abs(anchorW[v] - 0.5) - d - anchorError[v];
             if (m > margin[u]) {
                 margin[u] = m;
                 drift[u] = d;
                 anchorW[u] = anchorW[v];
+                anchorError[u] = anchorError[v];
                 push(u);
             }
         });
@@ -835,10 +840,11 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
             if (decided[u])
                 return;
             const double d = mField.edges().empty() ? 0.0 : drift[v] + change(v, u, s.offset, s.length);
-            if (std::abs(anchorW[v] - 0.5) - d > kMargin) {
+            if (std::abs(anchorW[v] - 0.5) - d > anchorError[v]) {
                 decided[u] = true;
                 drift[u] = d;
                 anchorW[u] = anchorW[v];
+                anchorError[u] = anchorError[v];
                 queue.push_back(u);
             }
         });

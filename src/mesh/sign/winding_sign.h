@@ -80,12 +80,14 @@ class WindingSign
     /// has its centre at origin + (i, j, k) * voxelSize. `halfWidth` is the
     /// exact band's (distance/band.h), in voxels: every voxel off the band is at
     /// least that far from the mesh. `simd`: the near field four voxels at
-    /// a time with AVX2 where the processor has it. `counted`: the box of
-    /// voxels [0, counted) whose voxels off the band count in
+    /// a time with AVX2 where the processor has it. `accuracy`: how the
+    /// voxels that decide are evaluated (FastWinding::side). `counted`: the
+    /// box of voxels [0, counted) whose voxels off the band count in
     /// ambiguousVoxels (a grid with a distance in every voxel of its box);
     /// band voxels always count.
     WindingSign(EdgeField field, const FastWinding &winding, const std::array<double, 3> &origin, double voxelSize,
-                double halfWidth, bool simd = true, const std::array<int, 3> &counted = {0, 0, 0});
+                double halfWidth, bool simd = true, WindingAccuracy accuracy = WindingAccuracy::Fast,
+                const std::array<int, 3> &counted = {0, 0, 0});
 
     /// Signs every voxel of the block at `origin` (distance/band.h's layout) by
     /// whether the winding number exceeds 1/2 there: band voxels (finite
@@ -123,6 +125,7 @@ class WindingSign
     double mOffBand; // world distance that every voxel off the band keeps from the mesh
     EdgeField mField;
     bool mVectorized;
+    WindingAccuracy mAccuracy;
     std::array<int, 3> mCounted;
 };
 
