@@ -51,7 +51,7 @@ struct sdft_mesh {
     {
         std::call_once(mQueryOnce, [this] {
             const auto start = std::chrono::steady_clock::now();
-            mQuery.reset(new meshsdf::PointQuery(mesh, simd, simd512));
+            mQuery.reset(new meshsdf::PointQuery(mesh, simd));
             mIndexSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         });
         return *mQuery;

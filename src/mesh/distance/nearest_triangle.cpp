@@ -227,33 +227,6 @@ void NearestTriangle::packetDistance2(const double *corner, double spacing, doub
     search<ScalarRows>(corner, spacing, best, nearest);
 }
 
-// One point: the packet's node bounds over a box of no size (lo = hi =
-// centre = p, radius 0), and each triangle of a leaf the bounds reach.
-// Exact by the same argument as the packet search.
-double NearestTriangle::pointDistance2(const double *p, double best) const
-{
-    if (mNodes.empty())
-        return best;
-    Entry stack[64];
-    int top = 0;
-    stack[top++] = {0, packetLowerBound2(mNodes[0], p, p, p, 0, best)};
-    while (top > 0) {
-        const Entry e = stack[--top];
-        if (e.bound >= best)
-            continue;
-        const Node &node = mNodes[e.node];
-        if (node.count > 0) {
-            for (uint32_t t = node.first; t < node.first + node.count; ++t)
-                best = std::min(best, preparedDistance2(mTriangles[t], p));
-            continue;
-        }
-        const uint32_t left = e.node + 1, right = node.right;
-        pushChildren(stack, top, {left, packetLowerBound2(mNodes[left], p, p, p, 0, best)},
-                     {right, packetLowerBound2(mNodes[right], p, p, p, 0, best)});
-    }
-    return best;
-}
-
 #ifdef SDFT_MESH_ROWS_AVX2
 // The search compiled for AVX2 and FMA, everything it calls inlined
 // (flatten), so that Avx2Rows's intrinsics run in its body.

@@ -1,6 +1,8 @@
-// sdftrace — the split both bounding volume hierarchies use (the winding
-// tree, sign/winding.cpp, and the nearest-triangle tree, distance/nearest_triangle.cpp):
-// at the median centroid along the longest axis of the centroids' bounds.
+// sdftrace — the split every bounding volume hierarchy here uses (the
+// winding tree, sign/winding.cpp, the dense grids' nearest-triangle tree,
+// distance/nearest_triangle.cpp, and the points' wide tree,
+// distance/wide_tree.cpp): at a centroid along the longest axis of the
+// centroids' bounds, the median or a given position.
 #ifndef SDFT_MESH_GEOMETRY_MEDIAN_SPLIT_H
 #define SDFT_MESH_GEOMETRY_MEDIAN_SPLIT_H
 
@@ -13,11 +15,11 @@
 namespace meshsdf
 {
 
-/// Reorders order[first, first + count) so that its first count / 2
-/// triangles have centroids no further along the longest axis than the rest;
-/// returns count / 2.
-inline uint32_t splitAtMedian(std::vector<uint32_t> &order, uint32_t first, uint32_t count,
-                              const std::vector<std::array<double, 3>> &centroids)
+/// Reorders order[first, first + count) so that its first `left`
+/// triangles have centroids no further along the longest axis of their
+/// bounds than the rest.
+inline void splitAlongLongestAxis(std::vector<uint32_t> &order, uint32_t first, uint32_t count, uint32_t left,
+                                  const std::vector<std::array<double, 3>> &centroids)
 {
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (uint32_t i = first; i < first + count; ++i)
@@ -29,9 +31,17 @@ inline uint32_t splitAtMedian(std::vector<uint32_t> &order, uint32_t first, uint
     for (int k = 1; k < 3; ++k)
         if (hi[k] - lo[k] > hi[axis] - lo[axis])
             axis = k;
-    const uint32_t half = count / 2;
-    std::nth_element(order.begin() + first, order.begin() + first + half, order.begin() + first + count,
+    std::nth_element(order.begin() + first, order.begin() + first + left, order.begin() + first + count,
                      [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+}
+
+/// The median split: the first count / 2 triangles on one side; returns
+/// count / 2.
+inline uint32_t splitAtMedian(std::vector<uint32_t> &order, uint32_t first, uint32_t count,
+                              const std::vector<std::array<double, 3>> &centroids)
+{
+    const uint32_t half = count / 2;
+    splitAlongLongestAxis(order, first, count, half, centroids);
     return half;
 }
 

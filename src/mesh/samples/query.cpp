@@ -11,9 +11,9 @@
 namespace meshsdf
 {
 
-PointQuery::PointQuery(const TriangleMesh &mesh, bool simd, bool wide)
+PointQuery::PointQuery(const TriangleMesh &mesh, bool simd)
 {
-    tbb::parallel_invoke([&] { mNearest.reset(new NearestTriangle(mesh, simd, wide)); },
+    tbb::parallel_invoke([&] { mDistance.reset(new WideTree(mesh, simd)); },
                          [&] { mWinding.reset(new FastWinding(mesh.points, mesh.triangles, 2.0, simd)); });
 }
 
