@@ -2,7 +2,8 @@
 // At points near, on, far and very far from a mesh, WideTree's squared
 // distance must equal the smallest preparedDistance2 over every triangle bit
 // for bit: with AVX2 and with scalar lanes, one point at a time, from a
-// seed triangle, and in packets of eight. With --degenerate the mesh also
+// seed triangle, in packets of eight, and along the list of points (packets
+// where they are close, one at a time elsewhere). With --degenerate the mesh also
 // gets triangles of no area (the loaders drop those: they come from the
 // arrays here), a segment, a repeated corner and a point. test_mesh_distance
 // runs it and compares the distances it writes with its own brute force (an
@@ -11,7 +12,7 @@
 // usage: mesh_distance_probe MESH OUT N SEED [--degenerate]
 // Writes OUT: N rows of 4 doubles (x, y, z, distance) for the mesh as read
 // (without the added triangles), and prints one line
-//   points=N triangles=T brute=K scalar=K seeded=K packets=K
+//   points=N triangles=T brute=K scalar=K seeded=K packets=K along=K
 // each K the number of points whose answer differs from the brute force's
 // in any bit; exits 1 if any is not 0.
 #include "distance/packet_rows.h"
@@ -151,7 +152,13 @@ int main(int argc, char **argv)
     }
     const WideTree simd(mesh, true), scalar(mesh, false);
 
-    int brute = 0, lanes = 0, seeded = 0, packets = 0;
+    int brute = 0, lanes = 0, seeded = 0, packets = 0, along = 0;
+    std::vector<const double *> list(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i)
+        list[size_t(i)] = &xyz[size_t(i) * 3];
+    std::vector<WideTree::Nearest> runs(static_cast<size_t>(n));
+    uint32_t near = WideTree::kNone;
+    simd.nearestAlong(list.data(), size_t(n), runs.data(), &near);
     std::vector<double> rows(size_t(n) * 4);
     std::mt19937 pick(7);
     for (int i = 0; i < n; i += 8) {
@@ -170,6 +177,7 @@ int main(int argc, char **argv)
             const WideTree::Nearest start = simd.seed(p[j], uint32_t(pick() % mesh.triangles.size()));
             seeded += !same(simd.nearest(p[j], start).d2, truth);
             packets += !same(io[j].d2, truth);
+            along += !same(runs[size_t(i + j)].d2, truth);
             // the file's rows measure the mesh as read, for the independent brute force
             for (int k = 0; k < 3; ++k)
                 rows[size_t(i + j) * 4 + k] = p[j][k];
@@ -182,7 +190,7 @@ int main(int argc, char **argv)
         std::fprintf(stderr, "cannot write %s\n", argv[2]);
         return 2;
     }
-    std::printf("points=%d triangles=%zu brute=%d scalar=%d seeded=%d packets=%d\n", n, mesh.triangles.size(), brute,
-                lanes, seeded, packets);
-    return brute || lanes || seeded || packets ? 1 : 0;
+    std::printf("points=%d triangles=%zu brute=%d scalar=%d seeded=%d packets=%d along=%d\n", n, mesh.triangles.size(),
+                brute, lanes, seeded, packets, along);
+    return brute || lanes || seeded || packets || along ? 1 : 0;
 }

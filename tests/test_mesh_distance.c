@@ -1,11 +1,12 @@
 /* The point distances (src/mesh/distance/wide_tree.h: a wide bounding volume
- * hierarchy, AVX2 or scalar lanes, single points, seeds and packets) held to
- * brute force, through tests/mesh_distance_probe.cpp: at points near, on,
- * far and very far from the repository's meshes and from slivers and
- * triangles of no area, every answer must equal the brute-force minimum of
- * the same triangle formula over every triangle bit for bit, and the
- * distances must agree with this file's own brute force (another formula:
- * closest-point regions, mesh_support.c) to rounding. */
+ * hierarchy; AVX2 or scalar lanes, single points, seeds, packets, runs along
+ * a list of points) held to brute force, through
+ * tests/mesh_distance_probe.cpp: at points near, on, far and very far from
+ * the repository's meshes and from slivers and triangles of no area, every
+ * answer must equal the brute-force minimum of the same triangle formula
+ * over every triangle bit for bit, and the distances must agree with this
+ * file's own brute force (another formula: closest-point regions,
+ * mesh_support.c) to rounding. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -31,12 +32,12 @@ static void probe(const char *path, const mesh *m, int n, const char *flags, dou
     const int rc = tu_run(out, sizeof out, "'%s' '%s' '%s' %d 5 %s", SDFT_DISTANCE_PROBE, path, rows_path, n, flags);
     printf("%s %s: %s", path, flags, out);
     assert_int_equal(rc, 0);
-    int points = 0, mismatches[4] = {1, 1, 1, 1};
-    assert_int_equal(sscanf(out, "points=%d triangles=%*d brute=%d scalar=%d seeded=%d packets=%d", &points,
-                            &mismatches[0], &mismatches[1], &mismatches[2], &mismatches[3]),
-                     5);
+    int points = 0, mismatches[5] = {1, 1, 1, 1, 1};
+    assert_int_equal(sscanf(out, "points=%d triangles=%*d brute=%d scalar=%d seeded=%d packets=%d along=%d", &points,
+                            &mismatches[0], &mismatches[1], &mismatches[2], &mismatches[3], &mismatches[4]),
+                     6);
     assert_int_equal(points, n);
-    for (int i = 0; i < 4; i++)
+    for (int i = 0; i < 5; i++)
         assert_int_equal(mismatches[i], 0);
 
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, size = 0;

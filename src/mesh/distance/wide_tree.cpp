@@ -86,6 +86,12 @@ constexpr uint32_t kSerialBuild = 4096;
 // below the root, and a tree over 2^32 triangles is 11 levels deep.
 constexpr int kStack = 128;
 
+// A packet is coherent when the squared diagonal of the box around its
+// points is below kCoherent times the squared distance of its first point
+// from the nearest triangle of the point before: then the points share most
+// of the nodes they open.
+constexpr double kCoherent = 1.0 / 16;
+
 } // namespace
 
 // ---------------------------------------------------------------- lanes
@@ -462,6 +468,34 @@ void WideTree::nearestPacket(const double *const *p, int count, Nearest *io) con
         return searchPacketAvx2(p, count, io);
 #endif
     searchPacket<ScalarLanes>(p, count, io);
+}
+
+void WideTree::nearestAlong(const double *const *p, size_t count, Nearest *out, uint32_t *near) const
+{
+    for (size_t i = 0; i < count;) {
+        const int n = int(std::min<size_t>(kPacketSize, count - i));
+        const Nearest start = seed(p[i], *near);
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, diagonal2 = 0;
+        for (int j = 0; j < n; ++j)
+            for (int k = 0; k < 3; ++k) {
+                lo[k] = std::min(lo[k], p[i + j][k]);
+                hi[k] = std::max(hi[k], p[i + j][k]);
+            }
+        for (int k = 0; k < 3; ++k)
+            diagonal2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+        if (n > 1 && diagonal2 < kCoherent * start.d2) {
+            out[i] = start;
+            for (int j = 1; j < n; ++j)
+                out[i + j] = seed(p[i + j], *near);
+            nearestPacket(p + i, n, out + i);
+            *near = out[i + n - 1].triangle;
+            i += size_t(n);
+        } else {
+            out[i] = nearest(p[i], start);
+            *near = out[i].triangle;
+            ++i;
+        }
+    }
 }
 
 #ifdef SDFT_WIDE_AVX2

@@ -56,6 +56,15 @@ class WideTree
     /// box around them small against their distances).
     void nearestPacket(const double *const *p, int count, Nearest *io) const;
 
+    /// nearest() for `count` points p[i] (3 finite doubles each) along a
+    /// space-filling curve, so that neighbours are near each other, into
+    /// out[i]: groups of kPacketSize whose box is small against their
+    /// distances walk the tree together (nearestPacket), the rest one at a
+    /// time, each starting from the nearest triangle of the point before.
+    /// `*near`: in, a triangle near p[0] (or kNone); out, the last point's
+    /// nearest, for the next run. The same answers as nearest() each.
+    void nearestAlong(const double *const *p, size_t count, Nearest *out, uint32_t *near) const;
+
     /// The squared distance from p to one triangle (a position in the
     /// tree's order, or kNone: none), as nearest() measures it: a start.
     Nearest seed(const double *p, uint32_t triangle) const;

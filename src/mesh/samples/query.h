@@ -25,19 +25,41 @@ class PointQuery
     /// `simd` as WideTree's and FastWinding's.
     PointQuery(const TriangleMesh &mesh, bool simd);
 
-    /// The signed distance at p (3 finite doubles): negative where the
-    /// winding number, stored in *winding, exceeds 0.5. `*near`: a triangle
-    /// near p (the nearest of the point evaluated just before, in Morton
-    /// order) or WideTree::kNone; on return p's nearest, for the next point.
-    /// It only shortens the search: the answer is the same without it.
-    double signedDistance(const double *p, uint32_t *near, double *winding) const
+    /// At the points xyz + 3 i for i = order[j], j in [first, last), in an
+    /// order along a space-filling curve (mortonOrder), calls emit(i, d, w):
+    /// the winding number w and, if `distance`, the signed distance d
+    /// (negative where w exceeds 0.5), else NaN; both NaN at a point with a
+    /// coordinate that is not finite. The distances are searched along the
+    /// curve (WideTree::nearestAlong), but each point's values are the same
+    /// in any order and any grouping.
+    template <class Emit>
+    void evaluate(const double *xyz, const size_t *order, size_t first, size_t last, bool distance, Emit emit) const
     {
-        const double w = (*mWinding)({p[0], p[1], p[2]});
-        const WideTree::Nearest nearest = mDistance->nearest(p, mDistance->seed(p, *near));
-        *near = nearest.triangle;
-        *winding = w;
-        const double d = std::sqrt(nearest.d2);
-        return w > 0.5 ? -d : d;
+        constexpr size_t kBlock = 256;
+        const double *p[kBlock];
+        size_t index[kBlock];
+        WideTree::Nearest nearest[kBlock];
+        uint32_t near = WideTree::kNone;
+        for (size_t j = first; j < last;) {
+            size_t n = 0;
+            for (; j < last && n < kBlock; ++j) {
+                const size_t i = order[j];
+                const double *q = xyz + 3 * i;
+                if (std::isfinite(q[0]) && std::isfinite(q[1]) && std::isfinite(q[2])) {
+                    p[n] = q;
+                    index[n++] = i;
+                } else {
+                    emit(i, double(NAN), double(NAN));
+                }
+            }
+            if (distance)
+                mDistance->nearestAlong(p, n, nearest, &near);
+            for (size_t k = 0; k < n; ++k) {
+                const double w = winding(p[k]);
+                const double d = distance ? std::sqrt(nearest[k].d2) : double(NAN);
+                emit(index[k], w > 0.5 ? -d : d, w);
+            }
+        }
     }
 
     /// The winding number at p alone (3 doubles), without the distance.

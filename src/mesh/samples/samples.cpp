@@ -128,16 +128,12 @@ void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const Point
     // Progress per block of rows evaluated (a cancelled one throws out).
     std::atomic<size_t> evaluated{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t> &r) {
-        uint32_t nearest = WideTree::kNone;
-        for (size_t j = r.begin(); j != r.end(); ++j) {
-            const size_t i = order[j];
-            double w;
-            const double d = query.signedDistance(&points[i * 3], &nearest, &w);
+        query.evaluate(points.data(), order.data(), r.begin(), r.end(), true, [&](size_t i, double d, double) {
             float *row = &rows[i * 4];
             for (int k = 0; k < 3; ++k)
                 row[k] = float(points[i * 3 + k]);
             row[3] = float(d);
-        }
+        });
         progress.report(int(100 * (evaluated += r.size()) / n));
     });
 }
