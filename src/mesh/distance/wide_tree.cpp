@@ -50,6 +50,8 @@
 #include <algorithm>
 #include <array>
 #include <cfloat>
+#include <cstring>
+#include <limits>
 #include <numeric>
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -63,16 +65,29 @@ namespace meshsdf
 namespace
 {
 
+// The float after f towards +inf (f finite or -inf), as std::nextafter,
+// without its call.
+inline float floatUp(float f)
+{
+    if (f == 0)
+        return std::numeric_limits<float>::denorm_min();
+    uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    bits = f > 0 ? bits + 1 : bits - 1;
+    std::memcpy(&f, &bits, sizeof f);
+    return f;
+}
+
 // Floats next to x: at most x, at least x.
 inline float floatBelow(double x)
 {
     const float f = float(x);
-    return double(f) > x ? std::nextafter(f, -INFINITY) : f;
+    return double(f) > x ? -floatUp(-f) : f;
 }
 inline float floatAbove(double x)
 {
     const float f = float(x);
-    return double(f) < x ? std::nextafter(f, INFINITY) : f;
+    return double(f) < x ? floatUp(f) : f;
 }
 
 // The largest box distance that may hold a triangle nearer than best (see
@@ -514,19 +529,16 @@ __attribute__((target("avx2"), flatten)) void WideTree::searchPacketAvx2(const d
 namespace
 {
 
-// The children of `mask` in order of their distances d2 (ties by child),
-// into `sorted`; returns how many.
-inline int nearestFirst(unsigned mask, const float *d2, int *sorted)
+// The child of `mask` (not empty) nearest by d2, the first of equals.
+inline int nearestOf(unsigned mask, const float *d2)
 {
-    int n = 0;
-    for (; mask; mask &= mask - 1) {
+    int best = __builtin_ctz(mask);
+    for (mask &= mask - 1; mask; mask &= mask - 1) {
         const int k = __builtin_ctz(mask);
-        int i = n++;
-        for (; i > 0 && d2[sorted[i - 1]] > d2[k]; --i)
-            sorted[i] = sorted[i - 1];
-        sorted[i] = k;
+        if (d2[k] < d2[best])
+            best = k;
     }
-    return n;
+    return best;
 }
 
 struct Entry {
@@ -583,9 +595,9 @@ struct WideTree::Seeker {
     }
 };
 
-// One point (the head of the file gives why its answer is exact): each
-// node's children nearest first, its leaves evaluated at once, its inner
-// children pushed so that the nearest is searched next.
+// One point (the head of the file gives why its answer is exact): at each
+// node, the leaves the point reaches evaluated at once, the nearest first,
+// and the inner children pushed so that the nearest is searched next.
 template <class Lanes> WideTree::Nearest WideTree::search(const double *p, Nearest start) const
 {
     Seeker q(*this, p, start);
@@ -598,16 +610,25 @@ template <class Lanes> WideTree::Nearest WideTree::search(const double *p, Neare
             continue;
         const Node &node = mNodes[e.node];
         alignas(32) float d2[kWidth];
-        int sorted[kWidth];
-        const int n = nearestFirst(Lanes::boxes(node, q.lo, q.hi, q.limit, d2), d2, sorted);
-        for (int i = 0; i < n; ++i) {
-            const int k = sorted[i];
-            if (node.leaf >> k & 1 && d2[k] <= q.limit)
-                q.leaf<Lanes>(*this, node.child[k]);
+        const unsigned mask = Lanes::boxes(node, q.lo, q.hi, q.limit, d2);
+        unsigned leaves = mask & node.leaf, inner = mask & ~unsigned(node.leaf);
+        if (leaves) {
+            const int first = nearestOf(leaves, d2);
+            q.leaf<Lanes>(*this, node.child[first]);
+            for (leaves &= ~(1u << first); leaves; leaves &= leaves - 1) {
+                const int k = __builtin_ctz(leaves);
+                if (d2[k] <= q.limit)
+                    q.leaf<Lanes>(*this, node.child[k]);
+            }
         }
-        for (int i = n - 1; i >= 0; --i)
-            if (!(node.leaf >> sorted[i] & 1))
-                stack[top++] = {node.child[sorted[i]], d2[sorted[i]]};
+        if (inner) {
+            const int first = nearestOf(inner, d2);
+            for (unsigned rest = inner & ~(1u << first); rest; rest &= rest - 1) {
+                const int k = __builtin_ctz(rest);
+                stack[top++] = {node.child[k], d2[k]};
+            }
+            stack[top++] = {node.child[first], d2[first]};
+        }
     }
     return q.best;
 }
@@ -637,25 +658,32 @@ template <class Lanes> void WideTree::searchPacket(const double *const *p, int c
             continue;
         const Node &node = mNodes[e.node];
         alignas(32) float d2[kWidth];
-        int sorted[kWidth];
         const unsigned mask = Lanes::boxes(node, all[0], all[1], worst, d2);
-        const int n = nearestFirst(mask, d2, sorted);
         if (mask & node.leaf) {
             worst = 0;
             for (int i = 0; i < count; ++i) {
                 alignas(32) float own[kWidth];
-                const unsigned reached = Lanes::boxes(node, q[i].lo, q[i].hi, q[i].limit, own) & mask & node.leaf;
-                for (int j = 0; j < n && reached; ++j) {
-                    const int k = sorted[j];
-                    if (reached >> k & 1 && own[k] <= q[i].limit)
-                        q[i].leaf<Lanes>(*this, node.child[k]);
+                unsigned leaves = Lanes::boxes(node, q[i].lo, q[i].hi, q[i].limit, own) & mask & node.leaf;
+                if (leaves) {
+                    const int first = nearestOf(leaves, own);
+                    q[i].leaf<Lanes>(*this, node.child[first]);
+                    for (leaves &= ~(1u << first); leaves; leaves &= leaves - 1) {
+                        const int k = __builtin_ctz(leaves);
+                        if (own[k] <= q[i].limit)
+                            q[i].leaf<Lanes>(*this, node.child[k]);
+                    }
                 }
                 worst = std::max(worst, q[i].limit);
             }
         }
-        for (int j = n - 1; j >= 0; --j)
-            if (!(node.leaf >> sorted[j] & 1))
-                stack[top++] = {node.child[sorted[j]], d2[sorted[j]]};
+        if (const unsigned inner = mask & ~unsigned(node.leaf)) {
+            const int first = nearestOf(inner, d2);
+            for (unsigned rest = inner & ~(1u << first); rest; rest &= rest - 1) {
+                const int k = __builtin_ctz(rest);
+                stack[top++] = {node.child[k], d2[k]};
+            }
+            stack[top++] = {node.child[first], d2[first]};
+        }
     }
     for (int i = 0; i < count; ++i)
         io[i] = q[i].best;
