@@ -28,9 +28,13 @@
 // triangles: none can lower best. A limit beyond the floats is +inf, and a
 // child is skipped only when box2 > limit, so +inf skips nothing. A packet
 // tests the box around its points against its largest limit: every point's
-// distance to a child is at least the packet box's. Near a point on the
-// surface the slack opens the leaves within about 5e-4 R of it; elsewhere
-// it is far below the distances and costs nothing.
+// distance to a child is at least the packet box's. In a leaf, a triangle
+// is skipped when the square h^2 of p's height above its plane, computed as
+// D(t) computes it, is at least (best + slack) (1 + 2^-50): the true
+// distance is at least the true height, whose square is within the
+// normal's error (7e-8 R^2 again) of h^2, so D(t) >= h^2 - slack > best.
+// Near a point on the surface the slack opens the leaves within about
+// 5e-4 R of it; elsewhere it is far below the distances and costs nothing.
 //
 // The tree: children are split at the median centroid along the longest
 // axis of their centroids' bounds, the largest range first, until a node
@@ -53,6 +57,7 @@
 #include <cstring>
 #include <limits>
 #include <numeric>
+#include <unordered_map>
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #include <immintrin.h>
@@ -78,17 +83,15 @@ inline float floatUp(float f)
     return f;
 }
 
-// Floats next to x: at most x, at least x.
-inline float floatBelow(double x)
-{
-    const float f = float(x);
-    return double(f) > x ? -floatUp(-f) : f;
-}
+// Floats next to x: at most x, at least x (infinite beyond the floats).
 inline float floatAbove(double x)
 {
-    const float f = float(x);
+    if (!(x <= FLT_MAX))
+        return INFINITY;
+    const float f = float(std::max(x, double(-FLT_MAX)));
     return double(f) < x ? floatUp(f) : f;
 }
+inline float floatBelow(double x) { return -floatAbove(-x); }
 
 // The largest box distance that may hold a triangle nearer than best (see
 // the head of the file).
@@ -287,8 +290,9 @@ struct WideTree::Builder {
     // A node's children over `count` triangles: ranges split at positions
     // that are multiples of kLeafSize, the largest range first (the first
     // of equals), until there are kWidth or none holds more than a leaf.
-    // split(i, left) splits range i (of `ranges`, whose counts are given)
-    // after its first `left` triangles. Returns the number of children.
+    // Fills counts[] with the children's triangle counts in order, calling
+    // split(i, left) just before range i is cut after its first `left`
+    // triangles; returns the number of children.
     template <class Split> static int plan(uint32_t count, uint32_t *counts, Split split)
     {
         int n = 1;
@@ -311,17 +315,28 @@ struct WideTree::Builder {
         return n;
     }
 
-    // Nodes in the subtree over `count` triangles (none for a leaf).
-    static uint32_t nodesFor(uint32_t count)
+    // Nodes in the subtree over each count of triangles that occurs (none
+    // for a leaf): a count's subtree is the same wherever it occurs, so
+    // few counts occur, and the table is filled before the build reads it
+    // from its threads.
+    std::unordered_map<uint32_t, uint32_t> subtree;
+
+    uint32_t nodesFor(uint32_t count)
     {
         if (count <= uint32_t(kLeafSize))
             return 0;
+        const auto known = subtree.find(count);
+        if (known != subtree.end())
+            return known->second;
         uint32_t counts[kWidth], total = 1;
         const int n = plan(count, counts, [](int, uint32_t) {});
         for (int i = 0; i < n; ++i)
             total += nodesFor(counts[i]);
+        subtree[count] = total;
         return total;
     }
+
+    uint32_t nodesKnown(uint32_t count) const { return count <= uint32_t(kLeafSize) ? 0 : subtree.at(count); }
 
     Box leafBox(uint32_t first, uint32_t count) const
     {
@@ -352,7 +367,7 @@ struct WideTree::Builder {
         uint32_t slots[kWidth], next = index + 1;
         for (int i = 0; i < n; ++i) {
             slots[i] = next;
-            next += nodesFor(counts[i]);
+            next += nodesKnown(counts[i]);
         }
         Box boxes[kWidth];
         auto child = [&](int i) {
@@ -399,7 +414,7 @@ WideTree::WideTree(const TriangleMesh &mesh, bool simd)
     mPosition.resize(n);
     if (n == 0)
         return;
-    Builder b{mesh, std::vector<std::array<double, 3>>(n), std::vector<uint32_t>(n), mNodes};
+    Builder b{mesh, std::vector<std::array<double, 3>>(n), std::vector<uint32_t>(n), mNodes, {}};
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 4096), [&](const tbb::blocked_range<uint32_t> &r) {
         for (uint32_t t = r.begin(); t != r.end(); ++t) {
             b.order[t] = t;
@@ -410,7 +425,7 @@ WideTree::WideTree(const TriangleMesh &mesh, bool simd)
         }
     });
     // The root is a node even over a single leaf.
-    mNodes.resize(std::max<uint32_t>(1, Builder::nodesFor(n)));
+    mNodes.resize(std::max<uint32_t>(1, b.nodesFor(n)));
     const Box all = b.build(0, 0, n);
     double diagonal2 = 0;
     for (int k = 0; k < 3; ++k) {
