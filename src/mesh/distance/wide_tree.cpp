@@ -1,40 +1,40 @@
 // sdftrace — exact point-to-mesh distances through a wide bounding volume
 // hierarchy (see wide_tree.h).
 //
-// Why the answer is exact, and the same whatever the search's path. The
-// answer is the smallest of the start's d2 and preparedDistance2(t, p) over
-// every triangle t (call that value D(t)). The search skips a child only
-// when no triangle in it can lower the best d2 found so far (best), so the
-// minimum over the triangles it evaluates is the minimum over all: the same
-// number for one point or a packet, a seed or none, AVX2 or scalar lanes
-// (which compute the same operations in the same order on the same data).
+// Why the answer is exact, and the same whatever the search's path. The answer
+// is the smallest of the start's d2 and preparedDistance2(t, p) over every
+// triangle t (call that value D(t)). The search skips a child only when no
+// triangle in it can lower the best d2 found so far (best), so the minimum
+// over the triangles it evaluates is the minimum over all: the same number for
+// one point or a packet, a seed or none, AVX2 or scalar lanes (which compute
+// the same operations in the same order on the same data).
 //
-// The skip. A child's box is the exact float bounds of its triangles'
-// corners (the triangles' doubles are those floats), so every point of its
-// triangles lies in it, and the true squared distance from p to a triangle
-// t in it is at least dist2(p, box). D(t) is not the true distance: for a
-// triangle of width down to kThin times its longest edge (packet_rows.h)
-// the unit normal carries a relative error of about 3.3e-8 (kThin's
-// comment), and the height above the plane an absolute one of that times
-// |p - corner|, so D(t) >= true^2 - 7e-8 R^2 with R = |p - c| + 2 r (c, r a
-// sphere around every corner: R bounds |p - corner| and every edge); the
-// edges' terms carry a few ulps of R^2. slack(p) = 2^-22 R^2 (2.4e-7 R^2)
-// covers both twice. The box's distance is computed in float from p
-// rounded outwards to floats (below for the low side, above for the high
-// side, so each gap is at most the true gap) by five roundings of relative
-// error at most 2^-24 each, so box2 <= (1 + 2^-19) dist2(p, box). Hence a
-// child with box2 > limit = (best + slack) (1 + 2^-19), rounded up to a
-// float, has D(t) >= box2 / (1 + 2^-19) - slack > best for each of its
+// The skip. A child's box is the exact float bounds of its triangles' corners
+// (the triangles' doubles are those floats), so every point of its triangles
+// lies in it, and the true squared distance from p to a triangle t in it is at
+// least dist2(p, box). D(t) is not the true distance: for a triangle of width
+// down to kThin times its longest edge (packet_rows.h) the unit normal carries
+// a relative error of about 3.3e-8 (kThin's comment), and the height above the
+// plane an absolute one of that times |p - corner|, so D(t) >= true^2 - 7e-8
+// R^2 with R = |p - c| + 2 r (c, r a sphere around every corner: R bounds |p -
+// corner| and every edge); the edges' terms carry a few ulps of R^2. slack(p)
+// = 2^-22 R^2 (2.4e-7 R^2) covers both twice. The box's distance is computed
+// in float from p rounded outwards to floats (below for the low side, above
+// for the high side, so each gap is at most the true gap) by five roundings of
+// relative error at most 2^-24 each, so box2 <= (1 + 2^-19) dist2(p, box).
+// Hence a child with box2 > limit = (best + slack) (1 + 2^-19), rounded up to
+// a float, has D(t) >= box2 / (1 + 2^-19) - slack > best for each of its
 // triangles: none can lower best. A limit beyond the floats is +inf, and a
 // child is skipped only when box2 > limit, so +inf skips nothing. A packet
 // tests the box around its points against its largest limit: every point's
-// distance to a child is at least the packet box's. In a leaf, a triangle
-// is skipped when the square h^2 of p's height above its plane, computed as
-// D(t) computes it, is at least (best + slack) (1 + 2^-50): the true
-// distance is at least the true height, whose square is within the
-// normal's error (7e-8 R^2 again) of h^2, so D(t) >= h^2 - slack > best.
-// Near a point on the surface the slack opens the leaves within about
-// 5e-4 R of it; elsewhere it is far below the distances and costs nothing.
+// distance to a child is at least the packet box's. A child is also skipped
+// when its disc (disc.h: a lower bound on the true distance, its rounding
+// covered) bounds the squared distance by at least (best + slack) (1 + 2^-50),
+// so that D(t) >= bound - slack > best: a node tests the discs of its flat
+// children (a disc much thinner than the box, where the box is the poor
+// bound), and a packet's points test them at the leaves they reach. Near a
+// point on the surface the slack opens the leaves within about 5e-4 R of it;
+// elsewhere it is far below the distances and costs nothing.
 //
 // The tree: children are split at the median centroid along the longest
 // axis of their centroids' bounds, the largest range first, until a node
@@ -45,6 +45,7 @@
 // parallel into their own slots, the same tree on any thread count.
 #include "distance/wide_tree.h"
 
+#include "distance/disc.h"
 #include "distance/packet_rows.h"
 #include "geometry/median_split.h"
 
@@ -140,16 +141,22 @@ struct ScalarLanes {
         return mask & n.valid;
     }
 
-    // Bit l set for each lane whose squared height above its triangle's
-    // plane is below `limit2` (a triangle of no normal: height 0).
-    static unsigned planes(const Group &t, const double *p, double limit2)
+    // Bit k set for each child whose disc's lower bound on the squared
+    // distance from p (disc.h) is below limit2.
+    static unsigned discs(const Node &n, const double *p, double limit2)
     {
         unsigned mask = 0;
-        for (int l = 0; l < WideTree::kLeafSize; ++l) {
-            const double h = (p[0] - double(t.corner[0][0][l])) * t.normal[0][l] +
-                             (p[1] - double(t.corner[0][1][l])) * t.normal[1][l] +
-                             (p[2] - double(t.corner[0][2][l])) * t.normal[2][l];
-            mask |= unsigned(h * h < limit2) << l;
+        for (int k = 0; k < WideTree::kWidth; ++k) {
+            const double dx = p[0] - n.centre[0][k], dy = p[1] - n.centre[1][k], dz = p[2] - n.centre[2][k];
+            const double a = dx * n.normal[0][k] + dy * n.normal[1][k] + dz * n.normal[2][k];
+            const double d2 = dx * dx + dy * dy + dz * dz, cancel = kDiscCancel * d2;
+            const double lateral2 = d2 - a * a - cancel;
+            const double height = (a < 0 ? -a : a) - n.thickness[k];
+            const double across = height > 0 ? height : 0.0;
+            const double root = std::sqrt(lateral2 > 0 ? lateral2 : 0.0) - n.radius[k];
+            const double along = root > 0 ? root : 0.0;
+            const double bound = (across * across + along * along - cancel) * kDiscShrink;
+            mask |= unsigned(bound < limit2) << k;
         }
         return mask;
     }
@@ -213,16 +220,33 @@ struct Avx2Lanes {
         return _mm256_cvtps_pd(_mm_load_ps(t.corner[k][x]));
     }
 
-    SDFT_WIDE_AVX2_INLINE static unsigned planes(const Group &t, const double *p, double limit2)
+    // ScalarLanes::discs, four children at a time: max(x, 0) is
+    // _mm256_max_pd(x, zero) (x > 0 ? x : 0), |a| the sign bit cleared.
+    SDFT_WIDE_AVX2_INLINE static unsigned discs(const Node &n, const double *p, double limit2)
     {
-        const __m256d hx =
-            _mm256_mul_pd(_mm256_sub_pd(_mm256_set1_pd(p[0]), corner(t, 0, 0)), _mm256_load_pd(t.normal[0]));
-        const __m256d hy =
-            _mm256_mul_pd(_mm256_sub_pd(_mm256_set1_pd(p[1]), corner(t, 0, 1)), _mm256_load_pd(t.normal[1]));
-        const __m256d hz =
-            _mm256_mul_pd(_mm256_sub_pd(_mm256_set1_pd(p[2]), corner(t, 0, 2)), _mm256_load_pd(t.normal[2]));
-        const __m256d h = _mm256_add_pd(_mm256_add_pd(hx, hy), hz);
-        return unsigned(_mm256_movemask_pd(_mm256_cmp_pd(_mm256_mul_pd(h, h), _mm256_set1_pd(limit2), _CMP_LT_OQ)));
+        const __m256d zero = _mm256_setzero_pd(), sign = _mm256_set1_pd(-0.0);
+        unsigned mask = 0;
+        for (int half = 0; half < WideTree::kWidth; half += 4) {
+            const __m256d dx = _mm256_sub_pd(_mm256_set1_pd(p[0]), _mm256_load_pd(n.centre[0] + half));
+            const __m256d dy = _mm256_sub_pd(_mm256_set1_pd(p[1]), _mm256_load_pd(n.centre[1] + half));
+            const __m256d dz = _mm256_sub_pd(_mm256_set1_pd(p[2]), _mm256_load_pd(n.centre[2] + half));
+            const __m256d a = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, _mm256_load_pd(n.normal[0] + half)),
+                                                          _mm256_mul_pd(dy, _mm256_load_pd(n.normal[1] + half))),
+                                            _mm256_mul_pd(dz, _mm256_load_pd(n.normal[2] + half)));
+            const __m256d d2 =
+                _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
+            const __m256d cancel = _mm256_mul_pd(_mm256_set1_pd(kDiscCancel), d2);
+            const __m256d lateral2 = _mm256_sub_pd(_mm256_sub_pd(d2, _mm256_mul_pd(a, a)), cancel);
+            const __m256d across =
+                _mm256_max_pd(_mm256_sub_pd(_mm256_andnot_pd(sign, a), _mm256_load_pd(n.thickness + half)), zero);
+            const __m256d along = _mm256_max_pd(
+                _mm256_sub_pd(_mm256_sqrt_pd(_mm256_max_pd(lateral2, zero)), _mm256_load_pd(n.radius + half)), zero);
+            const __m256d bound = _mm256_mul_pd(
+                _mm256_sub_pd(_mm256_add_pd(_mm256_mul_pd(across, across), _mm256_mul_pd(along, along)), cancel),
+                _mm256_set1_pd(kDiscShrink));
+            mask |= unsigned(_mm256_movemask_pd(_mm256_cmp_pd(bound, _mm256_set1_pd(limit2), _CMP_LT_OQ))) << half;
+        }
+        return mask;
     }
 
     // ScalarLanes::lane on four lanes: std::clamp(v, 0, 1) is max(0, min(1,
@@ -370,12 +394,19 @@ struct WideTree::Builder {
             next += nodesKnown(counts[i]);
         }
         Box boxes[kWidth];
+        Disc discs[kWidth];
         auto child = [&](int i) {
             if (counts[i] <= uint32_t(kLeafSize)) {
                 boxes[i] = leafBox(starts[i], counts[i]);
             } else {
                 boxes[i] = build(slots[i], starts[i], counts[i]);
             }
+            discs[i] = discAround(
+                starts[i], counts[i],
+                [&](uint32_t t, int v) -> const std::array<float, 3> & {
+                    return mesh.points[mesh.triangles[order[t]][v]];
+                },
+                [&](uint32_t t) { return centroid[order[t]].data(); }, boxes[i].lo, boxes[i].hi);
         };
         if (count > kSerialBuild)
             tbb::parallel_for(0, n, child);
@@ -392,6 +423,18 @@ struct WideTree::Builder {
             if (!used)
                 continue;
             all.grow(boxes[k]);
+            for (int a = 0; a < 3; ++a) {
+                node.centre[a][k] = discs[k].centre[a];
+                node.normal[a][k] = discs[k].normal[a];
+            }
+            node.thickness[k] = discs[k].thickness;
+            node.radius[k] = discs[k].radius;
+            // A disc is worth its test where it is much thinner than the
+            // box: a flat patch not aligned with the axes.
+            float thinnest = INFINITY;
+            for (int a = 0; a < 3; ++a)
+                thinnest = std::min(thinnest, boxes[k].hi[a] - boxes[k].lo[a]);
+            node.flat |= uint8_t(unsigned(4 * discs[k].thickness < thinnest) << k);
             node.valid |= uint8_t(1u << k);
             const bool leaf = counts[k] <= uint32_t(kLeafSize);
             node.leaf |= uint8_t(unsigned(leaf) << k);
@@ -569,7 +612,7 @@ struct Entry {
 struct WideTree::Seeker {
     const double *p = nullptr;
     Nearest best;
-    double slack = 0, planeLimit = 0;
+    double slack = 0, discLimit = 0;
     float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, limit = 0;
 
     Seeker() = default;
@@ -582,23 +625,19 @@ struct WideTree::Seeker {
         limits();
     }
 
-    // A lane skipped by its plane has height^2 >= planeLimit >= best + slack,
-    // so D(t) > best as for a box.
+    // A child whose disc bound is at least discLimit >= best + slack holds
+    // no triangle that can lower best (disc.h; the head of the file).
     void limits()
     {
         limit = limitFor(best.d2, slack);
-        planeLimit = (best.d2 + slack) * (1 + 0x1p-50);
+        discLimit = (best.d2 + slack) * (1 + 0x1p-50);
     }
 
-    // Lowers best by the triangles of group g, unless their planes are all
-    // too far.
+    // Lowers best by the triangles of group g.
     template <class Lanes> void leaf(const WideTree &tree, uint32_t g)
     {
-        const Group &group = tree.mGroups[g];
-        if (!Lanes::planes(group, p, planeLimit))
-            return;
         double t[kLeafSize];
-        Lanes::triangles(group, p, t);
+        Lanes::triangles(tree.mGroups[g], p, t);
         bool lowered = false;
         for (int l = 0; l < kLeafSize; ++l)
             if (t[l] < best.d2) {
@@ -625,7 +664,9 @@ template <class Lanes> WideTree::Nearest WideTree::search(const double *p, Neare
             continue;
         const Node &node = mNodes[e.node];
         alignas(32) float d2[kWidth];
-        const unsigned mask = Lanes::boxes(node, q.lo, q.hi, q.limit, d2);
+        unsigned mask = Lanes::boxes(node, q.lo, q.hi, q.limit, d2);
+        if (mask & node.flat)
+            mask &= Lanes::discs(node, p, q.discLimit) | ~unsigned(node.flat);
         unsigned leaves = mask & node.leaf, inner = mask & ~unsigned(node.leaf);
         if (leaves) {
             const int first = nearestOf(leaves, d2);
@@ -679,6 +720,8 @@ template <class Lanes> void WideTree::searchPacket(const double *const *p, int c
             for (int i = 0; i < count; ++i) {
                 alignas(32) float own[kWidth];
                 unsigned leaves = Lanes::boxes(node, q[i].lo, q[i].hi, q[i].limit, own) & mask & node.leaf;
+                if (leaves & node.flat)
+                    leaves &= Lanes::discs(node, p[i], q[i].discLimit) | ~unsigned(node.flat);
                 if (leaves) {
                     const int first = nearestOf(leaves, own);
                     q[i].leaf<Lanes>(*this, node.child[first]);

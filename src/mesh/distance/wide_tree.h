@@ -1,10 +1,11 @@
 // sdftrace — exact distances from arbitrary points to a triangle mesh: a
 // bounding volume hierarchy eight children wide, whose children's boxes a
 // point (or a packet of nearby points) tests eight at a time, as Embree's
-// point queries do, over triangles stored four to a leaf for one vector
-// evaluation. Built in parallel. Used by the point queries and the training
-// samples (samples/query.h); the dense grids keep their own voxel-packet
-// search (nearest_triangle.h). No OpenVDB here.
+// point queries do, and where a child is a flat patch askew to the axes,
+// its disc (disc.h) too; over triangles stored four to a leaf for one
+// vector evaluation. Built in parallel. Used by the point queries and the
+// training samples (samples/query.h); the dense grids keep their own
+// voxel-packet search (nearest_triangle.h). No OpenVDB here.
 #ifndef SDFT_MESH_DISTANCE_WIDE_TREE_H
 #define SDFT_MESH_DISTANCE_WIDE_TREE_H
 
@@ -75,18 +76,18 @@ class WideTree
     size_t triangleCount() const { return mPosition.size(); }
 
     /// A node: its children's boxes axis by axis (the exact float bounds of
-    /// their triangles' corners; an absent child's is empty), and each
-    /// child's node index, or for a leaf its group.
+    /// their triangles' corners; an absent child's is empty) and discs
+    /// (disc.h), and each child's node index, or for a leaf its group.
     struct alignas(64) Node {
         float lo[3][kWidth], hi[3][kWidth];
         uint32_t child[kWidth];
-        uint8_t valid, leaf; // bit k: child k exists; is a leaf
+        uint8_t valid, leaf, flat; // bit k: child k exists; is a leaf; is flat
+        double centre[3][kWidth], normal[3][kWidth], thickness[kWidth], radius[kWidth];
     };
     /// A leaf's triangles, prepared as packet_rows.h's PreparedTriangle,
-    /// lane by lane, the fields the search reads first first; lanes past
-    /// the leaf's last triangle repeat its first. The corners are the
-    /// mesh's floats, and the edges are not stored: both are computed as
-    /// prepareTriangle computes them.
+    /// lane by lane; lanes past the leaf's last triangle repeat its first.
+    /// The corners are the mesh's floats, and the edges are not stored:
+    /// both are computed as prepareTriangle computes them.
     struct alignas(32) Group {
         double normal[3][kLeafSize];
         float corner[3][3][kLeafSize];
