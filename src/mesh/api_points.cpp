@@ -75,7 +75,7 @@ sdft_error evaluate(const char *what, const sdft_mesh *m, const sdft_points *pts
             progress.stage("points", 0, 100);
             std::atomic<size_t> evaluated{0};
             tbb::parallel_for(tbb::blocked_range<size_t>(0, pts->count, 256), [&](const tbb::blocked_range<size_t> &r) {
-                query.evaluate(xyz.data(), order.data(), r.begin(), r.end(), distance != nullptr,
+                query.evaluate(xyz.data(), order.data(), r.begin(), r.end(), {distance != nullptr, winding != nullptr},
                                [&](size_t i, double d, double w) {
                                    if (distance)
                                        distance[i] = float(d);

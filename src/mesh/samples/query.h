@@ -25,15 +25,22 @@ class PointQuery
     /// `simd` as WideTree's and FastWinding's.
     PointQuery(const TriangleMesh &mesh, bool simd);
 
+    /// What evaluate() computes: the distance (with the winding number's
+    /// sign), the winding number as a value, or both.
+    struct Wanted {
+        bool distance = true, winding = true;
+    };
+
     /// At the points xyz + 3 i for i = order[j], j in [first, last), in an
     /// order along a space-filling curve (mortonOrder), calls emit(i, d, w):
-    /// the winding number w and, if `distance`, the signed distance d
-    /// (negative where w exceeds 0.5), else NaN; both NaN at a point with a
-    /// coordinate that is not finite. The distances are searched along the
-    /// curve (WideTree::nearestAlong), but each point's values are the same
-    /// in any order and any grouping.
+    /// if wanted.distance, the signed distance d (negative where the
+    /// winding number exceeds 0.5), else NaN; w the winding number, or,
+    /// unless wanted.winding, a number on its side of 0.5 (side()); both
+    /// NaN at a point with a coordinate that is not finite. The distances
+    /// are searched along the curve (WideTree::nearestAlong), but each
+    /// point's values are the same in any order and any grouping.
     template <class Emit>
-    void evaluate(const double *xyz, const size_t *order, size_t first, size_t last, bool distance, Emit emit) const
+    void evaluate(const double *xyz, const size_t *order, size_t first, size_t last, Wanted wanted, Emit emit) const
     {
         constexpr size_t kBlock = 256;
         const double *p[kBlock];
@@ -52,15 +59,19 @@ class PointQuery
                     emit(i, double(NAN), double(NAN));
                 }
             }
-            if (distance)
+            if (wanted.distance)
                 mDistance->nearestAlong(p, n, nearest, &near);
             for (size_t k = 0; k < n; ++k) {
-                const double w = winding(p[k]);
-                const double d = distance ? std::sqrt(nearest[k].d2) : double(NAN);
+                const double w = wanted.winding ? winding(p[k]) : side(p[k]);
+                const double d = wanted.distance ? std::sqrt(nearest[k].d2) : double(NAN);
                 emit(index[k], w > 0.5 ? -d : d, w);
             }
         }
     }
+
+    /// A number on the winding number's side of 0.5 at p, where only the
+    /// side is wanted (a sign): the winding number itself.
+    double side(const double *p) const { return winding(p); }
 
     /// The winding number at p alone (3 doubles), without the distance.
     double winding(const double *p) const { return (*mWinding)({p[0], p[1], p[2]}); }

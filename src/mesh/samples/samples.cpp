@@ -128,7 +128,7 @@ void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const Point
     // Progress per block of rows evaluated (a cancelled one throws out).
     std::atomic<size_t> evaluated{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t> &r) {
-        query.evaluate(points.data(), order.data(), r.begin(), r.end(), true, [&](size_t i, double d, double) {
+        query.evaluate(points.data(), order.data(), r.begin(), r.end(), {true, false}, [&](size_t i, double d, double) {
             float *row = &rows[i * 4];
             for (int k = 0; k < 3; ++k)
                 row[k] = float(points[i * 3 + k]);
