@@ -5,6 +5,7 @@
 #   make bench  the study: regenerate bench/results/ (bakes, table, figures)
 #               and Keinert's techniques against the paper; commits nothing.
 #               make bench-quick: the same, small, checked.
+#   make docs   rewrite the pages made from the code (docs/mesh-settings.md)
 #   make fuzz   build the fuzz harnesses (tests/fuzz) with clang's libFuzzer in
 #               build-fuzz/ and run each FUZZ_SECONDS (default 600); pick
 #               them with FUZZ_TARGETS (default: vdb nvdb mesh scene npy)
@@ -16,7 +17,7 @@ PACKAGES := $(shell cat .ci/debian-packages)
 JOBS ?= $(shell nproc)
 PREFIX ?= /usr/local
 
-.PHONY: all deps build demo test install bench bench-quick fuzz clean
+.PHONY: all deps build demo test install docs bench bench-quick fuzz clean
 
 all: build
 
@@ -44,6 +45,11 @@ test: deps
 
 install: build
 	cmake --install build --prefix $(PREFIX)
+
+# The pages made from the code: docs/mesh-settings.md from the mesh
+# component's tables of settings (make test checks it is current).
+docs: build
+	./build/mesh_settings_table docs/mesh-settings.md
 
 bench: build
 	./bench/study.sh

@@ -32,7 +32,6 @@ Options meshOptions(const Options &opt, const BatchEntry &entry)
     one.output = opt.batchVdb ? base + ".vdb" : "";
     one.nvdb = opt.batchNvdb ? base + ".nvdb" : "";
     one.npy = opt.batchNpy ? base + ".npy" : "";
-    one.samples = opt.batchSamples ? size_t(opt.batchSampleCount) : 0;
     one.samplesOut = opt.batchSamples ? base + ".samples.npy" : "";
     return one;
 }
@@ -127,17 +126,17 @@ BatchRow convertEntry(const Options &opt, const BatchEntry &entry)
     ProgressView quiet(false);
     JobResult r;
     try {
-        std::unique_ptr<sdft_mesh_files, MeshFree> files;
+        std::unique_ptr<mesh_files, MeshFree> files;
         PointFiles samples;
         Options gridOpt = one;
-        gridOpt.normalize = false;
-        if ((one.samples == 0 || trainingSamplesFitMemory(one.samples, r.error)) &&
-            reserveGridFiles(one, files, r.error) && (one.samples == 0 || samples.reserve(one.samplesOut, r.error))) {
+        gridOpt.mesh.normalize = 0;
+        if ((!one.samples() || trainingSamplesFitMemory(size_t(one.sample.count), r.error)) &&
+            reserveGridFiles(one, files, r.error) && (!one.samples() || samples.reserve(one.samplesOut, r.error))) {
             const MeshPtr mesh = loadJobMesh(files ? gridOpt : one, quiet, 0, 15, r);
             r.ok = mesh && (!files || convertJobMesh(one, mesh.get(), files.get(), quiet, r));
-            if (r.ok && one.samples > 0) {
+            if (r.ok && one.samples()) {
                 MeshPtr normalized;
-                if (files && one.normalize)
+                if (files && one.mesh.normalize)
                     r.ok = bool(normalized = loadJobMesh(one, quiet, 0, 15, r));
                 SampleRun run;
                 r.ok =
@@ -145,7 +144,7 @@ BatchRow convertEntry(const Options &opt, const BatchEntry &entry)
                 if (r.ok) {
                     r.outputs.push_back(one.samplesOut);
                     r.outputs.push_back(sidecarPath(one.samplesOut));
-                    r.samples = one.samples;
+                    r.samples = size_t(one.sample.count);
                 }
             }
         }

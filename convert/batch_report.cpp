@@ -51,16 +51,16 @@ BatchRow jobRow(const BatchEntry &entry, const JobResult &r)
     if (grid)
         row.json += format(", \"voxels\": %llu, \"dims\": [%d, %d, %d], \"voxel_size\": %.9g, \"ambiguous_voxels\": "
                            "%llu, \"surface\": %s",
-                           static_cast<unsigned long long>(r.grid.active_voxels), r.grid.dims[0], r.grid.dims[1],
-                           r.grid.dims[2], r.grid.voxel_size, static_cast<unsigned long long>(r.grid.ambiguous_voxels),
-                           r.grid.surface ? "true" : "false");
+                           static_cast<unsigned long long>(r.stats.active_voxels), r.box.dims[0], r.box.dims[1],
+                           r.box.dims[2], r.box.voxel_size, static_cast<unsigned long long>(r.stats.ambiguous_voxels),
+                           r.stats.surface ? "true" : "false");
     if (r.ok && r.samples)
         row.json += format(", \"samples\": %zu", r.samples);
     if (r.meshRead)
-        row.json += meshJsonFields(r);
+        row.json += healthJsonFields(r);
     row.json += ", \"outputs\": " + jsonList(r.outputs) + "}";
     const std::string what =
-        (grid ? format("%llu active voxels", static_cast<unsigned long long>(r.grid.active_voxels)) : std::string()) +
+        (grid ? format("%llu active voxels", static_cast<unsigned long long>(r.stats.active_voxels)) : std::string()) +
         (grid && r.samples ? ", " : "") + (r.samples ? format("%zu samples", r.samples) : "");
     row.text = r.ok ? format("ok %s: %s, %.2f s", entry.line.c_str(), what.c_str(), r.seconds)
                     : "failed " + entry.line + ": " + r.error;

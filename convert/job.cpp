@@ -45,21 +45,21 @@ std::vector<std::string> jobOutputs(const Options &opt)
     return files;
 }
 
-bool reserveGridFiles(const Options &opt, std::unique_ptr<sdft_mesh_files, MeshFree> &files, std::string &error)
+bool reserveGridFiles(const Options &opt, std::unique_ptr<mesh_files, MeshFree> &files, std::string &error)
 {
-    std::vector<sdft_mesh_file> want;
+    std::vector<mesh_file> want;
     if (!opt.output.empty())
-        want.push_back({opt.output.c_str(), SDFT_FILE_VDB});
+        want.push_back({opt.output.c_str(), SDFT_MESH_FORMAT_VDB});
     if (!opt.nvdb.empty())
-        want.push_back({opt.nvdb.c_str(), SDFT_FILE_NVDB});
+        want.push_back({opt.nvdb.c_str(), SDFT_MESH_FORMAT_NVDB});
     if (!opt.npy.empty())
-        want.push_back({opt.npy.c_str(), SDFT_FILE_NPY});
+        want.push_back({opt.npy.c_str(), SDFT_MESH_FORMAT_NPY});
     files.reset();
     if (want.empty())
         return true;
     char msg[1024];
-    sdft_mesh_files *reserved = nullptr;
-    if (sdft_mesh_files_reserve(want.data(), want.size(), &reserved, msg, sizeof msg) != SDFT_OK) {
+    mesh_files *reserved = nullptr;
+    if (mesh_files_reserve(want.data(), want.size(), &reserved, msg, sizeof msg) != SDFT_OK) {
         error = msg;
         return false;
     }
@@ -69,11 +69,7 @@ bool reserveGridFiles(const Options &opt, std::unique_ptr<sdft_mesh_files, MeshF
 
 MeshPtr loadJobMesh(const Options &opt, ProgressView &progress, int from, int to, JobResult &r)
 {
-    sdft_mesh_params p = sdft_mesh_params_defaults();
-    p.orient = opt.orient == OrientMethod::Outward;
-    p.normalize = opt.normalize;
-    p.threads = opt.threads;
-    p.simd = opt.simd;
+    sdft_mesh_params p = opt.mesh;
     p.progress = ProgressView::report;
     p.stage = ProgressView::named;
     p.progress_user = &progress;
@@ -84,7 +80,9 @@ MeshPtr loadJobMesh(const Options &opt, ProgressView &progress, int from, int to
         r.error = msg;
         return nullptr;
     }
-    sdft_mesh_get_info(mesh, &r.mesh, nullptr, 0);
+    sdft_mesh_get_health(mesh, &r.health, nullptr, 0);
+    sdft_mesh_get_frame(mesh, &r.frame, nullptr, 0);
+    sdft_mesh_get_timings(mesh, &r.meshTimes, nullptr, 0);
     r.meshRead = true;
     return MeshPtr(mesh);
 }
@@ -95,15 +93,9 @@ namespace
 // The grid params of `opt`, reporting on `progress`.
 sdft_mesh_grid_params gridParams(const Options &opt, ProgressView &progress)
 {
-    sdft_mesh_grid_params p = sdft_mesh_grid_params_defaults();
-    p.res = opt.res;
-    p.voxel_size = opt.voxelSize;
-    p.band = opt.band;
-    p.full = opt.full;
-    p.padding = opt.padding;
-    p.sign = opt.sign;
-    p.name = opt.name.empty() ? nullptr : opt.name.c_str();
-    p.writes = (opt.nvdb.empty() ? 0u : SDFT_WRITES_NVDB) | (opt.npy.empty() ? 0u : SDFT_WRITES_NPY);
+    sdft_mesh_grid_params p = opt.grid;
+    p.formats =
+        (opt.nvdb.empty() ? 0u : (1u << SDFT_MESH_FORMAT_NVDB)) | (opt.npy.empty() ? 0u : (1u << SDFT_MESH_FORMAT_NPY));
     p.progress = ProgressView::report;
     p.stage = ProgressView::named;
     p.progress_user = &progress;
@@ -112,13 +104,12 @@ sdft_mesh_grid_params gridParams(const Options &opt, ProgressView &progress)
 
 } // namespace
 
-bool convertJobMesh(const Options &opt, const sdft_mesh *mesh, sdft_mesh_files *files, ProgressView &progress,
-                    JobResult &r)
+bool convertJobMesh(const Options &opt, const sdft_mesh *mesh, mesh_files *files, ProgressView &progress, JobResult &r)
 {
     const sdft_mesh_grid_params p = gridParams(opt, progress);
     // Writing has no progress of its own: the bar waits at its start and
     // is cleared once every file is in place.
-    const int written = opt.full ? 95 : 90;
+    const int written = opt.grid.full ? 95 : 90;
     progress.stage("converting", 15, written);
     char msg[1024];
     sdft_mesh_grid *grid = nullptr;
@@ -133,12 +124,14 @@ bool convertJobMesh(const Options &opt, const sdft_mesh *mesh, sdft_mesh_files *
     }
     progress.stage("writing", written, 100);
     progress.show(0);
-    if (files && sdft_mesh_files_write_grid(files, grid, opt.fp16, msg, sizeof msg) != SDFT_OK) {
+    if (files && mesh_files_write_grid(files, grid, opt.fp16, msg, sizeof msg) != SDFT_OK) {
         r.error = msg;
         return false;
     }
     progress.show(1);
-    sdft_mesh_grid_get_box(grid, &r.grid, nullptr, 0);
+    sdft_mesh_grid_get_box(grid, &r.box, nullptr, 0);
+    sdft_mesh_grid_get_stats(grid, &r.stats, nullptr, 0);
+    sdft_mesh_grid_get_timings(grid, &r.gridTimes, nullptr, 0);
     r.gridBuilt = true;
     r.outputs = jobOutputs(opt);
     return true;
@@ -150,15 +143,15 @@ JobResult convertMesh(const Options &opt, ProgressView &progress,
     const auto start = Clock::now();
     JobResult r;
     try {
-        std::unique_ptr<sdft_mesh_files, MeshFree> files;
+        std::unique_ptr<mesh_files, MeshFree> files;
         if (reserveGridFiles(opt, files, r.error)) {
             const MeshPtr mesh = loadJobMesh(opt, progress, 0, 15, r);
             // The box planned before the health line: a size that is
             // refused is the one line the run prints.
             const sdft_mesh_grid_params p = gridParams(opt, progress);
-            sdft_mesh_box planned;
+            sdft_mesh_grid_box planned;
             char msg[1024];
-            if (mesh && sdft_mesh_grid_plan(mesh.get(), &p, &planned, msg, sizeof msg) != SDFT_OK)
+            if (mesh && mesh_grid_plan(mesh.get(), &p, &planned, msg, sizeof msg) != SDFT_OK)
                 r.error = msg;
             else if (mesh) {
                 progress.finish(); // the bar's line cleared for the health line
@@ -176,25 +169,12 @@ JobResult convertMesh(const Options &opt, ProgressView &progress,
     return r;
 }
 
-std::string meshJsonFields(const JobResult &r, bool orientName)
+std::string healthJsonFields(const JobResult &r)
 {
-    const sdft_mesh_info &h = r.mesh;
-    std::string s = format(", \"vertices\": %llu, \"faces\": %llu, \"triangles\": %llu, \"degenerate_faces\": %llu, "
-                           "\"boundary_edges\": %llu, \"non_manifold_edges\": %llu",
-                           (unsigned long long)h.vertices, (unsigned long long)h.faces, (unsigned long long)h.triangles,
-                           (unsigned long long)h.degenerate_faces, (unsigned long long)h.boundary_edges,
-                           (unsigned long long)h.non_manifold_edges);
-    if (orientName)
-        s += format(", \"orient\": \"%s\"", h.oriented ? "outward" : "none");
-    if (h.oriented)
-        s += format(", \"welded_vertices\": %llu, \"duplicate_faces\": %llu, \"patches\": %llu, \"reoriented_faces\": "
-                    "%llu, \"outward_patches\": %llu, \"cavity_patches\": %llu, \"ambiguous_patches\": %llu, "
-                    "\"non_orientable_patches\": %llu",
-                    (unsigned long long)h.welded_vertices, (unsigned long long)h.duplicate_faces,
-                    (unsigned long long)h.patches, (unsigned long long)h.reoriented_faces,
-                    (unsigned long long)h.outward_patches, (unsigned long long)h.cavity_patches,
-                    (unsigned long long)h.ambiguous_patches, (unsigned long long)h.non_orientable_patches);
-    return s;
+    std::string fields(sdft_mesh_health_json(&r.health, nullptr, 0) + 1, '\0');
+    sdft_mesh_health_json(&r.health, &fields[0], fields.size());
+    fields.pop_back();
+    return ", " + fields;
 }
 
 } // namespace mesh2sdf

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh_tool.h"
 #include "sdftrace/mesh.h"
 
 namespace mesh2sdf
@@ -26,10 +27,14 @@ namespace mesh2sdf
 struct JobResult {
     bool ok = false;
     std::string error;
-    bool meshRead = false;            // `mesh` describes the mesh
-    sdft_mesh_info mesh{};            // health, what orienting did, timings
-    bool gridBuilt = false;           // `grid` describes the grid written
-    sdft_mesh_box grid{};             // box, voxel counts, surface, memory, timings
+    bool meshRead = false;         // the mesh's reports below describe it
+    sdft_mesh_health health{};     // what the mesh held, what orienting did
+    sdft_mesh_frame frame{};       // its box and sphere
+    sdft_mesh_timings meshTimes{}; // reading and orienting
+    bool gridBuilt = false;        // the grid's reports below describe the grid written
+    sdft_mesh_grid_box box{};      // its box
+    sdft_mesh_grid_stats stats{};  // voxel counts, surface, memory
+    sdft_mesh_grid_timings gridTimes{};
     size_t samples = 0;               // training samples written (a batch's --formats samples)
     double seconds = 0;               // the whole job, wall clock
     std::vector<std::string> outputs; // the files in place, in the order reserved
@@ -39,7 +44,7 @@ struct JobResult {
 struct MeshFree {
     void operator()(sdft_mesh *m) const { sdft_mesh_free(m); }
     void operator()(sdft_mesh_grid *g) const { sdft_mesh_grid_free(g); }
-    void operator()(sdft_mesh_files *f) const { sdft_mesh_files_free(f); }
+    void operator()(mesh_files *f) const { mesh_files_free(f); }
 };
 using MeshPtr = std::unique_ptr<sdft_mesh, MeshFree>;
 
@@ -53,32 +58,32 @@ std::string fileStem(const std::string &path);
 /// mesh again.
 std::vector<std::string> jobOutputs(const Options &opt);
 
-/// The grid files of `opt` reserved (sdft_mesh_files_reserve): none when
+/// The grid files of `opt` reserved (mesh_files_reserve): none when
 /// it names none. False with one line in `error`.
-bool reserveGridFiles(const Options &opt, std::unique_ptr<sdft_mesh_files, MeshFree> &files, std::string &error);
+bool reserveGridFiles(const Options &opt, std::unique_ptr<mesh_files, MeshFree> &files, std::string &error);
 
 /// opt.input read and oriented as `opt` says (--orient, --normalize,
 /// --threads, --simd), on `progress` from `from` to `to` percent. Fills
-/// r.mesh and r.meshRead, or r.error.
+/// its reports and r.meshRead, or r.error.
 MeshPtr loadJobMesh(const Options &opt, ProgressView &progress, int from, int to, JobResult &r);
 
 /// Converts `mesh` as `opt` says and writes it into `files` (reserved by
-/// reserveGridFiles); fills r.grid, r.gridBuilt and r.outputs, or r.error.
-bool convertJobMesh(const Options &opt, const sdft_mesh *mesh, sdft_mesh_files *files, ProgressView &progress,
-                    JobResult &r);
+/// reserveGridFiles); fills the grid's reports, r.gridBuilt and r.outputs,
+/// or r.error.
+bool convertJobMesh(const Options &opt, const sdft_mesh *mesh, mesh_files *files, ProgressView &progress, JobResult &r);
 
 /// The whole conversion of opt.input: reserveGridFiles, loadJobMesh, the
-/// box planned (sdft_mesh_grid_plan), `meshReady` (if given: the command
+/// box planned (mesh_grid_plan), `meshReady` (if given: the command
 /// line prints the health line then), convertJobMesh. Never throws: a failure (a missing, corrupt or empty
 /// mesh, non-finite coordinates, an unwritable output, out of memory) is a
 /// result with ok false and one line in error.
 JobResult convertMesh(const Options &opt, ProgressView &progress,
                       const std::function<void(const JobResult &)> &meshReady = {});
 
-/// The counts of a mesh that was read, as JSON fields (", \"vertices\":
-/// ..."): the names of mesh2sdf --json and of a batch's report; with
-/// `orientName`, "orient" (outward or none) before what orienting did.
-std::string meshJsonFields(const JobResult &r, bool orientName = false);
+/// The health report of a mesh that was read, as JSON fields after a comma
+/// (", \"vertices\": ..."): mesh2sdf --json's and a batch report's
+/// (sdft_mesh_health_json).
+std::string healthJsonFields(const JobResult &r);
 
 } // namespace mesh2sdf
 

@@ -14,6 +14,7 @@
 #include <cstring>
 #include <memory>
 #include <new>
+#include <vector>
 
 #include "json.h"
 #include "sdftrace/error.h"
@@ -37,70 +38,54 @@ int fail(const std::string &error)
 
 void printHealth(const std::string &path, const JobResult &r)
 {
-    const sdft_mesh_info &h = r.mesh;
-    std::printf("mesh %s: %llu vertices, %llu faces (%llu triangles), %llu boundary edges, %llu non-manifold edges, "
-                "%llu degenerate faces skipped",
-                path.c_str(), (unsigned long long)h.vertices, (unsigned long long)h.faces,
-                (unsigned long long)h.triangles, (unsigned long long)h.boundary_edges,
-                (unsigned long long)h.non_manifold_edges, (unsigned long long)h.degenerate_faces);
-    if (h.oriented) {
-        std::printf("; %llu vertices welded, %llu duplicate faces dropped, %llu patches, %llu faces reoriented, %llu "
-                    "patches turned outward",
-                    (unsigned long long)h.welded_vertices, (unsigned long long)h.duplicate_faces,
-                    (unsigned long long)h.patches, (unsigned long long)h.reoriented_faces,
-                    (unsigned long long)h.outward_patches);
-        if (h.cavity_patches)
-            std::printf(", %llu inward patches kept as cavity walls", (unsigned long long)h.cavity_patches);
-        if (h.ambiguous_patches)
-            std::printf(", %llu open patches with no clear outside", (unsigned long long)h.ambiguous_patches);
-        if (h.non_orientable_patches)
-            std::printf(", %llu non-orientable patches", (unsigned long long)h.non_orientable_patches);
-    }
-    std::printf("\n");
+    std::vector<char> text(sdft_mesh_health_text(&r.health, nullptr, 0) + 1);
+    sdft_mesh_health_text(&r.health, text.data(), text.size());
+    std::printf("mesh %s: %s\n", path.c_str(), text.data());
 }
 
 // The --json object: the mesh's health, what orienting did, the grid.
 void printJson(const Options &opt, const JobResult &r)
 {
-    const sdft_mesh_box &g = r.grid;
+    const sdft_mesh_grid_stats &g = r.stats;
     std::printf("{\"mesh\": ");
     json_put_string(stdout, opt.input.c_str());
     std::printf(", \"output\": ");
     json_put_string(stdout, opt.output.c_str());
-    std::printf("%s", meshJsonFields(r, true).c_str());
+    std::printf("%s", healthJsonFields(r).c_str());
     std::printf(", \"dims\": [%d, %d, %d], \"voxel_size\": %.9g, \"active_voxels\": %llu, \"sign\": \"%s\", "
                 "\"ambiguous_voxels\": %llu, \"surface\": %s, \"orient_seconds\": %.6f, \"winding_seconds\": %.6f, "
                 "\"seconds\": %.6f, \"peak_mib\": %.1f}\n",
-                g.dims[0], g.dims[1], g.dims[2], g.voxel_size, (unsigned long long)g.active_voxels,
-                sdft_mesh_sign_name(opt.sign), (unsigned long long)g.ambiguous_voxels, g.surface ? "true" : "false",
-                r.mesh.orient_seconds, g.winding_seconds, r.seconds, peakMiB());
+                r.box.dims[0], r.box.dims[1], r.box.dims[2], r.box.voxel_size, (unsigned long long)g.active_voxels,
+                settingChoice(SDFT_MESH_SETTINGS_GRID, "sign", opt.grid.sign).c_str(),
+                (unsigned long long)g.ambiguous_voxels, g.surface ? "true" : "false", r.meshTimes.orient_seconds,
+                r.gridTimes.winding_seconds, r.seconds, peakMiB());
 }
 
 // The closing line, or with --json the object; then, on stderr, what stays
 // uncertain: said, not written silently.
 void report(const Options &opt, const JobResult &r)
 {
-    const sdft_mesh_box &g = r.grid;
+    const sdft_mesh_grid_stats &g = r.stats;
     if (opt.json) {
         printJson(opt, r);
     } else if (!opt.quiet) {
         std::printf("wrote %s: %dx%dx%d box, voxel size %.6g, %llu active voxels, grid %.1f MiB, peak memory "
                     "%.1f MiB, %.2f s, sign %s",
-                    opt.output.c_str(), g.dims[0], g.dims[1], g.dims[2], g.voxel_size,
+                    opt.output.c_str(), r.box.dims[0], r.box.dims[1], r.box.dims[2], r.box.voxel_size,
                     (unsigned long long)g.active_voxels, double(g.memory_bytes) / (1024.0 * 1024.0), peakMiB(),
-                    r.seconds, sdft_mesh_sign_name(opt.sign));
-        if (opt.sign == SDFT_SIGN_WINDING)
-            std::printf(" (%.2f s), %llu voxels signed from an ambiguous winding number", g.winding_seconds,
+                    r.seconds, settingChoice(SDFT_MESH_SETTINGS_GRID, "sign", opt.grid.sign).c_str());
+        if (opt.grid.sign == SDFT_MESH_SIGN_WINDING)
+            std::printf(" (%.2f s), %llu voxels signed from an ambiguous winding number", r.gridTimes.winding_seconds,
                         (unsigned long long)g.ambiguous_voxels);
         std::printf("\n");
     }
-    if (opt.sign != SDFT_SIGN_WINDING)
+    if (opt.grid.sign != SDFT_MESH_SIGN_WINDING)
         return;
-    if (r.mesh.oriented && r.mesh.ambiguous_patches)
+    if (r.health.oriented && r.health.ambiguous_patches)
         std::fprintf(stderr,
                      "mesh2sdf: warning: %llu open patches have no clear outside and keep the file's "
                      "orientation; %llu voxels were signed from a winding number between 0.25 and 0.75\n",
-                     (unsigned long long)r.mesh.ambiguous_patches, (unsigned long long)g.ambiguous_voxels);
+                     (unsigned long long)r.health.ambiguous_patches, (unsigned long long)g.ambiguous_voxels);
     if (!g.surface)
         std::fprintf(stderr, "mesh2sdf: warning: no voxel of the band is inside the mesh, so the grid has no "
                              "surface (an open sheet, or a mesh whose inside could not be told)\n");
@@ -112,11 +97,11 @@ void meshReady(const Options &opt, const JobResult &r)
 {
     if (!opt.quiet && !opt.json)
         printHealth(opt.input, r);
-    if (!r.mesh.closed && opt.sign == SDFT_SIGN_FLOOD)
+    if (!r.health.closed && opt.grid.sign == SDFT_MESH_SIGN_FLOOD)
         std::fprintf(stderr,
                      "mesh2sdf: warning: the mesh is not closed (%llu boundary, %llu non-manifold edges) and --sign "
                      "flood assumes it is: inside and outside may be wrong; --sign winding handles open meshes\n",
-                     (unsigned long long)r.mesh.boundary_edges, (unsigned long long)r.mesh.non_manifold_edges);
+                     (unsigned long long)r.health.boundary_edges, (unsigned long long)r.health.non_manifold_edges);
 }
 
 // --check-sign: the mesh as the file has it (no orienting, so that the
@@ -124,8 +109,8 @@ void meshReady(const Options &opt, const JobResult &r)
 int checkSigns(const Options &opt)
 {
     Options raw = opt;
-    raw.orient = OrientMethod::None;
-    raw.normalize = false;
+    raw.mesh.orient = 0;
+    raw.mesh.normalize = 0;
     ProgressView progress(false);
     JobResult r;
     const MeshPtr mesh = loadJobMesh(raw, progress, 0, 100, r);
@@ -134,9 +119,9 @@ int checkSigns(const Options &opt)
     std::vector<const char *> paths;
     for (const std::string &g : opt.checkSign)
         paths.push_back(g.c_str());
-    std::vector<sdft_sign_check> checks(paths.size());
+    std::vector<mesh_sign_counts> checks(paths.size());
     char msg[1024];
-    if (sdft_mesh_sign_check(mesh.get(), paths.data(), paths.size(), opt.checkPoints, checks.data(), msg, sizeof msg) !=
+    if (mesh_sign_check(mesh.get(), paths.data(), paths.size(), opt.checkPoints, checks.data(), msg, sizeof msg) !=
         SDFT_OK)
         return fail(msg);
     for (size_t i = 0; i < checks.size(); ++i)
@@ -188,8 +173,8 @@ int main(int argc, char **argv)
         if (!opt.checkSign.empty())
             return checkSigns(opt); // writes nothing: Ctrl-C may end it as it is
         catchInterrupts();
-        if (opt.samples > 0 || !opt.queryOut.empty())
-            return (opt.samples > 0 ? runSamples(opt, error) : runQuery(opt, error)) ? 0 : fail(error);
+        if (opt.samples() || !opt.queryOut.empty())
+            return (opt.samples() ? runSamples(opt, error) : runQuery(opt, error)) ? 0 : fail(error);
         return opt.batch.empty() ? convertOne(opt) : runBatch(opt);
     } catch (const std::bad_alloc &) {
         return fail("out of memory");

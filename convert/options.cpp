@@ -1,13 +1,17 @@
 // mesh2sdf — command line parsing (see options.h).
 #include "options.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <deque>
+#include <iterator>
 
 #include "cmdline.h"
 #include "parse.h"
+#include "text.h"
 
 namespace mesh2sdf
 {
@@ -44,13 +48,6 @@ cmdline_option number(const char *name, const char *arg, const char *help, cmdli
     return r;
 }
 
-// r, noting in *flag whether it was given.
-cmdline_option seen(cmdline_option r, int *flag)
-{
-    r.seen = flag;
-    return r;
-}
-
 int setString(void *target, const char *value, char *, size_t)
 {
     static_cast<std::string *>(target)->assign(value);
@@ -66,47 +63,6 @@ int addString(void *target, const char *value, char *, size_t)
 int setTrue(void *target, const char *, char *, size_t)
 {
     *static_cast<bool *>(target) = true;
-    return 0;
-}
-
-// v as names[i], stored as E(i) (names in E's order); else one line,
-// "FLAG must be a, b or c, got 'v'".
-template <typename E, size_t n>
-int pick(const char *flag, const char *const (&names)[n], const char *v, void *target, char *msg, size_t len)
-{
-    std::string list;
-    for (size_t i = 0; i < n; ++i) {
-        if (!std::strcmp(v, names[i])) {
-            *static_cast<E *>(target) = E(i);
-            return 0;
-        }
-        list += std::string(i == 0 ? "" : i + 1 < n ? ", " : " or ") + names[i];
-    }
-    std::snprintf(msg, len, "%s must be %s, got '%s'", flag, list.c_str(), v);
-    return -1;
-}
-
-int setSign(void *target, const char *v, char *msg, size_t len)
-{
-    static const char *const names[] = {"winding", "flood", "none"};
-    return pick<sdft_mesh_sign>("--sign", names, v, target, msg, len);
-}
-
-int setOrient(void *target, const char *v, char *msg, size_t len)
-{
-    static const char *const names[] = {"outward", "none"};
-    return pick<OrientMethod>("--orient", names, v, target, msg, len);
-}
-
-int setSimd(void *target, const char *v, char *msg, size_t len)
-{
-    static const char *const names[] = {"auto", "avx2", "none"}; // sdft_simd's order
-    return pick<sdft_simd>("--simd", names, v, target, msg, len);
-}
-
-int setNoSimd(void *target, const char *, char *, size_t)
-{
-    *static_cast<sdft_simd *>(target) = SDFT_SIMD_NONE;
     return 0;
 }
 
@@ -162,23 +118,12 @@ int setInput(void *target, const char *v, char *msg, size_t len)
     return 0;
 }
 
-// --near-sigma A,B: two finite numbers > 0.
-int setSigmas(void *target, const char *v, char *msg, size_t len)
-{
-    double *sigma = static_cast<double *>(target), got[2];
-    if (parse_numbers(v, 2, got) || !(got[0] > 0) || !(got[1] > 0)) {
-        std::snprintf(msg, len, "--near-sigma must be two numbers > 0 joined by a comma, got '%s'", v);
-        return -1;
-    }
-    sigma[0] = got[0], sigma[1] = got[1];
-    return 0;
-}
-
 // The words after --samples and --query, checked by parseOptions.
 struct PointWords {
     const char *samples[2] = {nullptr, nullptr}; // N, OUT.npy
     const char *query[2] = {nullptr, nullptr};   // POINTS.npy, OUT.npy
-    int sampleFlags = 0;                         // --near-sigma, --uniform-share or --seed given
+    int sampleFlags = 0;                         // an option of the samples' settings given (--seed ...)
+    std::string sampleFlagNames;                 // those options, for a message: "--seed, --near-sigma" ...
 };
 
 // A row of two words (CMDLINE_TEXT with value 2).
@@ -189,14 +134,109 @@ cmdline_option twoWords(const char *name, const char *arg, const char *help, con
     return r;
 }
 
-const std::string kResHelp = "voxels along the longest side of the padded box,\n1.." + std::to_string(kMaxResolution);
-
-// Every option of mesh2sdf, over `o` (for --help, over the defaults);
-// *sawRes: --res given; `words`: the values of --samples and --query.
-std::vector<cmdline_option> optionRows(Options &o, int *sawRes, PointWords &words)
+// The library's setting `name` of the params struct of kind `of`.
+const sdft_mesh_setting &setting(sdft_mesh_settings_of of, const char *name)
 {
-    const double inf = HUGE_VAL, maxRes = kMaxResolution;
-    std::vector<cmdline_option> rows = {
+    size_t count = 0;
+    const sdft_mesh_setting *settings = sdft_mesh_settings(of, &count);
+    const sdft_mesh_setting *s = settings;
+    while (s + 1 < settings + count && std::strcmp(s->name, name) != 0)
+        ++s;
+    return *s;
+}
+
+// The rows of the option table and the text they point into.
+struct Table {
+    std::vector<cmdline_option> rows;
+    std::deque<std::string> text; // flags and help lines (a deque keeps them in place)
+
+    const char *keep(std::string t)
+    {
+        text.push_back(std::move(t));
+        return text.back().c_str();
+    }
+};
+
+// How a setting of the library becomes an option: --NAME with dashes for
+// underscores, unless said here otherwise. The grid's threads follow the
+// mesh's (--threads), and the samples' count is --samples N or, per mesh
+// of a batch, --sample-count N.
+struct Renamed {
+    sdft_mesh_settings_of of;
+    const char *setting, *flag, *help; // flag NULL: not an option of its own
+};
+const Renamed kRenamed[] = {{SDFT_MESH_SETTINGS_GRID, "threads", nullptr, nullptr},
+                            {SDFT_MESH_SETTINGS_SAMPLES, "count", "sample-count", "--batch --formats samples: "}};
+
+// The options of the settings of one params struct `params` of kind `of`,
+// in the table's order: their values' names, ranges, defaults and
+// descriptions the library's (sdft_mesh_settings). `seen`, when given, is
+// set by every one of them.
+void settingRows(Table &t, sdft_mesh_settings_of of, void *params, int *seen = nullptr)
+{
+    size_t count = 0;
+    const sdft_mesh_setting *settings = sdft_mesh_settings(of, &count);
+    for (size_t i = 0; i < count; ++i) {
+        const sdft_mesh_setting &s = settings[i];
+        std::string flag = s.name, help = s.doc;
+        for (const Renamed &r : kRenamed)
+            if (r.of == of && flag == r.setting) {
+                flag = r.flag ? r.flag : "";
+                help = std::string(r.help ? r.help : "") + help;
+            }
+        if (flag.empty())
+            continue;
+        for (char &c : flag)
+            c = c == '_' ? '-' : c;
+        cmdline_option r = row(t.keep(flag), 0, s.value, nullptr, CMDLINE_TEXT, static_cast<char *>(params) + s.offset);
+        r.lo = s.lo, r.hi = s.hi, r.seen = seen;
+        r.open = int(s.flags & (SDFT_MESH_SETTING_OPEN_LO | SDFT_MESH_SETTING_OPEN_HI));
+        r.def = s.automatic; // the default in words, where it is not a value; else the member's
+        char range[96] = "";
+        switch (s.kind) {
+        case SDFT_MESH_SETTING_INT:
+            r.kind = CMDLINE_INT;
+            break;
+        case SDFT_MESH_SETTING_COUNT:
+            r.kind = CMDLINE_UINT64;
+            break;
+        case SDFT_MESH_SETTING_REAL:
+            r.kind = s.count > 1 ? CMDLINE_DOUBLES : CMDLINE_DOUBLE;
+            r.value = s.count;
+            break;
+        case SDFT_MESH_SETTING_FLAG:
+            r.kind = CMDLINE_SET;
+            r.value = 1;
+            r.def = "";
+            break;
+        case SDFT_MESH_SETTING_CHOICE:
+            r.kind = CMDLINE_CHOICE;
+            r.choices = s.choices;
+            break;
+        case SDFT_MESH_SETTING_TEXT:
+            r.kind = CMDLINE_TEXT;
+            break;
+        }
+        if (s.kind == SDFT_MESH_SETTING_INT || s.kind == SDFT_MESH_SETTING_COUNT || s.kind == SDFT_MESH_SETTING_REAL)
+            parse_range_text(s.lo, s.hi, r.open, s.kind == SDFT_MESH_SETTING_REAL ? "%g" : "%.0f", range, sizeof range);
+        r.help = t.keep(help + (range[0] ? "," : "") + range);
+        t.rows.push_back(r);
+    }
+}
+
+// r with `value` set (what a flag stores; how many words or numbers).
+cmdline_option valued(cmdline_option r, int value)
+{
+    r.value = value;
+    return r;
+}
+
+// Every option of mesh2sdf, over `o` (for --help, over the defaults), into
+// t; *sawRes: --res given; `words`: the values of --samples and --query.
+void optionRows(Table &t, Options &o, int *sawRes, PointWords &words)
+{
+    std::vector<cmdline_option> &rows = t.rows;
+    rows = {
         call("output", 'o', "OUT.vdb", "OpenVDB level set to write (required)", setString, &o.output),
         call("nvdb", 0, "OUT.nvdb", "also write a NanoVDB grid", setString, &o.nvdb, "none"),
         call("npy", 0, "OUT.npy",
@@ -205,43 +245,21 @@ std::vector<cmdline_option> optionRows(Options &o, int *sawRes, PointWords &word
              "at origin + (i,j,k) * voxel_size, z fastest; origin,\n"
              "voxel size and shape go to OUT.json",
              setString, &o.npy, "none"),
-        seen(number("res", "N", kResHelp.c_str(), CMDLINE_INT, &o.res, 1, maxRes), sawRes),
-        number("voxel-size", "H", "voxel size in world units, > 0; overrides --res\n", CMDLINE_DOUBLE, &o.voxelSize, 0,
-               inf, CMDLINE_OPEN_LO, "from --res"),
-        number("band", "W", "narrow-band half-width in voxels, > 0", CMDLINE_DOUBLE, &o.band, 0, maxRes,
-               CMDLINE_OPEN_LO),
-        call("full", 0, nullptr, "store a distance in every voxel of the padded box\n", setTrue, &o.full,
-             "narrow band only"),
-        number("padding", "P", "voxels between the mesh bounds and the box, >= 0\n", CMDLINE_DOUBLE, &o.padding, 0,
-               maxRes, 0, "band + 1"),
-        call("sign", 0, "METHOD",
-             "winding: generalized winding number > 0.5 is inside,\n"
-             "right on open meshes (default); flood: OpenVDB's\n"
-             "flood fill, needs a closed mesh; none: unsigned",
-             setSign, &o.sign),
-        call("orient", 0, "METHOD",
-             "outward: weld the vertices by position, drop duplicate\n"
-             "faces, orient each edge-connected patch consistently\n"
-             "and turn it to face outward, so that inside-out,\n"
-             "flipped and unwelded meshes sign right (default);\n"
-             "none: the faces as the file orients them",
-             setOrient, &o.orient),
+    };
+    settingRows(t, SDFT_MESH_SETTINGS_GRID, &o.grid);
+    for (cmdline_option &r : rows)
+        if (std::strcmp(r.name, "res") == 0)
+            r.seen = sawRes;
+    settingRows(t, SDFT_MESH_SETTINGS_MESH, &o.mesh);
+    const cmdline_option middle[] = {
+        valued(row("no-simd", 0, nullptr, "the same as --simd none", CMDLINE_SET, &o.mesh.simd, ""),
+               SDFT_MESH_SIMD_NONE),
         call("fp16", 0, nullptr, "NanoVDB values as Fp16", setTrue, &o.fp16, "float"),
-        call("name", 0, "NAME", "grid name", setString, &o.name, "the mesh's file name stem"),
-        number("threads", "N", "worker threads, 0 = all cores", CMDLINE_INT, &o.threads, 0, 1024),
         call("quiet", 0, nullptr, "no health line, progress bar or summary", setTrue, &o.quiet),
         call("json", 0, nullptr,
              "the health counts and the summary as one JSON object\n"
              "on stdout, instead of the text lines",
              setTrue, &o.json),
-        call("simd", 0, "LEVEL",
-             "vector instructions, chosen at run time: auto (the\n"
-             "widest the processor has: AVX-512 for the dense\n"
-             "search, else AVX2; default), avx2 (no AVX-512) or\n"
-             "none; the same grid to rounding, for comparison\n"
-             "and testing",
-             setSimd, &o.simd),
-        call("no-simd", 0, nullptr, "the same as --simd none", setNoSimd, &o.simd),
         call("check-sign", 0, "GRID.vdb",
              "do not convert: sample points uniformly in the mesh's\n"
              "box grown by 5%, compute the exact winding number by\n"
@@ -261,17 +279,20 @@ std::vector<cmdline_option> optionRows(Options &o, int *sawRes, PointWords &word
                  "by the winding number; OUT.json gets the sphere\n"
                  "and the settings; the same bytes for any --threads",
                  words.samples),
-        seen(call("near-sigma", 0, "A,B",
-                  "--samples: the two Gaussians' standard deviations,\n"
-                  "per axis, in units of the sphere's radius (that is,\n"
-                  "of the unit sphere after --normalize)\n",
-                  setSigmas, o.nearSigma, "0.0707,0.0224: DeepSDF's"),
-             &words.sampleFlags),
-        seen(number("uniform-share", "S", "--samples: the share of uniform points, 0..1\n", CMDLINE_DOUBLE,
-                    &o.uniformShare, 0, 1, 0, "0.06: DeepSDF's"),
-             &words.sampleFlags),
-        seen(number("seed", "N", "--samples: the random seed, >= 0", CMDLINE_INT, &o.seed, 0, 2147483647),
-             &words.sampleFlags),
+    };
+    rows.insert(rows.end(), std::begin(middle), std::end(middle));
+    const size_t sampleRows = rows.size();
+    settingRows(t, SDFT_MESH_SETTINGS_SAMPLES, &o.sample, &words.sampleFlags);
+    // --sample-count is a batch's: it goes with the batch's options, and
+    // does not count among the flags that need --samples.
+    const auto count = std::find_if(rows.begin(), rows.end(),
+                                    [](const cmdline_option &r) { return !std::strcmp(r.name, "sample-count"); });
+    cmdline_option sampleCount = *count;
+    sampleCount.seen = nullptr;
+    rows.erase(count);
+    for (size_t i = sampleRows; i < rows.size(); ++i)
+        words.sampleFlagNames += std::string(i > sampleRows ? ", --" : "--") + rows[i].name;
+    const cmdline_option last[] = {
         twoWords("query", "POINTS.npy OUT.npy",
                  "do not convert: the signed distance at each point of\n"
                  "POINTS.npy, shape (N, 3), float32 or float64, C or\n"
@@ -280,12 +301,6 @@ std::vector<cmdline_option> optionRows(Options &o, int *sawRes, PointWords &word
                  words.query),
         call("winding", 0, nullptr, "--query: each row d, w: the winding number beside\nthe distance", setTrue,
              &o.winding, "distance only"),
-        call("normalize", 0, nullptr,
-             "--samples, --query: first map the mesh into the unit\n"
-             "sphere, (x - centre) / radius with DeepSDF's centre\n"
-             "(the bounding box's) and radius (1.03 times the\n"
-             "farthest vertex); OUT.json records both\n",
-             setTrue, &o.normalize, "the mesh's own units"),
         call("batch", 0, "LIST",
              "convert every mesh LIST names (one path a line,\n"
              "relative to LIST's folder; blank lines and # comments\n"
@@ -305,8 +320,7 @@ std::vector<cmdline_option> optionRows(Options &o, int *sawRes, PointWords &word
              "samples as --samples writes them, STEM.samples.npy\n"
              "and its .json)",
              setFormats, &o, "vdb"),
-        number("sample-count", "N", "--batch --formats samples: rows per mesh", CMDLINE_INT, &o.batchSampleCount, 1,
-               kMaxSamples),
+        sampleCount,
         call("shard", 0, "K/N",
              "--batch: convert only shard K of N (K from 0 to N-1):\n"
              "the meshes at positions K, K+N, K+2N ... of LIST;\n"
@@ -314,22 +328,23 @@ std::vector<cmdline_option> optionRows(Options &o, int *sawRes, PointWords &word
              setShard, &o, "all"),
         row("help", 'h', nullptr, "this help", CMDLINE_HELP, nullptr),
         row("version", 0, nullptr, "the version, sdftrace's", CMDLINE_NOTE, nullptr), // main.cpp answers it
+        cmdline_option{},
     };
-    rows.push_back(cmdline_option{});
-    return rows;
+    rows.insert(rows.end(), std::begin(last), std::end(last));
 }
 
 // --samples and --query: their words, and the options that go with them.
 bool pointModes(Options &opt, const PointWords &words, std::string &error)
 {
     if (words.samples[0]) {
+        const sdft_mesh_setting &count = setting(SDFT_MESH_SETTINGS_SAMPLES, "count");
         double n;
-        if (parse_number(words.samples[0], &n) || n != std::floor(n) || n < 1 || n > kMaxSamples) {
-            error =
-                std::string("--samples N must be a whole number from 1 to 100000000, got '") + words.samples[0] + "'";
+        if (parse_number(words.samples[0], &n) || n != std::floor(n) || n < count.lo || n > count.hi) {
+            error = format("--samples N must be a whole number from %.0f to %.0f, got '%s'", count.lo, count.hi,
+                           words.samples[0]);
             return false;
         }
-        opt.samples = size_t(n);
+        opt.sample.count = uint64_t(n);
         opt.samplesOut = words.samples[1];
     }
     if (words.query[0]) {
@@ -347,18 +362,18 @@ bool pointModes(Options &opt, const PointWords &words, std::string &error)
     else if (points && (!opt.output.empty() || !opt.nvdb.empty() || !opt.npy.empty() || !opt.checkSign.empty()))
         error = std::string(words.samples[0] ? "--samples" : "--query") +
                 " writes its own OUT.npy: give no -o, --nvdb, --npy or --check-sign";
-    else if (points && opt.sign != SDFT_SIGN_WINDING)
+    else if (points && opt.grid.sign != SDFT_MESH_SIGN_WINDING)
         error = "--samples and --query sign by the winding number: --sign does not apply";
     else if (words.sampleFlags && !words.samples[0] && !batchSamples)
-        error = "--near-sigma, --uniform-share and --seed go with --samples (or --batch --formats samples)";
+        error = "the samples' options (" + words.sampleFlagNames + ") go with --samples (or --batch --formats samples)";
     else if (opt.winding && !words.query[0])
         error = "--winding goes with --query";
-    else if (opt.normalize && !points && !batchSamples)
+    else if (opt.mesh.normalize && !points && !batchSamples)
         error = "--normalize goes with --samples, --query or --batch --formats samples";
     return error.empty();
 }
 
-cmdline_spec optionSpec(const std::vector<cmdline_option> &rows, Options &o)
+cmdline_spec optionSpec(const Table &t, Options &o)
 {
     cmdline_spec spec{};
     spec.program = "mesh2sdf";
@@ -368,8 +383,6 @@ cmdline_spec optionSpec(const std::vector<cmdline_option> &rows, Options &o)
                  "       mesh2sdf IN.obj --samples N OUT.npy [--near-sigma A,B] [--uniform-share S] [--seed N]\n"
                  "                       [--normalize]\n"
                  "       mesh2sdf IN.obj --query POINTS.npy OUT.npy [--winding] [--normalize]\n"
-                 "       mesh2sdf --batch LIST --out-dir DIR [--formats vdb,nvdb,npy] [--shard K/N] [options]\n"
-                 "       mpirun -np N mesh2sdf --batch LIST --out-dir DIR [options]\n"
                  "       mesh2sdf IN.obj --check-sign GRID.vdb [--check-sign GRID2.vdb ...] [--check-points N]\n"
                  "\n"
                  "Converts a triangle mesh to a signed distance grid (OpenVDB level set).\n"
@@ -385,8 +398,9 @@ cmdline_spec optionSpec(const std::vector<cmdline_option> &rows, Options &o)
                   "outputs were there), 2 when some failed (each has its row in the report),\n"
                   "1 when the batch could not run (bad options, unreadable LIST, unwritable\n"
                   "DIR).\n";
-    spec.rows = rows.data();
+    spec.rows = t.rows.data();
     spec.column = 25;
+    spec.width = 79;
     spec.default_format = "(default: %s)";
     spec.operand = setInput;
     spec.operand_target = &o.input;
@@ -402,7 +416,7 @@ bool checkBatch(const Options &opt, std::string &error)
             error = "--out-dir, --formats and --shard go with --batch LIST";
         return !batchOnly;
     }
-    if (!opt.input.empty() || !opt.output.empty() || !opt.nvdb.empty() || !opt.npy.empty() || !opt.name.empty() ||
+    if (!opt.input.empty() || !opt.output.empty() || !opt.nvdb.empty() || !opt.npy.empty() || opt.grid.name ||
         !opt.checkSign.empty())
         error = "--batch takes its meshes from LIST and names the outputs itself: no mesh, -o, --nvdb, --npy, "
                 "--name or --check-sign beside it";
@@ -413,13 +427,21 @@ bool checkBatch(const Options &opt, std::string &error)
 
 } // namespace
 
+std::string settingChoice(sdft_mesh_settings_of of, const char *name, int value)
+{
+    const char *text;
+    const size_t n = parse_list_item(setting(of, name).choices, value, &text);
+    return n ? std::string(text, n) : "?";
+}
+
 void printHelp()
 {
     Options defaults;
     int sawRes = 0;
     PointWords words;
-    const std::vector<cmdline_option> rows = optionRows(defaults, &sawRes, words);
-    const cmdline_spec spec = optionSpec(rows, defaults);
+    Table t;
+    optionRows(t, defaults, &sawRes, words);
+    const cmdline_spec spec = optionSpec(t, defaults);
     cmdline_help(&spec, stdout);
 }
 
@@ -427,8 +449,9 @@ bool parseOptions(int argc, char **argv, Options &opt, std::string &error)
 {
     int sawRes = 0;
     PointWords words;
-    const std::vector<cmdline_option> rows = optionRows(opt, &sawRes, words);
-    const cmdline_spec spec = optionSpec(rows, opt);
+    Table t;
+    optionRows(t, opt, &sawRes, words);
+    const cmdline_spec spec = optionSpec(t, opt);
     char msg[512];
     const int parsed = cmdline_parse(&spec, argc, argv, msg, sizeof msg);
     if (parsed == CMDLINE_HELP_ASKED) {
@@ -452,12 +475,10 @@ bool parseOptions(int argc, char **argv, Options &opt, std::string &error)
         error = "no output: give -o OUT.vdb (see --help)";
         return false;
     }
-    if (sawRes && opt.voxelSize > 0) {
+    if (sawRes && opt.grid.voxel_size > 0) {
         error = "give --res or --voxel-size, not both";
         return false;
     }
-    if (opt.padding < 0)
-        opt.padding = opt.band + 1.0;
     while (opt.outDir.size() > 1 && opt.outDir.back() == '/') // DIR/ names DIR/NAME.vdb, not DIR//NAME.vdb
         opt.outDir.pop_back();
     return true;

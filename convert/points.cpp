@@ -1,7 +1,9 @@
 // mesh2sdf --samples and --query (see points.h).
 #include "points.h"
 
+#include "mesh_tool.h"
 #include "npy_read.h"
+#include "options.h"
 #include "text.h"
 
 #include <algorithm>
@@ -33,7 +35,8 @@ bool writeArray(const char *tmp, const std::string &shape, const float *values, 
     return std::fclose(f) == 0 && ok;
 }
 
-bool writeSidecar(const char *tmp, const std::string &fields, const Options &opt, const sdft_mesh_info &info)
+bool writeSidecar(const char *tmp, const std::string &fields, const Options &opt, const sdft_mesh_frame &info,
+                  bool oriented)
 {
     FILE *f = std::fopen(tmp, "w");
     if (!f)
@@ -51,7 +54,7 @@ bool writeSidecar(const char *tmp, const std::string &fields, const Options &opt
     std::fprintf(f,
                  "  \"sign\": \"negative inside: winding number > 0.5\",\n  \"orient\": \"%s\",\n"
                  "  \"source_mesh\": ",
-                 info.oriented ? "outward" : "none");
+                 settingChoice(SDFT_MESH_SETTINGS_MESH, "orient", oriented).c_str());
     json_put_string(f, opt.input.c_str());
     std::fprintf(f, "\n}\n");
     const bool ok = !std::ferror(f);
@@ -98,9 +101,10 @@ bool PointFiles::discard()
 }
 
 bool PointFiles::write(const std::string &shape, const float *values, size_t count, const std::string &fields,
-                       const Options &opt, const sdft_mesh_info &info, std::string &error)
+                       const Options &opt, const sdft_mesh_frame &frame, bool oriented, std::string &error)
 {
-    if (!writeArray(mArray.tmp_path, shape, values, count) || !writeSidecar(mSidecar.tmp_path, fields, opt, info)) {
+    if (!writeArray(mArray.tmp_path, shape, values, count) ||
+        !writeSidecar(mSidecar.tmp_path, fields, opt, frame, oriented)) {
         error = std::string("cannot write beside ") + mArray.path + ": " + std::strerror(errno);
         return discard();
     }
@@ -132,30 +136,26 @@ bool trainingSamplesFitMemory(size_t count, std::string &error)
 bool writeSamples(const Options &opt, const sdft_mesh *mesh, PointFiles &files, ProgressView &progress, SampleRun &run,
                   std::string &error)
 {
-    sdft_sample_params p = sdft_sample_params_defaults();
-    p.count = opt.samples;
-    p.seed = uint64_t(opt.seed);
-    p.near_sigma[0] = opt.nearSigma[0];
-    p.near_sigma[1] = opt.nearSigma[1];
-    p.uniform_share = opt.uniformShare;
+    sdft_mesh_sample_params p = opt.sample;
     p.progress = ProgressView::report;
     p.stage = ProgressView::named;
     p.progress_user = &progress;
-    std::vector<float> rows(opt.samples * 4);
+    const size_t count = size_t(p.count);
+    std::vector<float> rows(count * 4);
     char msg[1024];
-    sdft_mesh_info before;
-    sdft_mesh_get_info(mesh, &before, nullptr, 0);
+    sdft_mesh_timings before;
+    sdft_mesh_get_timings(mesh, &before, nullptr, 0);
     const auto t0 = Clock::now();
     if (sdft_mesh_samples(mesh, &p, rows.data(), rows.size(), msg, sizeof msg) != SDFT_OK)
         return failed(msg, error);
     const double seconds = secondsBetween(t0, Clock::now());
     if (interruptSignal())
         return failed("interrupted", error);
-    sdft_mesh_info info;
-    sdft_mesh_get_info(mesh, &info, nullptr, 0);
-    run.indexSeconds = info.index_seconds - before.index_seconds; // built by this call, or before it
+    sdft_mesh_timings after;
+    sdft_mesh_get_timings(mesh, &after, nullptr, 0);
+    run.indexSeconds = after.index_seconds - before.index_seconds; // built by this call, or before it
     run.sampleSeconds = seconds - run.indexSeconds;
-    sdft_sample_counts(&p, &run.near[0], &run.near[1], &run.uniform);
+    mesh_sample_counts(&p, &run.near[0], &run.near[1], &run.uniform);
     const std::string fields =
         arrayField(opt.samplesOut) +
         format("  \"dtype\": \"float32\",\n  \"shape\": [%zu, 4],\n"
@@ -164,17 +164,23 @@ bool writeSamples(const Options &opt, const sdft_mesh *mesh, PointFiles &files, 
                "  \"near_samples\": [%zu, %zu],\n  \"uniform_samples\": %zu,\n"
                "  \"near_sigma\": [%.17g, %.17g],\n  \"near_sigma_units\": \"times the sphere's radius\",\n"
                "  \"uniform_share\": %.17g,\n  \"uniform_region\": \"centre +- radius on each axis\",\n"
-               "  \"seed\": %d,\n",
-               opt.samples, run.near[0], run.near[1], run.uniform, opt.nearSigma[0], opt.nearSigma[1], opt.uniformShare,
-               opt.seed);
-    return files.write("(" + std::to_string(opt.samples) + ", 4)", rows.data(), rows.size(), fields, opt, info, error);
+               "  \"seed\": %llu,\n",
+               count, run.near[0], run.near[1], run.uniform, p.near_sigma[0], p.near_sigma[1], p.uniform_share,
+               (unsigned long long)p.seed);
+    sdft_mesh_frame frame;
+    sdft_mesh_health health;
+    sdft_mesh_get_frame(mesh, &frame, nullptr, 0);
+    sdft_mesh_get_health(mesh, &health, nullptr, 0);
+    return files.write("(" + std::to_string(count) + ", 4)", rows.data(), rows.size(), fields, opt, frame,
+                       health.oriented, error);
 }
 
 bool runSamples(const Options &opt, std::string &error)
 {
     const auto t0 = Clock::now();
     PointFiles files;
-    if (!trainingSamplesFitMemory(opt.samples, error) || !files.reserve(opt.samplesOut, error))
+    const size_t count = size_t(opt.sample.count);
+    if (!trainingSamplesFitMemory(count, error) || !files.reserve(opt.samplesOut, error))
         return false;
     ProgressView progress(!opt.quiet && !opt.json);
     JobResult r;
@@ -188,7 +194,7 @@ bool runSamples(const Options &opt, std::string &error)
     if (!ok)
         return false;
     const double seconds = secondsBetween(t0, Clock::now());
-    const double rate = double(opt.samples) / run.sampleSeconds;
+    const double rate = double(count) / run.sampleSeconds;
     if (opt.json) {
         std::printf("{\"mesh\": ");
         json_put_string(stdout, opt.input.c_str());
@@ -197,12 +203,13 @@ bool runSamples(const Options &opt, std::string &error)
         std::printf(", \"samples\": %zu, \"near_samples\": [%zu, %zu], \"uniform_samples\": %zu, \"triangles\": %llu, "
                     "\"normalized\": %s, \"read_seconds\": %.6f, \"orient_seconds\": %.6f, \"index_seconds\": %.6f, "
                     "\"samples_seconds\": %.6f, \"samples_per_second\": %.0f, \"seconds\": %.6f, \"peak_mib\": %.1f}\n",
-                    opt.samples, run.near[0], run.near[1], run.uniform, (unsigned long long)r.mesh.triangles,
-                    opt.normalize ? "true" : "false", r.mesh.read_seconds, r.mesh.orient_seconds, run.indexSeconds,
+                    count, run.near[0], run.near[1], run.uniform, (unsigned long long)r.health.triangles,
+                    opt.mesh.normalize ? "true" : "false", r.meshTimes.read_seconds, r.meshTimes.orient_seconds,
+                    run.indexSeconds,
                     run.sampleSeconds, rate, seconds, peakMiB());
     } else if (!opt.quiet) {
-        std::printf("wrote %s: %zu samples, %.2f s, sampling %.3f s (%.0f samples/s)\n", opt.samplesOut.c_str(),
-                    opt.samples, seconds, run.sampleSeconds, rate);
+        std::printf("wrote %s: %zu samples, %.2f s, sampling %.3f s (%.0f samples/s)\n", opt.samplesOut.c_str(), count,
+                    seconds, run.sampleSeconds, rate);
     }
     return true;
 }
@@ -223,11 +230,11 @@ bool runQuery(const Options &opt, std::string &error)
         return failed(r.error.c_str(), error);
     const size_t count = xyz.size() / 3, columns = opt.winding ? 2 : 1;
     std::vector<float> distance(count), winding(opt.winding ? count : 0);
-    sdft_points pts{};
+    sdft_mesh_points pts{};
     pts.data = xyz.data();
-    pts.type = SDFT_FLOAT64;
+    pts.type = SDFT_MESH_FLOAT64;
     pts.count = count;
-    sdft_query_params q = sdft_query_params_defaults();
+    sdft_mesh_query_params q = sdft_mesh_query_params_defaults();
     q.progress = ProgressView::report; // Ctrl-C stops it too
     q.progress_user = &progress;
     progress.stage("points", 50, 100);
@@ -250,7 +257,7 @@ bool runQuery(const Options &opt, std::string &error)
         format("  \"points\": %s,\n  \"dtype\": \"float32\",\n  \"shape\": [%zu%s],\n  \"columns\": [%s],\n",
                jsonString(opt.queryIn).c_str(), count, opt.winding ? ", 2" : "",
                opt.winding ? "\"distance\", \"winding\"" : "\"distance\"");
-    if (!files.write(shape, out.data(), out.size(), fields, opt, r.mesh, error))
+    if (!files.write(shape, out.data(), out.size(), fields, opt, r.frame, r.health.oriented, error))
         return false;
     const double seconds = secondsBetween(t0, Clock::now());
     if (opt.json) {
@@ -262,7 +269,7 @@ bool runQuery(const Options &opt, std::string &error)
         json_put_string(stdout, opt.queryOut.c_str());
         std::printf(", \"count\": %zu, \"triangles\": %llu, \"orient_seconds\": %.6f, \"query_seconds\": %.6f, "
                     "\"points_per_second\": %.0f, \"seconds\": %.6f, \"peak_mib\": %.1f}\n",
-                    count, (unsigned long long)r.mesh.triangles, r.mesh.orient_seconds, querySeconds,
+                    count, (unsigned long long)r.health.triangles, r.meshTimes.orient_seconds, querySeconds,
                     double(count) / querySeconds, seconds, peakMiB());
     } else if (!opt.quiet) {
         std::printf("wrote %s: %zu signed distances%s, %.2f s, queries %.3f s (%.0f points/s)\n", opt.queryOut.c_str(),

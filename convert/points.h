@@ -29,12 +29,12 @@ class PointFiles
 
     bool reserve(const std::string &npy, std::string &error);
     /// The float32 array of `shape` ("(n, 4)") and the sidecar: `fields`
-    /// (its own lines, each ending in ",\n"), then the frame of the mesh
-    /// `info` describes: whether the points are normalized, the sphere, how
-    /// to map a point and a distance back, the sign and the source mesh. On
+    /// (its own lines, each ending in ",\n"), then the mesh's frame:
+    /// whether the points are normalized, the sphere, how to map a point and
+    /// a distance back, the sign, the orientation and the source mesh. On
     /// failure, removes both.
     bool write(const std::string &shape, const float *values, size_t count, const std::string &fields,
-               const Options &opt, const sdft_mesh_info &info, std::string &error);
+               const Options &opt, const sdft_mesh_frame &frame, bool oriented, std::string &error);
     /// Removes both temporary files; returns false.
     bool discard();
 
@@ -47,7 +47,7 @@ class PointFiles
 /// the sidecar.
 struct SampleRun {
     double indexSeconds = 0, sampleSeconds = 0;
-    size_t near[2] = {0, 0}, uniform = 0; // rows of each kind (sdft_sample_counts)
+    size_t near[2] = {0, 0}, uniform = 0; // rows of each kind (mesh_sample_counts)
 };
 
 /// The memory `count` training samples need, checked before any work:

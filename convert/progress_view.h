@@ -35,7 +35,7 @@ class ProgressView
         progress_bar_show(&v.mBar, v.mLabel.load(), v.mFrom + int(float(v.mTo - v.mFrom) * done));
         return interruptSignal() != 0;
     }
-    /// An sdft_stage_fn for the library: the label of what follows.
+    /// An sdft_mesh_stage_fn for the library: the label of what follows.
     static void named(void *user, const char *stage) { static_cast<ProgressView *>(user)->mLabel = stage; }
     /// Clears the bar's line.
     void finish() { progress_bar_clear(&mBar); }

@@ -9,7 +9,7 @@
 #include <sys/resource.h>
 
 #include "json.h"
-#include "sdftrace/mesh.h"
+#include "mesh_tool.h"
 
 namespace mesh2sdf
 {
@@ -51,8 +51,8 @@ double peakMiB()
 
 std::string sidecarPath(const std::string &npyPath)
 {
-    std::string path(sdft_mesh_sidecar_path(npyPath.c_str(), nullptr, 0), '\0');
-    sdft_mesh_sidecar_path(npyPath.c_str(), &path[0], path.size() + 1);
+    std::string path(mesh_sidecar_path(npyPath.c_str(), nullptr, 0), '\0');
+    mesh_sidecar_path(npyPath.c_str(), &path[0], path.size() + 1);
     return path;
 }
 

@@ -17,7 +17,7 @@ std::string jsonString(const std::string &text);
 /// Peak resident memory of the process so far, MiB.
 double peakMiB();
 
-/// The sidecar JSON beside an .npy file (sdft_mesh_sidecar_path).
+/// The sidecar JSON beside an .npy file (mesh_sidecar_path, mesh_tool.h).
 std::string sidecarPath(const std::string &npyPath);
 
 } // namespace mesh2sdf

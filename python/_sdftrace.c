@@ -11,9 +11,12 @@
 
 #include <numpy/arrayobject.h>
 
+#include <limits.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
+#include "parse.h" /* src/common: the names of a choice */
 #include "sdftrace/grid.h"
 #include "sdftrace/mesh.h"
 #include "sdftrace/render.h"
@@ -58,7 +61,7 @@ static PyObject *raise_error(sdft_error e, const char *msg)
 /* obj as an aligned (n, 3) float32 or float64 array, in place when it is
  * one already (any strides), into *pts; a new reference, or NULL with an
  * exception set. */
-static PyArrayObject *points_of(PyObject *obj, sdft_points *pts)
+static PyArrayObject *points_of(PyObject *obj, sdft_mesh_points *pts)
 {
     PyArrayObject *a = (PyArrayObject *)PyArray_FROMANY(obj, NPY_NOTYPE, 0, 0, 0);
     if (!a)
@@ -79,7 +82,7 @@ static PyArrayObject *points_of(PyObject *obj, sdft_points *pts)
         return NULL;
     }
     pts->data = PyArray_DATA(a);
-    pts->type = PyArray_TYPE(a) == NPY_FLOAT32 ? SDFT_FLOAT32 : SDFT_FLOAT64;
+    pts->type = PyArray_TYPE(a) == NPY_FLOAT32 ? SDFT_MESH_FLOAT32 : SDFT_MESH_FLOAT64;
     pts->count = (size_t)PyArray_DIM(a, 0);
     pts->stride[0] = PyArray_STRIDE(a, 0);
     pts->stride[1] = PyArray_STRIDE(a, 1);
@@ -154,6 +157,151 @@ static PyObject *progress_result(progress_call *p, sdft_error e, const char *msg
     return e == SDFT_OK ? result : raise_error(e, msg);
 }
 
+/* ---- settings: the library's tables (sdftrace/mesh.h) ----------------- */
+
+static const char *const kind_names[] = {"int", "count", "real", "flag", "choice", "text"};
+
+/* The settings of params struct `of` as a list of dicts, the rows of its
+ * table: what the package makes its keywords, defaults and docstrings of. */
+static PyObject *settings(PyObject *module, PyObject *arg)
+{
+    (void)module;
+    const long of = PyLong_AsLong(arg);
+    if (of == -1 && PyErr_Occurred())
+        return NULL;
+    size_t n = 0;
+    const sdft_mesh_setting *rows = sdft_mesh_settings((sdft_mesh_settings_of)of, &n);
+    PyObject *list = PyList_New((Py_ssize_t)n);
+    for (size_t i = 0; list && i < n; i++) {
+        const sdft_mesh_setting *r = &rows[i];
+        PyObject *def = r->count > 1 ? Py_BuildValue("(dd)", r->def[0], r->def[1]) : Py_BuildValue("(d)", r->def[0]);
+        PyObject *row =
+            def ? Py_BuildValue("{sssssisNsdsdsOsOsOszszszss}", "name", r->name, "kind", kind_names[r->kind], "count",
+                                r->count, "default", def, "lo", r->lo, "hi", r->hi, "open_lo",
+                                r->flags & SDFT_MESH_SETTING_OPEN_LO ? Py_True : Py_False, "open_hi",
+                                r->flags & SDFT_MESH_SETTING_OPEN_HI ? Py_True : Py_False, "automatic_default",
+                                r->flags & SDFT_MESH_SETTING_AUTO ? Py_True : Py_False, "choices", r->choices,
+                                "automatic", r->automatic, "value", r->value, "doc", r->doc)
+                : NULL;
+        if (!row)
+            Py_CLEAR(list);
+        else
+            PyList_SET_ITEM(list, (Py_ssize_t)i, row);
+    }
+    return list;
+}
+
+/* One value into row r's member at `at`: 0, or -1 with an exception.
+ * Ranges are the library's to check (the call that takes the params). */
+static int set_setting(const sdft_mesh_setting *r, char *at, PyObject *v)
+{
+    switch (r->kind) {
+    case SDFT_MESH_SETTING_INT: {
+        int overflow = 0;
+        const long x = PyLong_AsLongAndOverflow(v, &overflow);
+        if (x == -1 && PyErr_Occurred())
+            return -1;
+        if (overflow || x < INT_MIN || x > INT_MAX) {
+            PyErr_Format(PyExc_ValueError, "%s is out of range", r->name);
+            return -1;
+        }
+        const int i = (int)x;
+        memcpy(at, &i, sizeof i);
+        return 0;
+    }
+    case SDFT_MESH_SETTING_COUNT: {
+        if (!PyLong_Check(v)) {
+            PyErr_Format(PyExc_TypeError, "%s must be an integer", r->name);
+            return -1;
+        }
+        const unsigned long long x = PyLong_AsUnsignedLongLong(v);
+        if (x == (unsigned long long)-1 && PyErr_Occurred()) {
+            PyErr_Clear();
+            PyErr_Format(PyExc_ValueError, "%s is out of range", r->name);
+            return -1;
+        }
+        const uint64_t u = x;
+        memcpy(at, &u, sizeof u);
+        return 0;
+    }
+    case SDFT_MESH_SETTING_REAL: {
+        double x[2];
+        if (r->count == 1) {
+            x[0] = PyFloat_AsDouble(v);
+            if (x[0] == -1.0 && PyErr_Occurred())
+                return -1;
+        } else if (!PyArg_ParseTuple(v, r->count == 2 ? "dd" : "d", &x[0], &x[1])) {
+            PyErr_Clear();
+            PyErr_Format(PyExc_TypeError, "%s must be %d numbers", r->name, r->count);
+            return -1;
+        }
+        memcpy(at, x, sizeof(double) * (size_t)r->count);
+        return 0;
+    }
+    case SDFT_MESH_SETTING_FLAG: {
+        const int on = PyObject_IsTrue(v);
+        if (on < 0)
+            return -1;
+        memcpy(at, &on, sizeof on);
+        return 0;
+    }
+    case SDFT_MESH_SETTING_CHOICE: {
+        int i = -1;
+        if (PyUnicode_Check(v)) {
+            const char *name = PyUnicode_AsUTF8(v);
+            if (!name)
+                return -1;
+            i = parse_list_index(r->choices, name);
+            if (i < 0) {
+                PyErr_Format(PyExc_ValueError, "%s must be one of: %s (got '%s')", r->name, r->choices, name);
+                return -1;
+            }
+        } else {
+            const long x = PyLong_AsLong(v); /* a bool or an int: the value itself */
+            if (x == -1 && PyErr_Occurred())
+                return -1;
+            i = x < INT_MIN || x > INT_MAX ? -1 : (int)x;
+        }
+        memcpy(at, &i, sizeof i);
+        return 0;
+    }
+    case SDFT_MESH_SETTING_TEXT: {
+        const char *text = v == Py_None ? NULL : PyUnicode_AsUTF8(v); /* kept alive by the caller's kwargs */
+        if (v != Py_None && !text)
+            return -1;
+        memcpy(at, &text, sizeof text);
+        return 0;
+    }
+    }
+    return 0;
+}
+
+/* The members of `params` (a struct of kind `of`) that kw names, each
+ * from its value: 0, or -1 with an exception (TypeError for a name that is
+ * not a setting). kw may be NULL. */
+static int set_settings(sdft_mesh_settings_of of, void *params, PyObject *kw)
+{
+    size_t n = 0;
+    const sdft_mesh_setting *rows = sdft_mesh_settings(of, &n);
+    PyObject *key, *value;
+    Py_ssize_t pos = 0;
+    while (kw && PyDict_Next(kw, &pos, &key, &value)) {
+        const char *name = PyUnicode_Check(key) ? PyUnicode_AsUTF8(key) : NULL;
+        if (!name)
+            return -1;
+        size_t i = 0;
+        while (i < n && strcmp(rows[i].name, name) != 0)
+            i++;
+        if (i == n) {
+            PyErr_Format(PyExc_TypeError, "unexpected keyword argument '%s'", name);
+            return -1;
+        }
+        if (set_setting(&rows[i], (char *)params + rows[i].offset, value) < 0)
+            return -1;
+    }
+    return 0;
+}
+
 /* ---- Mesh ----------------------------------------------------------- */
 
 typedef struct {
@@ -179,25 +327,19 @@ static PyObject *wrap_mesh(sdft_mesh *m)
     return (PyObject *)o;
 }
 
-static sdft_mesh_params mesh_params(int orient, int normalize, const char *source)
-{
-    sdft_mesh_params p = sdft_mesh_params_defaults();
-    p.orient = orient;
-    p.normalize = normalize;
-    p.source = source;
-    return p;
-}
-
+/* load_mesh(path, **settings): settings of sdft_mesh_params. */
 static PyObject *load_mesh(PyObject *module, PyObject *args, PyObject *kw)
 {
     (void)module;
-    static char *names[] = {"path", "orient", "normalize", NULL};
     PyObject *path_obj;
-    int orient = 1, normalize = 0;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "O&|pp", names, PyUnicode_FSConverter, &path_obj, &orient, &normalize))
+    if (!PyArg_ParseTuple(args, "O&", PyUnicode_FSConverter, &path_obj))
         return NULL;
+    sdft_mesh_params p = sdft_mesh_params_defaults();
+    if (set_settings(SDFT_MESH_SETTINGS_MESH, &p, kw) < 0) {
+        Py_DECREF(path_obj);
+        return NULL;
+    }
     const char *path = PyBytes_AS_STRING(path_obj);
-    const sdft_mesh_params p = mesh_params(orient, normalize, NULL);
     sdft_mesh *m = NULL;
     char msg[MSG_LEN] = "";
     sdft_error e;
@@ -209,7 +351,7 @@ static PyObject *load_mesh(PyObject *module, PyObject *args, PyObject *kw)
 }
 
 /* faces as int32, uint32 or int64, C order (other integer types become int64). */
-static PyArrayObject *faces_of(PyObject *obj, sdft_dtype *type)
+static PyArrayObject *faces_of(PyObject *obj, sdft_mesh_dtype *type)
 {
     PyArrayObject *a = (PyArrayObject *)PyArray_FROMANY(obj, NPY_NOTYPE, 0, 0, 0);
     if (!a)
@@ -225,11 +367,11 @@ static PyArrayObject *faces_of(PyObject *obj, sdft_dtype *type)
     Py_SETREF(a, (PyArrayObject *)PyArray_FROMANY((PyObject *)a, t, 2, 2, NPY_ARRAY_IN_ARRAY));
     if (!a)
         return NULL;
-    *type = t == NPY_INT32 ? SDFT_INT32 : t == NPY_UINT32 ? SDFT_UINT32 : SDFT_INT64;
+    *type = t == NPY_INT32 ? SDFT_MESH_INT32 : t == NPY_UINT32 ? SDFT_MESH_UINT32 : SDFT_MESH_INT64;
     return a;
 }
 
-static PyArrayObject *vertices_of(PyObject *obj, sdft_dtype *type)
+static PyArrayObject *vertices_of(PyObject *obj, sdft_mesh_dtype *type)
 {
     PyArrayObject *a = (PyArrayObject *)PyArray_FROMANY(obj, NPY_NOTYPE, 0, 0, 0);
     if (!a)
@@ -238,19 +380,21 @@ static PyArrayObject *vertices_of(PyObject *obj, sdft_dtype *type)
     Py_SETREF(a, (PyArrayObject *)PyArray_FROMANY((PyObject *)a, t, 2, 2, NPY_ARRAY_IN_ARRAY));
     if (!a)
         return NULL;
-    *type = t == NPY_FLOAT32 ? SDFT_FLOAT32 : SDFT_FLOAT64;
+    *type = t == NPY_FLOAT32 ? SDFT_MESH_FLOAT32 : SDFT_MESH_FLOAT64;
     return a;
 }
 
+/* mesh_from_arrays(vertices, faces, **settings): settings of sdft_mesh_params. */
 static PyObject *mesh_from_arrays(PyObject *module, PyObject *args, PyObject *kw)
 {
     (void)module;
-    static char *names[] = {"vertices", "faces", "orient", "normalize", NULL};
     PyObject *vobj, *fobj;
-    int orient = 1, normalize = 0;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "OO|pp", names, &vobj, &fobj, &orient, &normalize))
+    if (!PyArg_ParseTuple(args, "OO", &vobj, &fobj))
         return NULL;
-    sdft_dtype vt, ft;
+    sdft_mesh_params p = sdft_mesh_params_defaults();
+    if (set_settings(SDFT_MESH_SETTINGS_MESH, &p, kw) < 0)
+        return NULL;
+    sdft_mesh_dtype vt, ft;
     PyArrayObject *v = vertices_of(vobj, &vt);
     if (!v)
         return NULL;
@@ -265,7 +409,6 @@ static PyObject *mesh_from_arrays(PyObject *module, PyObject *args, PyObject *kw
         PyErr_SetString(PyExc_ValueError, "vertices must have shape (n, 3) and faces (m, 3)");
         return NULL;
     }
-    const sdft_mesh_params p = mesh_params(orient, normalize, NULL);
     sdft_mesh *m = NULL;
     char msg[MSG_LEN] = "";
     sdft_error e;
@@ -282,7 +425,7 @@ static PyObject *mesh_from_arrays(PyObject *module, PyObject *args, PyObject *kw
  * number, 2 both as a tuple. */
 static PyObject *mesh_query(MeshObject *self, PyObject *points, int mode)
 {
-    sdft_points pts;
+    sdft_mesh_points pts;
     PyArrayObject *in = points_of(points, &pts);
     if (!in)
         return NULL;
@@ -299,7 +442,7 @@ static PyObject *mesh_query(MeshObject *self, PyObject *points, int mode)
     char msg[MSG_LEN] = "";
     sdft_error e;
     progress_call pc; /* no callable: Ctrl-C alone */
-    sdft_query_params q = sdft_query_params_defaults();
+    sdft_mesh_query_params q = sdft_mesh_query_params_defaults();
     progress_of(NULL, &pc, &q.progress, &q.progress_user);
     PyThreadState *ts = PyEval_SaveThread();
     e = mode == 1 ? sdft_mesh_winding_number(self->mesh, &pts, wp, &q, msg, sizeof msg)
@@ -328,22 +471,21 @@ static PyObject *mesh_signed_distance(MeshObject *self, PyObject *args, PyObject
 
 static PyObject *mesh_winding_number(MeshObject *self, PyObject *points) { return mesh_query(self, points, 1); }
 
+/* samples(n, progress=None, **settings): settings of sdft_mesh_sample_params. */
 static PyObject *mesh_samples(MeshObject *self, PyObject *args, PyObject *kw)
 {
-    static char *names[] = {"n", "seed", "near_sigma", "uniform_share", "progress", NULL};
-    sdft_sample_params p = sdft_sample_params_defaults();
     Py_ssize_t n;
-    unsigned long long seed = p.seed;
-    PyObject *progress = NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "n|K(dd)dO", names, &n, &seed, &p.near_sigma[0], &p.near_sigma[1],
-                                     &p.uniform_share, &progress))
+    PyObject *progress = Py_None;
+    if (!PyArg_ParseTuple(args, "n|O", &n, &progress))
+        return NULL;
+    sdft_mesh_sample_params p = sdft_mesh_sample_params_defaults();
+    if (set_settings(SDFT_MESH_SETTINGS_SAMPLES, &p, kw) < 0)
         return NULL;
     progress_call pc;
     progress_of(progress, &pc, &p.progress, &p.progress_user);
     if (n < 1)
         return raise_error(SDFT_EINVAL, "n must be at least 1");
-    p.count = (size_t)n;
-    p.seed = seed;
+    p.count = (uint64_t)n;
     npy_intp dims[2] = {n, 4};
     PyArrayObject *rows = new_floats(2, dims);
     if (!rows)
@@ -359,11 +501,15 @@ static PyObject *mesh_samples(MeshObject *self, PyObject *args, PyObject *kw)
 static PyObject *mesh_info(MeshObject *self, PyObject *unused)
 {
     (void)unused;
-    sdft_mesh_info i;
+    sdft_mesh_health i;
+    sdft_mesh_frame f;
     char msg[MSG_LEN] = "";
-    const sdft_error e = sdft_mesh_get_info(self->mesh, &i, msg, sizeof msg);
+    sdft_error e = sdft_mesh_get_health(self->mesh, &i, msg, sizeof msg);
+    if (e == SDFT_OK)
+        e = sdft_mesh_get_frame(self->mesh, &f, msg, sizeof msg);
     if (e != SDFT_OK)
         return raise_error(e, msg);
+    /* The health report and the frame, member by member. */
     return Py_BuildValue("{sKsKsKsKsKsKsKsOsOsKsKsKsKsKsKsKs(ddd)s(ddd)s(ddd)sdsO}", "vertices", i.vertices, "faces",
                          i.faces, "triangles", i.triangles, "degenerate_faces", i.degenerate_faces, "welded_vertices",
                          i.welded_vertices, "boundary_edges", i.boundary_edges, "non_manifold_edges",
@@ -371,32 +517,22 @@ static PyObject *mesh_info(MeshObject *self, PyObject *unused)
                          i.oriented ? Py_True : Py_False, "duplicate_faces", i.duplicate_faces, "patches", i.patches,
                          "non_orientable_patches", i.non_orientable_patches, "reoriented_faces", i.reoriented_faces,
                          "outward_patches", i.outward_patches, "cavity_patches", i.cavity_patches, "ambiguous_patches",
-                         i.ambiguous_patches, "lo", i.lo[0], i.lo[1], i.lo[2], "hi", i.hi[0], i.hi[1], i.hi[2],
-                         "centre", i.centre[0], i.centre[1], i.centre[2], "radius", i.radius, "normalized",
-                         i.normalized ? Py_True : Py_False);
+                         i.ambiguous_patches, "lo", f.lo[0], f.lo[1], f.lo[2], "hi", f.hi[0], f.hi[1], f.hi[2],
+                         "centre", f.centre[0], f.centre[1], f.centre[2], "radius", f.radius, "normalized",
+                         f.normalized ? Py_True : Py_False);
 }
 
 static PyObject *wrap_mesh_grid(sdft_mesh_grid *g);
 
+/* to_grid(progress=None, **settings): settings of sdft_mesh_grid_params. */
 static PyObject *mesh_to_grid(MeshObject *self, PyObject *args, PyObject *kw)
 {
-    static char *names[] = {"res",  "voxel_size", "band",    "full",     "padding",
-                            "sign", "name",       "threads", "progress", NULL};
-    sdft_mesh_grid_params p = sdft_mesh_grid_params_defaults();
-    const char *sign = "winding", *name = NULL;
-    PyObject *progress = NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kw, "|iddpdsziO", names, &p.res, &p.voxel_size, &p.band, &p.full, &p.padding,
-                                     &sign, &name, &p.threads, &progress))
+    PyObject *progress = Py_None;
+    if (!PyArg_ParseTuple(args, "|O", &progress))
         return NULL;
-    if (!strcmp(sign, "winding"))
-        p.sign = SDFT_SIGN_WINDING;
-    else if (!strcmp(sign, "flood"))
-        p.sign = SDFT_SIGN_FLOOD;
-    else if (!strcmp(sign, "none"))
-        p.sign = SDFT_SIGN_NONE;
-    else
-        return raise_error(SDFT_EINVAL, "sign must be 'winding', 'flood' or 'none'");
-    p.name = name;
+    sdft_mesh_grid_params p = sdft_mesh_grid_params_defaults();
+    if (set_settings(SDFT_MESH_SETTINGS_GRID, &p, kw) < 0)
+        return NULL;
     progress_call pc;
     progress_of(progress, &pc, &p.progress, &p.progress_user);
     sdft_mesh_grid *g = NULL;
@@ -460,10 +596,28 @@ static PyObject *mesh_grid_write(MeshGridObject *self, PyObject *args, PyObject 
     int fp16 = 0;
     if (!PyArg_ParseTupleAndKeywords(args, kw, "O&|p", names, PyUnicode_FSConverter, &path_obj, &fp16))
         return NULL;
+    /* The format by the path's extension. */
+    static const struct {
+        const char *ext;
+        sdft_mesh_format format;
+    } formats[] = {{".vdb", SDFT_MESH_FORMAT_VDB}, {".nvdb", SDFT_MESH_FORMAT_NVDB}, {".npy", SDFT_MESH_FORMAT_NPY}};
+    const char *path = PyBytes_AS_STRING(path_obj);
+    const size_t len = strlen(path);
+    int format = -1;
+    for (size_t i = 0; i < sizeof formats / sizeof *formats; i++) {
+        const size_t n = strlen(formats[i].ext);
+        if (len >= n && strcmp(path + len - n, formats[i].ext) == 0)
+            format = (int)formats[i].format;
+    }
     char msg[MSG_LEN] = "";
+    if (format < 0) {
+        snprintf(msg, sizeof msg, "%s: unknown extension (use .vdb, .nvdb or .npy)", path);
+        Py_DECREF(path_obj);
+        return raise_error(SDFT_EINVAL, msg);
+    }
     sdft_error e;
     PyThreadState *ts = PyEval_SaveThread();
-    e = sdft_mesh_grid_write(self->grid, PyBytes_AS_STRING(path_obj), fp16, msg, sizeof msg);
+    e = sdft_mesh_grid_write(self->grid, path, (sdft_mesh_format)format, fp16, msg, sizeof msg);
     PyEval_RestoreThread(ts);
     Py_DECREF(path_obj);
     if (e != SDFT_OK)
@@ -474,20 +628,23 @@ static PyObject *mesh_grid_write(MeshGridObject *self, PyObject *args, PyObject 
 static PyObject *mesh_grid_box(MeshGridObject *self, PyObject *unused)
 {
     (void)unused;
-    sdft_mesh_box b;
+    sdft_mesh_grid_box b;
+    sdft_mesh_grid_stats s;
     char msg[MSG_LEN] = "";
-    const sdft_error e = sdft_mesh_grid_get_box(self->grid, &b, msg, sizeof msg);
+    sdft_error e = sdft_mesh_grid_get_box(self->grid, &b, msg, sizeof msg);
+    if (e == SDFT_OK)
+        e = sdft_mesh_grid_get_stats(self->grid, &s, msg, sizeof msg);
     if (e != SDFT_OK)
         return raise_error(e, msg);
     return Py_BuildValue("{s(iii)s(ddd)sdsfsKsK}", "dims", b.dims[0], b.dims[1], b.dims[2], "origin", b.origin[0],
                          b.origin[1], b.origin[2], "voxel_size", b.voxel_size, "background", b.background,
-                         "active_voxels", b.active_voxels, "ambiguous_voxels", b.ambiguous_voxels);
+                         "active_voxels", s.active_voxels, "ambiguous_voxels", s.ambiguous_voxels);
 }
 
 static PyObject *mesh_grid_dense(MeshGridObject *self, PyObject *unused)
 {
     (void)unused;
-    sdft_mesh_box b;
+    sdft_mesh_grid_box b;
     char msg[MSG_LEN] = "";
     sdft_error e = sdft_mesh_grid_get_box(self->grid, &b, msg, sizeof msg);
     if (e != SDFT_OK)
@@ -585,7 +742,7 @@ static PyObject *open_grid(PyObject *module, PyObject *args, PyObject *kw)
 /* Trilinear values at points, through the field's sampler (sdft_grid_sample). */
 static PyObject *nano_grid_sample(NanoGridObject *self, PyObject *points)
 {
-    sdft_points pts;
+    sdft_mesh_points pts;
     PyArrayObject *in = points_of(points, &pts);
     if (!in)
         return NULL;
@@ -608,7 +765,7 @@ static PyObject *nano_grid_sample(NanoGridObject *self, PyObject *points)
             float p[3];
             for (int k = 0; k < 3; k++) {
                 const char *at = data + i * pts.stride[0] + k * pts.stride[1];
-                p[k] = pts.type == SDFT_FLOAT32 ? *(const float *)at : (float)*(const double *)at;
+                p[k] = pts.type == SDFT_MESH_FLOAT32 ? *(const float *)at : (float)*(const double *)at;
             }
             v[i] = sdft_grid_sample(self->grid, SDFT_GRID_BOUND_NONE, &s, sdft_v3(p[0], p[1], p[2]), NULL);
         }
@@ -784,6 +941,7 @@ static PyMethodDef module_methods[] = {
     {"open_grid", (PyCFunction)(void (*)(void))open_grid, METH_VARARGS | METH_KEYWORDS, NULL},
     {"render", (PyCFunction)(void (*)(void))render, METH_VARARGS | METH_KEYWORDS, NULL},
     {"scenes", (PyCFunction)scenes, METH_NOARGS, NULL},
+    {"settings", (PyCFunction)settings, METH_O, NULL},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module_def = {

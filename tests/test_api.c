@@ -371,6 +371,20 @@ static void test_grid_errors(void **state)
     sdft_trace_params p = sdft_trace_defaults();
     const sdft_ray ray = {.org = {0, 0, 5}, .tnear = 0, .dir = {0, 0, -1}, .tfar = INFINITY};
     assert_int_equal(sdft_trace(&zero, &s, &ray, &p).status, SDFT_INVALID);
+
+    /* Materials: a NULL grid or table, none, too many, one out of range; a table grid that is none. */
+    sdft_material m = {.colour = {0.5f, 0.5f, 0.5f}, .reflectance = 0.0f, .ior = 0.0f};
+    expect_code(sdft_grid_set_materials(NULL, g, &m, 1, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_grid_set_materials(g, g, NULL, 1, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_grid_set_materials(g, g, &m, 0, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_grid_set_materials(g, g, &m, SDFT_GRID_MAX_MATERIALS + 1, msg, sizeof msg), SDFT_EINVAL);
+    m.reflectance = 2.0f;
+    expect_code(sdft_grid_set_materials(g, g, &m, 1, msg, sizeof msg), SDFT_EINVAL);
+    size_t count;
+    expect_code(sdft_grid_material_table(NULL, &m, 1, &count, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_grid_material_table(g, NULL, 1, &count, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_grid_material_table(g, &m, 1, NULL, msg, sizeof msg), SDFT_EINVAL);
+    assert_null(sdft_grid_field(g, SDFT_GRID_BOUND_FAR).material);
     sdft_grid_free(NULL);
     sdft_grid_free(g);
 }

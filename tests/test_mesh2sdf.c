@@ -775,7 +775,7 @@ static void test_full_thin_triangles(void **state)
 
 /* The progress bar on a terminal (script(1), from util-linux, gives
  * mesh2sdf one): its frames never go back, the stages come in order (the
- * library's names for them, told through sdft_stage_fn), and
+ * library's names for them, told through sdft_mesh_stage_fn), and
  * 100% shows once, in the last frame, labelled "writing", after every
  * stage's work (once the sign pass of a big conversion ran at 100%). */
 static void test_progress_bar(void **state)

@@ -357,7 +357,7 @@ static void test_bad_orient_flag(void **state)
     snprintf(in, sizeof in, "%s/spot.obj", SDFT_MESH_DIR);
     tu_tmp(vdb, sizeof vdb, "bad-orient.vdb");
     assert_int_not_equal(tu_run(out, sizeof out, "%s '%s' -o '%s' --orient sideways", SDFT_MESH2SDF, in, vdb), 0);
-    assert_non_null(strstr(out, "--orient must be outward or none"));
+    assert_non_null(strstr(out, "--orient must be none or outward"));
     assert_int_equal(tu_lines(out), 1);
     assert_false(tu_file_exists(vdb));
 }

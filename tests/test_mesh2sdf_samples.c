@@ -545,7 +545,7 @@ static void test_help(void **state)
                            "--normalize",
                            "--winding",
                            "--check-points",
-                           "0.0707,0.0224",
+                           "0.0707107,0.0223607",
                            "0.06"};
     for (size_t i = 0; i < sizeof flags / sizeof *flags; i++)
         if (!strstr(out, flags[i]))

@@ -42,8 +42,9 @@ Grids::
 
 from __future__ import annotations
 
+import inspect
 import os
-from typing import Any, Callable, Dict, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -59,6 +60,7 @@ __all__ = [
     "mesh_to_grid",
     "render",
     "scenes",
+    "settings",
 ]
 
 __version__ = "%d.%d.%d" % (_sdftrace.version // 10000, _sdftrace.version // 100 % 100, _sdftrace.version % 100)
@@ -73,29 +75,105 @@ Canceled = _sdftrace.Canceled
 #: the call (it raises :class:`Canceled`); an exception it raises stops the call and propagates.
 Progress = Optional[Callable[[float], Optional[bool]]]
 
-#: DeepSDF's two standard deviations, in units of the mesh sphere's radius.
-DEEPSDF_NEAR_SIGMA = (0.070710678118654752, 0.022360679774997897)
-#: DeepSDF's share of uniform points.
-DEEPSDF_UNIFORM_SHARE = 0.06
+# The settings of the library's params structs (sdftrace/mesh.h): their
+# names, defaults, ranges and meanings are the library's, read here once, so
+# that every keyword below, its default and its line in the docstrings come
+# from the one table in C; a setting added there is a keyword here.
+_SETTINGS = {of: _sdftrace.settings(i) for i, of in enumerate(("mesh", "grid", "samples"))}
+
+
+def _default(row: Dict[str, Any]) -> Any:
+    """A setting's default as Python passes it."""
+    value = row["default"]
+    if row["kind"] == "choice":
+        return row["choices"].split()[int(value[0])]
+    if row["kind"] == "flag":
+        return bool(value[0])
+    if row["kind"] in ("int", "count"):
+        return int(value[0])
+    if row["kind"] == "text":
+        return None
+    return float(value[0]) if row["count"] == 1 else tuple(value)
+
+
+def _range(row: Dict[str, Any]) -> str:
+    """'[1, 4096]', '(0, 1]', '> 0' or '' (a choice names its values in its text)."""
+    if row["kind"] not in ("int", "count", "real"):
+        return ""
+    lo, hi = ("%g" % row["lo"]), ("%g" % row["hi"])
+    if row["hi"] == float("inf"):
+        return ("> " if row["open_lo"] else ">= ") + lo
+    return "%s%s, %s%s" % ("(" if row["open_lo"] else "[", lo, hi, ")" if row["open_hi"] else "]")
+
+
+def _setting_lines(rows: List[Dict[str, Any]]) -> str:
+    """One docstring paragraph a setting: name, default, range and meaning."""
+    lines = []
+    for row in rows:
+        default = row["automatic"] if row["automatic"] else repr(_default(row))
+        extent = _range(row)
+        lines.append("    ``%s`` (default %s%s): %s." % (row["name"], default, "; " + extent if extent else "", row["doc"]))
+    return "\n".join(lines)
+
+
+def _takes_settings(of: str, before: Sequence[str] = (), after: Sequence[Tuple[str, Any]] = (), skip=()):
+    """Gives the function the settings of `of` as keywords (in the table's
+    order, so also positionally after `before`), then `after`: its signature
+    and docstring are made from the table, and it is called with the given
+    settings in a dict, `settings` (only those given: the rest keep the
+    library's defaults)."""
+    rows = [r for r in _SETTINGS[of] if r["name"] not in skip]
+    kind = inspect.Parameter.POSITIONAL_OR_KEYWORD
+    params = [inspect.Parameter(name, kind) for name in before]
+    params += [inspect.Parameter(r["name"], kind, default=_default(r)) for r in rows]
+    params += [inspect.Parameter(name, kind, default=value) for name, value in after]
+    signature = inspect.Signature(params)
+    names = {r["name"] for r in rows}
+
+    def wrap(fn):
+        def call(*args, **kwargs):
+            given = signature.bind(*args, **kwargs).arguments
+            settings = {k: v for k, v in given.items() if k in names}
+            rest = {k: v for k, v in given.items() if k not in names}
+            return fn(settings=settings, **rest)
+
+        call.__name__, call.__qualname__, call.__module__ = fn.__name__, fn.__qualname__, fn.__module__
+        call.__signature__ = signature
+        call.__doc__ = (fn.__doc__ or "") + "\n\n    Settings (the library's, sdftrace/mesh.h):\n\n" + _setting_lines(rows)
+        return call
+
+    return wrap
+
+
+def settings(of: str) -> List[Dict[str, Any]]:
+    """The settings of ``of`` ('mesh', 'grid' or 'samples'), as the library
+    lists them: a dict each of name, kind, default, range (lo, hi, open_lo,
+    open_hi), choices, value and doc."""
+    return [dict(r) for r in _SETTINGS[of]]
+
+
+#: DeepSDF's two standard deviations, in units of the mesh sphere's radius (the library's default).
+DEEPSDF_NEAR_SIGMA = _default(next(r for r in _SETTINGS["samples"] if r["name"] == "near_sigma"))
+#: DeepSDF's share of uniform points (the library's default).
+DEEPSDF_UNIFORM_SHARE = _default(next(r for r in _SETTINGS["samples"] if r["name"] == "uniform_share"))
 
 
 class Mesh:
     """A triangle mesh, read (or copied from arrays) and oriented once.
 
-    ``Mesh(source, orient=True, normalize=False)``: ``source`` is a path, a
-    ``(vertices, faces)`` pair or an object with ``.vertices`` and ``.faces``.
-    ``orient=False`` keeps the faces as given; ``normalize=True`` maps the
-    mesh into the unit sphere first (DeepSDF's centre, the bounding box's,
-    and radius, 1.03 times the farthest vertex), as ``mesh2sdf --normalize``.
-    Safe to share between threads.
+    ``Mesh(source, orient=..., normalize=..., ...)``: ``source`` is a path, a
+    ``(vertices, faces)`` pair or an object with ``.vertices`` and ``.faces``;
+    the keywords are the library's settings below (``orient`` also takes
+    True and False). Safe to share between threads.
     """
 
-    def __init__(self, source: MeshLike, orient: bool = True, normalize: bool = False):
+    @_takes_settings("mesh", before=("self", "source"))
+    def __init__(self, source: MeshLike, settings: Dict[str, Any]):
         if isinstance(source, Mesh):
             self._mesh = source._mesh
             return
         if isinstance(source, (str, bytes, os.PathLike)):
-            self._mesh = _sdftrace.load_mesh(source, orient, normalize)
+            self._mesh = _sdftrace.load_mesh(source, **settings)
             return
         if hasattr(source, "vertices") and hasattr(source, "faces"):
             vertices, faces = source.vertices, source.faces
@@ -103,7 +181,7 @@ class Mesh:
             vertices, faces = source
         else:
             raise TypeError("a mesh is a path, a (vertices, faces) pair or an object with .vertices and .faces")
-        self._mesh = _sdftrace.mesh_from_arrays(vertices, faces, orient, normalize)
+        self._mesh = _sdftrace.mesh_from_arrays(vertices, faces, **settings)
 
     def info(self) -> Dict[str, Any]:
         """Health and orientation counts: vertices, faces, triangles, degenerate_faces,
@@ -123,42 +201,22 @@ class Mesh:
         mesh, 0 outside, fractional near holes."""
         return self._mesh.winding_number(points)
 
-    def sample_near_surface(
-        self,
-        n: int,
-        seed: int = 0,
-        near_sigma: Sequence[float] = DEEPSDF_NEAR_SIGMA,
-        uniform_share: float = DEEPSDF_UNIFORM_SHARE,
-        progress: Progress = None,
-    ) -> Tuple[np.ndarray, np.ndarray]:
+    @_takes_settings("samples", before=("self", "n"), after=(("progress", None),), skip=("count",))
+    def sample_near_surface(self, n: int, settings: Dict[str, Any], progress: Progress = None) -> Tuple[np.ndarray, np.ndarray]:
         """``n`` training samples as DeepSDF draws them: a share ``uniform_share`` uniform in
         the cube around the mesh's sphere, the rest on the surface (area-weighted random
         triangles) moved by a Gaussian of either sigma of ``near_sigma`` (in units of the
         sphere's radius), half each. Returns (points (n, 3), sdf (n,)), float32 views of one
-        (n, 4) array, the rows ``mesh2sdf --samples`` writes for the same seed. The same
+        (n, 4) array, the rows ``mesh2sdf --samples`` writes for the same settings. The same
         seed gives the same samples on any number of cores. ``progress``: see :data:`Progress`."""
-        rows = self._mesh.samples(n, seed, tuple(near_sigma), uniform_share, progress)
+        rows = self._mesh.samples(n, progress, **settings)
         return rows[:, :3], rows[:, 3]
 
-    def to_grid(
-        self,
-        res: int = 256,
-        band: float = 3.0,
-        full: bool = False,
-        voxel_size: float = 0.0,
-        padding: float = -1.0,
-        sign: str = "winding",
-        name: Optional[str] = None,
-        threads: int = 0,
-        progress: Progress = None,
-    ) -> "Grid":
-        """The signed distance grid ``mesh2sdf`` makes with the same options: ``res`` voxel
-        centres along the padded box's longest side (or ``voxel_size`` in world units),
-        distances within ``band`` voxels of the surface (``full``: everywhere in the box),
-        ``padding`` voxels around the mesh (default band + 1), ``sign`` 'winding', 'flood'
-        or 'none'; ``threads`` caps the worker threads (0: all cores); ``progress``: see
+    @_takes_settings("grid", before=("self",), after=(("progress", None),))
+    def to_grid(self, settings: Dict[str, Any], progress: Progress = None) -> "Grid":
+        """The signed distance grid ``mesh2sdf`` makes with the same options; ``progress``: see
         :data:`Progress`."""
-        return Grid(self._mesh.to_grid(res, voxel_size, band, full, padding, sign, name, threads, progress))
+        return Grid(self._mesh.to_grid(progress, **settings))
 
 
 def _mesh(mesh: MeshLike) -> Mesh:
@@ -230,24 +288,18 @@ def winding_number(mesh: MeshLike, points: Any) -> np.ndarray:
     return _mesh(mesh).winding_number(points)
 
 
-def sample_near_surface(
-    mesh: MeshLike,
-    n: int,
-    seed: int = 0,
-    near_sigma: Sequence[float] = DEEPSDF_NEAR_SIGMA,
-    uniform_share: float = DEEPSDF_UNIFORM_SHARE,
-    progress: Progress = None,
-) -> Tuple[np.ndarray, np.ndarray]:
+@_takes_settings("samples", before=("mesh", "n"), after=(("progress", None),), skip=("count",))
+def sample_near_surface(mesh: MeshLike, n: int, settings: Dict[str, Any], progress: Progress = None):
     """``n`` training samples of ``mesh`` as DeepSDF draws them: (points (n, 3), sdf (n,)).
     See :meth:`Mesh.sample_near_surface`; for unit-sphere samples, pass
     ``Mesh(path, normalize=True)``."""
-    return _mesh(mesh).sample_near_surface(n, seed, near_sigma, uniform_share, progress)
+    return _mesh(mesh).sample_near_surface(n, progress=progress, **settings)
 
 
-def mesh_to_grid(mesh: MeshLike, res: int = 256, band: float = 3.0, full: bool = False, **options: Any) -> Grid:
-    """The signed distance grid of ``mesh``, as ``mesh2sdf`` converts it; options
-    ``voxel_size``, ``padding``, ``sign``, ``name``, ``threads``, ``progress`` as :meth:`Mesh.to_grid`."""
-    return _mesh(mesh).to_grid(res=res, band=band, full=full, **options)
+@_takes_settings("grid", before=("mesh",), after=(("progress", None),))
+def mesh_to_grid(mesh: MeshLike, settings: Dict[str, Any], progress: Progress = None) -> "Grid":
+    """The signed distance grid of ``mesh``, as ``mesh2sdf`` converts it (see :meth:`Mesh.to_grid`)."""
+    return _mesh(mesh).to_grid(progress=progress, **settings)
 
 
 def render(

@@ -287,6 +287,51 @@ def test_readme_example_runs(tmp_path, monkeypatch):
     assert saved["points"].shape == (250_000, 3)
 
 
+def test_keywords_are_the_library_settings(tmp_path):
+    """Every setting of the library's tables is a keyword of the call that
+    takes it, with the library's default, and reaches the library: a value
+    past its range is refused there (ValueError), and the default works."""
+    import inspect
+
+    calls = {
+        "mesh": inspect.signature(sdftrace.Mesh),
+        "grid": inspect.signature(sdftrace.Mesh.to_grid),
+        "samples": inspect.signature(sdftrace.Mesh.sample_near_surface),
+    }
+    for of, signature in calls.items():
+        for row in sdftrace.settings(of):
+            if of == "samples" and row["name"] == "count":
+                assert "n" in signature.parameters  # Python's name for it
+                continue
+            param = signature.parameters[row["name"]]
+            default = param.default
+            if row["kind"] == "choice":
+                assert row["choices"].split()[int(row["default"][0])] == default
+            elif row["kind"] == "text":
+                assert default is None
+            else:
+                assert tuple(np.atleast_1d(default).astype(float)) == row["default"], row["name"]
+    mesh = sdftrace.Mesh(SUZANNE, threads=1, simd="none")
+    with pytest.raises(ValueError, match="threads"):
+        sdftrace.Mesh(SUZANNE, threads=100000)
+    with pytest.raises(ValueError, match="band"):
+        mesh.to_grid(res=16, band=0)
+    with pytest.raises(ValueError, match="uniform_share"):
+        mesh.sample_near_surface(10, uniform_share=2)
+    with pytest.raises(ValueError, match="sign"):
+        mesh.to_grid(res=16, sign="sideways")
+    with pytest.raises(TypeError):
+        mesh.to_grid(res=16, no_such_setting=1)
+    # orient takes its names and, as before, True and False.
+    assert sdftrace.Mesh(SUZANNE, orient="none").info()["oriented"] is False
+    assert sdftrace.Mesh(SUZANNE, orient=False).info()["oriented"] is False
+    assert sdftrace.Mesh(SUZANNE, orient=True).info()["oriented"] is True
+    # Positional, in the order the keywords always had.
+    a = mesh.to_grid(24, 2.0, False).to_numpy()
+    b = mesh.to_grid(res=24, band=2.0).to_numpy()
+    assert np.array_equal(a, b)
+
+
 def test_errors_raise(tmp_path):
     bad = tmp_path / "bad.obj"
     bad.write_text("v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n")

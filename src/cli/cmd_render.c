@@ -52,6 +52,7 @@ typedef struct render_source {
     sdft_vec3 light;
     const char *name; /* for the JSON report */
     sdft_grid *grid;  /* --grid: owned, freed by close_field */
+    sdft_grid *ids;   /* the grid's material indices, when its file has them: owned, freed by close_field */
     int materials;    /* the scene is made to be seen with its materials */
 } render_source;
 
@@ -179,7 +180,7 @@ static cmdline_spec render_options(render_opts *o, cmdline_option rows[RENDER_RO
         {"eps-min", 0, "E",
          "secondary rays leave a hit p by 2 max(E, |f(p)|) along the normal (Keinert's\n"
          "dynamic epsilon), world units",
-         CMDLINE_FLOAT, &o->eps_min, .lo = 0.0, .hi = inf, .def = "the normal's step + eps"},
+         CMDLINE_FLOAT, &o->eps_min, .lo = 0.0, .hi = inf, .def = "the field's feature size, the normal's step"},
         {"smooth-iters", 0, "K", "discontinuity reduction: K fixed-point iterations per hit (the paper: 3)",
          CMDLINE_INT, &o->smooth_iters, .lo = 0, .hi = SDFT_MAX_SMOOTH_ITERS},
         {"no-convex", 0, NULL, "rays inside a convex part march through it, not back from its bounding sphere",
@@ -283,6 +284,48 @@ static int show_loading(void *user, float done)
     return 0;
 }
 
+/* The grid `name` of the --grid file into *out; SDFT_ENOTFOUND quietly
+ * when it has none. */
+static sdft_error open_beside(const render_opts *o, const char *name, sdft_grid **out, char *msg, size_t len)
+{
+    sdft_grid_options vo = sdft_grid_options_defaults();
+    vo.path = o->grid, vo.name = name;
+    return sdft_vdb_open(&vo, out, msg, len);
+}
+
+/* The surface's materials, when the file has them beside it (SURFACE.material_ids and
+ * SURFACE.material_table, as `sdftrace bake --materials` writes them): set on src->grid,
+ * the indices kept in src->ids; without them, nothing. 0, or -1 with msg. */
+static int open_grid_materials(const render_opts *o, render_source *src, char *msg, size_t len)
+{
+    char ids_name[300], table_name[300];
+    snprintf(ids_name, sizeof ids_name, "%s.material_ids", src->name);
+    snprintf(table_name, sizeof table_name, "%s.material_table", src->name);
+    sdft_error rc = open_beside(o, ids_name, &src->ids, msg, len);
+    if (rc == SDFT_ENOTFOUND)
+        return 0;
+    if (rc)
+        return -1;
+    sdft_grid *t = NULL;
+    rc = open_beside(o, table_name, &t, msg, len);
+    if (rc == SDFT_ENOTFOUND)
+        snprintf(msg, len, "%s: no grid %.100s beside the material indices", o->grid, table_name);
+    static sdft_material table[SDFT_GRID_MAX_MATERIALS];
+    size_t count = 0;
+    if (!rc)
+        rc = sdft_grid_material_table(t, table, SDFT_GRID_MAX_MATERIALS, &count, msg, len);
+    sdft_grid_free(t);
+    if (!rc)
+        rc = sdft_grid_set_materials(src->grid, src->ids, table, count, msg, len);
+    if (rc) {
+        sdft_grid_free(src->ids);
+        src->ids = NULL;
+        return -1;
+    }
+    src->materials = 1;
+    return 0;
+}
+
 /* A grid file as the field. Its view: the scene's, given --scene, else a
  * camera in front of (+z) the active bounding box framing it, a light above. */
 static int open_grid(const render_opts *o, render_source *src, char *msg, size_t len)
@@ -312,7 +355,12 @@ static int open_grid(const render_opts *o, render_source *src, char *msg, size_t
     progress_bar_clear(&bar);
     if (rc)
         return -1;
-    *src = (render_source){.field = sdft_grid_field(g, SDFT_GRID_BOUND_FAR), .name = sdft_grid_name(g), .grid = g};
+    *src = (render_source){.name = sdft_grid_name(g), .grid = g};
+    if (o->materials != 0 && open_grid_materials(o, src, msg, len)) {
+        sdft_grid_free(g);
+        return -1;
+    }
+    src->field = sdft_grid_field(g, SDFT_GRID_BOUND_FAR);
     if (scene) {
         src->camera = scene->camera, src->light = scene->light;
         return 0;
@@ -324,7 +372,14 @@ static int open_grid(const render_opts *o, render_source *src, char *msg, size_t
     return 0;
 }
 
-static void close_field(render_source *src) { sdft_grid_free(src->grid); }
+static void close_field(render_source *src)
+{
+    sdft_grid_free(src->grid);
+    sdft_grid_free(src->ids);
+}
+
+/* Whether the field declares convex parts for Keinert's 3.5. */
+static int has_convex_parts(const sdft_field *f) { return f->accel && f->accel->convex_count > 0; }
 
 /* Whether render frees its field before the process exits. Not in a
  * release build: once the image is written the process ends, and the
@@ -370,7 +425,7 @@ static sdft_render_params make_params(const render_opts *o, const render_source 
     p.reflect_bounces = o->bounces[0], p.refract_bounces = o->bounces[1];
     p.eps_min = o->eps_min;
     p.smooth_iters = o->smooth_iters;
-    p.convex = o->convex;
+    p.convex = o->convex && has_convex_parts(&src->field); /* as applied, for the JSON */
     p.soft_shadows = o->soft_shadows;
     p.ao = o->ao;
     return p;
@@ -449,11 +504,15 @@ static void print_json(const render_source *src, const sdft_render_params *p, co
     printf("\"cpu_ms\": %.3f, \"materials\": %s, \"bounces\": [%d, %d], \"eps_min\": %.6g, \"smooth_iters\": %d, "
            "\"convex\": %s, "
            "\"soft_shadows\": %.6g, \"ao\": %s, \"shadow_steps\": %llu, \"secondary_rays\": %llu, "
-           "\"secondary_steps\": %llu, \"mean_secondary_steps\": %.4f}\n",
-           cpu_ms, p->materials ? "true" : "false", p->reflect_bounces, p->refract_bounces, p->eps_min, p->smooth_iters,
+           "\"secondary_steps\": %llu, \"mean_secondary_steps\": %.4f, \"dynamic_eps_hits\": %llu, "
+           "\"dynamic_eps_from_f\": %llu, \"secondary_self_hits\": %llu}\n",
+           cpu_ms, p->materials ? "true" : "false", p->reflect_bounces, p->refract_bounces,
+           p->eps_min > 0.0f ? p->eps_min : sdft_field_feature_size(&src->field), p->smooth_iters,
            p->convex ? "true" : "false", p->soft_shadows, p->ao ? "true" : "false",
            (unsigned long long)st->shadow_steps, (unsigned long long)st->secondary_rays,
-           (unsigned long long)st->secondary_steps, (double)st->secondary_steps / primary);
+           (unsigned long long)st->secondary_steps, (double)st->secondary_steps / primary,
+           (unsigned long long)st->dynamic_eps_hits, (unsigned long long)st->dynamic_eps_from_f,
+           (unsigned long long)st->secondary_self_hits);
 }
 
 /* The one line on stderr when a render is done: what was made, how much
@@ -498,6 +557,21 @@ int cmd_render(int argc, char **argv)
     render_source src;
     if (open_field(&o, &src, msg, sizeof msg)) {
         cli_error("render", msg);
+        return 2;
+    }
+    if (!o.convex && !has_convex_parts(&src.field)) {
+        if (o.grid)
+            snprintf(msg, sizeof msg,
+                     "--no-convex: a grid declares no convex parts, so the convex optimization (3.5) "
+                     "never applies to %s",
+                     o.grid);
+        else
+            snprintf(msg, sizeof msg,
+                     "--no-convex: scene '%s' declares no convex parts, so the convex optimization "
+                     "(3.5) never applies to it",
+                     src.name);
+        cli_error("render", msg);
+        close_field(&src);
         return 2;
     }
     sdft_render_params p = make_params(&o, &src);

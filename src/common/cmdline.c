@@ -4,6 +4,7 @@
 
 #include <getopt.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -34,47 +35,25 @@ static int fail(char *msg, size_t msg_len, const char *fmt, const char *a, const
     return CMDLINE_ERROR;
 }
 
-/* "[lo, hi]", "(0, 180)", "> 0" or "" for the message of a bad number. */
-static void range_text(const cmdline_option *row, const char *fmt, char *buf, size_t len)
-{
-    const int lo_open = row->open & CMDLINE_OPEN_LO, hi_open = row->open & CMDLINE_OPEN_HI;
-    char lo[32], hi[32];
-    snprintf(lo, sizeof lo, fmt, row->lo);
-    snprintf(hi, sizeof hi, fmt, row->hi);
-    if (isinf(row->lo) && isinf(row->hi))
-        buf[0] = '\0';
-    else if (isinf(row->hi))
-        snprintf(buf, len, " %s %s", lo_open ? ">" : ">=", lo);
-    else if (isinf(row->lo))
-        snprintf(buf, len, " %s %s", hi_open ? "<" : "<=", hi);
-    else
-        snprintf(buf, len, " in %c%s, %s%c", lo_open ? '(' : '[', lo, hi, hi_open ? ')' : ']');
-}
-
-static int in_range(const cmdline_option *row, double v)
-{
-    const int lo_ok = (row->open & CMDLINE_OPEN_LO) ? v > row->lo : v >= row->lo;
-    const int hi_ok = (row->open & CMDLINE_OPEN_HI) ? v < row->hi : v <= row->hi;
-    return lo_ok && hi_ok;
-}
-
-/* A number for an INT, FLOAT or DOUBLE row, stored in its target. */
+/* A number for an INT, UINT64, FLOAT or DOUBLE row, stored in its target. */
 static int store_number(const cmdline_option *row, const char *flag, const char *text, char *msg, size_t msg_len)
 {
     char range[96], what[160];
     double v = 0.0;
     long n = 0;
-    const int integer = row->kind == CMDLINE_INT;
-    range_text(row, integer ? "%.0f" : "%g", range, sizeof range);
+    const int integer = row->kind == CMDLINE_INT || row->kind == CMDLINE_UINT64;
+    parse_range_text(row->lo, row->hi, row->open, integer ? "%.0f" : "%g", range, sizeof range);
     snprintf(what, sizeof what, "%%s must be %s%s, got '%%s'", integer ? "an integer" : "a finite number", range);
     if (integer ? parse_integer(text, &n) : parse_number(text, &v))
         return fail(msg, msg_len, what, flag, text);
     if (integer)
         v = (double)n;
-    if (!in_range(row, v))
+    if (!parse_in_range(v, row->lo, row->hi, row->open))
         return fail(msg, msg_len, what, flag, text);
     if (row->kind == CMDLINE_INT)
         *(int *)row->target = (int)n;
+    else if (row->kind == CMDLINE_UINT64)
+        *(uint64_t *)row->target = (uint64_t)n;
     else if (row->kind == CMDLINE_FLOAT)
         *(float *)row->target = (float)v;
     else
@@ -96,6 +75,48 @@ static int store_floats(const cmdline_option *row, const char *flag, const char 
     return CMDLINE_OK;
 }
 
+/* `row->value` comma-separated finite numbers, each in the row's range, as
+ * doubles. */
+static int store_doubles(const cmdline_option *row, const char *flag, const char *text, char *msg, size_t msg_len)
+{
+    double v[16];
+    int ok = row->value <= 16 && parse_numbers(text, row->value, v) == 0;
+    for (int i = 0; ok && i < row->value; i++)
+        ok = parse_in_range(v[i], row->lo, row->hi, row->open);
+    if (!ok) {
+        char range[96], what[160];
+        parse_range_text(row->lo, row->hi, row->open, "%g", range, sizeof range);
+        snprintf(what, sizeof what, "%%s needs %d comma-separated finite numbers%s, got '%%s'", row->value, range);
+        return fail(msg, msg_len, what, flag, text);
+    }
+    for (int i = 0; i < row->value; i++)
+        ((double *)row->target)[i] = v[i];
+    return CMDLINE_OK;
+}
+
+/* One of the row's choices, by name: its index in the int at target; else
+ * "FLAG must be a, b or c, got 'v'". */
+static int store_choice(const cmdline_option *row, const char *flag, const char *text, char *msg, size_t msg_len)
+{
+    const int i = parse_list_index(row->choices, text);
+    if (i >= 0) {
+        *(int *)row->target = i;
+        return CMDLINE_OK;
+    }
+    char list[256] = "";
+    int count = 0;
+    const char *name;
+    while (parse_list_item(row->choices, count, &name))
+        count++;
+    for (int i = 0; i < count; i++) {
+        const size_t n = parse_list_item(row->choices, i, &name);
+        const size_t at = strlen(list);
+        snprintf(list + at, sizeof list - at, "%s%.*s", i == 0 ? "" : i + 1 < count ? ", " : " or ", (int)n, name);
+    }
+    snprintf(msg, msg_len, "%s must be %s, got '%s'", flag, list, text);
+    return CMDLINE_ERROR;
+}
+
 /* Applies row, whose flag was given with `value` (NULL for a flag) and,
  * for a TEXT row of several words, the words after it. */
 static int apply(const cmdline_option *row, const char *value, char **more, char *msg, size_t msg_len)
@@ -114,11 +135,16 @@ static int apply(const cmdline_option *row, const char *value, char **more, char
             ((const char **)row->target)[i] = more[i - 1];
         return CMDLINE_OK;
     case CMDLINE_INT:
+    case CMDLINE_UINT64:
     case CMDLINE_FLOAT:
     case CMDLINE_DOUBLE:
         return store_number(row, flag, value, msg, msg_len);
     case CMDLINE_FLOATS:
         return store_floats(row, flag, value, msg, msg_len);
+    case CMDLINE_DOUBLES:
+        return store_doubles(row, flag, value, msg, msg_len);
+    case CMDLINE_CHOICE:
+        return store_choice(row, flag, value, msg, msg_len);
     case CMDLINE_CALL:
         return row->handle(row->target, value, msg, msg_len) ? CMDLINE_ERROR : CMDLINE_OK;
     case CMDLINE_HELP:
@@ -258,13 +284,40 @@ static void default_text(const cmdline_option *row, char *buf, size_t len)
         snprintf(buf, len, "%g", (double)*(const float *)row->target);
     else if (row->kind == CMDLINE_DOUBLE)
         snprintf(buf, len, "%g", *(const double *)row->target);
-    else if (row->kind == CMDLINE_TEXT && row->value <= 1)
+    else if (row->kind == CMDLINE_UINT64)
+        snprintf(buf, len, "%llu", (unsigned long long)*(const uint64_t *)row->target);
+    else if (row->kind == CMDLINE_DOUBLES)
+        for (int i = 0; i < row->value; i++) {
+            const size_t at = strlen(buf);
+            snprintf(buf + at, len - at, "%s%g", i ? "," : "", ((const double *)row->target)[i]);
+        }
+    else if (row->kind == CMDLINE_CHOICE) {
+        const char *name;
+        const size_t n = parse_list_item(row->choices, *(const int *)row->target, &name);
+        snprintf(buf, len, "%.*s", (int)n, name);
+    } else if (row->kind == CMDLINE_TEXT && row->value <= 1)
         snprintf(buf, len, "%s", *(const char *const *)row->target ? *(const char *const *)row->target : "none");
+}
+
+/* Prints `text` from column `at`: a '\n' goes on at the description's
+ * column, and so does a word that would pass spec->width (when set). */
+static void put_wrapped(const cmdline_spec *spec, const char *text, int at, FILE *out)
+{
+    for (const char *c = text; *c; c++) {
+        const int word = (int)strcspn(c + 1, " \n");
+        if (*c == '\n' || (*c == ' ' && spec->width > 0 && at + 1 + word > spec->width)) {
+            fprintf(out, "\n%*s", spec->column, "");
+            at = spec->column;
+        } else {
+            fputc(*c, out);
+            at++;
+        }
+    }
 }
 
 static void help_row(const cmdline_spec *spec, const cmdline_option *row, FILE *out)
 {
-    char flag[64], left[192], def[256];
+    char flag[64], left[192], def[256], shown[320];
     flag_text(row, flag, sizeof flag);
     if (row->letter && row->name)
         snprintf(left, sizeof left, "-%c, %s%s%s", row->letter, flag, row->arg ? " " : "", row->arg ? row->arg : "");
@@ -272,16 +325,22 @@ static void help_row(const cmdline_spec *spec, const cmdline_option *row, FILE *
         snprintf(left, sizeof left, "%s%s%s", flag, row->arg ? " " : "", row->arg ? row->arg : "");
     const int width = spec->column - 4 > 0 ? spec->column - 4 : 1;
     fprintf(out, "  %-*s  ", width, left);
-    for (const char *c = row->help; *c; c++)
-        if (*c == '\n')
-            fprintf(out, "\n%*s", spec->column, "");
-        else
-            fputc(*c, out);
+    const int at = 4 + ((int)strlen(left) > width ? (int)strlen(left) : width);
     default_text(row, def, sizeof def);
+    shown[0] = '\0';
     if (def[0]) {
-        if (!*row->help || row->help[strlen(row->help) - 1] != '\n')
-            fputc(' ', out); /* a description ending in '\n' puts the default on a line of its own */
-        fprintf(out, spec->default_format ? spec->default_format : "(default %s)", def);
+        /* a description ending in '\n' puts the default on a line of its own */
+        const int own_line = *row->help && row->help[strlen(row->help) - 1] == '\n';
+        shown[0] = own_line ? '\0' : ' ';
+        snprintf(shown + !own_line, sizeof shown - 1, spec->default_format ? spec->default_format : "(default %s)",
+                 def);
+    }
+    const size_t n = strlen(row->help) + strlen(shown) + 1;
+    char *text = malloc(n);
+    if (text) {
+        snprintf(text, n, "%s%s", row->help, shown);
+        put_wrapped(spec, text, at, out);
+        free(text);
     }
     fputc('\n', out);
 }

@@ -25,19 +25,22 @@ extern "C" {
 #endif
 
 typedef enum cmdline_kind {
-    CMDLINE_SET,    /* a flag: stores `value` in the int at target */
-    CMDLINE_TEXT,   /* the value as given, in the const char * at target; with value n > 1, the n words
-                     * that follow the flag, in const char *target[n] */
-    CMDLINE_INT,    /* an int in [lo, hi] */
-    CMDLINE_FLOAT,  /* a finite float in [lo, hi] (open ends: open) */
-    CMDLINE_DOUBLE, /* a finite double in [lo, hi] (open ends: open) */
-    CMDLINE_FLOATS, /* `value` comma-separated finite numbers, in float target[value] */
-    CMDLINE_CALL,   /* handle(target, the value or NULL for a flag, msg, msg_len) */
-    CMDLINE_HELP,   /* -h, --help: the parser returns CMDLINE_HELP_ASKED */
-    CMDLINE_NOTE,   /* listed by the help, left to the program (mesh2sdf's --version) */
+    CMDLINE_SET,     /* a flag: stores `value` in the int at target */
+    CMDLINE_TEXT,    /* the value as given, in the const char * at target; with value n > 1, the n words
+                      * that follow the flag, in const char *target[n] */
+    CMDLINE_INT,     /* an int in [lo, hi] */
+    CMDLINE_FLOAT,   /* a finite float in [lo, hi] (open ends: open) */
+    CMDLINE_DOUBLE,  /* a finite double in [lo, hi] (open ends: open) */
+    CMDLINE_FLOATS,  /* `value` comma-separated finite numbers, in float target[value] */
+    CMDLINE_UINT64,  /* a uint64_t in [lo, hi] */
+    CMDLINE_DOUBLES, /* `value` comma-separated finite numbers, each in [lo, hi], in double target[value] */
+    CMDLINE_CHOICE,  /* one of the space-separated names of `choices`: its index, in the int at target */
+    CMDLINE_CALL,    /* handle(target, the value or NULL for a flag, msg, msg_len) */
+    CMDLINE_HELP,    /* -h, --help: the parser returns CMDLINE_HELP_ASKED */
+    CMDLINE_NOTE,    /* listed by the help, left to the program (mesh2sdf's --version) */
 } cmdline_kind;
 
-enum { CMDLINE_OPEN_LO = 1, CMDLINE_OPEN_HI = 2 };
+enum { CMDLINE_OPEN_LO = 1, CMDLINE_OPEN_HI = 2 }; /* parse.h's PARSE_OPEN_LO, _HI */
 
 /* A CMDLINE_CALL option: 0, or -1 with one line in msg. */
 typedef int (*cmdline_handler)(void *target, const char *value, char *msg, size_t msg_len);
@@ -55,6 +58,7 @@ typedef struct cmdline_option {
     const char *def;        /* the default, as the help shows it; NULL: the target's value; "": none */
     cmdline_handler handle; /* CMDLINE_CALL */
     int *seen;              /* set to 1 when the option is given, or NULL */
+    const char *choices;    /* CMDLINE_CHOICE: the names of values 0, 1, ... separated by spaces */
 } cmdline_option;
 
 typedef struct cmdline_spec {
@@ -64,6 +68,7 @@ typedef struct cmdline_spec {
     const cmdline_option *rows; /* ends with a row of neither name nor letter */
     int column;                 /* where the descriptions start */
     const char *default_format; /* how a default is shown; NULL: "(default %s)" */
+    int width;                  /* the help's lines wrapped at this column; 0: as the rows write them */
     /* A word that is not an option (mesh2sdf's input mesh): 0, or -1 with
      * msg. NULL: such a word is an error. */
     cmdline_handler operand;

@@ -4,7 +4,9 @@
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* The number at the start of text: 0 with *end after it, or -1. */
 static int leading_number(const char *text, double *out, const char **end)
@@ -53,4 +55,48 @@ int parse_numbers(const char *text, int n, double *out)
         p = end + 1;
     }
     return 0;
+}
+
+int parse_in_range(double v, double lo, double hi, int open)
+{
+    const int lo_ok = (open & PARSE_OPEN_LO) ? v > lo : v >= lo;
+    const int hi_ok = (open & PARSE_OPEN_HI) ? v < hi : v <= hi;
+    return lo_ok && hi_ok;
+}
+
+void parse_range_text(double lo, double hi, int open, const char *fmt, char *buf, size_t len)
+{
+    const int lo_open = open & PARSE_OPEN_LO, hi_open = open & PARSE_OPEN_HI;
+    char a[32], b[32];
+    snprintf(a, sizeof a, fmt, lo);
+    snprintf(b, sizeof b, fmt, hi);
+    if (isinf(lo) && isinf(hi))
+        buf[0] = '\0';
+    else if (isinf(hi))
+        snprintf(buf, len, " %s %s", lo_open ? ">" : ">=", a);
+    else if (isinf(lo))
+        snprintf(buf, len, " %s %s", hi_open ? "<" : "<=", b);
+    else
+        snprintf(buf, len, " in %c%s, %s%c", lo_open ? '(' : '[', a, b, hi_open ? ')' : ']');
+}
+
+size_t parse_list_item(const char *list, int i, const char **name)
+{
+    const char *c = list ? list : "";
+    for (c += strspn(c, " "); i > 0 && *c; i--) {
+        c += strcspn(c, " ");
+        c += strspn(c, " ");
+    }
+    *name = c;
+    return i == 0 ? strcspn(c, " ") : 0;
+}
+
+int parse_list_index(const char *list, const char *word)
+{
+    const char *name;
+    size_t n;
+    for (int i = 0; (n = parse_list_item(list, i, &name)) > 0; i++)
+        if (strlen(word) == n && strncmp(word, name, n) == 0)
+            return i;
+    return -1;
 }

@@ -54,10 +54,8 @@
 #define RENDER_STR_(x) #x
 #define RENDER_STR(x) RENDER_STR_(x)
 
-/* Shading constants: a warm grey surface, a blue sky. */
+/* The grey surface's colour (the sky: render_miss_colour). */
 static const sdft_vec3 ALBEDO = {0.80f, 0.76f, 0.70f};
-static const sdft_vec3 SKY_HORIZON = {0.78f, 0.85f, 0.95f};
-static const sdft_vec3 SKY_ZENITH = {0.30f, 0.50f, 0.85f};
 
 sdft_render_params sdft_render_defaults(void)
 {
@@ -129,16 +127,6 @@ void sdft_image_free(sdft_image *img)
     free(img->primary_steps);
     free(img->status);
     memset(img, 0, sizeof *img);
-}
-
-/* What a ray that hits nothing shows: the sky at its direction's height
- * `up` (the unit direction's y), or black for depth alone. */
-sdft_vec3 render_miss_colour(const sdft_render_params *rp, float up)
-{
-    if (rp->depth_only)
-        return sdft_v3(0, 0, 0);
-    float k = sdft_minf(sdft_maxf(up, 0.0f), 1.0f);
-    return sdft_add(sdft_scale(SKY_HORIZON, 1.0f - k), sdft_scale(SKY_ZENITH, k));
 }
 
 /* The surface's colour under diffuse light of cosine `diffuse` (0: in shadow). */
@@ -258,6 +246,7 @@ typedef struct tile_stats {
     uint64_t rays, steps, fallbacks, hits, nonconverged;
     uint64_t primary_steps, primary_fallbacks;
     uint64_t shadow_steps, secondary_steps, secondary_rays;
+    uint64_t eps_hits, eps_from_f, self_hits;
     uint32_t cone_steps;
 } tile_stats;
 
@@ -277,6 +266,7 @@ static void store_pixel(const frame *fr, int x, int y, const pixel_result *px, s
     ts->primary_steps += px->primary_steps, ts->primary_fallbacks += px->primary_fallbacks;
     ts->shadow_steps += px->shadow_steps;
     ts->secondary_steps += px->secondary_steps, ts->secondary_rays += px->secondary_rays;
+    ts->eps_hits += px->eps_hits, ts->eps_from_f += px->eps_from_f, ts->self_hits += px->self_hits;
     ts->hits += px->status == SDFT_HIT;
     ts->nonconverged += px->status == SDFT_NOT_CONVERGED;
 }
@@ -647,6 +637,9 @@ sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sd
         st.shadow_steps += per_tile[tile].shadow_steps;
         st.secondary_steps += per_tile[tile].secondary_steps;
         st.secondary_rays += per_tile[tile].secondary_rays;
+        st.dynamic_eps_hits += per_tile[tile].eps_hits;
+        st.dynamic_eps_from_f += per_tile[tile].eps_from_f;
+        st.secondary_self_hits += per_tile[tile].self_hits;
     }
     free(per_tile);
     if (stats)

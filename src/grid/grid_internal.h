@@ -102,6 +102,11 @@ struct sdft_grid {
     sdft_aabb *hull_gradient; /* with each box, world bounds on its cells' gradients */
     size_t hull_count;
     sdft_field_accel accel; /* what its fields point to (grid_accel_init) */
+    /* Its surface's materials (sdft_grid_set_materials, grid_material.c): the grid of indices
+     * into the table; NULL: none. */
+    const sdft_grid *material_ids;
+    sdft_material *material_table;
+    size_t material_count;
     char name[256];
 };
 
@@ -178,6 +183,10 @@ void grid_hull_free(sdft_grid *g);
 /* Fills g->accel, which every field of g points to: its exact root,
  * prefetch hints and hull (grid_sample.c). Last at load, after the hull. */
 void grid_accel_init(sdft_grid *g);
+
+/* The material at world point p of a grid with materials (grid_material.c):
+ * its fields' sdft_field.material, ctx the grid. */
+sdft_material grid_material(const void *ctx, sdft_vec3 p);
 
 /* Memory for a big table (grid_memory.c): 64-byte aligned; free() releases
  * it. */

@@ -462,6 +462,7 @@ sdft_field sdft_grid_field(const sdft_grid *g, sdft_grid_bound bound)
     f.bounds = g->bounds;
     f.feature_size = sdft_minf(vs.x, sdft_minf(vs.y, vs.z));
     f.accel = &g->accel;
+    f.material = g->material_ids ? grid_material : NULL;
     return f;
 }
 

@@ -81,8 +81,7 @@ int io_png_write_rgb8(const char *path, const unsigned char *rgb, int width, int
     return atomic_file_commit(&af, msg, msg_len);
 }
 
-/* Linear [0, 1] to the sRGB transfer curve, 8 bits. */
-static unsigned char srgb8(float linear)
+unsigned char io_srgb8(float linear)
 {
     float c = fminf(fmaxf(linear, 0.0f), 1.0f);
     float s = c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f;
@@ -98,7 +97,7 @@ int io_write_png(const char *path, const sdft_image *img, char *msg, size_t msg_
         return -1;
     }
     for (size_t i = 0; i < 3 * n; i++)
-        rgb[i] = srgb8(img->rgb[i]);
+        rgb[i] = io_srgb8(img->rgb[i]);
     int rc = io_png_write_rgb8(path, rgb, img->width, img->height, 1, msg, msg_len);
     free(rgb);
     return rc;

@@ -27,6 +27,7 @@
 #include <mutex>
 #include <new>
 #include <string>
+#include <vector>
 
 struct sdft_mesh {
     meshsdf::TriangleMesh mesh; // oriented (or edges counted), normalized where asked
@@ -37,7 +38,7 @@ struct sdft_mesh {
     std::string source; // the grids' provenance
     std::string stem;   // the grids' default name
     int threads = 0;    // sdft_mesh_params.threads
-    bool simd = true, simd512 = true;
+    meshsdf::Simd simd; // sdft_mesh_params.simd
     double readSeconds = 0, orientSeconds = 0;
 
     // The mesh's sphere where the mesh now is: the unit sphere once
@@ -51,7 +52,7 @@ struct sdft_mesh {
     {
         std::call_once(mQueryOnce, [this] {
             const auto start = std::chrono::steady_clock::now();
-            mQuery.reset(new meshsdf::PointQuery(mesh, simd));
+            mQuery.reset(new meshsdf::PointQuery(mesh, simd.vector));
             mIndexSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         });
         return *mQuery;
@@ -121,17 +122,82 @@ template <class Enum> int enumValue(const Enum &e)
 // default name.
 std::string fileStem(const std::string &path);
 
+// The rows of a params struct's settings table (sdft_mesh_settings).
+struct Settings {
+    const sdft_mesh_setting *rows;
+    size_t count;
+};
+Settings settingsOf(sdft_mesh_settings_of of);
+
+// Every setting of `params`, a struct of kind `of`, set to its default.
+void fillDefaults(sdft_mesh_settings_of of, void *params);
+
+// Every setting of `params` checked against its range: SDFT_OK, or
+// SDFT_EINVAL with "WHAT: NAME must be in RANGE, got VALUE" in msg.
+sdft_error checkSettings(sdft_mesh_settings_of of, const void *params, const char *what, char *msg, size_t msg_len);
+
+// The name of value `value` of a CHOICE setting ("winding"), or "?".
+std::string choiceName(sdft_mesh_settings_of of, const char *setting, int value);
+
+// The same without allocating: its length, with *name at it in the
+// library's table (not NUL-terminated there); 0 for none.
+size_t choiceText(sdft_mesh_settings_of of, const char *setting, int value, const char **name) noexcept;
+
+// The box of the conversion of m with p, after p's settings are checked,
+// and whether it fits: SDFT_EINVAL for a setting out of its range or a box
+// the limits refuse, SDFT_ENOMEM for one this machine's memory does not
+// hold; one line in msg, prefixed by `what` for a setting.
+sdft_error planGrid(const char *what, const sdft_mesh &m, const sdft_mesh_grid_params &p, meshsdf::BoxGeometry &box,
+                    char *msg, size_t msg_len);
+
+// What a box tells before anything is built.
+sdft_mesh_grid_box boxOf(const meshsdf::BoxGeometry &geometry, double band);
+
+// The files one grid is written as, together and whole or not at all:
+// reserved before the work (a temporary file beside each, and beside an
+// .npy's sidecar JSON, so that a missing or read-only folder fails first),
+// written side by side, then renamed into place together; whatever was not
+// renamed is removed.
+class GridFiles
+{
+  public:
+    struct File {
+        std::string path;
+        sdft_mesh_format format;
+    };
+    GridFiles() = default;
+    GridFiles(const GridFiles &) = delete;
+    GridFiles &operator=(const GridFiles &) = delete;
+    ~GridFiles() { discard(); }
+
+    // SDFT_OK, or SDFT_EIO with one line (and nothing left behind).
+    sdft_error reserve(const std::vector<File> &files, char *msg, size_t msg_len);
+    // Writes g into every file in its format (fp16: NanoVDB Fp16 leaves),
+    // then renames them all: SDFT_OK, or SDFT_EINVAL (a dense array over
+    // the limit), SDFT_EIO with one line. Removes what is left either way.
+    sdft_error write(const sdft_mesh_grid &g, bool fp16, char *msg, size_t msg_len);
+    // Removes every temporary file still there.
+    void discard();
+
+  private:
+    struct Entry {
+        File file;
+        meshsdf::PendingFile data, sidecar; // the sidecar: an .npy's JSON
+    };
+    std::vector<Entry> mEntries;
+};
+
 // The Progress of a call whose params carry these callbacks.
 struct Listened {
     meshsdf::Progress progress;
-    Listened(sdft_progress_fn fn, sdft_stage_fn stages, void *user) : progress(fn, stages, user) {}
+    Listened(sdft_progress_fn fn, sdft_mesh_stage_fn stages, void *user) : progress(fn, stages, user) {}
 };
 
 // The triangles of vertex and face arrays, as loadMesh makes them of a
 // file's (sdftrace/mesh.h, sdft_mesh_from_arrays): SDFT_OK, or the code
 // and one line in `error`.
-sdft_error meshFromArrays(const void *vertices, sdft_dtype vertexType, size_t vertexCount, const void *faces,
-                          sdft_dtype faceType, size_t faceCount, meshsdf::TriangleMesh &mesh, std::string &error);
+sdft_error meshFromArrays(const void *vertices, sdft_mesh_dtype vertexType, size_t vertexCount, const void *faces,
+                          sdft_mesh_dtype faceType, size_t faceCount, meshsdf::TriangleMesh &mesh, std::string &error);
 
 } // namespace meshsdf::api
 

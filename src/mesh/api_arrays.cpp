@@ -46,12 +46,12 @@ std::vector<uint32_t> weldSorted(const std::vector<std::array<float, 3>> &points
     return welded;
 }
 
-int64_t indexAt(const void *faces, sdft_dtype type, size_t i)
+int64_t indexAt(const void *faces, sdft_mesh_dtype type, size_t i)
 {
     switch (type) {
-    case SDFT_INT32:
+    case SDFT_MESH_INT32:
         return static_cast<const int32_t *>(faces)[i];
-    case SDFT_UINT32:
+    case SDFT_MESH_UINT32:
         return static_cast<const uint32_t *>(faces)[i];
     default:
         return static_cast<const int64_t *>(faces)[i];
@@ -60,14 +60,15 @@ int64_t indexAt(const void *faces, sdft_dtype type, size_t i)
 
 } // namespace
 
-sdft_error meshFromArrays(const void *vertices, sdft_dtype vertexType, size_t vertexCount, const void *faces,
-                          sdft_dtype faceType, size_t faceCount, TriangleMesh &mesh, std::string &error)
+sdft_error meshFromArrays(const void *vertices, sdft_mesh_dtype vertexType, size_t vertexCount, const void *faces,
+                          sdft_mesh_dtype faceType, size_t faceCount, TriangleMesh &mesh, std::string &error)
 {
-    if (enumValue(vertexType) != SDFT_FLOAT32 && enumValue(vertexType) != SDFT_FLOAT64) {
+    if (enumValue(vertexType) != SDFT_MESH_FLOAT32 && enumValue(vertexType) != SDFT_MESH_FLOAT64) {
         error = "vertices must be float32 or float64";
         return SDFT_EINVAL;
     }
-    if (enumValue(faceType) != SDFT_INT32 && enumValue(faceType) != SDFT_UINT32 && enumValue(faceType) != SDFT_INT64) {
+    if (enumValue(faceType) != SDFT_MESH_INT32 && enumValue(faceType) != SDFT_MESH_UINT32 &&
+        enumValue(faceType) != SDFT_MESH_INT64) {
         error = "faces must be int32, uint32 or int64";
         return SDFT_EINVAL;
     }
@@ -84,8 +85,8 @@ sdft_error meshFromArrays(const void *vertices, sdft_dtype vertexType, size_t ve
     for (size_t v = 0; v < vertexCount; ++v)
         for (int k = 0; k < 3; ++k) {
             const size_t at = v * 3 + size_t(k);
-            const float x = vertexType == SDFT_FLOAT32 ? static_cast<const float *>(vertices)[at]
-                                                       : float(static_cast<const double *>(vertices)[at]);
+            const float x = vertexType == SDFT_MESH_FLOAT32 ? static_cast<const float *>(vertices)[at]
+                                                            : float(static_cast<const double *>(vertices)[at]);
             if (!std::isfinite(x)) {
                 error = "mesh has a non-finite coordinate (vertex " + std::to_string(v) + ")";
                 return SDFT_EFORMAT;

@@ -1,6 +1,6 @@
 // sdftrace — taking a mesh in (sdft_mesh_load, sdft_mesh_from_arrays) and
-// what it holds (sdft_mesh_get_info): read or copied, its sphere taken,
-// normalized where asked, then oriented as mesh2sdf orients it.
+// what it holds (sdft_mesh_get_health, _frame, _timings): read or copied,
+// its sphere taken, normalized where asked, then oriented.
 #include "api.h"
 
 #include "io/mesh_io.h"
@@ -23,7 +23,7 @@ void finishMesh(sdft_mesh &m, const sdft_mesh_params &p, meshsdf::Progress &prog
     progress.stage("orienting", 50, 100);
     const auto start = std::chrono::steady_clock::now();
     if (p.orient) {
-        m.orient = meshsdf::orientMesh(m.mesh, m.simd);
+        m.orient = meshsdf::orientMesh(m.mesh, m.simd.vector);
         m.oriented = true;
     } else {
         meshsdf::countEdges(m.mesh, meshsdf::edgeUses(m.mesh));
@@ -37,19 +37,9 @@ std::unique_ptr<sdft_mesh> newMesh(const sdft_mesh_params &p)
 {
     std::unique_ptr<sdft_mesh> m(new sdft_mesh);
     m->threads = p.threads;
-    m->simd = p.simd != SDFT_SIMD_NONE;
-    m->simd512 = p.simd == SDFT_SIMD_AUTO;
+    m->simd.vector = p.simd != SDFT_MESH_SIMD_NONE;
+    m->simd.wide = p.simd == SDFT_MESH_SIMD_AUTO;
     return m;
-}
-
-sdft_error checkMeshParams(const char *what, const sdft_mesh_params &p, char *msg, size_t msg_len)
-{
-    if (p.threads < 0)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: threads %d is negative", what, p.threads);
-    const int simd = enumValue(p.simd);
-    if (simd != SDFT_SIMD_AUTO && simd != SDFT_SIMD_AVX2 && simd != SDFT_SIMD_NONE)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: unknown simd level %d", what, simd);
-    return SDFT_OK;
 }
 
 // The mesh reader's one line, as an error code: a file that cannot be
@@ -87,7 +77,7 @@ sdft_error takeIn(const char *what, const char *context, const sdft_mesh_params 
                   sdft_mesh **out, char *msg, size_t msg_len, Read &&read)
 {
     const sdft_mesh_params p = params ? *params : sdft_mesh_params_defaults();
-    const sdft_error bad = checkMeshParams(what, p, msg, msg_len);
+    const sdft_error bad = checkSettings(SDFT_MESH_SETTINGS_MESH, &p, what, msg, msg_len);
     if (bad != SDFT_OK)
         return bad;
     return guarded(context, msg, msg_len, [&] {
@@ -118,7 +108,7 @@ extern "C" {
 sdft_mesh_params sdft_mesh_params_defaults(void)
 {
     sdft_mesh_params p{};
-    p.orient = 1;
+    fillDefaults(SDFT_MESH_SETTINGS_MESH, &p);
     return p;
 }
 
@@ -134,9 +124,9 @@ sdft_error sdft_mesh_load(const char *path, const sdft_mesh_params *params, sdft
                   });
 }
 
-sdft_error sdft_mesh_from_arrays(const void *vertices, sdft_dtype vertex_type, size_t vertex_count, const void *faces,
-                                 sdft_dtype face_type, size_t face_count, const sdft_mesh_params *params,
-                                 sdft_mesh **out, char *msg, size_t msg_len)
+sdft_error sdft_mesh_from_arrays(const void *vertices, sdft_mesh_dtype vertex_type, size_t vertex_count,
+                                 const void *faces, sdft_mesh_dtype face_type, size_t face_count,
+                                 const sdft_mesh_params *params, sdft_mesh **out, char *msg, size_t msg_len)
 {
     if (out)
         *out = nullptr;
@@ -154,12 +144,12 @@ sdft_error sdft_mesh_from_arrays(const void *vertices, sdft_dtype vertex_type, s
 
 void sdft_mesh_free(sdft_mesh *m) { delete m; }
 
-sdft_error sdft_mesh_get_info(const sdft_mesh *m, sdft_mesh_info *info, char *msg, size_t msg_len)
+sdft_error sdft_mesh_get_health(const sdft_mesh *m, sdft_mesh_health *health, char *msg, size_t msg_len)
 {
-    if (!m || !info)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_get_info: %s is NULL", m ? "info" : "m");
+    if (!m || !health)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_get_health: %s is NULL", m ? "health" : "m");
     const meshsdf::MeshHealth &h = m->mesh.health;
-    sdft_mesh_info i{};
+    sdft_mesh_health i{};
     i.vertices = h.vertices;
     i.faces = h.faces;
     i.triangles = h.triangles;
@@ -176,17 +166,31 @@ sdft_error sdft_mesh_get_info(const sdft_mesh *m, sdft_mesh_info *info, char *ms
     i.outward_patches = m->orient.outwardPatches;
     i.cavity_patches = m->orient.cavityPatches;
     i.ambiguous_patches = m->orient.ambiguousPatches;
+    *health = i;
+    return SDFT_OK;
+}
+
+sdft_error sdft_mesh_get_frame(const sdft_mesh *m, sdft_mesh_frame *frame, char *msg, size_t msg_len)
+{
+    if (!m || !frame)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_get_frame: %s is NULL", m ? "frame" : "m");
+    sdft_mesh_frame f{};
     for (int k = 0; k < 3; ++k) {
-        i.lo[k] = m->mesh.lo[k];
-        i.hi[k] = m->mesh.hi[k];
-        i.centre[k] = m->sphere.centre[k];
+        f.lo[k] = m->mesh.lo[k];
+        f.hi[k] = m->mesh.hi[k];
+        f.centre[k] = m->sphere.centre[k];
     }
-    i.radius = m->sphere.radius;
-    i.normalized = m->normalized;
-    i.read_seconds = m->readSeconds;
-    i.orient_seconds = m->orientSeconds;
-    i.index_seconds = m->indexSeconds();
-    *info = i;
+    f.radius = m->sphere.radius;
+    f.normalized = m->normalized;
+    *frame = f;
+    return SDFT_OK;
+}
+
+sdft_error sdft_mesh_get_timings(const sdft_mesh *m, sdft_mesh_timings *t, char *msg, size_t msg_len)
+{
+    if (!m || !t)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_get_timings: %s is NULL", m ? "t" : "m");
+    *t = sdft_mesh_timings{m->readSeconds, m->orientSeconds, m->indexSeconds()};
     return SDFT_OK;
 }
 

@@ -20,14 +20,14 @@ namespace
 {
 
 // Point i of pts, in double.
-void pointAt(const sdft_points &pts, size_t i, double *p)
+void pointAt(const sdft_mesh_points &pts, size_t i, double *p)
 {
-    const ptrdiff_t width = pts.type == SDFT_FLOAT32 ? 4 : 8;
+    const ptrdiff_t width = pts.type == SDFT_MESH_FLOAT32 ? 4 : 8;
     const ptrdiff_t row = pts.stride[0] || pts.stride[1] ? pts.stride[0] : 3 * width;
     const ptrdiff_t column = pts.stride[0] || pts.stride[1] ? pts.stride[1] : width;
     const char *at = static_cast<const char *>(pts.data) + ptrdiff_t(i) * row;
     for (int k = 0; k < 3; ++k, at += column) {
-        if (pts.type == SDFT_FLOAT32) {
+        if (pts.type == SDFT_MESH_FLOAT32) {
             float x;
             std::memcpy(&x, at, sizeof x);
             p[k] = x;
@@ -37,7 +37,7 @@ void pointAt(const sdft_points &pts, size_t i, double *p)
     }
 }
 
-sdft_error checkPoints(const char *what, const sdft_mesh *m, const sdft_points *pts, const void *out, char *msg,
+sdft_error checkPoints(const char *what, const sdft_mesh *m, const sdft_mesh_points *pts, const void *out, char *msg,
                        size_t msg_len)
 {
     if (!m || !pts || (!pts->data && pts->count) || !out)
@@ -46,7 +46,7 @@ sdft_error checkPoints(const char *what, const sdft_mesh *m, const sdft_points *
                          : !pts ? "pts"
                          : !out ? "the output"
                                 : "pts->data");
-    if (enumValue(pts->type) != SDFT_FLOAT32 && enumValue(pts->type) != SDFT_FLOAT64)
+    if (enumValue(pts->type) != SDFT_MESH_FLOAT32 && enumValue(pts->type) != SDFT_MESH_FLOAT64)
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: points must be float32 or float64", what);
     return SDFT_OK;
 }
@@ -55,8 +55,8 @@ sdft_error checkPoints(const char *what, const sdft_mesh *m, const sdft_points *
 // wanted), in Morton order in the mesh's cube (neighbours in it are near
 // in space: the hierarchies' nodes stay in cache, and close points search
 // together; each point's answer is the same in any order).
-sdft_error evaluate(const char *what, const sdft_mesh *m, const sdft_points *pts, float *distance, float *winding,
-                    const sdft_query_params *q, char *msg, size_t msg_len)
+sdft_error evaluate(const char *what, const sdft_mesh *m, const sdft_mesh_points *pts, float *distance, float *winding,
+                    const sdft_mesh_query_params *q, char *msg, size_t msg_len)
 {
     return guarded(what, msg, msg_len, [&] {
         if (pts->count == 0)
@@ -93,68 +93,43 @@ sdft_error evaluate(const char *what, const sdft_mesh *m, const sdft_points *pts
 
 extern "C" {
 
-sdft_query_params sdft_query_params_defaults(void) { return sdft_query_params{}; }
+sdft_mesh_query_params sdft_mesh_query_params_defaults(void) { return sdft_mesh_query_params{}; }
 
-sdft_error sdft_mesh_signed_distance(const sdft_mesh *m, const sdft_points *pts, float *distance, float *winding,
-                                     const sdft_query_params *q, char *msg, size_t msg_len)
+sdft_error sdft_mesh_signed_distance(const sdft_mesh *m, const sdft_mesh_points *pts, float *distance, float *winding,
+                                     const sdft_mesh_query_params *q, char *msg, size_t msg_len)
 {
     const char *what = "sdft_mesh_signed_distance";
     const sdft_error e = checkPoints(what, m, pts, distance, msg, msg_len);
     return e != SDFT_OK ? e : evaluate(what, m, pts, distance, winding, q, msg, msg_len);
 }
 
-sdft_error sdft_mesh_winding_number(const sdft_mesh *m, const sdft_points *pts, float *winding,
-                                    const sdft_query_params *q, char *msg, size_t msg_len)
+sdft_error sdft_mesh_winding_number(const sdft_mesh *m, const sdft_mesh_points *pts, float *winding,
+                                    const sdft_mesh_query_params *q, char *msg, size_t msg_len)
 {
     const char *what = "sdft_mesh_winding_number";
     const sdft_error e = checkPoints(what, m, pts, winding, msg, msg_len);
     return e != SDFT_OK ? e : evaluate(what, m, pts, nullptr, winding, q, msg, msg_len);
 }
 
-sdft_sample_params sdft_sample_params_defaults(void)
+sdft_mesh_sample_params sdft_mesh_sample_params_defaults(void)
 {
-    sdft_sample_params p{};
-    const meshsdf::SampleSettings cli;
-    p.count = cli.count;
-    p.seed = cli.seed;
-    p.near_sigma[0] = cli.nearSigma[0];
-    p.near_sigma[1] = cli.nearSigma[1];
-    p.uniform_share = cli.uniformShare;
+    sdft_mesh_sample_params p{};
+    fillDefaults(SDFT_MESH_SETTINGS_SAMPLES, &p);
     return p;
 }
 
-void sdft_sample_counts(const sdft_sample_params *p, size_t *near_first, size_t *near_second, size_t *uniform)
-{
-    const meshsdf::SampleCounts c =
-        p ? meshsdf::sampleCounts(p->count, p->uniform_share > 0 ? std::min(p->uniform_share, 1.0) : 0.0)
-          : meshsdf::SampleCounts{}; // a share outside [0, 1] clamped, NaN as 0
-    if (near_first)
-        *near_first = c.near[0];
-    if (near_second)
-        *near_second = c.near[1];
-    if (uniform)
-        *uniform = c.uniform;
-}
-
-sdft_error sdft_mesh_samples(const sdft_mesh *m, const sdft_sample_params *p, float *rows, size_t rows_len, char *msg,
-                             size_t msg_len)
+sdft_error sdft_mesh_samples(const sdft_mesh *m, const sdft_mesh_sample_params *p, float *rows, size_t rows_len,
+                             char *msg, size_t msg_len)
 {
     const char *what = "sdft_mesh_samples";
     if (!m || !p || !rows)
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: %s is NULL", what, !m ? "m" : !p ? "p" : "rows");
-    if (p->count < 1 || double(p->count) > meshsdf::kMaxSamples)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: count %zu is outside 1..100000000", what, p->count);
+    const sdft_error bad = checkSettings(SDFT_MESH_SETTINGS_SAMPLES, p, what, msg, msg_len);
+    if (bad != SDFT_OK)
+        return bad;
     if (rows_len / 4 < p->count)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: %zu rows need %zu floats, rows_len is %zu", what, p->count,
-                         p->count * 4, rows_len);
-    for (double s : p->near_sigma)
-        if (!(s > 0 && std::isfinite(s)))
-            return fail_with(msg, msg_len, SDFT_EINVAL, "%s: near sigma %g is not positive and finite", what, s);
-    if (!(p->uniform_share >= 0 && p->uniform_share <= 1))
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: uniform share %g is outside [0, 1]", what, p->uniform_share);
-    if (p->seed > 2147483647u)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: seed %llu is above 2^31 - 1", what,
-                         (unsigned long long)p->seed);
+        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: %llu rows need %llu floats, rows_len is %zu", what,
+                         (unsigned long long)p->count, (unsigned long long)p->count * 4, rows_len);
     return guarded(what, msg, msg_len, [&] {
         Listened listened(p->progress, p->stage, p->progress_user);
         meshsdf::Progress &progress = listened.progress;
@@ -162,13 +137,7 @@ sdft_error sdft_mesh_samples(const sdft_mesh *m, const sdft_sample_params *p, fl
             progress.stage("hierarchies", 0, 20);
             const meshsdf::PointQuery &query = m->query();
             progress.stage("samples", 20, 100);
-            meshsdf::SampleSettings opt;
-            opt.count = p->count;
-            opt.seed = p->seed;
-            opt.nearSigma[0] = p->near_sigma[0];
-            opt.nearSigma[1] = p->near_sigma[1];
-            opt.uniformShare = p->uniform_share;
-            meshsdf::drawSamples(m->mesh, m->frame(), query, opt, rows, progress);
+            meshsdf::drawSamples(m->mesh, m->frame(), query, *p, rows, progress);
             progress.report(100);
             return SDFT_OK;
         });

@@ -379,35 +379,24 @@ double seconds(std::chrono::steady_clock::time_point since)
 
 } // namespace
 
-const char *signMethodName(SignMethod m)
-{
-    switch (m) {
-    case SignMethod::Winding:
-        return "winding";
-    case SignMethod::Flood:
-        return "flood";
-    case SignMethod::None:
-        return "none";
-    }
-    return "?";
-}
+int buildGridEnd(const sdft_mesh_grid_params &p) { return p.full ? 95 : 90; }
 
-int buildGridEnd(const GridSettings &opt) { return opt.full ? 95 : 90; }
+double gridPadding(const sdft_mesh_grid_params &p) { return p.padding < 0 ? p.band + 1.0 : p.padding; }
 
-bool planBox(const TriangleMesh &mesh, const GridSettings &opt, BoxGeometry &box, std::string &error)
+bool planBox(const TriangleMesh &mesh, const sdft_mesh_grid_params &p, BoxGeometry &box, std::string &error)
 {
     double extent[3], longest = 0;
     for (int k = 0; k < 3; ++k) {
         extent[k] = mesh.hi[k] - mesh.lo[k];
         longest = std::max(longest, extent[k]);
     }
-    const double pad = opt.padding;
-    if (opt.voxelSize > 0) {
-        box.voxelSize = opt.voxelSize;
+    const double pad = gridPadding(p);
+    if (p.voxel_size > 0) {
+        box.voxelSize = p.voxel_size;
     } else {
-        const double intervals = opt.res - 1 - 2 * pad;
+        const double intervals = p.res - 1 - 2 * pad;
         if (intervals < 1) {
-            error = "--res " + std::to_string(opt.res) + " leaves no room for the mesh inside a padding of " +
+            error = "--res " + std::to_string(p.res) + " leaves no room for the mesh inside a padding of " +
                     std::to_string(pad) + " voxels on each side";
             return false;
         }
@@ -423,7 +412,7 @@ bool planBox(const TriangleMesh &mesh, const GridSettings &opt, BoxGeometry &box
         box.dims[k] = int(sides);
         box.origin[k] = mesh.lo[k] - pad * box.voxelSize;
     }
-    if ((opt.full || opt.writesNpy) && box.voxelCount() > kMaxDenseVoxels) {
+    if ((p.full || (p.formats & (1u << SDFT_MESH_FORMAT_NPY))) && box.voxelCount() > kMaxDenseVoxels) {
         error = "dense output (full, or an .npy file) of " + std::to_string(box.voxelCount()) +
                 " voxels is above the limit of 2^31";
         return false;
@@ -431,14 +420,14 @@ bool planBox(const TriangleMesh &mesh, const GridSettings &opt, BoxGeometry &box
     return true;
 }
 
-openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &box, const GridSettings &opt,
-                                  Progress &progress, BuildStats &stats)
+openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &box, const sdft_mesh_grid_params &p,
+                                  Simd simd, Progress &progress, BuildStats &stats)
 {
     openvdb::math::Transform::Ptr xform = openvdb::math::Transform::createLinearTransform(box.voxelSize);
     xform->postTranslate(openvdb::Vec3d(box.origin[0], box.origin[1], box.origin[2]));
 
-    const bool winding = opt.sign == SignMethod::Winding;
-    const float band = float(opt.band);
+    const bool winding = p.sign == SDFT_MESH_SIGN_WINDING;
+    const float band = float(p.band);
 
     // The hierarchies the run needs, built side by side (each is serial):
     // the winding tree and the open edges for the signs, the nearest
@@ -449,23 +438,23 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
     tbb::parallel_invoke(
         [&] {
             if (winding)
-                tree.reset(new FastWinding(mesh.points, mesh.triangles, 2.0, opt.simd));
+                tree.reset(new FastWinding(mesh.points, mesh.triangles, 2.0, simd.vector));
         },
         [&] {
             if (winding)
                 edges.reset(new EdgeField(mesh));
         },
         [&] {
-            if (opt.full)
-                nearest.reset(new NearestTriangle(mesh, opt.simd, opt.simd512));
+            if (p.full)
+                nearest.reset(new NearestTriangle(mesh, simd.vector, simd.wide));
         });
 
     // The bar: the band (with its leaves' signs) and the tiles' signs, then
     // dense distances with --full, each its share of the run's time on the
     // test meshes; writing takes the rest (the caller's).
-    const int end = buildGridEnd(opt), bandEnd = opt.full ? 10 : 70, signEnd = opt.full ? 15 : end;
+    const int end = buildGridEnd(p), bandEnd = p.full ? 10 : 70, signEnd = p.full ? 15 : end;
     openvdb::FloatGrid::Ptr grid;
-    if (opt.sign == SignMethod::Flood) {
+    if (p.sign == SDFT_MESH_SIGN_FLOOD) {
         // OpenVDB's own band and sign, for comparison.
         progress.stage("distances", 0, signEnd);
         IndexSpaceMesh adapter(mesh, box);
@@ -475,8 +464,8 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
         progress.stage(winding ? "exact distance, sign" : "exact distance", 0, winding ? bandEnd : signEnd);
         std::unique_ptr<WindingSign> sign;
         if (winding)
-            sign.reset(new WindingSign(std::move(*edges), *tree, box.origin, box.voxelSize, band, opt.simd));
-        grid = exactBandGrid(mesh, box, band, sign.get(), opt.simd, progress);
+            sign.reset(new WindingSign(std::move(*edges), *tree, box.origin, box.voxelSize, band, simd.vector));
+        grid = exactBandGrid(mesh, box, band, sign.get(), simd.vector, progress);
         if (winding) {
             progress.stage("sign off the band", bandEnd, signEnd);
             signTiles(grid->tree(), *sign, progress);
@@ -485,11 +474,11 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
         }
     }
     grid->setTransform(xform);
-    if (opt.full) {
+    if (p.full) {
         progress.stage("dense distances", signEnd, end);
         fillBox(*grid, box, *nearest, progress);
     }
-    grid->setGridClass(opt.sign == SignMethod::None ? openvdb::GRID_UNKNOWN : openvdb::GRID_LEVEL_SET);
+    grid->setGridClass(p.sign == SDFT_MESH_SIGN_NONE ? openvdb::GRID_UNKNOWN : openvdb::GRID_LEVEL_SET);
     return grid;
 }
 

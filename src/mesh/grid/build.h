@@ -17,28 +17,19 @@
 namespace meshsdf
 {
 
-enum class SignMethod { Winding, Flood, None };
-const char *signMethodName(SignMethod m);
-
 /// Largest grid side in voxels (res, or the side a voxel size implies).
 constexpr int kMaxResolution = SDFT_MESH_MAX_RES;
 /// Largest dense output (full, .npy) in voxels.
 constexpr double kMaxDenseVoxels = SDFT_MESH_MAX_DENSE_VOXELS;
 
-/// A grid to build.
-struct GridSettings {
-    std::string source;     // the mesh the grid's metadata names
-    int res = 256;          // longest side of the padded box, in voxels
-    double voxelSize = 0.0; // world units; > 0 overrides res
-    double band = 3.0;      // narrow-band half-width, voxels
-    bool full = false;      // a distance in every voxel of the padded box
-    double padding = 4.0;   // voxels around the mesh bounds
-    SignMethod sign = SignMethod::Winding;
-    bool simd = true;        // vector instructions where the processor has them
-    bool simd512 = true;     // and AVX-512 among them
-    bool writesNpy = false;  // a dense array will be made of it (its size limit applies)
-    bool writesNvdb = false; // a NanoVDB copy will be made of it (its memory counts)
+/// The vector instructions a mesh's work may use.
+struct Simd {
+    bool vector = true; // AVX2 where the processor has it
+    bool wide = true;   // and AVX-512
 };
+
+/// The padding of `p` in voxels: its setting, or for the default band + 1.
+double gridPadding(const sdft_mesh_grid_params &p);
 
 /// The padded box: voxel (i, j, k), 0 <= i < dims[0] ..., has its centre at
 /// world position origin + (i, j, k) * voxelSize. Index space of the grid is
@@ -50,26 +41,26 @@ struct BoxGeometry {
     double voxelCount() const { return double(dims[0]) * dims[1] * dims[2]; }
 };
 
-/// Voxel size and box from --res or --voxel-size and --padding. --res N puts
-/// N voxel centres along the padded box's longest side. Fails with one line
+/// Voxel size and box from p's res or voxel_size and its padding: res N
+/// puts N voxel centres along the padded box's longest side. Fails with one line
 /// when a side would exceed kMaxResolution or be too small for the padding,
 /// or a dense output would exceed kMaxDenseVoxels. (Whether the conversion
 /// fits memory is memory_estimate.h's question.)
-bool planBox(const TriangleMesh &mesh, const GridSettings &opt, BoxGeometry &box, std::string &error);
+bool planBox(const TriangleMesh &mesh, const sdft_mesh_grid_params &p, BoxGeometry &box, std::string &error);
 
 struct BuildStats {
-    double windingSeconds = 0;    // exact band distances and winding sign (--sign winding only)
+    double windingSeconds = 0;    // exact band distances and winding sign (SDFT_MESH_SIGN_WINDING only)
     uint64_t ambiguousVoxels = 0; // voxels signed from a winding number in (0.25, 0.75)
 };
 
-/// The signed (or, with SignMethod::None, unsigned) distance grid in world
+/// The signed (or, with SDFT_MESH_SIGN_NONE, unsigned) distance grid in world
 /// units: a GRID_LEVEL_SET with background band * voxelSize and the box's
-/// transform. Its stages fill `progress` from 0 to buildGridEnd(opt) %.
+/// transform. Its stages fill `progress` from 0 to buildGridEnd(p) %.
 /// Where on the progress bar building ends and writing begins, in percent.
-int buildGridEnd(const GridSettings &opt);
+int buildGridEnd(const sdft_mesh_grid_params &p);
 
-openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &box, const GridSettings &opt,
-                                  Progress &progress, BuildStats &stats);
+openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &box, const sdft_mesh_grid_params &p,
+                                  Simd simd, Progress &progress, BuildStats &stats);
 
 } // namespace meshsdf
 

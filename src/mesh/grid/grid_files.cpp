@@ -12,7 +12,6 @@
 #include "grid_file.h"
 #include "json.h"
 #include "npy_write.h"
-#include "sdftrace/mesh.h"
 
 namespace meshsdf
 {
@@ -168,9 +167,9 @@ bool writeNpyJson(const BoxGeometry &box, const std::string &npyName, const Prov
 
 std::string sidecarPath(const std::string &npyPath)
 {
-    std::string path(sdft_mesh_sidecar_path(npyPath.c_str(), nullptr, 0), '\0');
-    sdft_mesh_sidecar_path(npyPath.c_str(), &path[0], path.size() + 1);
-    return path;
+    const size_t n = npyPath.size();
+    const bool npy = n > 4 && npyPath.compare(n - 4, 4, ".npy") == 0;
+    return (npy ? npyPath.substr(0, n - 4) : npyPath) + ".json";
 }
 
 } // namespace meshsdf

@@ -50,37 +50,27 @@ double surfaceArea(const TriangleMesh &mesh)
 
 } // namespace
 
-double conversionPeakBytes(const TriangleMesh &mesh, const BoxGeometry &box, const GridSettings &opt)
+double conversionPeakBytes(const TriangleMesh &mesh, const BoxGeometry &box, const sdft_mesh_grid_params &p)
 {
     const double h = box.voxelSize;
-    const double bandLeaves = surfaceArea(mesh) / (64.0 * h * h) * (2.0 * opt.band / 8.0 + 1.0);
+    const double bandLeaves = surfaceArea(mesh) / (64.0 * h * h) * (2.0 * p.band / 8.0 + 1.0);
     // The band cannot cross more leaves than the box has.
     const double boxLeaves = std::ceil(box.dims[0] / 8.0) * std::ceil(box.dims[1] / 8.0) * std::ceil(box.dims[2] / 8.0);
-    const double leaves = opt.full ? boxLeaves : std::min(bandLeaves, boxLeaves);
+    const double leaves = p.full ? boxLeaves : std::min(bandLeaves, boxLeaves);
     double bytes = kBaseBytes + kBytesPerTriangle * double(mesh.triangles.size());
-    bytes += opt.full ? kBytesPerDenseVoxel * box.voxelCount() : kBytesPerLeaf * leaves;
-    if (opt.writesNvdb)
+    bytes += p.full ? kBytesPerDenseVoxel * box.voxelCount() : kBytesPerLeaf * leaves;
+    if (p.formats & (1u << SDFT_MESH_FORMAT_NVDB))
         bytes += kNanoBytesPerLeaf * leaves;
     return bytes;
 }
 
-bool conversionFitsMemory(const TriangleMesh &mesh, const BoxGeometry &box, const GridSettings &opt, std::string &error)
+bool conversionFitsMemory(const TriangleMesh &mesh, const BoxGeometry &box, const sdft_mesh_grid_params &p,
+                          std::string &error)
 {
     char line[256];
     const std::string what = "a " + std::to_string(box.dims[0]) + "x" + std::to_string(box.dims[1]) + "x" +
-                             std::to_string(box.dims[2]) + (opt.full ? " dense grid" : " box's narrow band");
-    if (memory_check(conversionPeakBytes(mesh, box, opt), what.c_str(), line, sizeof line) == 0)
-        return true;
-    error = line;
-    return false;
-}
-
-bool checkPointsFitMemory(int points, std::string &error)
-{
-    // Per point: its position, winding number and distance (doubles).
-    char line[256];
-    const std::string what = std::to_string(points) + " points to check signs at";
-    if (memory_check(kBaseBytes + 40.0 * points, what.c_str(), line, sizeof line) == 0)
+                             std::to_string(box.dims[2]) + (p.full ? " dense grid" : " box's narrow band");
+    if (memory_check(conversionPeakBytes(mesh, box, p), what.c_str(), line, sizeof line) == 0)
         return true;
     error = line;
     return false;

@@ -13,18 +13,15 @@
 namespace meshsdf
 {
 
-/// Bytes the conversion of `mesh` into `box` with `opt` will need at its
+/// Bytes the conversion of `mesh` into `box` with `p` will need at its
 /// peak (resident set), within about 25% (tests/test_untrusted.c).
-double conversionPeakBytes(const TriangleMesh &mesh, const BoxGeometry &box, const GridSettings &opt);
+double conversionPeakBytes(const TriangleMesh &mesh, const BoxGeometry &box, const sdft_mesh_grid_params &p);
 
 /// False with one line in error ("needs ~37.2 GiB for ...; this machine
 /// allows 24.0 GiB") when conversionPeakBytes does not fit
 /// (src/common/memory_limit.h).
-bool conversionFitsMemory(const TriangleMesh &mesh, const BoxGeometry &box, const GridSettings &opt,
+bool conversionFitsMemory(const TriangleMesh &mesh, const BoxGeometry &box, const sdft_mesh_grid_params &p,
                           std::string &error);
-
-/// The same for `points` points to check signs at (sign_check.h).
-bool checkPointsFitMemory(int points, std::string &error);
 
 } // namespace meshsdf
 

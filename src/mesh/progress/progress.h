@@ -1,5 +1,5 @@
 // sdftrace — a long call's progress, told to the caller's callbacks
-// (sdftrace/mesh.h: sdft_progress_fn, sdft_stage_fn) and to OpenVDB through
+// (sdftrace/mesh.h: sdft_progress_fn, sdft_mesh_stage_fn) and to OpenVDB through
 // its interrupter interface. The work runs in stages; each stage maps its
 // own 0..100 % onto a slice of the call's whole. Draws nothing: the
 // programs draw what they are told.
@@ -30,7 +30,7 @@ class Progress final : public openvdb::util::NullInterrupter
     /// throws Cancelled (out of TBB's loops to the caller) and
     /// wasInterrupted answers true. Tells `stages(user, label)` (when not
     /// NULL) each stage's label as it begins.
-    Progress(sdft_progress_fn listener, sdft_stage_fn stages, void *user)
+    Progress(sdft_progress_fn listener, sdft_mesh_stage_fn stages, void *user)
         : mListener(listener), mStages(stages), mUser(user)
     {
     }
@@ -57,7 +57,7 @@ class Progress final : public openvdb::util::NullInterrupter
   private:
     std::atomic<int> mFrom{0}, mTo{100};
     sdft_progress_fn mListener;
-    sdft_stage_fn mStages;
+    sdft_mesh_stage_fn mStages;
     void *mUser;
     std::mutex mListenerLock;
     int mHeard = -1; // the most the listener was told, percent (under the lock)

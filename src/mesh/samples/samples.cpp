@@ -98,18 +98,18 @@ void surfacePoint(const TriangleMesh &mesh, const std::vector<double> &sums, Chu
 
 } // namespace
 
-void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const PointQuery &query, const SampleSettings &opt,
-                 float *rows, Progress &progress)
+void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const PointQuery &query,
+                 const sdft_mesh_sample_params &p, float *rows, Progress &progress)
 {
-    const SampleCounts counts = sampleCounts(opt.count, opt.uniformShare);
-    const size_t near = counts.near[0] + counts.near[1], n = opt.count;
+    const SampleCounts counts = sampleCounts(size_t(p.count), p.uniform_share);
+    const size_t near = counts.near[0] + counts.near[1], n = size_t(p.count);
     const std::vector<double> sums = areaSums(mesh);
-    const double sigma[2] = {opt.nearSigma[0] * sphere.radius, opt.nearSigma[1] * sphere.radius};
+    const double sigma[2] = {p.near_sigma[0] * sphere.radius, p.near_sigma[1] * sphere.radius};
     // The points, chunk by chunk.
     std::vector<double> points(n * 3);
     const size_t chunks = (n + kSampleChunk - 1) / kSampleChunk;
     tbb::parallel_for(size_t(0), chunks, [&](size_t chunk) {
-        ChunkRandom random(opt.seed, chunk);
+        ChunkRandom random(p.seed, chunk);
         for (size_t i = chunk * kSampleChunk; i < std::min(n, (chunk + 1) * kSampleChunk); ++i) {
             double *p = &points[i * 3];
             if (i < near) {

@@ -31,14 +31,6 @@ namespace meshsdf
 /// Most training samples one draw makes: 1.6 GB of rows.
 constexpr double kMaxSamples = SDFT_MESH_MAX_SAMPLES;
 
-/// Training samples to draw; DeepSDF's distribution by default.
-struct SampleSettings {
-    size_t count = 250000;
-    double nearSigma[2] = {0.070710678118654752, 0.022360679774997897}; // sqrt(0.005), sqrt(0.0005)
-    double uniformShare = 0.06;                                         // 3/50
-    uint64_t seed = 1;
-};
-
 /// Rows drawn from one generator.
 constexpr size_t kSampleChunk = 4096;
 
@@ -50,13 +42,13 @@ struct SampleCounts {
 };
 SampleCounts sampleCounts(size_t count, double uniformShare);
 
-/// `opt.count` rows (x, y, z, d) into `rows` (4 floats each) over `mesh`
+/// `p.count` rows (x, y, z, d) into `rows` (4 floats each) over `mesh`
 /// in its frame, whose sphere there is `sphere`: sigmas are
-/// opt.nearSigma times its radius, the uniform cube is its centre plus or
+/// p.near_sigma times its radius, the uniform cube is its centre plus or
 /// minus its radius. Runs in parallel, reporting the rows evaluated on
 /// `progress` (which throws Cancelled out of it when told to stop).
-void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const PointQuery &query, const SampleSettings &opt,
-                 float *rows, Progress &progress);
+void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const PointQuery &query,
+                 const sdft_mesh_sample_params &p, float *rows, Progress &progress);
 
 } // namespace meshsdf
 

@@ -1,9 +1,10 @@
 // sdftrace — a grid's sign checked against the mesh's (see sign_check.h).
-#include "grid/sign_check.h"
+#include "tool/sign_check.h"
 
 #include "sign/winding.h"
 
 #include "isolated_read.h"
+#include "memory_limit.h"
 
 #include <openvdb/openvdb.h>
 
@@ -115,6 +116,18 @@ bool checkSign(const TriangleMesh &mesh, const std::vector<std::string> &grids, 
         checks.push_back(SignCheck{clear, wrong, wrongFar});
     }
     return true;
+}
+
+bool checkPointsFitMemory(int points, std::string &error)
+{
+    // Per point: its position, winding number and distance (doubles), and
+    // 40 MiB for the process.
+    char line[256];
+    const std::string what = std::to_string(points) + " points to check signs at";
+    if (memory_check(40.0 * 1024 * 1024 + 40.0 * points, what.c_str(), line, sizeof line) == 0)
+        return true;
+    error = line;
+    return false;
 }
 
 } // namespace meshsdf

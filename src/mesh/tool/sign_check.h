@@ -1,7 +1,7 @@
 // sdftrace — how often a grid's sign is wrong, against the exact
 // winding number computed by brute force over every triangle.
-#ifndef SDFT_MESH_GRID_SIGN_CHECK_H
-#define SDFT_MESH_GRID_SIGN_CHECK_H
+#ifndef SDFT_MESH_TOOL_SIGN_CHECK_H
+#define SDFT_MESH_TOOL_SIGN_CHECK_H
 
 #include "geometry/triangle_mesh.h"
 
@@ -26,6 +26,10 @@ struct SignCheck {
 /// if a grid cannot be read (then no point was drawn).
 bool checkSign(const TriangleMesh &mesh, const std::vector<std::string> &grids, int points,
                std::vector<SignCheck> &checks, std::string &error);
+
+/// False with one line in error ("needs ~...") when `points` points to
+/// check signs at do not fit this machine's memory (memory_limit.h).
+bool checkPointsFitMemory(int points, std::string &error);
 
 } // namespace meshsdf
 

@@ -1,10 +1,10 @@
 // sdftrace — grids' signs checked against a mesh's exact winding number
-// (sdft_mesh_sign_check, grid/sign_check.h).
-#include "api.h"
+// (mesh_sign_check, mesh_tool.h; the work is sign_check.h's).
+#include "tool/mesh_tool.h"
 
-#include "grid/memory_estimate.h"
-#include "grid/sign_check.h"
+#include "api.h"
 #include "samples/samples.h"
+#include "tool/sign_check.h"
 
 #include <cerrno>
 #include <cstring>
@@ -14,10 +14,10 @@ using namespace meshsdf::api;
 
 extern "C" {
 
-sdft_error sdft_mesh_sign_check(const sdft_mesh *m, const char *const *grid_paths, size_t count, size_t points,
-                                sdft_sign_check *out, char *msg, size_t msg_len)
+sdft_error mesh_sign_check(const sdft_mesh *m, const char *const *grid_paths, size_t count, size_t points,
+                           mesh_sign_counts *out, char *msg, size_t msg_len)
 {
-    const char *what = "sdft_mesh_sign_check";
+    const char *what = "mesh_sign_check";
     if (!m || !grid_paths || !out)
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: %s is NULL", what,
                          !m            ? "m"
@@ -26,7 +26,8 @@ sdft_error sdft_mesh_sign_check(const sdft_mesh *m, const char *const *grid_path
     if (count == 0)
         return fail_with(msg, msg_len, SDFT_EINVAL, "%s: no grids", what);
     if (points < 1 || double(points) > meshsdf::kMaxSamples)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: %zu points is outside 1..100000000", what, points);
+        return fail_with(msg, msg_len, SDFT_EINVAL, "%s: %zu points is outside 1..%.0f", what, points,
+                         meshsdf::kMaxSamples);
     for (size_t i = 0; i < count; ++i) {
         if (!grid_paths[i])
             return fail_with(msg, msg_len, SDFT_EINVAL, "%s: grid path %zu is NULL", what, i);
@@ -45,7 +46,7 @@ sdft_error sdft_mesh_sign_check(const sdft_mesh *m, const char *const *grid_path
         if (!ok)
             return fail_with(msg, msg_len, SDFT_EFORMAT, "%s", error.c_str());
         for (size_t i = 0; i < count; ++i)
-            out[i] = sdft_sign_check{checks[i].clear, checks[i].wrong, checks[i].wrongFar};
+            out[i] = mesh_sign_counts{checks[i].clear, checks[i].wrong, checks[i].wrongFar};
         return SDFT_OK;
     });
 }

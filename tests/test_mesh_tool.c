@@ -1,10 +1,9 @@
-/* The mesh component's C API beyond the queries (sdftrace/mesh.h): a set
+/* mesh2sdf's part of the mesh component (src/mesh/tool/mesh_tool.h): a set
  * of files reserved before the work and written together, nothing left
- * behind when it is freed or fails; grids' signs checked against the exact
- * winding number; what a mesh and a grid report (timings, surface,
- * memory); the thread and SIMD settings giving the same answers; the sample
- * counts and the sidecar's name. The truth is computed here: brute-force
- * winding numbers and distances, directory listings, file magic numbers. */
+ * behind when it is freed or fails; a conversion planned as it is built;
+ * grids' signs checked against the exact winding number; the sample counts
+ * and the sidecar's name. The truth is computed here: brute-force winding
+ * numbers and distances, directory listings, file magic numbers. */
 #define _POSIX_C_SOURCE 200809L /* setenv, opendir */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -21,31 +20,15 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "mesh_lib_support.h"
 #include "mesh_support.h"
+#include "mesh_tool.h"
 #include "sdftrace/mesh.h"
 #include "sdftrace/vdb.h"
 #include "testutil.h"
 
 #define SUZANNE SDFT_MESH_DIR "/suzanne.obj"
 #define SPOT SDFT_MESH_DIR "/spot.obj"
-
-static sdft_mesh *load_with(const char *path, const sdft_mesh_params *p)
-{
-    sdft_mesh *m = NULL;
-    char msg[256] = "";
-    assert_int_equal(sdft_mesh_load(path, p, &m, msg, sizeof msg), SDFT_OK);
-    return m;
-}
-
-static sdft_mesh_grid *grid_of(const sdft_mesh *m, int res)
-{
-    sdft_mesh_grid_params p = sdft_mesh_grid_params_defaults();
-    p.res = res;
-    sdft_mesh_grid *g = NULL;
-    char msg[256] = "";
-    assert_int_equal(sdft_mesh_to_grid(m, &p, &g, msg, sizeof msg), SDFT_OK);
-    return g;
-}
 
 /* A fresh empty folder under the tests' temporary folder. */
 static void fresh_dir(char *dir, size_t len, const char *name)
@@ -84,14 +67,14 @@ static void reserved_then_freed_leaves_nothing(void **state)
     fresh_dir(dir, sizeof dir, "files_freed");
     snprintf(vdb, sizeof vdb, "%s/a.vdb", dir);
     snprintf(npy, sizeof npy, "%s/a.npy", dir);
-    const sdft_mesh_file files[] = {{vdb, SDFT_FILE_VDB}, {npy, SDFT_FILE_NPY}};
-    sdft_mesh_files *set = NULL;
+    const mesh_file files[] = {{vdb, SDFT_MESH_FORMAT_VDB}, {npy, SDFT_MESH_FORMAT_NPY}};
+    mesh_files *set = NULL;
     char msg[256] = "";
-    assert_int_equal(sdft_mesh_files_reserve(files, 2, &set, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(mesh_files_reserve(files, 2, &set, msg, sizeof msg), SDFT_OK);
     assert_int_equal(entries(dir), 3);
     assert_false(exists(vdb));
     assert_false(exists(npy));
-    sdft_mesh_files_free(set);
+    mesh_files_free(set);
     assert_int_equal(entries(dir), 0);
 }
 
@@ -104,10 +87,10 @@ static void missing_folder_fails_first(void **state)
     fresh_dir(dir, sizeof dir, "files_missing");
     snprintf(ok, sizeof ok, "%s/ok.vdb", dir);
     snprintf(bad, sizeof bad, "%s/no/such/folder/x.nvdb", dir);
-    const sdft_mesh_file files[] = {{ok, SDFT_FILE_VDB}, {bad, SDFT_FILE_NVDB}};
-    sdft_mesh_files *set = (sdft_mesh_files *)&set;
+    const mesh_file files[] = {{ok, SDFT_MESH_FORMAT_VDB}, {bad, SDFT_MESH_FORMAT_NVDB}};
+    mesh_files *set = (mesh_files *)&set;
     char msg[256] = "";
-    assert_int_equal(sdft_mesh_files_reserve(files, 2, &set, msg, sizeof msg), SDFT_EIO);
+    assert_int_equal(mesh_files_reserve(files, 2, &set, msg, sizeof msg), SDFT_EIO);
     assert_null(set);
     assert_non_null(strstr(msg, "No such file"));
     assert_int_equal(entries(dir), 0);
@@ -124,16 +107,16 @@ static void failed_write_leaves_nothing(void **state)
     fresh_dir(gone, sizeof gone, "files_gone");
     snprintf(vdb, sizeof vdb, "%s/a.vdb", dir);
     snprintf(npy, sizeof npy, "%s/a.npy", gone);
-    const sdft_mesh_file files[] = {{vdb, SDFT_FILE_VDB}, {npy, SDFT_FILE_NPY}};
-    sdft_mesh_files *set = NULL;
-    assert_int_equal(sdft_mesh_files_reserve(files, 2, &set, msg, sizeof msg), SDFT_OK);
+    const mesh_file files[] = {{vdb, SDFT_MESH_FORMAT_VDB}, {npy, SDFT_MESH_FORMAT_NPY}};
+    mesh_files *set = NULL;
+    assert_int_equal(mesh_files_reserve(files, 2, &set, msg, sizeof msg), SDFT_OK);
     assert_int_equal(entries(dir), 1);
     tu_run(out, sizeof out, "rm -rf '%s'", gone);
     sdft_mesh *m = load_with(SUZANNE, NULL);
     sdft_mesh_grid *g = grid_of(m, 24);
-    assert_int_equal(sdft_mesh_files_write_grid(set, g, 0, msg, sizeof msg), SDFT_EIO);
+    assert_int_equal(mesh_files_write_grid(set, g, 0, msg, sizeof msg), SDFT_EIO);
     assert_int_equal(entries(dir), 0);
-    sdft_mesh_files_free(set);
+    mesh_files_free(set);
     sdft_mesh_grid_free(g);
     sdft_mesh_free(m);
 }
@@ -148,8 +131,8 @@ static void planned_as_built(void **state)
     sdft_mesh_grid_params p = sdft_mesh_grid_params_defaults();
     p.res = 40;
     p.band = 2;
-    sdft_mesh_box planned, built;
-    assert_int_equal(sdft_mesh_grid_plan(m, &p, &planned, msg, sizeof msg), SDFT_OK);
+    sdft_mesh_grid_box planned, built;
+    assert_int_equal(mesh_grid_plan(m, &p, &planned, msg, sizeof msg), SDFT_OK);
     sdft_mesh_grid *g = NULL;
     assert_int_equal(sdft_mesh_to_grid(m, &p, &g, msg, sizeof msg), SDFT_OK);
     assert_int_equal(sdft_mesh_grid_get_box(g, &built, msg, sizeof msg), SDFT_OK);
@@ -157,18 +140,17 @@ static void planned_as_built(void **state)
     assert_memory_equal(planned.origin, built.origin, sizeof built.origin);
     assert_true(planned.voxel_size == built.voxel_size);
     assert_true(planned.background == built.background);
-    assert_int_equal(planned.active_voxels, 0);
     sdft_mesh_grid_free(g);
 
     p.voxel_size = 1e-6; /* far more than 4096 voxels a side */
-    assert_int_equal(sdft_mesh_grid_plan(m, &p, &planned, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(mesh_grid_plan(m, &p, &planned, msg, sizeof msg), SDFT_EINVAL);
     p.voxel_size = 0;
     p.res = 2000;
     p.full = 1; /* 8 billion voxels: over the dense limit */
-    assert_int_equal(sdft_mesh_grid_plan(m, &p, &planned, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(mesh_grid_plan(m, &p, &planned, msg, sizeof msg), SDFT_EINVAL);
     p.full = 0;
     setenv("SDFT_MEMORY_LIMIT", "1000000", 1);
-    assert_int_equal(sdft_mesh_grid_plan(m, &p, &planned, msg, sizeof msg), SDFT_ENOMEM);
+    assert_int_equal(mesh_grid_plan(m, &p, &planned, msg, sizeof msg), SDFT_ENOMEM);
     assert_non_null(strstr(msg, "needs ~"));
     unsetenv("SDFT_MEMORY_LIMIT");
     sdft_mesh_free(m);
@@ -186,18 +168,19 @@ static void written_together(void **state)
     snprintf(nvdb, sizeof nvdb, "%s/g.nvdb", dir);
     snprintf(npy, sizeof npy, "%s/g.npy", dir);
     snprintf(json, sizeof json, "%s/g.json", dir);
-    const sdft_mesh_file files[] = {{level, SDFT_FILE_VDB}, {nvdb, SDFT_FILE_NVDB}, {npy, SDFT_FILE_NPY}};
-    sdft_mesh_files *set = NULL;
+    const mesh_file files[] = {
+        {level, SDFT_MESH_FORMAT_VDB}, {nvdb, SDFT_MESH_FORMAT_NVDB}, {npy, SDFT_MESH_FORMAT_NPY}};
+    mesh_files *set = NULL;
     char msg[256] = "";
-    assert_int_equal(sdft_mesh_files_reserve(files, 3, &set, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(mesh_files_reserve(files, 3, &set, msg, sizeof msg), SDFT_OK);
     sdft_mesh *m = load_with(SUZANNE, NULL);
     sdft_mesh_grid *g = grid_of(m, 40);
-    assert_int_equal(sdft_mesh_files_write_grid(set, g, 0, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(mesh_files_write_grid(set, g, 0, msg, sizeof msg), SDFT_OK);
     assert_int_equal(entries(dir), 4);
     assert_true(exists(json));
-    assert_int_equal(sdft_mesh_files_write_grid(set, g, 0, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(mesh_files_write_grid(set, g, 0, msg, sizeof msg), SDFT_EINVAL);
     assert_non_null(strstr(msg, "already"));
-    sdft_mesh_files_free(set);
+    mesh_files_free(set);
     assert_int_equal(entries(dir), 4);
 
     /* OpenVDB's magic number (0x56444220, "VDB " little-endian) heads the
@@ -213,7 +196,7 @@ static void written_together(void **state)
     assert_memory_equal(head, "NanoVDB0", 8);
 
     /* The .npy's array is the dense copy, after its 64-byte aligned header. */
-    sdft_mesh_box box;
+    sdft_mesh_grid_box box;
     assert_int_equal(sdft_mesh_grid_get_box(g, &box, msg, sizeof msg), SDFT_OK);
     const size_t n = (size_t)box.dims[0] * (size_t)box.dims[1] * (size_t)box.dims[2];
     float *dense = malloc(n * sizeof(float)), *read = malloc(n * sizeof(float));
@@ -237,17 +220,17 @@ static void bad_file_sets(void **state)
 {
     (void)state;
     char msg[256] = "";
-    sdft_mesh_files *set = NULL;
-    const sdft_mesh_file none[] = {{NULL, SDFT_FILE_VDB}};
-    const sdft_mesh_file weird[] = {{"x.vdb", (sdft_file_format)9}};
-    assert_int_equal(sdft_mesh_files_reserve(NULL, 1, &set, msg, sizeof msg), SDFT_EINVAL);
-    assert_int_equal(sdft_mesh_files_reserve(none, 0, &set, msg, sizeof msg), SDFT_EINVAL);
-    assert_int_equal(sdft_mesh_files_reserve(none, 1, &set, msg, sizeof msg), SDFT_EINVAL);
-    assert_int_equal(sdft_mesh_files_reserve(weird, 1, &set, msg, sizeof msg), SDFT_EINVAL);
+    mesh_files *set = NULL;
+    const mesh_file none[] = {{NULL, SDFT_MESH_FORMAT_VDB}};
+    const mesh_file weird[] = {{"x.vdb", (sdft_mesh_format)9}};
+    assert_int_equal(mesh_files_reserve(NULL, 1, &set, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(mesh_files_reserve(none, 0, &set, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(mesh_files_reserve(none, 1, &set, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(mesh_files_reserve(weird, 1, &set, msg, sizeof msg), SDFT_EINVAL);
     assert_non_null(strstr(msg, "format"));
     assert_null(set);
-    assert_int_equal(sdft_mesh_files_write_grid(NULL, NULL, 0, msg, sizeof msg), SDFT_EINVAL);
-    sdft_mesh_files_free(NULL);
+    assert_int_equal(mesh_files_write_grid(NULL, NULL, 0, msg, sizeof msg), SDFT_EINVAL);
+    mesh_files_free(NULL);
 }
 
 /* --------------------------------------------------------------- sign check */
@@ -268,7 +251,7 @@ static void sign_check_against_brute_force(void **state)
 
     sdft_mesh *m = load_with(SPOT, NULL);
     sdft_mesh_grid *g = grid_of(m, 48);
-    assert_int_equal(sdft_mesh_grid_write(g, right, 0, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_mesh_grid_write(g, right, SDFT_MESH_FORMAT_VDB, 0, msg, sizeof msg), SDFT_OK);
     sdft_mesh_grid_free(g);
 
     int *reversed = malloc(sizeof(int) * 3 * (size_t)bm.nt);
@@ -280,17 +263,17 @@ static void sign_check_against_brute_force(void **state)
     sdft_mesh_params raw = sdft_mesh_params_defaults();
     raw.orient = 0;
     sdft_mesh *inside_out = NULL;
-    assert_int_equal(sdft_mesh_from_arrays(bm.v, SDFT_FLOAT64, (size_t)bm.nv, reversed, SDFT_INT32, (size_t)bm.nt, &raw,
-                                           &inside_out, msg, sizeof msg),
+    assert_int_equal(sdft_mesh_from_arrays(bm.v, SDFT_MESH_FLOAT64, (size_t)bm.nv, reversed, SDFT_MESH_INT32,
+                                           (size_t)bm.nt, &raw, &inside_out, msg, sizeof msg),
                      SDFT_OK);
     g = grid_of(inside_out, 48);
-    assert_int_equal(sdft_mesh_grid_write(g, wrong, 0, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_mesh_grid_write(g, wrong, SDFT_MESH_FORMAT_VDB, 0, msg, sizeof msg), SDFT_OK);
     sdft_mesh_grid_free(g);
 
     const char *grids[] = {right, wrong};
-    sdft_sign_check checks[2];
+    mesh_sign_counts checks[2];
     const int points = 4000;
-    assert_int_equal(sdft_mesh_sign_check(m, grids, 2, points, checks, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(mesh_sign_check(m, grids, 2, points, checks, msg, sizeof msg), SDFT_OK);
     assert_int_equal(checks[0].clear, checks[1].clear);
     assert_true(checks[0].clear > (uint64_t)points / 2);
     assert_int_equal(checks[0].wrong, 0);
@@ -321,140 +304,13 @@ static void sign_check_against_brute_force(void **state)
     assert_true(fabs(share_wrong - share_inside) < 0.1);
 
     const char *missing[] = {"/nonexistent/grid.vdb"};
-    assert_int_equal(sdft_mesh_sign_check(m, missing, 1, 100, checks, msg, sizeof msg), SDFT_EIO);
-    assert_int_equal(sdft_mesh_sign_check(m, grids, 2, 0, checks, msg, sizeof msg), SDFT_EINVAL);
-    assert_int_equal(sdft_mesh_sign_check(m, grids, 0, 100, checks, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(mesh_sign_check(m, missing, 1, 100, checks, msg, sizeof msg), SDFT_EIO);
+    assert_int_equal(mesh_sign_check(m, grids, 2, 0, checks, msg, sizeof msg), SDFT_EINVAL);
+    assert_int_equal(mesh_sign_check(m, grids, 0, 100, checks, msg, sizeof msg), SDFT_EINVAL);
     sdft_mesh_free(inside_out);
     sdft_mesh_free(m);
     free(reversed);
     mesh_free(&bm);
-}
-
-/* ------------------------------------------------------- what calls report */
-
-/* A mesh's timings (the hierarchies' only once a query built them), a
- * grid's surface, memory and winding time; an open sheet has no surface. */
-static void reports(void **state)
-{
-    (void)state;
-    char msg[256] = "";
-    sdft_mesh *m = load_with(SPOT, NULL);
-    sdft_mesh_info info;
-    assert_int_equal(sdft_mesh_get_info(m, &info, msg, sizeof msg), SDFT_OK);
-    assert_true(info.read_seconds > 0);
-    assert_true(info.orient_seconds > 0);
-    assert_true(info.index_seconds == 0);
-    const double p[3] = {0, 0, 0};
-    const sdft_points pts = {p, SDFT_FLOAT64, 1, {0, 0}};
-    float d;
-    assert_int_equal(sdft_mesh_signed_distance(m, &pts, &d, NULL, NULL, msg, sizeof msg), SDFT_OK);
-    assert_int_equal(sdft_mesh_get_info(m, &info, msg, sizeof msg), SDFT_OK);
-    assert_true(info.index_seconds > 0);
-
-    sdft_mesh_grid *g = grid_of(m, 32);
-    sdft_mesh_box box;
-    assert_int_equal(sdft_mesh_grid_get_box(g, &box, msg, sizeof msg), SDFT_OK);
-    assert_int_equal(box.surface, 1);
-    /* A narrow band's leaves hold 512 floats each: at least 2 KiB per
-     * 512 active voxels. */
-    assert_true(box.memory_bytes >= box.active_voxels * 4);
-    assert_true(box.seconds > 0 && box.winding_seconds > 0 && box.winding_seconds <= box.seconds);
-    sdft_mesh_grid_free(g);
-
-    sdft_mesh_grid_params unsigned_params = sdft_mesh_grid_params_defaults();
-    unsigned_params.res = 32;
-    unsigned_params.sign = SDFT_SIGN_NONE;
-    assert_int_equal(sdft_mesh_to_grid(m, &unsigned_params, &g, msg, sizeof msg), SDFT_OK);
-    assert_int_equal(sdft_mesh_grid_get_box(g, &box, msg, sizeof msg), SDFT_OK);
-    assert_int_equal(box.surface, 0);
-    assert_true(box.winding_seconds == 0);
-    sdft_mesh_grid_free(g);
-    sdft_mesh_free(m);
-
-    const float sheet[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
-    const int32_t quad[] = {0, 1, 2, 0, 2, 3};
-    sdft_mesh *open = NULL;
-    assert_int_equal(sdft_mesh_from_arrays(sheet, SDFT_FLOAT32, 4, quad, SDFT_INT32, 2, NULL, &open, msg, sizeof msg),
-                     SDFT_OK);
-    g = grid_of(open, 16);
-    assert_int_equal(sdft_mesh_grid_get_box(g, &box, msg, sizeof msg), SDFT_OK);
-    assert_int_equal(box.surface, 0);
-    assert_true(box.active_voxels > 0);
-    sdft_mesh_grid_free(g);
-    sdft_mesh_free(open);
-
-    assert_string_equal(sdft_mesh_sign_name(SDFT_SIGN_WINDING), "winding");
-    assert_string_equal(sdft_mesh_sign_name(SDFT_SIGN_FLOOD), "flood");
-    assert_string_equal(sdft_mesh_sign_name((sdft_mesh_sign)7), "?");
-}
-
-/* One thread and scalar code give the answers of all cores and the widest
- * vectors: distances bit for bit (the same minimum over every triangle,
- * whatever the search's path) with the same sign wherever the winding
- * number is not within rounding of 1/2, samples byte for byte (their rows
- * do not depend on the thread count), grids to rounding. */
-static void threads_and_simd_agree(void **state)
-{
-    (void)state;
-    char msg[256] = "";
-    sdft_mesh_params one = sdft_mesh_params_defaults();
-    one.threads = 1;
-    one.simd = SDFT_SIMD_NONE;
-    sdft_mesh *a = load_with(SUZANNE, NULL), *b = load_with(SUZANNE, &one);
-
-    enum { N = 3000 };
-    double *p = malloc(sizeof(double) * 3 * N);
-    tu_rng r = tu_rng_seed(11);
-    for (int i = 0; i < 3 * N; i++)
-        p[i] = tu_uniform(&r, -2, 2);
-    const sdft_points pts = {p, SDFT_FLOAT64, N, {0, 0}};
-    float *da = malloc(sizeof(float) * N), *db = malloc(sizeof(float) * N);
-    float *wa = malloc(sizeof(float) * N), *wb = malloc(sizeof(float) * N);
-    assert_int_equal(sdft_mesh_signed_distance(a, &pts, da, wa, NULL, msg, sizeof msg), SDFT_OK);
-    assert_int_equal(sdft_mesh_signed_distance(b, &pts, db, wb, NULL, msg, sizeof msg), SDFT_OK);
-    for (int i = 0; i < N; i++) {
-        assert_true(fabsf(da[i]) == fabsf(db[i]));
-        assert_true(fabsf(wa[i] - wb[i]) <= 1e-6f);
-        if (fabsf(wa[i] - 0.5f) > 1e-5f)
-            assert_true((da[i] < 0) == (db[i] < 0));
-    }
-
-    sdft_sample_params sp = sdft_sample_params_defaults();
-    sp.count = 5000;
-    sdft_mesh_params threads_only = sdft_mesh_params_defaults();
-    threads_only.threads = 1;
-    sdft_mesh *c = load_with(SUZANNE, &threads_only);
-    float *ra = malloc(sizeof(float) * 4 * sp.count), *rc = malloc(sizeof(float) * 4 * sp.count);
-    assert_int_equal(sdft_mesh_samples(a, &sp, ra, 4 * sp.count, msg, sizeof msg), SDFT_OK);
-    assert_int_equal(sdft_mesh_samples(c, &sp, rc, 4 * sp.count, msg, sizeof msg), SDFT_OK);
-    assert_memory_equal(ra, rc, sizeof(float) * 4 * sp.count);
-
-    sdft_mesh_grid *ga = grid_of(a, 32), *gb = grid_of(b, 32);
-    sdft_mesh_box box;
-    assert_int_equal(sdft_mesh_grid_get_box(ga, &box, msg, sizeof msg), SDFT_OK);
-    const size_t n = (size_t)box.dims[0] * (size_t)box.dims[1] * (size_t)box.dims[2];
-    float *va = malloc(n * sizeof(float)), *vb = malloc(n * sizeof(float));
-    assert_int_equal(sdft_mesh_grid_dense(ga, va, n, msg, sizeof msg), SDFT_OK);
-    assert_int_equal(sdft_mesh_grid_dense(gb, vb, n, msg, sizeof msg), SDFT_OK);
-    for (size_t i = 0; i < n; i++)
-        assert_true(fabsf(va[i] - vb[i]) <= 1e-4f * (float)box.voxel_size);
-
-    sdft_mesh_params bad = sdft_mesh_params_defaults();
-    bad.threads = -1;
-    sdft_mesh *none = (sdft_mesh *)&none;
-    assert_int_equal(sdft_mesh_load(SUZANNE, &bad, &none, msg, sizeof msg), SDFT_EINVAL);
-    assert_null(none);
-    bad = sdft_mesh_params_defaults();
-    bad.simd = (sdft_simd)5;
-    assert_int_equal(sdft_mesh_load(SUZANNE, &bad, &none, msg, sizeof msg), SDFT_EINVAL);
-    assert_non_null(strstr(msg, "simd"));
-
-    free(va), free(vb), free(ra), free(rc), free(da), free(db), free(wa), free(wb), free(p);
-    sdft_mesh_grid_free(ga);
-    sdft_mesh_grid_free(gb);
-    sdft_mesh_free(a);
-    sdft_mesh_free(b);
-    sdft_mesh_free(c);
 }
 
 /* round(share n) uniform rows, the rest near, the first sigma's half
@@ -463,16 +319,16 @@ static void threads_and_simd_agree(void **state)
 static void sample_counts(void **state)
 {
     (void)state;
-    sdft_sample_params p = sdft_sample_params_defaults();
+    sdft_mesh_sample_params p = sdft_mesh_sample_params_defaults();
     p.count = 1001;
     p.uniform_share = 0.06;
     size_t near0, near1, uniform;
-    sdft_sample_counts(&p, &near0, &near1, &uniform);
+    mesh_sample_counts(&p, &near0, &near1, &uniform);
     assert_int_equal(uniform, 60); /* 60.06 rounded */
     assert_int_equal(near0, 471);
     assert_int_equal(near1, 470);
     p.uniform_share = 1;
-    sdft_sample_counts(&p, &near0, NULL, &uniform);
+    mesh_sample_counts(&p, &near0, NULL, &uniform);
     assert_int_equal(uniform, 1001);
     assert_int_equal(near0, 0);
 }
@@ -481,13 +337,13 @@ static void sidecar_names(void **state)
 {
     (void)state;
     char out[64];
-    assert_int_equal(sdft_mesh_sidecar_path("a/b.npy", out, sizeof out), 8);
+    assert_int_equal(mesh_sidecar_path("a/b.npy", out, sizeof out), 8);
     assert_string_equal(out, "a/b.json");
-    assert_int_equal(sdft_mesh_sidecar_path("x.bin", out, sizeof out), 10);
+    assert_int_equal(mesh_sidecar_path("x.bin", out, sizeof out), 10);
     assert_string_equal(out, "x.bin.json");
-    assert_int_equal(sdft_mesh_sidecar_path("long/name.npy", out, 5), 14);
+    assert_int_equal(mesh_sidecar_path("long/name.npy", out, 5), 14);
     assert_string_equal(out, "long");
-    assert_int_equal(sdft_mesh_sidecar_path("q.npy", NULL, 0), 6);
+    assert_int_equal(mesh_sidecar_path("q.npy", NULL, 0), 6);
 }
 
 int main(void)
@@ -500,10 +356,8 @@ int main(void)
         cmocka_unit_test(planned_as_built),
         cmocka_unit_test(bad_file_sets),
         cmocka_unit_test(sign_check_against_brute_force),
-        cmocka_unit_test(reports),
-        cmocka_unit_test(threads_and_simd_agree),
         cmocka_unit_test(sample_counts),
         cmocka_unit_test(sidecar_names),
     };
-    return cmocka_run_group_tests_name("mesh_api_files", tests, NULL, NULL);
+    return cmocka_run_group_tests_name("mesh_tool", tests, NULL, NULL);
 }
