@@ -12,6 +12,7 @@
 #include "geometry/triangle_mesh.h"
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -78,20 +79,20 @@ class WideTree
     /// A node: its children's boxes axis by axis (the exact float bounds of
     /// their triangles' corners; an absent child's is empty) and discs
     /// (disc.h), and each child's node index, or for a leaf its group.
+    /// (Every row of lanes starts on 32 bytes, for the vector loads.)
     struct alignas(64) Node {
+        double centre[3][kWidth], normal[3][kWidth], thickness[kWidth], radius[kWidth];
         float lo[3][kWidth], hi[3][kWidth];
         uint32_t child[kWidth];
         uint8_t valid, leaf, flat; // bit k: child k exists; is a leaf; is flat
-        double centre[3][kWidth], normal[3][kWidth], thickness[kWidth], radius[kWidth];
     };
     /// A leaf's triangles, prepared as packet_rows.h's PreparedTriangle,
     /// lane by lane; lanes past the leaf's last triangle repeat its first.
     /// The corners are the mesh's floats, and the edges are not stored:
     /// both are computed as prepareTriangle computes them.
     struct alignas(32) Group {
-        double normal[3][kLeafSize];
+        double normal[3][kLeafSize], inverse[3][kLeafSize], inward[3][3][kLeafSize];
         float corner[3][3][kLeafSize];
-        double inverse[3][kLeafSize], inward[3][3][kLeafSize];
     };
 
   private:
@@ -112,6 +113,9 @@ class WideTree
     double mCentre[3] = {0, 0, 0}, mRadius = 0; // a sphere around every corner
     bool mVectorized;
 };
+
+static_assert(offsetof(WideTree::Node, lo) % 32 == 0 && offsetof(WideTree::Group, corner) % 16 == 0,
+              "the vector loads' alignment");
 
 inline WideTree::Nearest WideTree::nearest(const double *p) const { return nearest(p, Nearest{}); }
 
