@@ -258,8 +258,18 @@ static void test_image_and_render_errors(void **state)
     bad[9].threads = -1;
     bad[10].trace.beta = 2.0f;
     bad[11].trace.method = (sdft_method)7;
-    for (int i = 0; i < N; i++)
+    for (int i = 0; i < N; i++) {
         expect_code(sdft_render(&f, &bad[i], &img, NULL, msg, sizeof msg), SDFT_EINVAL);
+        /* the same checks without the image: all but bad[1], the image's size */
+        if (i == 1)
+            assert_int_equal(sdft_render_params_check(&f, &bad[i], msg, sizeof msg), SDFT_OK);
+        else
+            expect_code(sdft_render_params_check(&f, &bad[i], msg, sizeof msg), SDFT_EINVAL);
+    }
+    assert_int_equal(sdft_render_params_check(&f, &good, msg, sizeof msg), SDFT_OK);
+    expect_code(sdft_render_params_check(NULL, &good, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_render_params_check(&none, &good, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_render_params_check(&f, NULL, msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_render(NULL, &good, &img, NULL, msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_render(&none, &good, &img, NULL, msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_render(&f, NULL, &img, NULL, msg, sizeof msg), SDFT_EINVAL);

@@ -113,6 +113,14 @@ SDFT_API sdft_error sdft_image_alloc(sdft_image *img, int width, int height, cha
 /* Frees the planes and zeroes *img; an all-zero image (or NULL) is fine. */
 SDFT_API void sdft_image_free(sdft_image *img);
 
+/* Checks field f and params as sdft_render does, all but the image:
+ * SDFT_OK, or SDFT_EINVAL with the reason (a NULL argument, the size, the
+ * camera, the light, the threads, the shading's ranges, and
+ * sdft_trace_params_check of the trace with the screen-space radius). For
+ * a renderer that renders the same parameters elsewhere (sdftrace/gpu.h). */
+SDFT_API sdft_error sdft_render_params_check(const sdft_field *f, const sdft_render_params *params, char *msg,
+                                             size_t msg_len);
+
 /* Renders field f into img, which must be allocated at params' size, with
  * a scratch per thread of its own (the caller's scratch is not used).
  * stats may be NULL. SDFT_OK; SDFT_EINVAL with the reason for a NULL

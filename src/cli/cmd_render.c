@@ -19,6 +19,9 @@
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
 #include "sdftrace/vdb.h"
+#if defined(SDFT_WITH_VULKAN)
+#include "sdftrace/gpu.h"
+#endif
 
 enum { MAX_SIDE = 16384, MAX_STEPS = 10000000, MAX_THREADS = 1024 };
 static const long MAX_PIXELS = 64l * 1024 * 1024;
@@ -42,6 +45,8 @@ typedef struct render_opts {
     int smooth_iters, convex, ao;
     const char *out, *png;
     const char *heatmap[2]; /* --heatmap KIND FILE */
+    int vulkan;             /* --device vulkan */
+    int vulkan_device;      /* --vulkan-device N; -1: the first GPU */
 } render_opts;
 
 /* What is rendered: a field, its default view and light, and whatever must
@@ -54,6 +59,7 @@ typedef struct render_source {
     sdft_grid *grid;  /* --grid: owned, freed by close_field */
     sdft_grid *ids;   /* the grid's material indices, when its file has them: owned, freed by close_field */
     int materials;    /* the scene is made to be seen with its materials */
+    char device[256]; /* what rendered it: "cpu", or the Vulkan device's name */
 } render_source;
 
 static render_opts default_opts(void)
@@ -79,6 +85,7 @@ static render_opts default_opts(void)
         .smooth_iters = d.smooth_iters,
         .convex = d.convex,
         .ao = d.ao,
+        .vulkan_device = -1,
     };
 }
 
@@ -95,6 +102,22 @@ static int set_bounces(void *target, const char *value, char *msg, size_t len)
     return 0;
 }
 
+/* --device cpu|vulkan. */
+static int set_device(void *target, const char *value, char *msg, size_t len)
+{
+    int *vulkan = target;
+    if (value && strcmp(value, "cpu") == 0) {
+        *vulkan = 0;
+        return 0;
+    }
+    if (value && strcmp(value, "vulkan") == 0) {
+        *vulkan = 1;
+        return 0;
+    }
+    snprintf(msg, len, "--device needs cpu or vulkan, got '%s'", value ? value : "");
+    return -1;
+}
+
 static int set_method(void *target, const char *value, char *msg, size_t len)
 {
     return sdft_method_parse(value, target, msg, len) ? -1 : 0;
@@ -109,7 +132,7 @@ static int set_papers(void *target, const char *value, char *msg, size_t len)
     return 0;
 }
 
-enum { RENDER_ROWS = 44 };
+enum { RENDER_ROWS = 46 };
 
 /* The options of `sdftrace render`, over o (for the help, over the
  * defaults), in rows; and the command line they make. */
@@ -194,6 +217,13 @@ static cmdline_spec render_options(render_opts *o, cmdline_option rows[RENDER_RO
         {"quiet", 0, NULL, "no progress line while loading, no summary line when done (both on stderr)", CMDLINE_SET,
          &o->quiet, .value = 1, .def = ""},
         {"threads", 0, "N", "OpenMP threads, 0 = all cores", CMDLINE_INT, &o->threads, .lo = 0, .hi = MAX_THREADS},
+        {"device", 0, "cpu|vulkan",
+         "vulkan: trace a grid (--grid) on a GPU, one invocation a pixel, with the same\n"
+         "trace code; hard shadows on the grey surface (no materials, soft shadows or\n"
+         "occlusion); ms is the GPU's time for the frame",
+         CMDLINE_CALL, &o->vulkan, .def = "cpu", .handle = set_device},
+        {"vulkan-device", 0, "N", "the Vulkan device, as vulkaninfo lists them (-1: the first GPU, else any)",
+         CMDLINE_INT, &o->vulkan_device, .lo = -1, .hi = 1024},
         {"png", 0, "OUT.png", "sRGB preview", CMDLINE_TEXT, &o->png, .value = 1},
         {"heatmap", 0, "steps|fallbacks OUT.png", "false-colour map of the per-pixel counts", CMDLINE_TEXT, o->heatmap,
          .value = 2, .def = "none"},
@@ -244,6 +274,10 @@ static int check_opts(const render_opts *o, char *msg, size_t len)
         snprintf(msg, len, "--heatmap-max needs --heatmap");
     else if (o->fp16 && !o->grid)
         snprintf(msg, len, "--fp16 applies to a --grid .vdb file");
+    else if (o->vulkan && !o->grid)
+        snprintf(msg, len, "--device vulkan renders grids: give --grid FILE");
+    else if (o->vulkan && o->fp16)
+        snprintf(msg, len, "--device vulkan renders float grids: leave out --fp16");
     else if (o->camera_set && o->camera[0] == o->camera[3] && o->camera[1] == o->camera[4] &&
              o->camera[2] == o->camera[5])
         snprintf(msg, len, "--camera: the eye and the look-at point must differ");
@@ -348,8 +382,9 @@ static int open_grid(const render_opts *o, render_source *src, char *msg, size_t
     vo.path = o->grid, vo.name = o->grid_name;
     vo.quant = o->fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE;
     vo.progress = show_loading;
-    vo.defer = SDFT_DEFER_WHERE_EXACT; /* .vdb: leaves read as rays reach them: the first image sooner, memory for what
-                                          it shows */
+    /* .vdb: leaves read as rays reach them: the first image sooner, memory
+     * for what it shows; a GPU takes the grid whole */
+    vo.defer = o->vulkan ? SDFT_DEFER_NONE : SDFT_DEFER_WHERE_EXACT;
     vo.progress_user = &bar;
     const sdft_error rc = sdft_vdb_open(&vo, &g, msg, len);
     progress_bar_clear(&bar);
@@ -464,14 +499,44 @@ static void grid_leaves(const render_source *src, uint64_t *leaves, uint64_t *fi
         sdft_grid_leaf_counts(src->grid, leaves, filled, failed);
 }
 
-/* sdft_render, and the processor time its threads took together, in
- * *cpu_ms: on a machine shared with other work it moves less than the
- * wall time (the stats' ms). */
-static sdft_error render_timed(const render_source *src, const sdft_render_params *p, sdft_image *img,
+/* The grid rendered on the Vulkan device o asks for (sdftrace/gpu.h): the
+ * device opened, the grid uploaded, one frame, all released; the device's
+ * name into src->device. */
+static sdft_error render_vulkan(const render_opts *o, render_source *src, const sdft_render_params *p, sdft_image *img,
+                                sdft_render_stats *st, char *msg, size_t len)
+{
+#if defined(SDFT_WITH_VULKAN)
+    sdft_gpu_options go = sdft_gpu_options_defaults();
+    go.device = o->vulkan_device;
+    sdft_gpu *gpu = NULL;
+    sdft_gpu_grid *gg = NULL;
+    sdft_error rc = sdft_gpu_create(&go, &gpu, msg, len);
+    if (!rc) {
+        snprintf(src->device, sizeof src->device, "%s", sdft_gpu_device_name(gpu));
+        rc = sdft_gpu_grid_create(gpu, src->grid, &gg, msg, len);
+    }
+    if (!rc)
+        rc = sdft_gpu_render(gg, p, img, st, msg, len);
+    sdft_gpu_grid_release(gg);
+    sdft_gpu_release(gpu);
+    return rc;
+#else
+    (void)o, (void)src, (void)p, (void)img, (void)st;
+    snprintf(msg, len, "this sdftrace was built without Vulkan (SDFT_WITH_VULKAN: libvulkan-dev and glslc)");
+    return SDFT_EINVAL;
+#endif
+}
+
+/* sdft_render, or with --device vulkan the GPU's, and the processor time
+ * its threads took together, in *cpu_ms: on a machine shared with other
+ * work it moves less than the wall time (the stats' ms). */
+static sdft_error render_timed(const render_opts *o, render_source *src, const sdft_render_params *p, sdft_image *img,
                                sdft_render_stats *st, double *cpu_ms, char *msg, size_t len)
 {
     const clock_t c0 = clock();
-    const sdft_error rc = sdft_render(&src->field, p, img, st, msg, len);
+    snprintf(src->device, sizeof src->device, "cpu");
+    const sdft_error rc =
+        o->vulkan ? render_vulkan(o, src, p, img, st, msg, len) : sdft_render(&src->field, p, img, st, msg, len);
     *cpu_ms = 1000.0 * (double)(clock() - c0) / CLOCKS_PER_SEC;
     return rc;
 }
@@ -505,7 +570,7 @@ static void print_json(const render_source *src, const sdft_render_params *p, co
            "\"convex\": %s, "
            "\"soft_shadows\": %.6g, \"ao\": %s, \"shadow_steps\": %llu, \"secondary_rays\": %llu, "
            "\"secondary_steps\": %llu, \"mean_secondary_steps\": %.4f, \"dynamic_eps_hits\": %llu, "
-           "\"dynamic_eps_from_f\": %llu, \"secondary_self_hits\": %llu}\n",
+           "\"dynamic_eps_from_f\": %llu, \"secondary_self_hits\": %llu, \"device\": ",
            cpu_ms, p->materials ? "true" : "false", p->reflect_bounces, p->refract_bounces,
            p->eps_min > 0.0f ? p->eps_min : sdft_field_feature_size(&src->field), p->smooth_iters,
            p->convex ? "true" : "false", p->soft_shadows, p->ao ? "true" : "false",
@@ -513,6 +578,8 @@ static void print_json(const render_source *src, const sdft_render_params *p, co
            (unsigned long long)st->secondary_steps, (double)st->secondary_steps / primary,
            (unsigned long long)st->dynamic_eps_hits, (unsigned long long)st->dynamic_eps_from_f,
            (unsigned long long)st->secondary_self_hits);
+    json_put_string(stdout, src->device);
+    printf("}\n");
 }
 
 /* The one line on stderr when a render is done: what was made, how much
@@ -589,8 +656,8 @@ int cmd_render(int argc, char **argv)
     int rc = 0;
     if (sdft_image_alloc(&img, p.width, p.height, msg, sizeof msg)) {
         rc = 1;
-    } else if (render_timed(&src, &p, &img, &st, &cpu_ms, msg, sizeof msg)) {
-        rc = 2; /* parameters the renderer rejects, e.g. a degenerate camera */
+    } else if (render_timed(&o, &src, &p, &img, &st, &cpu_ms, msg, sizeof msg)) {
+        rc = 2; /* parameters the renderer rejects, e.g. a degenerate camera; no Vulkan device */
     } else if (leaves_unreadable(&o, &src, msg, sizeof msg) || write_outputs(&o, &img, msg, sizeof msg)) {
         rc = 1;
     }

@@ -6,10 +6,8 @@
 #define SDFTRACE_RENDER_FRAME_H
 
 #include "render_hull.h"
+#include "render_pixel.h"
 #include "sdftrace/render.h"
-
-/* The ambient share of the light on every surface. */
-#define RENDER_AMBIENT 0.12f
 
 /* What every pixel of one frame shares, set up once. */
 typedef struct frame {
@@ -39,15 +37,11 @@ typedef struct pixel_result {
     sdft_status status;
 } pixel_result;
 
-/* The sky a ray that hits nothing shows, its unit direction's height `up`
- * (the unit direction's y): horizon to zenith, or black for depth alone. */
+/* What a ray that hits nothing shows: the sky at its unit direction's
+ * height `up` (the unit direction's y), or black for depth alone. */
 static inline sdft_vec3 render_miss_colour(const sdft_render_params *rp, float up)
 {
-    const sdft_vec3 horizon = {0.78f, 0.85f, 0.95f}, zenith = {0.30f, 0.50f, 0.85f};
-    if (rp->depth_only)
-        return sdft_v3(0, 0, 0);
-    float k = sdft_minf(sdft_maxf(up, 0.0f), 1.0f);
-    return sdft_add(sdft_scale(horizon, 1.0f - k), sdft_scale(zenith, k));
+    return render_sky(rp->depth_only, up);
 }
 
 #endif
