@@ -205,8 +205,7 @@ bool runSamples(const Options &opt, std::string &error)
                     "\"samples_seconds\": %.6f, \"samples_per_second\": %.0f, \"seconds\": %.6f, \"peak_mib\": %.1f}\n",
                     count, run.near[0], run.near[1], run.uniform, (unsigned long long)r.health.triangles,
                     opt.mesh.normalize ? "true" : "false", r.meshTimes.read_seconds, r.meshTimes.orient_seconds,
-                    run.indexSeconds,
-                    run.sampleSeconds, rate, seconds, peakMiB());
+                    run.indexSeconds, run.sampleSeconds, rate, seconds, peakMiB());
     } else if (!opt.quiet) {
         std::printf("wrote %s: %zu samples, %.2f s, sampling %.3f s (%.0f samples/s)\n", opt.samplesOut.c_str(), count,
                     seconds, run.sampleSeconds, rate);

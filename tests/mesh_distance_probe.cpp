@@ -20,6 +20,7 @@
 #include "io/mesh_io.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -134,7 +135,8 @@ int main(int argc, char **argv)
         // A segment (three points on a line), a repeated corner, a point,
         // each on a corner of the mesh so that some points are near them.
         const uint32_t first = uint32_t(mesh.points.size());
-        const auto &c = mesh.points[mesh.triangles[0][0]];
+        // A copy: the corner moves when the points grow.
+        const std::array<float, 3> c = mesh.points[mesh.triangles[0][0]];
         const float step = float(0.25 * (mesh.hi[0] - mesh.lo[0]));
         mesh.points.push_back({c[0] + step, c[1], c[2]});
         mesh.points.push_back({c[0] + 2 * step, c[1], c[2]});
