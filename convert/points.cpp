@@ -187,11 +187,11 @@ bool runSamples(const Options &opt, std::string &error)
         std::printf(", \"output\": ");
         json_put_string(stdout, opt.samplesOut.c_str());
         std::printf(", \"samples\": %zu, \"near_samples\": [%zu, %zu], \"uniform_samples\": %zu, \"triangles\": %llu, "
-                    "\"normalized\": %s, \"orient_seconds\": %.6f, \"index_seconds\": %.6f, \"samples_seconds\": %.6f, "
-                    "\"samples_per_second\": %.0f, \"seconds\": %.6f, \"peak_mib\": %.1f}\n",
+                    "\"normalized\": %s, \"read_seconds\": %.6f, \"orient_seconds\": %.6f, \"index_seconds\": %.6f, "
+                    "\"samples_seconds\": %.6f, \"samples_per_second\": %.0f, \"seconds\": %.6f, \"peak_mib\": %.1f}\n",
                     count, run.near[0], run.near[1], run.uniform, (unsigned long long)r.health.triangles,
-                    opt.mesh.normalize ? "true" : "false", r.meshTimes.orient_seconds, run.indexSeconds,
-                    run.sampleSeconds, rate, seconds, peakMiB());
+                    opt.mesh.normalize ? "true" : "false", r.meshTimes.read_seconds, r.meshTimes.orient_seconds,
+                    run.indexSeconds, run.sampleSeconds, rate, seconds, peakMiB());
     } else if (!opt.quiet) {
         std::printf("wrote %s: %zu samples, %.2f s, sampling %.3f s (%.0f samples/s)\n", opt.samplesOut.c_str(), count,
                     seconds, run.sampleSeconds, rate);

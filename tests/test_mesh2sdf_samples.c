@@ -312,17 +312,20 @@ static int same_file(const char *a, const char *b)
     return tu_run(out, sizeof out, "cmp -s '%s' '%s'", a, b) == 0;
 }
 
-/* The same bytes for one thread and two (several chunks of rows), and
- * again; another seed gives other points. */
+/* The same bytes for one thread, two and five (several chunks of rows,
+ * searched in other groups and packets), and again; another seed gives
+ * other points. */
 static void test_reproducible(void **state)
 {
     (void)state;
-    char one[512], two[512], again[512], other[512];
+    char one[512], two[512], five[512], again[512], other[512];
     free(samples("spot", 10000, "--threads 1 --seed 3", "seed-1.npy", one, sizeof one));
     free(samples("spot", 10000, "--threads 2 --seed 3", "seed-2.npy", two, sizeof two));
+    free(samples("spot", 10000, "--threads 5 --seed 3", "seed-5.npy", five, sizeof five));
     free(samples("spot", 10000, "--seed 3", "seed-again.npy", again, sizeof again));
     free(samples("spot", 10000, "--threads 2 --seed 4", "seed-other.npy", other, sizeof other));
     assert_true(same_file(one, two));
+    assert_true(same_file(one, five));
     assert_true(same_file(one, again));
     assert_false(same_file(one, other));
 }

@@ -57,7 +57,7 @@ struct sdft_mesh {
     {
         std::call_once(mQueryOnce, [this] {
             const auto start = std::chrono::steady_clock::now();
-            mQuery.reset(new meshsdf::PointQuery(mesh, simd.vector, simd.wide, accuracy));
+            mQuery.reset(new meshsdf::PointQuery(mesh, simd.vector, accuracy));
             mIndexSeconds = seam::secondsSince(start);
         });
         return *mQuery;

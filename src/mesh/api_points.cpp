@@ -55,8 +55,8 @@ sdft_error checkPoints(const char *what, const sdft_mesh *m, const sdft_mesh_poi
 
 // Distance and winding number at every point, into either (NULL: not
 // wanted), in Morton order in the mesh's cube (neighbours in it are near
-// in space, so the hierarchies' nodes stay in cache; each point's answer is
-// the same in any order).
+// in space: the hierarchies' nodes stay in cache, and close points search
+// together; each point's answer is the same in any order).
 sdft_error evaluate(const char *what, const sdft_mesh *m, const sdft_mesh_points *pts, float *distance, float *winding,
                     const sdft_mesh_query_params *q, char *msg, size_t msg_len)
 {
@@ -77,21 +77,13 @@ sdft_error evaluate(const char *what, const sdft_mesh *m, const sdft_mesh_points
             progress.stage("points", 0, 100);
             std::atomic<size_t> evaluated{0};
             tbb::parallel_for(tbb::blocked_range<size_t>(0, pts->count, 256), [&](const tbb::blocked_range<size_t> &r) {
-                for (size_t j = r.begin(); j != r.end(); ++j) {
-                    const size_t i = order[j];
-                    const double *p = &xyz[i * 3];
-                    double w = NAN, d = NAN;
-                    const bool finite = std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
-                    if (finite && distance)
-                        d = winding ? query.signedDistance(p, INFINITY, &w)
-                                    : query.signedDistance(p, INFINITY); // the sign alone: its side
-                    else if (finite)
-                        w = query.winding(p); // the winding number alone: no nearest triangle
-                    if (distance)
-                        distance[i] = float(d);
-                    if (winding)
-                        winding[i] = float(w);
-                }
+                query.evaluate(xyz.data(), order.data(), r.begin(), r.end(), {distance != nullptr, winding != nullptr},
+                               [&](size_t i, double d, double w) {
+                                   if (distance)
+                                       distance[i] = float(d);
+                                   if (winding)
+                                       winding[i] = float(w);
+                               });
                 progress.report(int(100 * (evaluated += r.size()) / pts->count)); // throws when told to stop
             });
             return SDFT_OK;

@@ -6,6 +6,7 @@
 #include "distance/band.h"
 #include "distance/nearest_triangle.h"
 #include "distance/packet_rows.h"
+#include "distance/wide_tree.h"
 
 #include <cmath>
 #include <map>
@@ -72,9 +73,9 @@ void band_is_exact(void **)
     mesh_free(&truth);
 }
 
-// The search for one point and for a packet of 4^3 voxel centres, with
-// and without vector rows, against brute force; a bound passed in is
-// kept where nothing is nearer.
+// The search for one point (the points' wide tree) and for a packet of 4^3
+// voxel centres (the grids' tree), with and without vector rows, against
+// brute force.
 void nearest_triangle(void **)
 {
     TriangleMesh m = unit::sphere({0, 0, 0}, 1, 12, true);
@@ -82,12 +83,12 @@ void nearest_triangle(void **)
     std::mt19937_64 random(11);
     std::uniform_real_distribution<double> u(-1.6, 1.6);
     const meshsdf::NearestTriangle vector(m, true, true), scalar(m, false, false);
+    const meshsdf::WideTree wideVector(m, true), wideScalar(m, false);
     for (int n = 0; n < 300; ++n) {
         const double p[3] = {u(random), u(random), u(random)};
         const double d2 = mesh_distance(&truth, p) * mesh_distance(&truth, p);
-        for (const meshsdf::NearestTriangle *t : {&vector, &scalar})
-            assert_true(std::fabs(t->pointDistance2(p) - d2) <= 1e-9 * (1 + d2));
-        assert_true(vector.pointDistance2(p, 1e-6) == 1e-6 || d2 < 1e-6);
+        for (const meshsdf::WideTree *t : {&wideVector, &wideScalar})
+            assert_true(std::fabs(t->nearest(p).d2 - d2) <= 1e-9 * (1 + d2));
     }
     for (int n = 0; n < 20; ++n) {
         const double corner[3] = {u(random), u(random), u(random)}, spacing = 0.07;

@@ -72,7 +72,8 @@ void grid_values(void **)
         assert_true(meshsdf::planBox(m, p, box, error));
         meshsdf::Progress progress(nullptr, nullptr, nullptr);
         meshsdf::BuildStats stats;
-        const openvdb::FloatGrid::Ptr grid = meshsdf::buildGrid(m, box, p, meshsdf::Simd{}, progress, stats);
+        const openvdb::FloatGrid::Ptr grid =
+            meshsdf::buildGrid(m, box, p, meshsdf::Simd{}, meshsdf::WindingAccuracy::Fast, progress, stats);
         assert_true(grid->getGridClass() == openvdb::GRID_LEVEL_SET);
         const auto acc = grid->getConstAccessor();
         size_t active = 0;

@@ -45,6 +45,26 @@ void mesh_free(mesh *m)
     memset(m, 0, sizeof *m);
 }
 
+void mesh_add_slivers(mesh *m)
+{
+    const double tiny[2] = {0x1p-30, 0x1p-23}; /* below and above kThin */
+    for (int i = 0; i < 2; i++) {
+        const double z = i ? -0.75 : 0.75;
+        mesh_vertex(m, -0.5, 0, z);
+        mesh_vertex(m, 0.5, 0, z);
+        mesh_vertex(m, 0, tiny[i], z);
+        mesh_triangle(m, m->nv - 3, m->nv - 2, m->nv - 1);
+    }
+    const double tilt[2] = {0x1p-28, 0x1p-24};
+    for (int i = 0; i < 2; i++) {
+        const double x = i ? 0.875 : -0.875;
+        mesh_vertex(m, x, -0.5, -0.375);
+        mesh_vertex(m, x + 0.25, 0.5, 0.375);
+        mesh_vertex(m, x + 0.125 + tilt[i], tilt[i], 0);
+        mesh_triangle(m, m->nv - 3, m->nv - 2, m->nv - 1);
+    }
+}
+
 /* Reads the v and f lines of an OBJ (v, v/t, v/t/n, v//n, negative
  * indices); polygons become fans. */
 int read_obj(const char *path, mesh *m)

@@ -14,6 +14,12 @@ typedef struct mesh {
 void mesh_vertex(mesh *m, double x, double y, double z);
 void mesh_triangle(mesh *m, int a, int b, int c);
 void mesh_free(mesh *m);
+/* Four slivers around the unit cube centred at the origin, exact in float:
+ * two thinner than the distance formula's threshold for a reliable normal
+ * (1e-8 of the longest edge: they count as their edges) and two just above
+ * it (their normal from an ill-conditioned cross product), flat (at z =
+ * +-0.75) and tilted (beside x = +-0.875). */
+void mesh_add_slivers(mesh *m);
 /* Reads the v and f lines of an OBJ (v, v/t, v/t/n, v//n, negative
  * indices); polygons become fans. */
 int read_obj(const char *path, mesh *m);

@@ -23,19 +23,12 @@
 //
 // The lower bounds of a node, both true because each triangle is the convex
 // hull of its corners and both shapes are convex and hold every corner: the
-// distance to the node's box, and the distance to its disc, the cylinder of
-// points within `thickness` of the mean plane through `centre` and within
-// `radius` of `centre` across it. For q at height a above that plane and
-// lateral distance l from the centre, that distance is
-// sqrt(max(|a| - thickness, 0)^2 + max(l - radius, 0)^2). Over a packet:
-// the distance between the node's box and the packet's box, and the disc's
-// distance from the packet's centre less the packet's half-diagonal (a
-// distance to a convex set changes by at most the distance moved). Far from
-// a nearly flat patch the box is a poor bound: a sphere around q that just
-// reaches the surface passes within a box's thickness of the surface over a
-// wide cap, and every box it touches must be opened; the disc of a flat
-// patch is thin, and only the patches under the sphere's contact are
-// opened. All are computed in double precision and shrunk by a relative
+// distance to the node's box, and the distance to its disc (disc.h, which
+// gives why, and why far from a nearly flat patch the box is the poorer).
+// Over a packet: the distance between the node's box and the packet's box,
+// and the disc's distance from the packet's centre less the packet's
+// half-diagonal (a distance to a convex set changes by at most the distance
+// moved). All are computed in double precision and shrunk by a relative
 // 1e-12, far above their rounding error, except where the disc's terms
 // cancel, which kCancel covers.
 //
@@ -55,6 +48,7 @@
 // silenced for this file only.
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
+#include "distance/disc.h"
 #include "geometry/median_split.h"
 
 #include <algorithm>
@@ -67,15 +61,8 @@ namespace
 {
 
 constexpr uint32_t kLeafSize = 4;
-constexpr double kShrink = 1 - 1e-12;
-
-// The disc's terms cancel: the lateral offset comes from |q - centre|^2 -
-// a^2, and a and |q - centre|^2 carry rounding errors of a few ulps of
-// |q - centre| and its square. Every disc bound gives away kCancel *
-// |q - centre|^2 for them (an error of 1e-16 there moves a lateral offset
-// near zero by 1e-8 |q - centre|, far beyond a relative shrink), and the
-// disc itself is grown by as much when it is built.
-constexpr double kCancel = 1e-14;
+constexpr double kShrink = kDiscShrink;
+constexpr double kCancel = kDiscCancel; // disc.h
 
 // A node on a search's stack, with its lower bound.
 struct Entry {
@@ -130,51 +117,27 @@ uint32_t NearestTriangle::build(uint32_t first, uint32_t count, std::vector<uint
     Node node{};
     node.first = first;
     node.count = count;
-    auto corner = [&](uint32_t i, int v) { return mesh.points[mesh.triangles[order[i]][v]]; };
-    // Box; area-weighted centre and mean normal, each triangle's normal
-    // turned to agree with the sum so far (orientation does not matter here).
-    double area = 0, sum[3] = {0, 0, 0}, centre[3] = {0, 0, 0};
+    auto corner = [&](uint32_t i, int v) -> const std::array<float, 3> & {
+        return mesh.points[mesh.triangles[order[i]][v]];
+    };
     for (int k = 0; k < 3; ++k) {
         node.lo[k] = INFINITY;
         node.hi[k] = -INFINITY;
     }
-    for (uint32_t i = first; i < first + count; ++i) {
-        const auto a = corner(i, 0), b = corner(i, 1), c = corner(i, 2);
-        double e1[3], e2[3];
-        for (int k = 0; k < 3; ++k) {
-            e1[k] = double(b[k]) - a[k];
-            e2[k] = double(c[k]) - a[k];
-            node.lo[k] = std::min({node.lo[k], a[k], b[k], c[k]});
-            node.hi[k] = std::max({node.hi[k], a[k], b[k], c[k]});
-        }
-        const double cross[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                                 e1[0] * e2[1] - e1[1] * e2[0]};
-        const double twice = std::sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
-        const double turn = cross[0] * sum[0] + cross[1] * sum[1] + cross[2] * sum[2] < 0 ? -1.0 : 1.0;
-        for (int k = 0; k < 3; ++k) {
-            sum[k] += turn * cross[k];
-            centre[k] += twice * centroids[order[i]][k];
-        }
-        area += twice;
-    }
-    const double length = std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
-    for (int k = 0; k < 3; ++k) {
-        node.normal[k] = length > 0 ? sum[k] / length : (k == 2 ? 1.0 : 0.0);
-        node.centre[k] = area > 0 ? centre[k] / area : 0.5 * (double(node.lo[k]) + node.hi[k]);
-    }
     for (uint32_t i = first; i < first + count; ++i)
-        for (int v = 0; v < 3; ++v) {
-            const auto p = corner(i, v);
-            double d[3], a = 0, d2 = 0;
+        for (int v = 0; v < 3; ++v)
             for (int k = 0; k < 3; ++k) {
-                d[k] = double(p[k]) - node.centre[k];
-                a += d[k] * node.normal[k];
-                d2 += d[k] * d[k];
+                node.lo[k] = std::min(node.lo[k], corner(i, v)[k]);
+                node.hi[k] = std::max(node.hi[k], corner(i, v)[k]);
             }
-            // Grown by the rounding of a and of d2 - a^2 (see kCancel).
-            node.thickness = std::max(node.thickness, std::abs(a) + kCancel * std::sqrt(d2));
-            node.radius = std::max(node.radius, std::sqrt(std::max(d2 - a * a + kCancel * d2, 0.0)));
-        }
+    const Disc disc = discAround(
+        first, count, corner, [&](uint32_t i) { return centroids[order[i]].data(); }, node.lo, node.hi);
+    for (int k = 0; k < 3; ++k) {
+        node.centre[k] = disc.centre[k];
+        node.normal[k] = disc.normal[k];
+    }
+    node.thickness = disc.thickness;
+    node.radius = disc.radius;
     if (count > kLeafSize) {
         const uint32_t half = splitAtMedian(order, first, count, centroids);
         build(first, half, order, centroids, mesh);
@@ -225,33 +188,6 @@ void NearestTriangle::packetDistance2(const double *corner, double spacing, doub
         return searchAvx2(corner, spacing, best, nearest);
 #endif
     search<ScalarRows>(corner, spacing, best, nearest);
-}
-
-// One point: the packet's node bounds over a box of no size (lo = hi =
-// centre = p, radius 0), and each triangle of a leaf the bounds reach.
-// Exact by the same argument as the packet search.
-double NearestTriangle::pointDistance2(const double *p, double best) const
-{
-    if (mNodes.empty())
-        return best;
-    Entry stack[64];
-    int top = 0;
-    stack[top++] = {0, packetLowerBound2(mNodes[0], p, p, p, 0, best)};
-    while (top > 0) {
-        const Entry e = stack[--top];
-        if (e.bound >= best)
-            continue;
-        const Node &node = mNodes[e.node];
-        if (node.count > 0) {
-            for (uint32_t t = node.first; t < node.first + node.count; ++t)
-                best = std::min(best, preparedDistance2(mTriangles[t], p));
-            continue;
-        }
-        const uint32_t left = e.node + 1, right = node.right;
-        pushChildren(stack, top, {left, packetLowerBound2(mNodes[left], p, p, p, 0, best)},
-                     {right, packetLowerBound2(mNodes[right], p, p, p, 0, best)});
-    }
-    return best;
 }
 
 #ifdef SDFT_MESH_ROWS_AVX2

@@ -43,13 +43,6 @@ class NearestTriangle
     /// kNone. Thread-safe (read-only).
     void packetDistance2(const double *corner, double spacing, double *best, uint32_t *nearest) const;
 
-    /// The smaller of `best` and the exact squared distance from the point p
-    /// (3 doubles) to the mesh: the packet search's bounds for one point
-    /// anywhere (a training sample, a query point). `best`: an upper bound
-    /// (INFINITY if none); the nearer it is, the less is searched.
-    /// Thread-safe (read-only).
-    double pointDistance2(const double *p, double best = INFINITY) const;
-
   private:
     struct Node {
         float lo[3], hi[3];           // box of the triangles

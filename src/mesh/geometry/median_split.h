@@ -1,7 +1,8 @@
-// sdftrace — the split both bounding volume hierarchies use (the winding
-// tree, sign/winding.cpp, and the nearest-triangle tree, distance/nearest_triangle.cpp):
-// along the longest axis of the centroids' bounds, at the median (the
-// winding tree rounds it to whole groups of four triangles).
+// sdftrace — the split every bounding volume hierarchy here uses (the
+// winding tree, sign/winding.cpp, the dense grids' nearest-triangle tree,
+// distance/nearest_triangle.cpp, and the points' wide tree,
+// distance/wide_tree.cpp): at a centroid along the longest axis of the
+// centroids' bounds, the median or a given position.
 #ifndef SDFT_MESH_GEOMETRY_MEDIAN_SPLIT_H
 #define SDFT_MESH_GEOMETRY_MEDIAN_SPLIT_H
 

@@ -11,9 +11,9 @@
 namespace meshsdf
 {
 
-PointQuery::PointQuery(const TriangleMesh &mesh, bool simd, bool wide, WindingAccuracy accuracy) : mAccuracy(accuracy)
+PointQuery::PointQuery(const TriangleMesh &mesh, bool simd, WindingAccuracy accuracy) : mAccuracy(accuracy)
 {
-    tbb::parallel_invoke([&] { mNearest.reset(new NearestTriangle(mesh, simd, wide)); },
+    tbb::parallel_invoke([&] { mDistance.reset(new WideTree(mesh, simd)); },
                          [&] { mWinding.reset(new FastWinding(mesh.points, mesh.triangles, simd)); });
 }
 
@@ -35,24 +35,35 @@ uint64_t spread(uint64_t x)
 
 std::vector<size_t> mortonOrder(const std::vector<double> &xyz, const MeshSphere &cube)
 {
+    // One 64-bit key a point: its Morton code above its index, the code as
+    // fine as the bits the index leaves (14 a coordinate for a million
+    // points), so that the keys are distinct and sort as plain integers.
     const size_t n = xyz.size() / 3;
-    std::vector<std::pair<uint64_t, size_t>> keyed(n);
+    int indexBits = 1;
+    while (indexBits < 64 && (uint64_t(n) - 1) >> indexBits)
+        ++indexBits;
+    const int axisBits = std::min(21, (64 - indexBits) / 3);
+    const double cells = double((uint64_t(1) << axisBits) - 1);
+    static_assert(sizeof(size_t) == sizeof(uint64_t), "a key is a size_t, and becomes the order in place");
+    std::vector<size_t> keys(n);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t> &r) {
         for (size_t i = r.begin(); i != r.end(); ++i) {
             uint64_t code = 0;
             for (int k = 0; k < 3; ++k) {
                 const double t = (xyz[i * 3 + k] - cube.centre[k]) / (2 * cube.radius) + 0.5;
                 const double at = t >= 0 ? std::min(t, 1.0) : 0.0; // NaN too: a cast of NaN is undefined
-                code |= spread(uint64_t(at * 2097151.0)) << k;
+                code |= spread(uint64_t(at * cells)) << k;
             }
-            keyed[i] = {code, i};
+            keys[i] = axisBits > 0 ? code << indexBits | i : i;
         }
     });
-    tbb::parallel_sort(keyed.begin(), keyed.end());
-    std::vector<size_t> order(n);
-    for (size_t j = 0; j < n; ++j)
-        order[j] = keyed[j].second;
-    return order;
+    tbb::parallel_sort(keys.begin(), keys.end());
+    const uint64_t index = indexBits < 64 ? (uint64_t(1) << indexBits) - 1 : ~uint64_t(0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t> &r) {
+        for (size_t j = r.begin(); j != r.end(); ++j)
+            keys[j] &= index;
+    });
+    return keys;
 }
 
 } // namespace meshsdf

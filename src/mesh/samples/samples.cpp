@@ -1,8 +1,6 @@
 // sdftrace — training samples (see samples.h).
 #include "samples/samples.h"
 
-#include "geometry/triangle_distance.h"
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -77,9 +75,8 @@ std::vector<double> areaSums(const TriangleMesh &mesh)
 }
 
 // A point on the mesh: a triangle by area, then uniform barycentric
-// coordinates (1 - sqrt(r1), sqrt(r1) (1 - r2), sqrt(r1) r2). Returns the
-// triangle.
-size_t surfacePoint(const TriangleMesh &mesh, const std::vector<double> &sums, ChunkRandom &random, double *p)
+// coordinates (1 - sqrt(r1), sqrt(r1) (1 - r2), sqrt(r1) r2).
+void surfacePoint(const TriangleMesh &mesh, const std::vector<double> &sums, ChunkRandom &random, double *p)
 {
     const double at = random.uniform() * sums.back();
     const size_t t = std::min(size_t(std::upper_bound(sums.begin(), sums.end(), at) - sums.begin()), sums.size() - 1);
@@ -89,17 +86,6 @@ size_t surfacePoint(const TriangleMesh &mesh, const std::vector<double> &sums, C
                &c = mesh.points[mesh.triangles[t][2]];
     for (int k = 0; k < 3; ++k)
         p[k] = wa * a[k] + wb * b[k] + wc * c[k];
-    return t;
-}
-
-// The squared distance from p to triangle t of the mesh.
-double triangleBound2(const TriangleMesh &mesh, size_t t, const double *p)
-{
-    double corners[9];
-    for (int v = 0; v < 3; ++v)
-        for (int k = 0; k < 3; ++k)
-            corners[v * 3 + k] = mesh.points[mesh.triangles[t][v]][k];
-    return triangleDistance2(corners, p);
 }
 
 } // namespace
@@ -111,39 +97,35 @@ void drawSamples(const TriangleMesh &mesh, const MeshSphere &sphere, const Point
     const size_t near = counts.near[0] + counts.near[1], n = size_t(p.count);
     const std::vector<double> sums = areaSums(mesh);
     const double sigma[2] = {p.near_sigma[0] * sphere.radius, p.near_sigma[1] * sphere.radius};
-    // The points, chunk by chunk, each with a bound on its squared distance
-    // (to the triangle it left, grown past rounding; none for a uniform
-    // point).
-    std::vector<double> points(n * 3), bounds(n, INFINITY);
+    // The points, chunk by chunk.
+    std::vector<double> points(n * 3);
     const size_t chunks = (n + kSampleChunk - 1) / kSampleChunk;
     tbb::parallel_for(size_t(0), chunks, [&](size_t chunk) {
         ChunkRandom random(p.seed, chunk);
         for (size_t i = chunk * kSampleChunk; i < std::min(n, (chunk + 1) * kSampleChunk); ++i) {
             double *p = &points[i * 3];
             if (i < near) {
-                const size_t t = surfacePoint(mesh, sums, random, p);
+                surfacePoint(mesh, sums, random, p);
                 for (int k = 0; k < 3; ++k)
                     p[k] += sigma[i % 2] * random.gaussian();
-                bounds[i] = triangleBound2(mesh, t, p) * (1 + 1e-9) + 1e-300;
             } else {
                 for (int k = 0; k < 3; ++k)
                     p[k] = sphere.centre[k] + sphere.radius * (2 * random.uniform() - 1);
             }
         }
     });
-    // Each row's value is the same in any order.
+    // Each row's value is the same in any order; in Morton order each
+    // search starts from the nearest triangle of the point before.
     const std::vector<size_t> order = mortonOrder(points, sphere);
     // Progress per block of rows evaluated (a cancelled one throws out).
     std::atomic<size_t> evaluated{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t> &r) {
-        for (size_t j = r.begin(); j != r.end(); ++j) {
-            const size_t i = order[j];
-            const double d = query.signedDistance(&points[i * 3], bounds[i]); // the sign alone
+        query.evaluate(points.data(), order.data(), r.begin(), r.end(), {true, false}, [&](size_t i, double d, double) {
             float *row = &rows[i * 4];
             for (int k = 0; k < 3; ++k)
                 row[k] = float(points[i * 3 + k]);
             row[3] = float(d);
-        }
+        });
         progress.report(int(100 * (evaluated += r.size()) / n));
     });
 }
