@@ -38,7 +38,7 @@ void winding_numbers(void **)
     for (bool hole : {false, true}) {
         TriangleMesh m = unit::sphere({0, 0, 0}, 1, 16, hole);
         mesh truth = unit::truth(m);
-        const meshsdf::FastWinding fast(m.points, m.triangles, 2.0, true);
+        const meshsdf::FastWinding fast(m.points, m.triangles, true);
         for (int n = 0; n < 400; ++n) {
             const auto q = randomPoint(random, 1.5);
             const double want = winding(&truth, q.data());
@@ -92,7 +92,7 @@ void voxel_signs(void **)
     for (bool hole : {false, true}) {
         TriangleMesh m = unit::sphere({0, 0, 0}, 1, 12, hole);
         mesh truth = unit::truth(m);
-        const meshsdf::FastWinding fast(m.points, m.triangles, 2.0, true);
+        const meshsdf::FastWinding fast(m.points, m.triangles, true);
         const std::array<double, 3> origin{-1.55, -1.5, -1.45};
         const double h = 0.1, r = 2;
         const meshsdf::WindingSign sign(meshsdf::EdgeField(m), fast, origin, h, r, true);

@@ -540,7 +540,7 @@ void orientByEvidence(const TriangleMesh &mesh, Patches &p, const std::vector<ui
     if (rest.empty())
         left = undecided;
     else {
-        const FastWinding tree(mesh.points, rest, 2.0, simd);
+        const FastWinding tree(mesh.points, rest, simd);
         for (uint32_t id : undecided) {
             const Vec diagonal{bounds[id].hi[0] - bounds[id].lo[0], bounds[id].hi[1] - bounds[id].lo[1],
                                bounds[id].hi[2] - bounds[id].lo[2]};
