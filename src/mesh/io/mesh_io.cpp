@@ -4,6 +4,7 @@
 #include "io/mesh_io.h"
 
 #include "io/assimp_read.h"
+#include "io/obj_read.h"
 #include "io/openmesh_read.h"
 #include "io/ply_read.h"
 
@@ -121,6 +122,7 @@ bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
     PolygonSoup soup;
     try {
         const bool read = ext == "ply"             ? readPly(path, soup, error)
+                          : ext == "obj"           ? readObj(path, soup, error)
                           : isAssimpExtension(ext) ? readAssimp(path, soup, error)
                                                    : readOpenMesh(path, ext, soup, error);
         return read && finishMesh(path, soup, mesh, error);
