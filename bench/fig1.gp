@@ -1,7 +1,7 @@
 # Fig. 1 of Bán and Valasek's auto-relaxation paper, for one scene and
 # representation: per-pixel SDF evaluations (top row) and fallbacks (bottom
-# row) of the primary rays, for enhanced (omega 0.88), relaxed (omega 1.5)
-# and auto-relaxed (beta 0.3) sphere tracing; each row on one shared scale,
+# row) of the primary rays, for enhanced (omega 0.88), relaxed (the paper's
+# Algorithm 2, relaxed-bv, omega 1.5) and auto-relaxed (beta 0.3) sphere tracing; each row on one shared scale,
 # green (few) to red (many), as `sdftrace render --heatmap` draws it.
 # bench/study.sh sets: term, dir, scene, rep, smax, fmax, w, h, res, out.
 # The maps are bench/study's uint32 planes, DIR/fig1-SCENE-REP-METHOD-{steps,fallbacks}.u32.
@@ -11,8 +11,8 @@ set palette defined (0 '#00c800', 0.5 '#ffc800', 1 '#ff0000')
 unset xtics; unset ytics; unset key
 set border 0
 set xrange [0:w]; set yrange [0:h]
-array method[3] = ["enhanced0.88", "relaxed1.5", "auto0.3"]
-array label[3] = ["enhanced, ω = 0.88", "relaxed, ω = 1.5", "auto-relaxed, β = 0.3"]
+array method[3] = ["enhanced0.88", "relaxed-bv1.5", "auto0.3"]
+array label[3] = ["enhanced, ω = 0.88", "relaxed (Alg. 2), ω = 1.5", "auto-relaxed, β = 0.3"]
 what = rep eq "procedural" ? "procedural" : sprintf("%s %d³", rep eq "band" ? "narrow band," : "full grid,", res)
 set multiplot title sprintf("%s, %s: primary rays, no shadows, 1000 steps — each row on one scale", scene, what)
 pw = 0.29; ph = 0.42

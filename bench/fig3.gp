@@ -3,7 +3,8 @@
 # with and without shadows (top row), and the SDF evaluations, relative to
 # sphere tracing's (bottom row: exact counts, free of the machine's noise).
 # One axis holds all three ranges: beta in (0, 1/2] (auto), omega in
-# [1/2, 1] (enhanced), omega in [1, 2) (relaxed). Columns: representations.
+# [1/2, 1] (enhanced), omega in [1, 2) (relaxed, the paper's Algorithm 2:
+# relaxed-bv). Columns: representations.
 # bench/study.sh sets: term, dir, res, out; data: DIR/fig3-REP.dat, one block
 # per method and shadow setting (auto, enhanced, relaxed; shadows, none).
 array rep[3] = ["procedural", "band", "full"]

@@ -3,21 +3,46 @@
 # that a page always describes the run that wrote it.
 #
 #   page_header TITLE COMMAND   a Markdown title, then the command that made
-#                               the page, the date, the machine and the commit
+#                               the page, the date, the machine, the commit
+#                               and the load when the script began (the
+#                               script sources this file before it measures)
 #   page_write NAME FUNCTION [ARGS...]
 #                               runs FUNCTION with its output going to a page
 #                               (a temporary file beside PAGE_DIR/NAME); once
-#                               it succeeds, prints the page and moves it into
-#                               place; when it fails, the old page stays
-# The caller sets $root (the repository) first.
+#                               it succeeds, adds the load at the end, prints
+#                               the page and moves it into place; when it
+#                               fails, the old page stays
+#   page_stats [--ratio] [--text D] < SAMPLES
+#                               the median of the samples and its 95%
+#                               bootstrap interval, "MEDIAN LO HI N" (or
+#                               "MEDIAN [LO–HI]"): bench/stats, the statistics
+#                               bench/study uses, so that every time on every
+#                               page is summarized one way. With --ratio each
+#                               line is a pair A B timed side by side, and the
+#                               samples are A/B.
+#   page_need_stats             exits with one line unless bench/stats is built
+#   page_load                   the load average now: "1 5 15" (minutes)
+# The caller sets $root (the repository) first; PAGE_STATS names the stats
+# program (default $root/build/bench/stats).
+
+page_load() { cut -d' ' -f1-3 /proc/loadavg; }
+_page_load_start=$(page_load)
 
 page_header() {
     printf '# %s\n\n' "$1"
     printf 'Made by `%s`\n\n' "$2"
     printf -- '- date: %s\n' "$(date -u '+%Y-%m-%d %H:%M UTC')"
-    printf -- '- machine: %s, %s cores (`nproc`), load %s at the start\n' \
-        "$(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo)" "$(nproc)" "$(cut -d' ' -f1 /proc/loadavg)"
+    printf -- '- machine: %s, %s cores (`nproc`)\n' \
+        "$(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo)" "$(nproc)"
+    printf -- '- load average (1, 5, 15 minutes) when the run began: %s\n' "$_page_load_start"
     printf -- '- commit: %s\n\n' "$(git -C "$root" describe --always --dirty 2>/dev/null || echo unknown)"
+}
+
+page_stats() { "${PAGE_STATS:-$root/build/bench/stats}" "$@"; }
+
+page_need_stats() {
+    [ -x "${PAGE_STATS:-$root/build/bench/stats}" ] ||
+        { echo "$(basename "$0"): no ${PAGE_STATS:-$root/build/bench/stats} (build it: make build)" >&2; exit 1; }
 }
 
 page_write() {
@@ -36,6 +61,8 @@ page_write() {
         echo "$(basename "$0"): failed; $_page left as it was" >&2
         exit "$_page_rc"
     fi
+    printf '\nLoad average (1, 5, 15 minutes) when the run began: %s; at its end: %s (%s cores).\n' \
+        "$_page_load_start" "$(page_load)" "$(nproc)" >>"$_page_tmp"
     chmod "$(printf '%o' $((0666 & ~$(umask))))" "$_page_tmp"
     cat "$_page_tmp"
     mv -f "$_page_tmp" "$_page"

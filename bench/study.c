@@ -42,14 +42,20 @@
 #include "sdftrace/grid.h"
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
+#include "stats.h" /* bench_load_average */
 #include "study.h"
 
 /* ---- what is measured -------------------------------------------------- */
 
-/* The paper's six method settings, in its table's order. */
+/* The paper's six method settings, in its table's order. Its REL is its
+ * Algorithm 2 (relaxed again after each fallback): `relaxed-bv`. */
 const study_method STUDY_TABLE_METHODS[STUDY_TABLE_ROWS] = {
-    {SDFT_SPHERE, "", "ST"},          {SDFT_ENHANCED, "0.88", "ENH"}, {SDFT_RELAXED, "1.2", "REL 1.2"},
-    {SDFT_RELAXED, "1.5", "REL 1.5"}, {SDFT_AUTO, "0.3", "AR 0.3"},   {SDFT_AUTO, "0.2", "AR 0.2"},
+    {SDFT_SPHERE, "", "ST"},
+    {SDFT_ENHANCED, "0.88", "ENH"},
+    {SDFT_RELAXED_BV, "1.2", "REL 1.2"},
+    {SDFT_RELAXED_BV, "1.5", "REL 1.5"},
+    {SDFT_AUTO, "0.3", "AR 0.3"},
+    {SDFT_AUTO, "0.2", "AR 0.2"},
 };
 
 const char *const STUDY_REP_NAMES[STUDY_REPS] = {"procedural", "band", "full"};
@@ -356,7 +362,7 @@ static void build_configs(const study_options *o, study_run *run)
                     param_text(text, sizeof text, n > 1 ? 0.5 + 0.5 * k / (n - 1) : 1.0);
                     add_config(run, make_config(temple, rep, SDFT_ENHANCED, text, shadows, 1000, STUDY_SWEEP));
                     param_text(text, sizeof text, 1.0 + (double)k / n);
-                    add_config(run, make_config(temple, rep, SDFT_RELAXED, text, shadows, 1000, STUDY_SWEEP));
+                    add_config(run, make_config(temple, rep, SDFT_RELAXED_BV, text, shadows, 1000, STUDY_SWEEP));
                 }
                 for (int m = 1; m < STUDY_TABLE_ROWS; m++)
                     add_config(run, make_config(temple, rep, STUDY_TABLE_METHODS[m].method,
@@ -364,7 +370,8 @@ static void build_configs(const study_options *o, study_run *run)
             }
     }
     /* Keinert et al.: ray casting the city (no shadows) at his step caps,
-     * constant epsilon and his screen-space criterion. */
+     * constant epsilon and his screen-space criterion, relaxed as his
+     * Listing 2 has it. */
     if (o->parts & STUDY_KEINERT)
         for (size_t k = 0; k < sizeof KEINERT_CAPS / sizeof KEINERT_CAPS[0]; k++)
             for (int ss = 0; ss < 2; ss++)
@@ -472,6 +479,9 @@ static float cli_float(const char *text)
     return (float)v;
 }
 
+/* Whether a method's parameter is omega (the relaxed forms, enhanced). */
+static int takes_omega(sdft_method m) { return m == SDFT_RELAXED || m == SDFT_RELAXED_BV || m == SDFT_ENHANCED; }
+
 /* What `sdftrace render` makes of the command line study_command writes
  * (src/cli/cmd_render.c, make_params): the same defaults, the same parsing
  * of the numbers. */
@@ -479,8 +489,7 @@ sdft_render_params study_params(const study_options *o, const study_config *c)
 {
     sdft_render_params p = sdft_render_defaults();
     p.trace.method = c->method;
-    p.trace.omega =
-        (c->method == SDFT_RELAXED || c->method == SDFT_ENHANCED) ? cli_float(c->param) : sdft_default_omega(c->method);
+    p.trace.omega = takes_omega(c->method) ? cli_float(c->param) : sdft_default_omega(c->method);
     if (c->method == SDFT_AUTO)
         p.trace.beta = cli_float(c->param);
     p.trace.eps = cli_float(EPS_TEXT);
@@ -505,7 +514,7 @@ void study_command(const study_options *o, const study_config *c, char *buf, siz
         snprintf(grid, sizeof grid, " --grid %s", source_path(o, c->scene, c->rep, path, sizeof path));
     }
     char param[48] = "";
-    if (c->method == SDFT_RELAXED || c->method == SDFT_ENHANCED)
+    if (takes_omega(c->method))
         snprintf(param, sizeof param, " --omega %s", c->param);
     else if (c->method == SDFT_AUTO)
         snprintf(param, sizeof param, " --beta %s", c->param);
@@ -554,18 +563,6 @@ static void pass_order(const study_run *run, int pass, size_t *order)
     }
     free(set_key);
     free(row_key);
-}
-
-static double load_average(void)
-{
-    double l = NAN;
-    FILE *f = fopen("/proc/loadavg", "r");
-    if (f) {
-        if (fscanf(f, "%lf", &l) != 1)
-            l = NAN;
-        fclose(f);
-    }
-    return l;
 }
 
 /* Renders configuration i into img; the time goes to its pass's slot
@@ -652,7 +649,7 @@ int study_fig_row(const study_config *c)
 int study_fig1_method(const study_config *c)
 {
     return (c->method == SDFT_ENHANCED && !strcmp(c->param, "0.88")) ||
-           (c->method == SDFT_RELAXED && !strcmp(c->param, "1.5")) ||
+           (c->method == SDFT_RELAXED_BV && !strcmp(c->param, "1.5")) ||
            (c->method == SDFT_AUTO && !strcmp(c->param, "0.3"));
 }
 
@@ -717,7 +714,7 @@ static int run_passes(const study_options *o, study_run *run)
      * when the discrete rows come. */
     double t0 = study_now();
     size_t done = 0;
-    run->load[0] = load_average();
+    run->load[0] = bench_load_average();
     for (int procedural_first = 1; procedural_first >= 0 && !rc; procedural_first--)
         for (size_t i = 0; i < run->n && !rc; i++) {
             study_config *c = &run->configs[i];
@@ -738,7 +735,7 @@ static int run_passes(const study_options *o, study_run *run)
     run->warmup_s = study_now() - t0;
     for (int pass = 1; pass <= o->repeats && !rc; pass++) {
         pass_order(run, pass, order);
-        run->load[pass] = load_average();
+        run->load[pass] = bench_load_average();
         t0 = study_now();
         for (size_t k = 0; k < run->n && !rc; k++) {
             rc = render_one(o, run, order[k], pass, &img);

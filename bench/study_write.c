@@ -488,7 +488,7 @@ static int sweep_params(const study_run *run, sdft_method m, char params[][16], 
     return n;
 }
 
-static const sdft_method SWEEP_METHODS[3] = {SDFT_AUTO, SDFT_ENHANCED, SDFT_RELAXED};
+static const sdft_method SWEEP_METHODS[3] = {SDFT_AUTO, SDFT_ENHANCED, SDFT_RELAXED_BV};
 
 static void table_sweep(FILE *f, const study_options *o, const study_run *run)
 {
@@ -660,7 +660,7 @@ static int write_fig2(const study_options *o, const study_run *run)
 }
 
 /* Fig. 3: temple's sweep, per representation: method (0 auto, 1 enhanced,
- * 2 relaxed), value, shadows, time / sphere's, evaluations / sphere's. */
+ * 2 relaxed-bv), value, shadows, time / sphere's, evaluations / sphere's. */
 static int write_fig3(const study_options *o, const study_run *run)
 {
     const sdft_scene *temple = sdft_scene_find("temple");
@@ -673,7 +673,7 @@ static int write_fig3(const study_options *o, const study_run *run)
         if (out_open(&f, o->out, name))
             return -1;
         fprintf(f.f,
-                "# temple, %s, 1000 steps: method (0 auto, 1 enhanced, 2 relaxed) value shadows "
+                "# temple, %s, 1000 steps: method (0 auto, 1 enhanced, 2 relaxed-bv) value shadows "
                 "time/sphere evaluations/sphere\n",
                 STUDY_REP_NAMES[rep]);
         for (int k = 0; k < 3; k++) {

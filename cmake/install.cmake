@@ -8,6 +8,8 @@
 #   find_package(sdftrace CONFIG REQUIRED COMPONENTS vdb_static)    also sdftrace::vdb_static (needs OpenVDB, C++)
 #   find_package(sdftrace CONFIG REQUIRED COMPONENTS mesh)          also sdftrace::mesh (shared, sdftrace/mesh.h)
 #   find_package(sdftrace CONFIG REQUIRED COMPONENTS mesh_static)   also sdftrace::mesh_static (needs OpenVDB, OpenMesh, TBB)
+#   find_package(sdftrace CONFIG REQUIRED COMPONENTS gpu)           also sdftrace::gpu (shared, sdftrace/gpu.h, Vulkan)
+#   find_package(sdftrace CONFIG REQUIRED COMPONENTS gpu_static)    also sdftrace::gpu_static (needs Vulkan's loader)
 #   find_package(sdftrace CONFIG REQUIRED COMPONENTS scenes)        also sdftrace::scenes (static, the demo scenes)
 #   pkg-config --cflags --libs sdftrace  (sdftrace_vdb; --static for the static libraries)
 
@@ -43,6 +45,10 @@ endif()
 
 if(TARGET sdftrace_mesh)
   sdft_install_component(sdftrace_mesh mesh) # OpenVDB, OpenMesh, TBB
+endif()
+
+if(TARGET sdftrace_gpu)
+  sdft_install_component(sdftrace_gpu gpu) # Vulkan
 endif()
 
 configure_package_config_file(cmake/sdftraceConfig.cmake.in ${CMAKE_CURRENT_BINARY_DIR}/sdftraceConfig.cmake

@@ -187,8 +187,8 @@ static void test_params_and_method_names(void **state)
     const sdft_trace_params good = sdft_trace_defaults();
     assert_int_equal(good.method, SDFT_AUTO);
     assert_true(good.omega == 1.0f && good.beta == 0.3f && good.eps == 1e-4f && good.max_steps == 1000);
-    sdft_trace_params bad[12];
-    for (int i = 0; i < 12; i++)
+    sdft_trace_params bad[14];
+    for (int i = 0; i < 14; i++)
         bad[i] = good;
     bad[0].method = (sdft_method)9;
     bad[1].method = SDFT_RELAXED, bad[1].omega = 2.0f;
@@ -202,18 +202,20 @@ static void test_params_and_method_names(void **state)
     bad[9].pixel_radius = INFINITY;
     bad[10].eps = 0.0f, bad[10].pixel_radius = 0.0f;
     bad[11].max_steps = 0;
-    for (int i = 0; i < 12; i++)
+    bad[12].method = SDFT_RELAXED_BV, bad[12].omega = 2.0f;
+    bad[13].method = SDFT_RELAXED_BV, bad[13].omega = 0.99f;
+    for (int i = 0; i < 14; i++)
         expect_code(sdft_trace_params_check(&bad[i], msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_trace_params_check(NULL, msg, sizeof msg), SDFT_EINVAL);
 
-    static const char *const names[] = {"sphere", "relaxed", "enhanced", "auto"};
-    for (int m = 0; m < 4; m++) {
+    static const char *const names[] = {"sphere", "relaxed", "enhanced", "auto", "relaxed-bv"};
+    for (int m = 0; m < SDFT_METHOD_COUNT; m++) {
         sdft_method got = (sdft_method)-1;
         assert_int_equal(sdft_method_parse(names[m], &got, msg, sizeof msg), SDFT_OK);
         assert_int_equal(got, m);
         assert_string_equal(sdft_method_name((sdft_method)m), names[m]);
     }
-    assert_string_equal(sdft_method_name((sdft_method)4), "unknown");
+    assert_string_equal(sdft_method_name(SDFT_METHOD_COUNT), "unknown");
     sdft_method m = SDFT_SPHERE;
     expect_code(sdft_method_parse("Sphere", &m, msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_method_parse("", &m, msg, sizeof msg), SDFT_EINVAL);
@@ -256,8 +258,18 @@ static void test_image_and_render_errors(void **state)
     bad[9].threads = -1;
     bad[10].trace.beta = 2.0f;
     bad[11].trace.method = (sdft_method)7;
-    for (int i = 0; i < N; i++)
+    for (int i = 0; i < N; i++) {
         expect_code(sdft_render(&f, &bad[i], &img, NULL, msg, sizeof msg), SDFT_EINVAL);
+        /* the same checks without the image: all but bad[1], the image's size */
+        if (i == 1)
+            assert_int_equal(sdft_render_params_check(&f, &bad[i], msg, sizeof msg), SDFT_OK);
+        else
+            expect_code(sdft_render_params_check(&f, &bad[i], msg, sizeof msg), SDFT_EINVAL);
+    }
+    assert_int_equal(sdft_render_params_check(&f, &good, msg, sizeof msg), SDFT_OK);
+    expect_code(sdft_render_params_check(NULL, &good, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_render_params_check(&none, &good, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_render_params_check(&f, NULL, msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_render(NULL, &good, &img, NULL, msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_render(&none, &good, &img, NULL, msg, sizeof msg), SDFT_EINVAL);
     expect_code(sdft_render(&f, NULL, &img, NULL, msg, sizeof msg), SDFT_EINVAL);
@@ -369,6 +381,20 @@ static void test_grid_errors(void **state)
     sdft_trace_params p = sdft_trace_defaults();
     const sdft_ray ray = {.org = {0, 0, 5}, .tnear = 0, .dir = {0, 0, -1}, .tfar = INFINITY};
     assert_int_equal(sdft_trace(&zero, &s, &ray, &p).status, SDFT_INVALID);
+
+    /* Materials: a NULL grid or table, none, too many, one out of range; a table grid that is none. */
+    sdft_material m = {.colour = {0.5f, 0.5f, 0.5f}, .reflectance = 0.0f, .ior = 0.0f};
+    expect_code(sdft_grid_set_materials(NULL, g, &m, 1, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_grid_set_materials(g, g, NULL, 1, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_grid_set_materials(g, g, &m, 0, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_grid_set_materials(g, g, &m, SDFT_GRID_MAX_MATERIALS + 1, msg, sizeof msg), SDFT_EINVAL);
+    m.reflectance = 2.0f;
+    expect_code(sdft_grid_set_materials(g, g, &m, 1, msg, sizeof msg), SDFT_EINVAL);
+    size_t count;
+    expect_code(sdft_grid_material_table(NULL, &m, 1, &count, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_grid_material_table(g, NULL, 1, &count, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_grid_material_table(g, &m, 1, NULL, msg, sizeof msg), SDFT_EINVAL);
+    assert_null(sdft_grid_field(g, SDFT_GRID_BOUND_FAR).material);
     sdft_grid_free(NULL);
     sdft_grid_free(g);
 }

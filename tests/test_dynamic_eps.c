@@ -14,6 +14,7 @@
 #include <cmocka.h>
 #include <math.h>
 
+#include "sdftrace/render.h"
 #include "sdftrace/scene.h"
 #include "secondary.h"
 
@@ -97,11 +98,76 @@ static void fixed_tiny_eps_re_hits_its_own_surface(void **state)
         fail_msg("a fixed eps of 1e-6: %d self-intersections in %d glass hits", t.self_hits, t.glass_hits);
 }
 
+/* The jewel rendered the Whitted way, relaxed 1.2, counted the papers'
+ * way, rays inside the gem marching through it (no 3.5); *hits_far (if not NULL): primary hits with pixel_radius t
+ * above the field's feature size, from the image's depth. */
+static sdft_render_stats render_jewel(int screen_space, int smooth_iters, float eps_min, int *hits_far)
+{
+    const sdft_scene *sc = sdft_scene_find("jewel");
+    sdft_render_params p = sdft_render_defaults();
+    p.width = WIDTH, p.height = HEIGHT, p.camera = sc->camera, p.light = sc->light, p.threads = 2;
+    p.materials = 1, p.convex = 0, p.screen_space = screen_space, p.smooth_iters = smooth_iters, p.eps_min = eps_min;
+    p.trace.method = SDFT_RELAXED, p.trace.omega = 1.2f;
+    sdft_render_papers(&p);
+    sdft_image img;
+    sdft_render_stats st;
+    char msg[256];
+    assert_int_equal(sdft_image_alloc(&img, p.width, p.height, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(sdft_render(&sc->field, &p, &img, &st, msg, sizeof msg), SDFT_OK);
+    const float pixel_radius = sdft_camera_pixel_radius(&sc->camera, HEIGHT);
+    if (hits_far) {
+        *hits_far = 0;
+        for (int i = 0; i < WIDTH * HEIGHT; i++)
+            *hits_far += img.status[i] == SDFT_HIT && pixel_radius * img.depth[i] > sc->field.feature_size;
+    }
+    sdft_image_free(&img);
+    return st;
+}
+
+/* With the default eps_min (the feature size) the |f(p)| term decides
+ * where a hit lies off the surface, and only there. A converged hit is
+ * refined onto the surface (|f| ~ 1e-7), so eps_min decides every one; a
+ * hit settled by 3.4 under the screen-space criterion lies on f = eps(t) =
+ * pixel_radius t, beyond the feature size wherever pixel_radius t is:
+ * every such primary hit at least, counted from the depth plane. */
+static void f_decides_where_hits_lie_off_the_surface(void **state)
+{
+    (void)state;
+    const sdft_render_stats refined = render_jewel(0, 0, 0.0f, NULL);
+    assert_true(refined.dynamic_eps_hits >= refined.hits);
+    assert_int_equal(refined.dynamic_eps_from_f, 0);
+    int far = 0;
+    const sdft_render_stats settled = render_jewel(1, 3, 0.0f, &far);
+    assert_true(far > WIDTH * HEIGHT / 4);
+    if (!(settled.dynamic_eps_from_f >= (uint64_t)far))
+        fail_msg("|f(p)| decided %llu of %llu hits; %d primary hits alone lie beyond eps_min",
+                 (unsigned long long)settled.dynamic_eps_from_f, (unsigned long long)settled.dynamic_eps_hits, far);
+    print_message("|f(p)| decided 0 of %llu refined hits, %llu of %llu settled ones\n",
+                  (unsigned long long)refined.dynamic_eps_hits, (unsigned long long)settled.dynamic_eps_from_f,
+                  (unsigned long long)settled.dynamic_eps_hits);
+}
+
+/* eps_min 1e-5, below the trace's eps of 1e-4: a secondary ray starts
+ * within eps of the surface it leaves and converges there at once; the
+ * renderer counts it. The default never does that. */
+static void eps_min_below_eps_is_self_hits(void **state)
+{
+    (void)state;
+    const sdft_render_stats tiny = render_jewel(0, 0, 1e-5f, NULL), fine = render_jewel(0, 0, 0.0f, NULL);
+    assert_int_equal(fine.secondary_self_hits, 0);
+    if (!(tiny.secondary_self_hits > tiny.secondary_rays / 2))
+        fail_msg("eps_min 1e-5: %llu self-hits of %llu secondary rays", (unsigned long long)tiny.secondary_self_hits,
+                 (unsigned long long)tiny.secondary_rays);
+    assert_true(tiny.secondary_rays > 4 * fine.secondary_rays); /* each re-hit spends a bounce on the next ray */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(dynamic_eps_leaves_every_glass_hit),
         cmocka_unit_test(fixed_tiny_eps_re_hits_its_own_surface),
+        cmocka_unit_test(f_decides_where_hits_lie_off_the_surface),
+        cmocka_unit_test(eps_min_below_eps_is_self_hits),
     };
     return cmocka_run_group_tests_name("dynamic_eps", tests, NULL, NULL);
 }

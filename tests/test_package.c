@@ -200,27 +200,29 @@ static void test_every_declared_function_is_marked(void **state)
 static void test_shared_libraries_export_the_api(void **state)
 {
     (void)state;
-    names h = public_headers(), core_api = {0}, vdb_api = {0}, mesh_api = {0}, scene_api = {0};
+    names h = public_headers(), core_api = {0}, vdb_api = {0}, mesh_api = {0}, gpu_api = {0}, scene_api = {0};
     for (size_t i = 0; i < h.n; i++)
         if (strcmp(h.name[i], "config.h") != 0)
             api_functions(h.name[i], strcmp(h.name[i], "vdb.h") == 0     ? &vdb_api
                                      : strcmp(h.name[i], "mesh.h") == 0  ? &mesh_api
+                                     : strcmp(h.name[i], "gpu.h") == 0   ? &gpu_api
                                      : strcmp(h.name[i], "scene.h") == 0 ? &scene_api
                                                                          : &core_api);
     assert_true(core_api.n > 40);
     assert_true(vdb_api.n >= 4);
     assert_true(mesh_api.n >= 10);
+    assert_true(gpu_api.n >= 6);
     assert_true(scene_api.n >= 2); /* the scenes component's (static only): in neither shared library */
     char libs[] = SDFT_SHARED_LIBS;
     char *save = NULL;
     char *core_lib = strtok_r(libs, " ", &save), *vdb_lib = strtok_r(NULL, " ", &save);
-    char *mesh_lib = strtok_r(NULL, " ", &save);
+    char *mesh_lib = strtok_r(NULL, " ", &save), *gpu_lib = strtok_r(NULL, " ", &save); /* NULL: no Vulkan */
     assert_non_null(mesh_lib);
     const struct {
         const char *lib;
         names *api;
-    } pairs[3] = {{core_lib, &core_api}, {vdb_lib, &vdb_api}, {mesh_lib, &mesh_api}};
-    for (int k = 0; k < 3; k++) {
+    } pairs[4] = {{core_lib, &core_api}, {vdb_lib, &vdb_api}, {mesh_lib, &mesh_api}, {gpu_lib, &gpu_api}};
+    for (int k = 0; k < 4 && pairs[k].lib; k++) {
         names e = exported(pairs[k].lib);
         for (size_t i = 0; i < e.n; i++)
             if (!names_has(pairs[k].api, e.name[i]))
@@ -234,13 +236,14 @@ static void test_shared_libraries_export_the_api(void **state)
         print_message("%s: %zu symbols, all public API\n", pairs[k].lib, e.n);
         free(e.name);
     }
-    free(h.name), free(core_api.name), free(vdb_api.name), free(mesh_api.name), free(scene_api.name);
+    free(h.name), free(core_api.name), free(vdb_api.name), free(mesh_api.name), free(gpu_api.name),
+        free(scene_api.name);
 }
 
 /* What an internal name may start with: its module. sdft_ is the public
  * API's alone. */
-static const char *const internal_prefixes[] = {"grid_", "march_", "render_", "secondary_",
-                                                "vdb_",  "scene_", "fail_",   "atomic_file_"};
+static const char *const internal_prefixes[] = {"grid_", "march_", "render_", "secondary_",  "vdb_",
+                                                "gpu_",  "scene_", "fail_",   "atomic_file_"};
 
 static int has_internal_prefix(const char *name)
 {
@@ -372,7 +375,8 @@ static void test_core_builds_alone(void **state)
     int rc =
         tu_run(out, sizeof out,
                "%s -S %s -B %s -DCMAKE_BUILD_TYPE=Debug -DSDFT_WITH_OPENVDB=OFF -DSDFT_WITH_IMAGES=OFF "
-               "-DSDFT_WITH_OPENMESH=OFF -DSDFT_BUILD_TESTS=OFF && %s --build %s -j2 --target sdftrace sdftrace_static",
+               "-DSDFT_WITH_OPENMESH=OFF -DSDFT_WITH_VULKAN=OFF -DSDFT_BUILD_TESTS=OFF && %s --build %s -j2 --target "
+               "sdftrace sdftrace_static",
                SDFT_CMAKE, SDFT_SOURCE_DIR, dir, SDFT_CMAKE, dir);
     if (rc)
         fail_msg("core-only build: %s", out);
@@ -380,7 +384,8 @@ static void test_core_builds_alone(void **state)
     snprintf(cache, sizeof cache, "%s/CMakeCache.txt", dir);
     char *text = tu_slurp(cache);
     assert_non_null(text);
-    static const char *const never[] = {"\nOpenVDB_", "\nOpenEXR_DIR", "\nOpenMesh_DIR", "\nPNG_", "\ncmocka_DIR"};
+    static const char *const never[] = {"\nOpenVDB_", "\nOpenEXR_DIR", "\nOpenMesh_DIR",
+                                        "\nPNG_",     "\ncmocka_DIR",  "\nSDFT_WITH_VULKAN:BOOL=ON"};
     for (size_t i = 0; i < sizeof never / sizeof never[0]; i++)
         if (strstr(text, never[i]))
             fail_msg("the core-only configuration looked for %s", never[i] + 1);

@@ -244,7 +244,7 @@ static void test_files_get_the_umask_mode(void **state)
                                         "fig1.txt",
                                         "fig2-temple-procedural.dat",
                                         "fig1-temple-procedural-auto0.3-steps.u32",
-                                        "fig1-temple-procedural-relaxed1.5-fallbacks.u32"};
+                                        "fig1-temple-procedural-relaxed-bv1.5-fallbacks.u32"};
     for (size_t m = 0; m < sizeof masks / sizeof masks[0]; m++) {
         assert_int_equal(tu_run(out, sizeof out, "rm -rf %s && mkdir -p %s", res, res), 0);
         int rc = tu_run(out, sizeof out,

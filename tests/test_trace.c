@@ -1,4 +1,4 @@
-/* Tests of the four tracing variants (src/core/trace*.c) against
+/* Tests of the five tracing variants (src/core/trace*.c) against
  * independent truth: analytic ray intersections, a field that counts its own
  * evaluations, and brute-force marching through every scene. */
 #include <setjmp.h>
@@ -111,9 +111,10 @@ static const struct {
     sdft_method method;
     float omega, beta;
 } variants[] = {
-    {SDFT_SPHERE, 1.0f, 0.3f},   {SDFT_RELAXED, 1.2f, 0.3f},   {SDFT_RELAXED, 1.5f, 0.3f},
-    {SDFT_RELAXED, 1.95f, 0.3f}, {SDFT_ENHANCED, 0.88f, 0.3f}, {SDFT_ENHANCED, 1.0f, 0.3f},
-    {SDFT_AUTO, 1.0f, 0.3f},     {SDFT_AUTO, 1.0f, 0.2f},      {SDFT_AUTO, 1.0f, 0.9f},
+    {SDFT_SPHERE, 1.0f, 0.3f},      {SDFT_RELAXED, 1.2f, 0.3f},    {SDFT_RELAXED, 1.5f, 0.3f},
+    {SDFT_RELAXED, 1.95f, 0.3f},    {SDFT_RELAXED_BV, 1.2f, 0.3f}, {SDFT_RELAXED_BV, 1.5f, 0.3f},
+    {SDFT_RELAXED_BV, 1.95f, 0.3f}, {SDFT_ENHANCED, 0.88f, 0.3f},  {SDFT_ENHANCED, 1.0f, 0.3f},
+    {SDFT_AUTO, 1.0f, 0.3f},        {SDFT_AUTO, 1.0f, 0.2f},       {SDFT_AUTO, 1.0f, 0.9f},
 };
 enum { VARIANT_COUNT = sizeof variants / sizeof variants[0] };
 
@@ -270,6 +271,62 @@ static void test_auto_fewer_steps_than_sphere_on_plane(void **state)
         float t_true = 2.0f / cosf(th);
         assert_float_equal(ha.t, t_true, 1e-4f * t_true);
         assert_float_equal(hs.t, t_true, 1e-4f * t_true);
+    }
+}
+
+/* The two relaxed forms apart, step by step, on the field f(p) = p.y (the
+ * plane y = 0) along a ray from (0, 1, 0) that falls 3/4 per unit: F(t) =
+ * 1 - 3t/4, every value below exact in float. With omega = 3/2 the first
+ * relaxed step, to t = 3/2, lands at F = -1/8 and the unbounding spheres
+ * miss each other (1 + 1/8 < 3/2). Keinert's Listing 2 steps back by
+ * stepLength (1 - omega) = -3/4 to t = 3/4 and traces plainly from there
+ * (F quarters each step: 7/16, 7/64, ...; one fallback). Bán–Valasek's
+ * Algorithm 2 takes the basic step to t = 1 (F = 1/4) and relaxes again,
+ * overshooting every other step (three fallbacks in seven evaluations). */
+enum { RECORDED = 16 };
+
+static float *recorded(sdft_scratch *s) { return (float *)(s->bytes + sizeof(uint64_t)); }
+
+static float height_recorded(const void *ctx, sdft_scratch *s, sdft_vec3 p)
+{
+    (void)ctx;
+    if (*counter(s) < RECORDED)
+        recorded(s)[*counter(s)] = p.y;
+    ++*counter(s);
+    return p.y;
+}
+
+static void test_relaxed_forms_step_by_step(void **state)
+{
+    (void)state;
+    const sdft_field f = {.distance = height_recorded, .scratch_init = zero_counter, .bounds = world};
+    const sdft_ray ray = {.org = {0, 1, 0}, .dir = {sqrtf(7.0f) / 4.0f, -0.75f, 0}, .tnear = 0, .tfar = 40};
+    static const struct {
+        sdft_method method;
+        uint32_t fallbacks;
+        float F[7]; /* f at each evaluation, in order */
+    } forms[] = {
+        {SDFT_RELAXED, 1, {1.0f, -0.125f, 0.4375f, 0.109375f, 0.02734375f, 0.0068359375f, 0.001708984375f}},
+        {SDFT_RELAXED_BV, 3, {1.0f, -0.125f, 0.25f, -0.03125f, 0.0625f, -0.0078125f, 0.015625f}},
+    };
+    for (size_t k = 0; k < sizeof forms / sizeof forms[0]; k++) {
+        sdft_trace_params p = params_for(forms[k].method, 1.5f);
+        p.eps = 1e-6f, p.max_steps = 7;
+        sdft_scratch s;
+        sdft_scratch_init(&f, &s);
+        const sdft_hit hit = sdft_trace(&f, &s, &ray, &p);
+        assert_int_equal(hit.status, SDFT_NOT_CONVERGED);
+        assert_int_equal(hit.steps, 7);
+        assert_int_equal(hit.fallbacks, forms[k].fallbacks);
+        for (int i = 0; i < 7; i++)
+            if (recorded(&s)[i] != forms[k].F[i])
+                fail_msg("%s: evaluation %d at F = %.9g, by hand %.9g", sdft_method_name(forms[k].method), i,
+                         recorded(&s)[i], forms[k].F[i]);
+        /* run to the end: both converge on the plane at t = 4/3 */
+        p.max_steps = 1000;
+        const sdft_hit end = sdft_trace(&f, &s, &ray, &p);
+        assert_int_equal(end.status, SDFT_HIT);
+        assert_float_equal(end.t, 4.0f / 3.0f, 1e-5f);
     }
 }
 
@@ -590,6 +647,7 @@ int main(void)
         cmocka_unit_test(test_hits_plane),
         cmocka_unit_test(test_steps_count_evaluations),
         cmocka_unit_test(test_auto_fewer_steps_than_sphere_on_plane),
+        cmocka_unit_test(test_relaxed_forms_step_by_step),
         cmocka_unit_test(test_stream_same_as_single_rays),
         cmocka_unit_test(test_stream_same_as_single_in_scenes),
         cmocka_unit_test(test_ray_missing_bounds_costs_nothing),

@@ -208,6 +208,36 @@ SDFT_API size_t sdft_grid_size(const sdft_grid *g);
  * active state (active may be NULL); for tests and tools. */
 SDFT_API float sdft_grid_voxel(const sdft_grid *g, int32_t i, int32_t j, int32_t k, int *active);
 
+/* Materials on a grid's surface, for shading (sdft_field.material). The
+ * convention `sdftrace bake --materials` writes, in the surface's own file:
+ *   NAME.material_ids    a float grid of material indices k (0, 1, ...),
+ *                        active over the band around the surface;
+ *   NAME.material_table  a float grid whose voxels (k, 0..4, 0), all active,
+ *                        hold material k: red, green, blue, reflectance,
+ *                        index of refraction (sdft_material's members).
+ * Open them as any grid (by name) and hand them over below. */
+#define SDFT_GRID_MAX_MATERIALS 4096
+
+/* Gives g's fields a material: at world point p, table[k] for the k the
+ * voxel of `ids` nearest p holds (its own transform places it; where that
+ * voxel is inactive, the nearest active one of its 26 neighbours; an index
+ * outside the table is clamped into it). The table (count entries, at most
+ * SDFT_GRID_MAX_MATERIALS) is copied; ids is borrowed and must outlive
+ * every field of g. A step of making g, before any field of it is made or
+ * used: fields made afterwards (sdft_grid_field) carry the materials. ids
+ * NULL takes them away. SDFT_EINVAL (g NULL; a NULL or empty table, too
+ * long; a colour or reflectance outside [0, 1], an index of refraction
+ * neither 0 nor >= 1), SDFT_ENOMEM. */
+SDFT_API sdft_error sdft_grid_set_materials(sdft_grid *g, const sdft_grid *ids, const sdft_material *table,
+                                            size_t count, char *msg, size_t msg_len);
+
+/* Reads a material table grid (above) into table[0..most): *count entries,
+ * from voxel row k = 0 on, up to the first inactive one. SDFT_EINVAL (a
+ * NULL argument; more than `most` entries), SDFT_EFORMAT (no entry, an
+ * entry missing a component or out of range). */
+SDFT_API sdft_error sdft_grid_material_table(const sdft_grid *t, sdft_material *table, size_t most, size_t *count,
+                                             char *msg, size_t msg_len);
+
 /* What the field with `bound` does at world point p, spelled out: the far
  * bound (*level 5), else the trilinear value where the tree holds voxels
  * (*level 0), else the tree bound of the tile or empty root region (*level

@@ -48,7 +48,8 @@ typedef struct sdft_render_params {
     int reflect_bounces;    /* most mirror reflections along a path, [0, SDFT_MAX_BOUNCES]; default 2 */
     int refract_bounces;    /* most refractions along a path, [0, SDFT_MAX_BOUNCES]; default 8 */
     float eps_min;          /* Keinert 3.3: a secondary ray leaves hit p along the normal by 2 max(eps_min, |f(p)|),
-                             * world units; 0: eps_min is the normal's difference step plus eps(t) at the hit */
+                             * world units; 0: eps_min is the field's feature size (the normal's difference
+                             * step), and |f(p)| carries how far the hit lies off the surface */
     int smooth_iters;       /* Keinert 3.4: fixed-point iterations onto f(p) = eps(t) per hit, [0, 64] */
     int convex;             /* Keinert 3.5: a ray that starts inside a convex part the field declares
                              * (sdft_field_accel.convex) leaves it from its bounding sphere's far side; default 1 */
@@ -77,12 +78,16 @@ typedef struct sdft_render_stats {
     uint64_t primary_steps; /* of them, the primary rays'; steps - primary_steps: the shadow rays' */
     uint64_t cone_steps;    /* SDF evaluations of the cones, shared by their rays (0 without cones) */
     uint64_t fallbacks;
-    uint64_t primary_fallbacks; /* of them, the primary rays' */
-    uint64_t hits;              /* primary rays that hit */
-    uint64_t nonconverged;      /* primary rays that did not converge */
-    uint64_t shadow_steps;      /* of steps, the shadow rays' and the occlusion samples' */
-    uint64_t secondary_rays;    /* reflection and refraction rays (not in rays) */
-    uint64_t secondary_steps;   /* of steps, theirs: steps = primary + shadow + secondary */
+    uint64_t primary_fallbacks;  /* of them, the primary rays' */
+    uint64_t hits;               /* primary rays that hit */
+    uint64_t nonconverged;       /* primary rays that did not converge */
+    uint64_t shadow_steps;       /* of steps, the shadow rays' and the occlusion samples' */
+    uint64_t secondary_rays;     /* reflection and refraction rays (not in rays) */
+    uint64_t secondary_steps;    /* of steps, theirs: steps = primary + shadow + secondary */
+    uint64_t dynamic_eps_hits;   /* hits shaded the Whitted way, each setting eps_dynamic for the rays it sends (3.3) */
+    uint64_t dynamic_eps_from_f; /* of them, those where |f(p)| > eps_min decided it: the hit lay off the surface */
+    uint64_t secondary_self_hits; /* secondary rays that hit within 2 eps_min of their origin: almost always their
+                                   * own surface again, as when eps_min is below the trace's eps */
 } sdft_render_stats;
 
 /* Defaults: sdft_trace_defaults(), 1280x720, a camera at (0, 1, 5) looking
@@ -107,6 +112,14 @@ SDFT_API sdft_error sdft_image_alloc(sdft_image *img, int width, int height, cha
 
 /* Frees the planes and zeroes *img; an all-zero image (or NULL) is fine. */
 SDFT_API void sdft_image_free(sdft_image *img);
+
+/* Checks field f and params as sdft_render does, all but the image:
+ * SDFT_OK, or SDFT_EINVAL with the reason (a NULL argument, the size, the
+ * camera, the light, the threads, the shading's ranges, and
+ * sdft_trace_params_check of the trace with the screen-space radius). For
+ * a renderer that renders the same parameters elsewhere (sdftrace/gpu.h). */
+SDFT_API sdft_error sdft_render_params_check(const sdft_field *f, const sdft_render_params *params, char *msg,
+                                             size_t msg_len);
 
 /* Renders field f into img, which must be allocated at params' size, with
  * a scratch per thread of its own (the caller's scratch is not used).

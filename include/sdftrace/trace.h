@@ -1,15 +1,18 @@
 /* sdftrace — the tracing variants.
  *
- * Four ways to find the first root of f(o + t d) along a ray, each a short
+ * Five ways to find the first root of f(o + t d) along a ray, each a short
  * function that reads like its listing in the papers (Bán and Valasek,
  * "Automatic step size relaxation in sphere tracing", 2023; Keinert et al.,
  * "Enhanced sphere tracing", 2014):
- *   SDFT_SPHERE   Hart's sphere tracing         (Bán–Valasek Algorithm 1)
- *   SDFT_RELAXED  Keinert et al. over-relaxed  (Algorithm 2, Keinert Listing 2), omega in [1, 2)
- *   SDFT_ENHANCED Bálint–Valasek enhanced       (Algorithm 3), omega in (0, 1]
- *   SDFT_AUTO     Bán–Valasek auto-relaxed      (Algorithm 4), beta in (0, 1)
+ *   SDFT_SPHERE      Hart's sphere tracing          (Bán–Valasek Algorithm 1)
+ *   SDFT_RELAXED     Keinert et al. over-relaxed    (Keinert Listing 2), omega in [1, 2):
+ *                    after the first fallback, omega = 1 for the rest of the ray
+ *   SDFT_RELAXED_BV  over-relaxed as Bán–Valasek write it (Algorithm 2), omega in [1, 2):
+ *                    relaxation resumes after every fallback
+ *   SDFT_ENHANCED    Bálint–Valasek enhanced        (Algorithm 3), omega in (0, 1]
+ *   SDFT_AUTO        Bán–Valasek auto-relaxed       (Algorithm 4), beta in (0, 1)
  *
- * All four share one termination rule so their counts compare: with (t, r)
+ * All five share one termination rule so their counts compare: with (t, r)
  * the accepted point and its distance, stop with a hit when r <= eps(t), a
  * miss when t + r >= tfar, and "not converged" after max_steps evaluations,
  * where eps(t) = eps + pixel_radius * t (pixel_radius = 0: a constant eps;
@@ -36,7 +39,14 @@ typedef struct sdft_ray {
     float tfar;
 } sdft_ray;
 
-typedef enum sdft_method { SDFT_SPHERE = 0, SDFT_RELAXED, SDFT_ENHANCED, SDFT_AUTO, SDFT_METHOD_COUNT } sdft_method;
+typedef enum sdft_method {
+    SDFT_SPHERE = 0,
+    SDFT_RELAXED,
+    SDFT_ENHANCED,
+    SDFT_AUTO,
+    SDFT_RELAXED_BV,
+    SDFT_METHOD_COUNT
+} sdft_method;
 
 typedef enum sdft_status {
     SDFT_HIT = 0,
@@ -51,7 +61,7 @@ typedef enum sdft_status {
  * a field added later gets its default. */
 typedef struct sdft_trace_params {
     sdft_method method;
-    float omega;        /* relaxed: [1, 2); enhanced: (0, 1] */
+    float omega;        /* relaxed, relaxed-bv: [1, 2); enhanced: (0, 1] */
     float beta;         /* auto: (0, 1) */
     float eps;          /* absolute convergence radius, world units (>= 0) */
     float pixel_radius; /* screen-space criterion: half a pixel's footprint at t = 1; 0 = off */
@@ -79,11 +89,11 @@ typedef struct sdft_hit {
  * steps, no screen-space, and omega 1; and the field's exact root where it
  * has one (exact_root 1, which the papers' way of counting turns off).
  * Omega is the relaxed and enhanced variants' only parameter and has no
- * value right for both: after choosing one of them, set omega =
+ * value right for all: after choosing one of them, set omega =
  * sdft_default_omega(method) (1.5 or 0.88). */
 SDFT_API sdft_trace_params sdft_trace_defaults(void);
 
-/* Default omega of a method (relaxed 1.5, enhanced 0.88, else 1). */
+/* Default omega of a method (relaxed and relaxed-bv 1.5, enhanced 0.88, else 1). */
 SDFT_API float sdft_default_omega(sdft_method m);
 
 /* Checks a parameter set: SDFT_OK, or SDFT_EINVAL with one line in msg (an
@@ -106,7 +116,7 @@ SDFT_API sdft_hit sdft_trace(const sdft_field *f, sdft_scratch *s, const sdft_ra
 
 /* Traces n rays: hits[k] is exactly what sdft_trace(f, s, &rays[k], p)
  * returns, same t and counts (every hit SDFT_INVALID when sdft_trace
- * would refuse). Up to 4 rays march at once, interleaved, so that one
+ * would refuse). Up to 16 rays march at once, interleaved, so that one
  * ray's memory loads overlap another's (Open VKL's stream entry points, for
  * a tracer): on a grid this is the faster way to trace a block of rays.
  * Thread-safe given a per-thread scratch; allocates nothing. */
@@ -119,6 +129,8 @@ SDFT_API sdft_hit sdft_trace_sphere(const sdft_field *f, sdft_scratch *s, const 
                                     const sdft_trace_params *p);
 SDFT_API sdft_hit sdft_trace_relaxed(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray,
                                      const sdft_trace_params *p);
+SDFT_API sdft_hit sdft_trace_relaxed_bv(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray,
+                                        const sdft_trace_params *p);
 SDFT_API sdft_hit sdft_trace_enhanced(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray,
                                       const sdft_trace_params *p);
 SDFT_API sdft_hit sdft_trace_auto(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray,
@@ -137,7 +149,7 @@ SDFT_API sdft_hit sdft_trace_auto(const sdft_field *f, sdft_scratch *s, const sd
 SDFT_API float sdft_cone_march(const sdft_field *f, sdft_scratch *s, sdft_vec3 org, sdft_vec3 axis, float spread,
                                float tnear, float tfar, uint32_t *steps);
 
-/* "sphere", "relaxed", "enhanced" or "auto"; "unknown" for any other value.
+/* "sphere", "relaxed", "enhanced", "auto" or "relaxed-bv"; "unknown" for any other value.
  * A static string. */
 SDFT_API const char *sdft_method_name(sdft_method m);
 

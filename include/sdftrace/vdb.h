@@ -52,6 +52,9 @@ typedef struct sdft_bake_params {
     sdft_progress_fn progress; /* NULL: no progress reports */
     void *progress_user;       /* handed to progress */
     int threads;               /* worker threads, 0: TBB's default */
+    int materials;             /* 1: the field's materials too (f->material, and a path): the grids
+                                * NAME.material_ids and NAME.material_table after the surface in the file
+                                * (sdftrace/grid.h, sdft_grid_set_materials); grid_out carries none */
 } sdft_bake_params;
 
 #define SDFT_BAKE_MAX_RES 1024
@@ -65,7 +68,8 @@ typedef struct sdft_bake_stats {
     float voxel_size; /* world units */
 } sdft_bake_stats;
 
-/* res 256, band 3, narrow band, float, grid "sdf", no progress, all threads. */
+/* res 256, band 3, narrow band, float, grid "sdf", no progress, all threads,
+ * no materials. */
 SDFT_API sdft_bake_params sdft_bake_defaults(void);
 
 /* Samples f at the voxel centres of a grid of cubic voxels over f->bounds
@@ -77,7 +81,9 @@ SDFT_API sdft_bake_params sdft_bake_defaults(void);
  * mode the umask gives), and returns the NanoVDB grid in *grid_out (the
  * caller's, sdft_grid_free) when grid_out is not NULL. stats may be NULL.
  * SDFT_EINVAL (NULL f or p, a field without distance or with an empty or
- * infinite box, res or band out of range, another extension), SDFT_EEMPTY
+ * infinite box, res or band out of range, another extension; materials
+ * without f->material or without a path, or with more than
+ * SDFT_GRID_MAX_MATERIALS distinct ones), SDFT_EEMPTY
  * (no voxel within the band), SDFT_EIO, SDFT_ECANCELED, SDFT_ENOMEM,
  * SDFT_EINTERNAL. f is evaluated from several threads, each with its own
  * scratch. */

@@ -318,7 +318,7 @@ def render(
     fallbacks (h, w) uint32 (evaluations per pixel, all rays and the primary ray's), status
     (h, w) uint8 (sdftrace/trace.h's sdft_status). ``camera``: a dict of eye, target, up (3 floats each) and fov (degrees);
     by default the scene's camera, or for a grid one in front of it. ``method``: sphere,
-    relaxed, enhanced or auto."""
+    relaxed (Keinert et al.'s Listing 2), relaxed-bv (Bán–Valasek's Algorithm 2), enhanced or auto."""
     camera = camera or {}
     target = source._nano if isinstance(source, Grid) else source
 

@@ -27,7 +27,7 @@ typedef struct bake_opts {
 #define STR(x) #x
 #define XSTR(x) STR(x)
 
-enum { BAKE_ROWS = 12 };
+enum { BAKE_ROWS = 13 };
 
 /* The options of `sdftrace bake`, over o, in rows (room for them and the
  * end); and the command line they make. */
@@ -46,6 +46,10 @@ static cmdline_spec bake_options(bake_opts *o, cmdline_option rows[BAKE_ROWS])
         {"fp16", 0, NULL, "Fp16 leaves in .nvdb, half floats in .vdb", CMDLINE_SET, &o->p.fp16, .value = 1,
          .def = "float"},
         {"grid-name", 0, "NAME", "name of the grid in the file", CMDLINE_TEXT, &o->p.grid_name, .def = "sdf"},
+        {"materials", 0, NULL,
+         "the scene's materials too: grids NAME.material_ids and NAME.material_table\n"
+         "in the same file, which `sdftrace render --grid` shades with",
+         CMDLINE_SET, &o->p.materials, .value = 1, .def = "off"},
         {"threads", 0, "N", "worker threads, 0 = all cores", CMDLINE_INT, &o->p.threads, .lo = 0, .hi = 1024},
         {"quiet", 0, NULL, "no progress bar and no summary line (errors still go to stderr)", CMDLINE_SET, &o->quiet,
          .value = 1, .def = ""},
@@ -87,6 +91,8 @@ static int check_opts(const bake_opts *o, const sdft_scene **scene, char *msg, s
         snprintf(msg, len, "--band and --full exclude each other");
     else if (o->p.grid_name && !*o->p.grid_name)
         snprintf(msg, len, "--grid-name must not be empty");
+    else if (o->p.materials && !(*scene)->field.material)
+        snprintf(msg, len, "--materials: scene '%s' has no materials", o->scene);
     else if (!o->p.full || bake_memory_check(&(*scene)->field, o->p.res, strcmp(ext, ".nvdb") == 0, msg, len) == 0)
         return 0;
     return -1;
@@ -120,8 +126,9 @@ int cmd_bake(int argc, char **argv)
         return 1;
     }
     if (!o.quiet)
-        printf("baked %s: %dx%dx%d voxels of %g, %llu active in %llu leaves, %llu evaluations, %.0f ms -> %s\n",
+        printf("baked %s: %dx%dx%d voxels of %g, %llu active in %llu leaves, %llu evaluations, %.0f ms%s -> %s\n",
                scene->name, st.dims[0], st.dims[1], st.dims[2], st.voxel_size, (unsigned long long)st.active_voxels,
-               (unsigned long long)st.leaves, (unsigned long long)st.evaluations, st.ms, o.out);
+               (unsigned long long)st.leaves, (unsigned long long)st.evaluations, st.ms,
+               o.p.materials ? ", with its materials" : "", o.out);
     return 0;
 }

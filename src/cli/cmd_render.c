@@ -19,6 +19,9 @@
 #include "sdftrace/render.h"
 #include "sdftrace/scene.h"
 #include "sdftrace/vdb.h"
+#if defined(SDFT_WITH_VULKAN)
+#include "sdftrace/gpu.h"
+#endif
 
 enum { MAX_SIDE = 16384, MAX_STEPS = 10000000, MAX_THREADS = 1024 };
 static const long MAX_PIXELS = 64l * 1024 * 1024;
@@ -42,6 +45,8 @@ typedef struct render_opts {
     int smooth_iters, convex, ao;
     const char *out, *png;
     const char *heatmap[2]; /* --heatmap KIND FILE */
+    int vulkan;             /* --device vulkan */
+    int vulkan_device;      /* --vulkan-device N; -1: the first GPU */
 } render_opts;
 
 /* What is rendered: a field, its default view and light, and whatever must
@@ -52,7 +57,9 @@ typedef struct render_source {
     sdft_vec3 light;
     const char *name; /* for the JSON report */
     sdft_grid *grid;  /* --grid: owned, freed by close_field */
+    sdft_grid *ids;   /* the grid's material indices, when its file has them: owned, freed by close_field */
     int materials;    /* the scene is made to be seen with its materials */
+    char device[256]; /* what rendered it: "cpu", or the Vulkan device's name */
 } render_source;
 
 static render_opts default_opts(void)
@@ -78,6 +85,7 @@ static render_opts default_opts(void)
         .smooth_iters = d.smooth_iters,
         .convex = d.convex,
         .ao = d.ao,
+        .vulkan_device = -1,
     };
 }
 
@@ -94,6 +102,22 @@ static int set_bounces(void *target, const char *value, char *msg, size_t len)
     return 0;
 }
 
+/* --device cpu|vulkan. */
+static int set_device(void *target, const char *value, char *msg, size_t len)
+{
+    int *vulkan = target;
+    if (value && strcmp(value, "cpu") == 0) {
+        *vulkan = 0;
+        return 0;
+    }
+    if (value && strcmp(value, "vulkan") == 0) {
+        *vulkan = 1;
+        return 0;
+    }
+    snprintf(msg, len, "--device needs cpu or vulkan, got '%s'", value ? value : "");
+    return -1;
+}
+
 static int set_method(void *target, const char *value, char *msg, size_t len)
 {
     return sdft_method_parse(value, target, msg, len) ? -1 : 0;
@@ -108,14 +132,14 @@ static int set_papers(void *target, const char *value, char *msg, size_t len)
     return 0;
 }
 
-enum { RENDER_ROWS = 44 };
+enum { RENDER_ROWS = 46 };
 
 /* The options of `sdftrace render`, over o (for the help, over the
  * defaults), in rows; and the command line they make. */
 static cmdline_spec render_options(render_opts *o, cmdline_option rows[RENDER_ROWS])
 {
     static char omega_def[64];
-    snprintf(omega_def, sizeof omega_def, "relaxed %g, enhanced %g", sdft_default_omega(SDFT_RELAXED),
+    snprintf(omega_def, sizeof omega_def, "relaxed, relaxed-bv %g; enhanced %g", sdft_default_omega(SDFT_RELAXED),
              sdft_default_omega(SDFT_ENHANCED));
     const double inf = INFINITY;
     const cmdline_option t[RENDER_ROWS] = {
@@ -127,10 +151,10 @@ static cmdline_spec render_options(render_opts *o, cmdline_option rows[RENDER_RO
          .def = "the first scalar level set"},
         {NULL, 'o', "OUT.exr", "OpenEXR output: R,G,B, Z, N.X,N.Y,N.Z, steps, fallbacks; required", CMDLINE_TEXT,
          &o->out, .def = ""},
-        {"method", 0, "M", "sphere | relaxed | enhanced | auto", CMDLINE_CALL, &o->method,
-         .def = sdft_method_name(o->method), .handle = set_method},
-        {"omega", 0, "W", "relaxed: [1, 2); enhanced: (0, 1]", CMDLINE_FLOAT, &o->omega, .lo = -inf, .hi = inf,
-         .def = omega_def, .seen = &o->omega_set},
+        {"method", 0, "M", "sphere | relaxed (Keinert) | relaxed-bv (Ban-Valasek Alg. 2) | enhanced | auto",
+         CMDLINE_CALL, &o->method, .def = sdft_method_name(o->method), .handle = set_method},
+        {"omega", 0, "W", "relaxed, relaxed-bv: [1, 2); enhanced: (0, 1]", CMDLINE_FLOAT, &o->omega, .lo = -inf,
+         .hi = inf, .def = omega_def, .seen = &o->omega_set},
         {"beta", 0, "B", "auto: (0, 1)", CMDLINE_FLOAT, &o->beta, .lo = -inf, .hi = inf},
         {"eps", 0, "E", "convergence radius, world units", CMDLINE_FLOAT, &o->eps, .lo = 0.0, .hi = inf},
         {"max-steps", 0, "N", "most SDF evaluations per ray", CMDLINE_INT, &o->max_steps, .lo = 1, .hi = MAX_STEPS},
@@ -179,7 +203,7 @@ static cmdline_spec render_options(render_opts *o, cmdline_option rows[RENDER_RO
         {"eps-min", 0, "E",
          "secondary rays leave a hit p by 2 max(E, |f(p)|) along the normal (Keinert's\n"
          "dynamic epsilon), world units",
-         CMDLINE_FLOAT, &o->eps_min, .lo = 0.0, .hi = inf, .def = "the normal's step + eps"},
+         CMDLINE_FLOAT, &o->eps_min, .lo = 0.0, .hi = inf, .def = "the field's feature size, the normal's step"},
         {"smooth-iters", 0, "K", "discontinuity reduction: K fixed-point iterations per hit (the paper: 3)",
          CMDLINE_INT, &o->smooth_iters, .lo = 0, .hi = SDFT_MAX_SMOOTH_ITERS},
         {"no-convex", 0, NULL, "rays inside a convex part march through it, not back from its bounding sphere",
@@ -193,6 +217,13 @@ static cmdline_spec render_options(render_opts *o, cmdline_option rows[RENDER_RO
         {"quiet", 0, NULL, "no progress line while loading, no summary line when done (both on stderr)", CMDLINE_SET,
          &o->quiet, .value = 1, .def = ""},
         {"threads", 0, "N", "OpenMP threads, 0 = all cores", CMDLINE_INT, &o->threads, .lo = 0, .hi = MAX_THREADS},
+        {"device", 0, "cpu|vulkan",
+         "vulkan: trace a grid (--grid) on a GPU, one invocation a pixel, with the same\n"
+         "trace code; hard shadows on the grey surface (no materials, soft shadows or\n"
+         "occlusion); ms is the GPU's time for the frame",
+         CMDLINE_CALL, &o->vulkan, .def = "cpu", .handle = set_device},
+        {"vulkan-device", 0, "N", "the Vulkan device, as vulkaninfo lists them (-1: the first GPU, else any)",
+         CMDLINE_INT, &o->vulkan_device, .lo = -1, .hi = 1024},
         {"png", 0, "OUT.png", "sRGB preview", CMDLINE_TEXT, &o->png, .value = 1},
         {"heatmap", 0, "steps|fallbacks OUT.png", "false-colour map of the per-pixel counts", CMDLINE_TEXT, o->heatmap,
          .value = 2, .def = "none"},
@@ -243,6 +274,10 @@ static int check_opts(const render_opts *o, char *msg, size_t len)
         snprintf(msg, len, "--heatmap-max needs --heatmap");
     else if (o->fp16 && !o->grid)
         snprintf(msg, len, "--fp16 applies to a --grid .vdb file");
+    else if (o->vulkan && !o->grid)
+        snprintf(msg, len, "--device vulkan renders grids: give --grid FILE");
+    else if (o->vulkan && o->fp16)
+        snprintf(msg, len, "--device vulkan renders float grids: leave out --fp16");
     else if (o->camera_set && o->camera[0] == o->camera[3] && o->camera[1] == o->camera[4] &&
              o->camera[2] == o->camera[5])
         snprintf(msg, len, "--camera: the eye and the look-at point must differ");
@@ -283,6 +318,48 @@ static int show_loading(void *user, float done)
     return 0;
 }
 
+/* The grid `name` of the --grid file into *out; SDFT_ENOTFOUND quietly
+ * when it has none. */
+static sdft_error open_beside(const render_opts *o, const char *name, sdft_grid **out, char *msg, size_t len)
+{
+    sdft_grid_options vo = sdft_grid_options_defaults();
+    vo.path = o->grid, vo.name = name;
+    return sdft_vdb_open(&vo, out, msg, len);
+}
+
+/* The surface's materials, when the file has them beside it (SURFACE.material_ids and
+ * SURFACE.material_table, as `sdftrace bake --materials` writes them): set on src->grid,
+ * the indices kept in src->ids; without them, nothing. 0, or -1 with msg. */
+static int open_grid_materials(const render_opts *o, render_source *src, char *msg, size_t len)
+{
+    char ids_name[300], table_name[300];
+    snprintf(ids_name, sizeof ids_name, "%s.material_ids", src->name);
+    snprintf(table_name, sizeof table_name, "%s.material_table", src->name);
+    sdft_error rc = open_beside(o, ids_name, &src->ids, msg, len);
+    if (rc == SDFT_ENOTFOUND)
+        return 0;
+    if (rc)
+        return -1;
+    sdft_grid *t = NULL;
+    rc = open_beside(o, table_name, &t, msg, len);
+    if (rc == SDFT_ENOTFOUND)
+        snprintf(msg, len, "%s: no grid %.100s beside the material indices", o->grid, table_name);
+    static sdft_material table[SDFT_GRID_MAX_MATERIALS];
+    size_t count = 0;
+    if (!rc)
+        rc = sdft_grid_material_table(t, table, SDFT_GRID_MAX_MATERIALS, &count, msg, len);
+    sdft_grid_free(t);
+    if (!rc)
+        rc = sdft_grid_set_materials(src->grid, src->ids, table, count, msg, len);
+    if (rc) {
+        sdft_grid_free(src->ids);
+        src->ids = NULL;
+        return -1;
+    }
+    src->materials = 1;
+    return 0;
+}
+
 /* A grid file as the field. Its view: the scene's, given --scene, else a
  * camera in front of (+z) the active bounding box framing it, a light above. */
 static int open_grid(const render_opts *o, render_source *src, char *msg, size_t len)
@@ -305,14 +382,20 @@ static int open_grid(const render_opts *o, render_source *src, char *msg, size_t
     vo.path = o->grid, vo.name = o->grid_name;
     vo.quant = o->fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE;
     vo.progress = show_loading;
-    vo.defer = SDFT_DEFER_WHERE_EXACT; /* .vdb: leaves read as rays reach them: the first image sooner, memory for what
-                                          it shows */
+    /* .vdb: leaves read as rays reach them: the first image sooner, memory
+     * for what it shows; a GPU takes the grid whole */
+    vo.defer = o->vulkan ? SDFT_DEFER_NONE : SDFT_DEFER_WHERE_EXACT;
     vo.progress_user = &bar;
     const sdft_error rc = sdft_vdb_open(&vo, &g, msg, len);
     progress_bar_clear(&bar);
     if (rc)
         return -1;
-    *src = (render_source){.field = sdft_grid_field(g, SDFT_GRID_BOUND_FAR), .name = sdft_grid_name(g), .grid = g};
+    *src = (render_source){.name = sdft_grid_name(g), .grid = g};
+    if (o->materials != 0 && open_grid_materials(o, src, msg, len)) {
+        sdft_grid_free(g);
+        return -1;
+    }
+    src->field = sdft_grid_field(g, SDFT_GRID_BOUND_FAR);
     if (scene) {
         src->camera = scene->camera, src->light = scene->light;
         return 0;
@@ -324,7 +407,14 @@ static int open_grid(const render_opts *o, render_source *src, char *msg, size_t
     return 0;
 }
 
-static void close_field(render_source *src) { sdft_grid_free(src->grid); }
+static void close_field(render_source *src)
+{
+    sdft_grid_free(src->grid);
+    sdft_grid_free(src->ids);
+}
+
+/* Whether the field declares convex parts for Keinert's 3.5. */
+static int has_convex_parts(const sdft_field *f) { return f->accel && f->accel->convex_count > 0; }
 
 /* Whether render frees its field before the process exits. Not in a
  * release build: once the image is written the process ends, and the
@@ -370,7 +460,7 @@ static sdft_render_params make_params(const render_opts *o, const render_source 
     p.reflect_bounces = o->bounces[0], p.refract_bounces = o->bounces[1];
     p.eps_min = o->eps_min;
     p.smooth_iters = o->smooth_iters;
-    p.convex = o->convex;
+    p.convex = o->convex && has_convex_parts(&src->field); /* as applied, for the JSON */
     p.soft_shadows = o->soft_shadows;
     p.ao = o->ao;
     return p;
@@ -411,14 +501,44 @@ static void grid_leaves(const render_source *src, uint64_t *leaves, uint64_t *fi
         sdft_grid_leaf_counts(src->grid, leaves, filled, failed);
 }
 
-/* sdft_render, and the processor time its threads took together, in
- * *cpu_ms: on a machine shared with other work it moves less than the
- * wall time (the stats' ms). */
-static sdft_error render_timed(const render_source *src, const sdft_render_params *p, sdft_image *img,
+/* The grid rendered on the Vulkan device o asks for (sdftrace/gpu.h): the
+ * device opened, the grid uploaded, one frame, all released; the device's
+ * name into src->device. */
+static sdft_error render_vulkan(const render_opts *o, render_source *src, const sdft_render_params *p, sdft_image *img,
+                                sdft_render_stats *st, char *msg, size_t len)
+{
+#if defined(SDFT_WITH_VULKAN)
+    sdft_gpu_options go = sdft_gpu_options_defaults();
+    go.device = o->vulkan_device;
+    sdft_gpu *gpu = NULL;
+    sdft_gpu_grid *gg = NULL;
+    sdft_error rc = sdft_gpu_create(&go, &gpu, msg, len);
+    if (!rc) {
+        snprintf(src->device, sizeof src->device, "%s", sdft_gpu_device_name(gpu));
+        rc = sdft_gpu_grid_create(gpu, src->grid, &gg, msg, len);
+    }
+    if (!rc)
+        rc = sdft_gpu_render(gg, p, img, st, msg, len);
+    sdft_gpu_grid_release(gg);
+    sdft_gpu_release(gpu);
+    return rc;
+#else
+    (void)o, (void)src, (void)p, (void)img, (void)st;
+    snprintf(msg, len, "this sdftrace was built without Vulkan (SDFT_WITH_VULKAN: libvulkan-dev and glslc)");
+    return SDFT_EINVAL;
+#endif
+}
+
+/* sdft_render, or with --device vulkan the GPU's, and the processor time
+ * its threads took together, in *cpu_ms: on a machine shared with other
+ * work it moves less than the wall time (the stats' ms). */
+static sdft_error render_timed(const render_opts *o, render_source *src, const sdft_render_params *p, sdft_image *img,
                                sdft_render_stats *st, double *cpu_ms, char *msg, size_t len)
 {
     const clock_t c0 = clock();
-    const sdft_error rc = sdft_render(&src->field, p, img, st, msg, len);
+    snprintf(src->device, sizeof src->device, "cpu");
+    const sdft_error rc =
+        o->vulkan ? render_vulkan(o, src, p, img, st, msg, len) : sdft_render(&src->field, p, img, st, msg, len);
     *cpu_ms = 1000.0 * (double)(clock() - c0) / CLOCKS_PER_SEC;
     return rc;
 }
@@ -451,11 +571,17 @@ static void print_json(const render_source *src, const sdft_render_params *p, co
     printf("\"cpu_ms\": %.3f, \"materials\": %s, \"bounces\": [%d, %d], \"eps_min\": %.6g, \"smooth_iters\": %d, "
            "\"convex\": %s, "
            "\"soft_shadows\": %.6g, \"ao\": %s, \"shadow_steps\": %llu, \"secondary_rays\": %llu, "
-           "\"secondary_steps\": %llu, \"mean_secondary_steps\": %.4f}\n",
-           cpu_ms, p->materials ? "true" : "false", p->reflect_bounces, p->refract_bounces, p->eps_min, p->smooth_iters,
+           "\"secondary_steps\": %llu, \"mean_secondary_steps\": %.4f, \"dynamic_eps_hits\": %llu, "
+           "\"dynamic_eps_from_f\": %llu, \"secondary_self_hits\": %llu, \"device\": ",
+           cpu_ms, p->materials ? "true" : "false", p->reflect_bounces, p->refract_bounces,
+           p->eps_min > 0.0f ? p->eps_min : sdft_field_feature_size(&src->field), p->smooth_iters,
            p->convex ? "true" : "false", p->soft_shadows, p->ao ? "true" : "false",
            (unsigned long long)st->shadow_steps, (unsigned long long)st->secondary_rays,
-           (unsigned long long)st->secondary_steps, (double)st->secondary_steps / primary);
+           (unsigned long long)st->secondary_steps, (double)st->secondary_steps / primary,
+           (unsigned long long)st->dynamic_eps_hits, (unsigned long long)st->dynamic_eps_from_f,
+           (unsigned long long)st->secondary_self_hits);
+    json_put_string(stdout, src->device);
+    printf("}\n");
 }
 
 /* The one line on stderr when a render is done: what was made, how much
@@ -502,6 +628,21 @@ int cmd_render(int argc, char **argv)
         cli_error("render", msg);
         return 2;
     }
+    if (!o.convex && !has_convex_parts(&src.field)) {
+        if (o.grid)
+            snprintf(msg, sizeof msg,
+                     "--no-convex: a grid declares no convex parts, so the convex optimization (3.5) "
+                     "never applies to %s",
+                     o.grid);
+        else
+            snprintf(msg, sizeof msg,
+                     "--no-convex: scene '%s' declares no convex parts, so the convex optimization "
+                     "(3.5) never applies to it",
+                     src.name);
+        cli_error("render", msg);
+        close_field(&src);
+        return 2;
+    }
     sdft_render_params p = make_params(&o, &src);
     if (sdft_trace_params_check(&p.trace, msg, sizeof msg) || atomic_file_check_writable(o.out, msg, sizeof msg) ||
         (o.png && atomic_file_check_writable(o.png, msg, sizeof msg)) ||
@@ -517,8 +658,8 @@ int cmd_render(int argc, char **argv)
     int rc = 0;
     if (sdft_image_alloc(&img, p.width, p.height, msg, sizeof msg)) {
         rc = 1;
-    } else if (render_timed(&src, &p, &img, &st, &cpu_ms, msg, sizeof msg)) {
-        rc = 2; /* parameters the renderer rejects, e.g. a degenerate camera */
+    } else if (render_timed(&o, &src, &p, &img, &st, &cpu_ms, msg, sizeof msg)) {
+        rc = 2; /* parameters the renderer rejects, e.g. a degenerate camera; no Vulkan device */
     } else if (leaves_unreadable(&o, &src, msg, sizeof msg) || write_outputs(&o, &img, msg, sizeof msg)) {
         rc = 1;
     }

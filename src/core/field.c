@@ -2,6 +2,7 @@
  * by tetrahedral differences and clipping rays to its bounds. */
 #include <string.h>
 
+#include "ray_box.h"
 #include "sdftrace/field.h"
 
 sdft_field sdft_field_defaults(void)
@@ -56,27 +57,5 @@ void sdft_field_distances(const sdft_field *f, sdft_scratch *s, const sdft_vec3 
 
 int sdft_aabb_clip(sdft_aabb box, sdft_vec3 org, sdft_vec3 dir, float tnear, float tfar, float *t0, float *t1)
 {
-    const float o[3] = {org.x, org.y, org.z}, d[3] = {dir.x, dir.y, dir.z};
-    const float lo[3] = {box.lo.x, box.lo.y, box.lo.z}, hi[3] = {box.hi.x, box.hi.y, box.hi.z};
-    float a = tnear, b = tfar;
-    for (int k = 0; k < 3; k++) {
-        if (d[k] == 0.0f) {
-            if (o[k] < lo[k] || o[k] > hi[k])
-                return 0;
-            continue;
-        }
-        float inv = 1.0f / d[k];
-        float ta = (lo[k] - o[k]) * inv, tb = (hi[k] - o[k]) * inv;
-        if (ta > tb) {
-            float tmp = ta;
-            ta = tb, tb = tmp;
-        }
-        /* NaN (0 * inf at a slab's plane) leaves a and b as they are. */
-        a = ta > a ? ta : a;
-        b = tb < b ? tb : b;
-    }
-    if (a > b)
-        return 0;
-    *t0 = a, *t1 = b;
-    return 1;
+    return ray_box_clip(box, org, dir, tnear, tfar, t0, t1);
 }

@@ -54,11 +54,6 @@
 #define RENDER_STR_(x) #x
 #define RENDER_STR(x) RENDER_STR_(x)
 
-/* Shading constants: a warm grey surface, a blue sky. */
-static const sdft_vec3 ALBEDO = {0.80f, 0.76f, 0.70f};
-static const sdft_vec3 SKY_HORIZON = {0.78f, 0.85f, 0.95f};
-static const sdft_vec3 SKY_ZENITH = {0.30f, 0.50f, 0.85f};
-
 sdft_render_params sdft_render_defaults(void)
 {
     return (sdft_render_params){
@@ -72,7 +67,7 @@ sdft_render_params sdft_render_defaults(void)
         .cones = 1,
         .threads = 0,
         .materials = 0,
-        .material = {.colour = ALBEDO, .reflectance = 0.0f, .ior = 0.0f},
+        .material = {.colour = RENDER_ALBEDO, .reflectance = 0.0f, .ior = 0.0f},
         .reflect_bounces = 2,
         .refract_bounces = 8,
         .eps_min = 0.0f,
@@ -131,32 +126,6 @@ void sdft_image_free(sdft_image *img)
     memset(img, 0, sizeof *img);
 }
 
-/* What a ray that hits nothing shows: the sky at its direction's height
- * `up` (the unit direction's y), or black for depth alone. */
-sdft_vec3 render_miss_colour(const sdft_render_params *rp, float up)
-{
-    if (rp->depth_only)
-        return sdft_v3(0, 0, 0);
-    float k = sdft_minf(sdft_maxf(up, 0.0f), 1.0f);
-    return sdft_add(sdft_scale(SKY_HORIZON, 1.0f - k), sdft_scale(SKY_ZENITH, k));
-}
-
-/* The surface's colour under diffuse light of cosine `diffuse` (0: in shadow). */
-static sdft_vec3 lit(float diffuse) { return sdft_scale(ALBEDO, RENDER_AMBIENT + (1.0f - RENDER_AMBIENT) * diffuse); }
-
-/* The shadow ray from surface point p (normal n) to the point light: its
- * origin lifted off the surface by `lift`. 0 when p is at the light. */
-static int shadow_ray(sdft_vec3 p, sdft_vec3 n, float lift, sdft_vec3 light, sdft_ray *ray)
-{
-    sdft_vec3 org = sdft_madd(p, n, lift);
-    sdft_vec3 to_light = sdft_sub(light, org);
-    float dist = sdft_length(to_light);
-    if (!(dist > 0.0f))
-        return 0;
-    *ray = (sdft_ray){.org = org, .tnear = 0.0f, .dir = sdft_scale(to_light, 1.0f / dist), .tfar = dist};
-    return 1;
-}
-
 /* The directions of the tile whose first pixel is (x0, y0) into td, all
  * TILE x TILE of them (a tile at the image's edge has some that are never
  * read): sdft_view_ray's, the same operations in the same order (so the
@@ -164,20 +133,14 @@ static int shadow_ray(sdft_vec3 p, sdft_vec3 n, float lift, sdft_vec3 light, sdf
 static void primary_dirs(const sdft_view *v, int x0, int y0, tile_dirs *td)
 {
     const int x1 = x0 + TILE, y1 = y0 + TILE;
-    const float tl[3] = {v->top_left.x, v->top_left.y, v->top_left.z};
-    const float r[3] = {v->right_per_px.x, v->right_per_px.y, v->right_per_px.z};
-    const float dn[3] = {v->down_per_px.x, v->down_per_px.y, v->down_per_px.z};
+    const sdft_vec3 tl = v->top_left, r = v->right_per_px, dn = v->down_per_px;
     for (int y = y0; y < y1; y++) {
         const float py = (float)y + 0.5f;
         float *restrict dx = td->d[0] + (y - y0) * TILE, *restrict dy = td->d[1] + (y - y0) * TILE,
                         *restrict dz = td->d[2] + (y - y0) * TILE;
         for (int i = 0; i < x1 - x0; i++) {
-            const float px = (float)(x0 + i) + 0.5f;
-            const float ax = tl[0] + r[0] * px + dn[0] * py, ay = tl[1] + r[1] * px + dn[1] * py,
-                        az = tl[2] + r[2] * px + dn[2] * py;
-            const float len = sqrtf(ax * ax + ay * ay + az * az);
-            const float inv = 1.0f / len, s = len > 0.0f ? inv : 1.0f; /* sdft_normalize; no branch */
-            dx[i] = ax * s, dy[i] = ay * s, dz[i] = az * s;
+            const sdft_vec3 d = render_view_dir(tl, r, dn, (float)(x0 + i) + 0.5f, py);
+            dx[i] = d.x, dy[i] = d.y, dz[i] = d.z;
         }
     }
 }
@@ -209,19 +172,15 @@ static int shade_pixel(const frame *fr, sdft_scratch *s, sdft_ray ray, sdft_hit 
         return 0;
     sdft_vec3 p = sdft_madd(ray.org, ray.dir, h.t);
     /* The exact root's own normal where the trace has one (sdft_hit.normal). */
-    sdft_vec3 n = sdft_dot(h.normal, h.normal) > 0.25f ? h.normal : sdft_field_normal(f, s, p);
-    if (!sdft_isfinite3(n) || !(sdft_dot(n, n) > 0.25f)) /* not finite, or no unit vector */
-        n = sdft_scale(ray.dir, -1.0f);
+    const sdft_vec3 n =
+        render_facing_normal(render_has_normal(h.normal) ? h.normal : sdft_field_normal(f, s, p), ray.dir);
     out->normal = n;
 
     sdft_vec3 l = sdft_normalize(sdft_sub(rp->light, p));
     float diffuse = sdft_maxf(sdft_dot(n, l), 0.0f);
-    out->rgb = lit(diffuse);
-    /* Lift the shadow ray's origin past the convergence radius at this hit
-     * and the normal's difference step, so it does not re-hit its own
-     * surface at t = 0. */
-    float lift = 4.0f * (tp->eps + tp->pixel_radius * h.t) + 2.0f * fr->feature;
-    return diffuse > 0.0f && rp->shadows && shadow_ray(p, n, lift, rp->light, shadow);
+    out->rgb = render_lit(diffuse);
+    return diffuse > 0.0f && rp->shadows &&
+           render_shadow_ray(p, n, render_shadow_lift(*tp, h.t, fr->feature), rp->light, shadow);
 }
 
 /* The shadow ray's hit: its counts, and ambient light alone if it hit. */
@@ -232,14 +191,7 @@ static void shadow_pixel(sdft_hit h, pixel_result *out)
     out->fallbacks += h.fallbacks;
     out->rays++;
     if (h.status == SDFT_HIT)
-        out->rgb = lit(0.0f);
-}
-
-/* The distance from p to box b (0 inside it). */
-static float box_distance(sdft_aabb b, sdft_vec3 p)
-{
-    const sdft_vec3 out = sdft_max_v(sdft_max_v(sdft_sub(b.lo, p), sdft_sub(p, b.hi)), sdft_v3(0, 0, 0));
-    return sdft_length(out);
+        out->rgb = render_lit(0.0f);
 }
 
 /* The distance from p to the farthest corner of box b. */
@@ -258,6 +210,7 @@ typedef struct tile_stats {
     uint64_t rays, steps, fallbacks, hits, nonconverged;
     uint64_t primary_steps, primary_fallbacks;
     uint64_t shadow_steps, secondary_steps, secondary_rays;
+    uint64_t eps_hits, eps_from_f, self_hits;
     uint32_t cone_steps;
 } tile_stats;
 
@@ -277,6 +230,7 @@ static void store_pixel(const frame *fr, int x, int y, const pixel_result *px, s
     ts->primary_steps += px->primary_steps, ts->primary_fallbacks += px->primary_fallbacks;
     ts->shadow_steps += px->shadow_steps;
     ts->secondary_steps += px->secondary_steps, ts->secondary_rays += px->secondary_rays;
+    ts->eps_hits += px->eps_hits, ts->eps_from_f += px->eps_from_f, ts->self_hits += px->self_hits;
     ts->hits += px->status == SDFT_HIT;
     ts->nonconverged += px->status == SDFT_NOT_CONVERGED;
 }
@@ -336,32 +290,13 @@ static void render_block(const frame *fr, sdft_scratch *s, int x0, int y0, int x
 }
 
 /* 0 when no ray from the eye through the image rectangle [x0, x1] x [y0,
- * y1] (pixel units) can meet box b: the box lies wholly on the outer side
- * of one of the four planes through the eye and the rectangle's edges, or
- * wholly behind the eye. Conservative: 1 does not promise a hit. */
+ * y1] (pixel units) can meet box b (render_rect_sees_box). */
 static int rect_sees_box(const sdft_view *v, float x0, float y0, float x1, float y1, sdft_aabb b)
 {
     const sdft_vec3 c = sdft_view_ray(v, 0.5f * (x0 + x1), 0.5f * (y0 + y1)).dir;
     const sdft_vec3 d[4] = {sdft_view_ray(v, x0, y0).dir, sdft_view_ray(v, x1, y0).dir, sdft_view_ray(v, x1, y1).dir,
                             sdft_view_ray(v, x0, y1).dir};
-    sdft_vec3 n[5];
-    for (int i = 0; i < 4; i++) {
-        n[i] = sdft_cross(d[i], d[(i + 1) & 3]);
-        if (sdft_dot(n[i], c) < 0.0f)
-            n[i] = sdft_scale(n[i], -1.0f);
-    }
-    n[4] = c;
-    for (int i = 0; i < 5; i++) {
-        int outside = 1;
-        for (int k = 0; k < 8 && outside; k++) {
-            const sdft_vec3 corner =
-                sdft_v3((k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z);
-            outside = sdft_dot(sdft_sub(corner, v->from), n[i]) < 0.0f;
-        }
-        if (outside)
-            return 0;
-    }
-    return 1;
+    return render_rect_sees_box(v->from, d, c, b);
 }
 
 /* Writes n 32-bit words from src to dst, or n copies of *src when `fill`,
@@ -517,19 +452,6 @@ static void render_tile(const frame *fr, sdft_scratch *s, int tile, sdft_image *
         }
 }
 
-/* 1 when the frame's eye is where the field is positive, so that each
- * primary ray's first root lies in the field's hull (field.h): outside the
- * field's box (cone_tnear > 0; the hull's promise covers rays that enter
- * it), or inside it where the field is > 0. */
-static int eye_outside(const frame *fr)
-{
-    if (fr->cone_tnear > 0.0f)
-        return 1;
-    sdft_scratch s;
-    sdft_scratch_init(fr->f, &s);
-    return sdft_field_distance(fr->f, &s, fr->rp->camera.from) > 0.0f;
-}
-
 /* What is wrong with the shading beyond the hard shadow, or NULL. */
 static const char *shading_problem(const sdft_render_params *rp)
 {
@@ -553,7 +475,7 @@ static const char *shading_problem(const sdft_render_params *rp)
     return NULL;
 }
 
-static const char *render_params_problem(const sdft_field *f, const sdft_render_params *rp, const sdft_image *img)
+static const char *render_params_problem(const sdft_field *f, const sdft_render_params *rp)
 {
     if (!f || !f->distance)
         return "no field, or a field without a distance function";
@@ -562,8 +484,6 @@ static const char *render_params_problem(const sdft_field *f, const sdft_render_
     const sdft_camera *c = &rp->camera;
     if (rp->width < 1 || rp->height < 1)
         return "width and height must be at least 1";
-    if (!img || img->width != rp->width || img->height != rp->height || !img->rgb)
-        return "the image is not allocated at the render size";
     if (!sdft_isfinite3(c->from) || !sdft_isfinite3(c->at) || !sdft_isfinite3(c->up))
         return "camera from, at and up must be finite";
     if (!(sdft_length(sdft_sub(c->at, c->from)) > 0.0f))
@@ -577,18 +497,34 @@ static const char *render_params_problem(const sdft_field *f, const sdft_render_
     return shading_problem(rp);
 }
 
-sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_image *img, sdft_render_stats *stats,
-                       char *msg, size_t msg_len)
+/* The trace parameters of a frame: params' own, with the screen-space
+ * criterion's pixel radius where it is asked for. */
+static sdft_trace_params frame_trace(const sdft_render_params *params)
 {
-    const char *why = render_params_problem(f, params, img);
-    if (why)
-        return fail_with(msg, msg_len, SDFT_EINVAL, "%s", why);
     sdft_trace_params tp = params->trace;
     if (params->screen_space)
         tp.pixel_radius = sdft_camera_pixel_radius(&params->camera, params->height);
-    const sdft_error rc = sdft_trace_params_check(&tp, msg, msg_len);
+    return tp;
+}
+
+sdft_error sdft_render_params_check(const sdft_field *f, const sdft_render_params *params, char *msg, size_t msg_len)
+{
+    const char *why = render_params_problem(f, params);
+    if (why)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "%s", why);
+    const sdft_trace_params tp = frame_trace(params);
+    return sdft_trace_params_check(&tp, msg, msg_len);
+}
+
+sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sdft_image *img, sdft_render_stats *stats,
+                       char *msg, size_t msg_len)
+{
+    const sdft_error rc = sdft_render_params_check(f, params, msg, msg_len);
     if (rc)
         return rc;
+    if (!img || img->width != params->width || img->height != params->height || !img->rgb)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "the image is not allocated at the render size");
+    const sdft_trace_params tp = frame_trace(params);
 
     int tiles_x = (params->width + TILE - 1) / TILE, tiles_y = (params->height + TILE - 1) / TILE;
     int tiles = tiles_x * tiles_y;
@@ -601,7 +537,7 @@ sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sd
                 .feature = sdft_field_feature_size(f),
                 .view = sdft_camera_view(&params->camera, params->width, params->height),
                 .cone_tfar = farthest_corner(f->bounds, params->camera.from),
-                .cone_tnear = box_distance(f->bounds, params->camera.from)};
+                .cone_tnear = render_box_distance(f->bounds, params->camera.from)};
     const sdft_field inside = secondary_inside(f);
     fr.whitted = render_whitted_wanted(params);
     fr.inside = &inside;
@@ -610,7 +546,8 @@ sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sd
 
     double t0 = omp_get_wtime();
     hull_bins bins = {0};
-    if (params->cones && f->accel && f->accel->hull_count && eye_outside(&fr)) {
+    if (params->cones && f->accel && f->accel->hull_count &&
+        render_eye_outside(f, params->camera.from, fr.cone_tnear)) {
         if (render_hull_bin(f->accel, &fr.view, params->width, params->height, threads, &bins) == 0)
             fr.bins = &bins;
         else /* no memory for the bins: the cones serve, the same picture */
@@ -647,6 +584,9 @@ sdft_error sdft_render(const sdft_field *f, const sdft_render_params *params, sd
         st.shadow_steps += per_tile[tile].shadow_steps;
         st.secondary_steps += per_tile[tile].secondary_steps;
         st.secondary_rays += per_tile[tile].secondary_rays;
+        st.dynamic_eps_hits += per_tile[tile].eps_hits;
+        st.dynamic_eps_from_f += per_tile[tile].eps_from_f;
+        st.secondary_self_hits += per_tile[tile].self_hits;
     }
     free(per_tile);
     if (stats)

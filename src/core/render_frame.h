@@ -1,14 +1,13 @@
 /* sdftrace — what the frame loop (render.c) and Whitted shading
- * (render_whitted.c) share: a frame's settings, read by every pixel, and
- * what one pixel gives the image and the counts. Internal header. */
+ * (render_whitted.c) share: a frame's settings, read by every pixel, what
+ * one pixel gives the image and the counts, and the sky. Neither file calls
+ * into the other but through render_whitted.h. Internal header. */
 #ifndef SDFTRACE_RENDER_FRAME_H
 #define SDFTRACE_RENDER_FRAME_H
 
 #include "render_hull.h"
+#include "render_pixel.h"
 #include "sdftrace/render.h"
-
-/* The ambient share of the light on every surface. */
-#define RENDER_AMBIENT 0.12f
 
 /* What every pixel of one frame shares, set up once. */
 typedef struct frame {
@@ -33,11 +32,16 @@ typedef struct pixel_result {
     uint32_t primary_steps, primary_fallbacks; /* the primary ray's share of steps and fallbacks */
     uint32_t shadow_steps;                     /* the shadow rays' and occlusion samples' share of steps */
     uint32_t secondary_steps, secondary_rays;  /* reflection and refraction rays: their share, their number */
+    uint32_t eps_hits, eps_from_f; /* hits shaded the Whitted way, and of them those whose rays left by 2 |f(p)| */
+    uint32_t self_hits;            /* secondary rays that hit within 2 eps_min of their origin */
     sdft_status status;
 } pixel_result;
 
-/* The sky a ray that hits nothing shows, its unit direction's height `up`
- * (black for depth alone). */
-sdft_vec3 render_miss_colour(const sdft_render_params *rp, float up);
+/* What a ray that hits nothing shows: the sky at its unit direction's
+ * height `up` (the unit direction's y), or black for depth alone. */
+static inline sdft_vec3 render_miss_colour(const sdft_render_params *rp, float up)
+{
+    return render_sky(rp->depth_only, up);
+}
 
 #endif

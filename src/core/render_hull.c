@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "render_hull.h"
+#include "render_pixel.h"
 
 /* The pixel rectangle (x0, y0, x1, y1, inclusive, clipped to the image)
  * that holds every pixel whose ray may meet box b, with a hundredth of a
@@ -142,11 +143,9 @@ void render_hull_spans(const hull_bins *hb, const sdft_field_accel *a, sdft_vec3
     float inv[3][TILE * TILE];
     for (int i = 0; i < TILE * TILE; i++)
         span[0][i] = INFINITY, span[1][i] = -INFINITY;
-    for (int k = 0; k < 3; k++) /* a zero component: a huge slope of its sign, no 0 * inf */
-        for (int i = 0; i < TILE * TILE; i++) {
-            const float d = td->d[k][i];
-            inv[k][i] = 1.0f / (fabsf(d) > 1e-30f ? d : copysignf(1e-30f, d));
-        }
+    for (int k = 0; k < 3; k++)
+        for (int i = 0; i < TILE * TILE; i++)
+            inv[k][i] = render_slope(td->d[k][i]);
     for (uint32_t j = hb->first[tile]; j < hb->first[tile + 1]; j++) {
         const uint32_t b = hb->box[j];
         const int32_t *r = hb->rect + 4 * (size_t)b;
@@ -161,23 +160,8 @@ void render_hull_spans(const hull_bins *hb, const sdft_field_accel *a, sdft_vec3
             float *restrict in = span[0] + row, *restrict out = span[1] + row;
             const float *restrict ix = inv[0] + row, *restrict iy = inv[1] + row, *restrict iz = inv[2] + row;
             const float *restrict dx = td->d[0] + row, *restrict dy = td->d[1] + row, *restrict dz = td->d[2] + row;
-            for (int x = 0; x <= rx1 - rx0; x++) { /* selects, not branches, so that it vectorizes */
-                const float ax = lo[0] * ix[x], bx = hi[0] * ix[x], ay = lo[1] * iy[x], by = hi[1] * iy[x];
-                const float az = lo[2] * iz[x], bz = hi[2] * iz[x];
-                const float nd = sl.n.x * dx[x] + sl.n.y * dy[x] + sl.n.z * dz[x];
-                const float is = 1.0f / (fabsf(nd) > 1e-30f ? nd : copysignf(1e-30f, nd));
-                const float as = slo * is, bs = shi * is;
-                const float a = sdft_maxf(
-                    sdft_maxf(sdft_maxf(sdft_minf(ax, bx), sdft_minf(ay, by)), sdft_maxf(sdft_minf(az, bz), 0.0f)),
-                    sdft_minf(as, bs));
-                const float c = sdft_minf(sdft_minf(sdft_minf(sdft_maxf(ax, bx), sdft_maxf(ay, by)), sdft_maxf(az, bz)),
-                                          sdft_maxf(as, bs));
-                /* a <= c: the ray meets the box; one it misses widens nothing. (Two
-                 * selects first, then min and max: GCC 12 vectorizes this form.) */
-                const float enter = a <= c ? a : INFINITY, leave = a <= c ? c : -INFINITY;
-                in[x] = sdft_minf(in[x], enter);
-                out[x] = sdft_maxf(out[x], leave);
-            }
+            for (int x = 0; x <= rx1 - rx0; x++)
+                render_hull_box_span(lo, hi, sl.n, slo, shi, ix[x], iy[x], iz[x], dx[x], dy[x], dz[x], &in[x], &out[x]);
         }
     }
     for (int i = 0; i < TILE * TILE; i++)
@@ -194,4 +178,13 @@ int render_block_meets_hull(float (*span)[TILE * TILE], int x0, int y0, int x1, 
         for (int x = x0; x < x1; x++)
             meets |= span[0][y * TILE + x] < INFINITY;
     return meets;
+}
+
+int render_eye_outside(const sdft_field *f, sdft_vec3 eye, float tnear)
+{
+    if (tnear > 0.0f)
+        return 1;
+    sdft_scratch s;
+    sdft_scratch_init(f, &s);
+    return sdft_field_distance(f, &s, eye) > 0.0f;
 }

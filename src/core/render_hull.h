@@ -43,6 +43,12 @@ void render_hull_bins_free(hull_bins *hb);
 void render_hull_spans(const hull_bins *hb, const sdft_field_accel *a, sdft_vec3 o, int tile, const tile_dirs *td,
                        int x0, int y0, int x1, int y1, float (*span)[TILE * TILE]);
 
+/* 1 when the eye is where field f is positive, so that each primary
+ * ray's first root lies in the field's hull (field.h): outside the field's
+ * box (its distance to it, tnear, > 0; the hull's promise covers rays that
+ * enter it), or inside it where the field is > 0. */
+int render_eye_outside(const sdft_field *f, sdft_vec3 eye, float tnear);
+
 /* 1 when one of the tile's pixels [x0, x1) x [y0, y1) (tile coordinates)
  * has a span of the hull: the others are misses that need no trace. */
 int render_block_meets_hull(float (*span)[TILE * TILE], int x0, int y0, int x1, int y1);

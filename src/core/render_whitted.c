@@ -40,11 +40,11 @@ static sdft_material material_at(const frame *fr, sdft_vec3 p)
 }
 
 /* eps_min of 3.3: the parameter, or where it is 0 the normal's difference
- * step and the convergence radius at t. */
-static float eps_min_at(const frame *fr, float t)
-{
-    return fr->rp->eps_min > 0.0f ? fr->rp->eps_min : fr->feature + fr->tp.eps + fr->tp.pixel_radius * t;
-}
+ * step, the scale below which the normal is not known. A floor, as
+ * Keinert's global eps_min: how far a hit lies off the surface is |f(p)|'s
+ * to say (a refined hit: nothing; one settled by 3.4: eps(t); a
+ * screen-space candidate that ran out of steps: its distance). */
+static float eps_min_of(const frame *fr) { return fr->rp->eps_min > 0.0f ? fr->rp->eps_min : fr->feature; }
 
 /* A secondary ray's hit; inside: the ray starts inside the surface. */
 static sdft_hit trace_secondary(const path *pa, const sdft_ray *ray, int inside, uint32_t *steps)
@@ -145,7 +145,9 @@ static sdft_vec3 shade_hit(const path *pa, const sdft_ray *ray, sdft_hit h, int 
         n = sdft_scale(ray->dir, inside ? 1.0f : -1.0f);
     *n_out = n;
     const sdft_vec3 facing = inside ? sdft_scale(n, -1.0f) : n;
-    const float eps = secondary_eps(eps_min_at(fr, t), fp); /* 3.3 */
+    const float eps_min = eps_min_of(fr);
+    const float eps = secondary_eps(eps_min, fp); /* 3.3 */
+    pa->px->eps_hits++, pa->px->eps_from_f += fabsf(fp) > eps_min;
     const sdft_material m = material_at(fr, p);
     if (m.ior > 0.0f)
         return dielectric(pa, m, ray->dir, p, facing, eps, inside, reflections, refractions);
@@ -165,6 +167,7 @@ static sdft_vec3 radiance(const path *pa, sdft_ray ray, int inside, int reflecti
     px->secondary_rays++;
     const sdft_hit h = trace_secondary(pa, &ray, inside, &px->secondary_steps);
     px->fallbacks += h.fallbacks;
+    px->self_hits += h.status == SDFT_HIT && h.t < 2.0f * eps_min_of(pa->fr);
     if (h.status != SDFT_HIT && !(h.status == SDFT_NOT_CONVERGED && pa->fr->tp.pixel_radius > 0.0f))
         return render_miss_colour(pa->fr->rp, ray.dir.y);
     sdft_vec3 n;

@@ -1,5 +1,5 @@
-/* sdftrace — choosing a variant, its parameters, and clipping rays to the
- * field's bounds. */
+/* sdftrace — choosing a variant, its parameters, each variant's entry
+ * points, and clipping rays to the field's bounds. */
 #include <float.h>
 #include <stdio.h>
 #include <string.h>
@@ -7,7 +7,7 @@
 #include "fail.h"
 #include "march.h"
 
-static const char *const method_names[SDFT_METHOD_COUNT] = {"sphere", "relaxed", "enhanced", "auto"};
+static const char *const method_names[SDFT_METHOD_COUNT] = {"sphere", "relaxed", "enhanced", "auto", "relaxed-bv"};
 
 const char *sdft_method_name(sdft_method m) { return (unsigned)m < SDFT_METHOD_COUNT ? method_names[m] : "unknown"; }
 
@@ -20,10 +20,14 @@ sdft_error sdft_method_parse(const char *name, sdft_method *out, char *msg, size
             *out = (sdft_method)m;
             return SDFT_OK;
         }
-    return fail_with(msg, msg_len, SDFT_EINVAL, "unknown method '%s' (sphere, relaxed, enhanced or auto)", name);
+    return fail_with(msg, msg_len, SDFT_EINVAL, "unknown method '%s' (sphere, relaxed, relaxed-bv, enhanced or auto)",
+                     name);
 }
 
-float sdft_default_omega(sdft_method m) { return m == SDFT_RELAXED ? 1.5f : m == SDFT_ENHANCED ? 0.88f : 1.0f; }
+/* Over-relaxation (both forms) in [1, 2). */
+static int relaxes(sdft_method m) { return m == SDFT_RELAXED || m == SDFT_RELAXED_BV; }
+
+float sdft_default_omega(sdft_method m) { return relaxes(m) ? 1.5f : m == SDFT_ENHANCED ? 0.88f : 1.0f; }
 
 sdft_trace_params sdft_trace_defaults(void)
 {
@@ -45,7 +49,7 @@ sdft_error sdft_trace_params_check(const sdft_trace_params *p, char *msg, size_t
         why = "no trace parameters (NULL)";
     else if ((unsigned)p->method >= SDFT_METHOD_COUNT)
         why = "unknown tracing method";
-    else if (p->method == SDFT_RELAXED && !(p->omega >= 1.0f && p->omega < 2.0f))
+    else if (relaxes(p->method) && !(p->omega >= 1.0f && p->omega < 2.0f))
         why = "omega must be in [1, 2) for relaxed tracing";
     else if (p->method == SDFT_ENHANCED && !(p->omega > 0.0f && p->omega <= 1.0f))
         why = "omega must be in (0, 1] for enhanced tracing";
@@ -88,18 +92,31 @@ sdft_error sdft_trace_check(const sdft_field *f, const sdft_scratch *s, const sd
 
 static sdft_hit refused(void) { return (sdft_hit){.t = NAN, .distance = NAN, .status = SDFT_INVALID}; }
 
-/* Each variant's two entries, one ray and a stream, by method; refusal()
- * rules out any other method before the table is read. */
+/* Each variant's two entries (variants.h lists them): sdft_trace_NAME, one
+ * ray on its own, and march_stream_NAME, a stream; each with the
+ * variant's start and step folded into the loop. */
+#define VARIANT_ENTRIES(method, name)                                                                                  \
+    sdft_hit sdft_trace_##name(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p)  \
+    {                                                                                                                  \
+        return march_one(f, s, *ray, *p, name##_start, name##_step);                                                   \
+    }                                                                                                                  \
+    void march_stream_##name(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,     \
+                             const sdft_trace_params *p)                                                               \
+    {                                                                                                                  \
+        march_many(f, s, rays, hits, n, p, name##_start, name##_step);                                                 \
+    }
+MARCH_VARIANTS(VARIANT_ENTRIES)
+#undef VARIANT_ENTRIES
+
+/* The entries by method; refusal() rules out any other method before the
+ * table is read. */
+#define VARIANT_ROW(method, name) [method] = {sdft_trace_##name, march_stream_##name},
 static const struct {
     sdft_hit (*one)(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p);
     void (*stream)(const sdft_field *f, sdft_scratch *s, const sdft_ray *rays, sdft_hit *hits, size_t n,
                    const sdft_trace_params *p);
-} variants[SDFT_METHOD_COUNT] = {
-    [SDFT_SPHERE] = {sdft_trace_sphere, march_stream_sphere},
-    [SDFT_RELAXED] = {sdft_trace_relaxed, march_stream_relaxed},
-    [SDFT_ENHANCED] = {sdft_trace_enhanced, march_stream_enhanced},
-    [SDFT_AUTO] = {sdft_trace_auto, march_stream_auto},
-};
+} variants[SDFT_METHOD_COUNT] = {MARCH_VARIANTS(VARIANT_ROW)};
+#undef VARIANT_ROW
 
 sdft_hit sdft_trace(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, const sdft_trace_params *p)
 {
@@ -107,7 +124,7 @@ sdft_hit sdft_trace(const sdft_field *f, sdft_scratch *s, const sdft_ray *ray, c
         return refused();
     sdft_ray clipped;
     sdft_hit miss;
-    if (!march_clip(f, ray, &clipped, &miss))
+    if (!march_clip(f, *ray, &clipped, &miss))
         return miss;
     return variants[p->method].one(f, s, &clipped, p);
 }

@@ -389,8 +389,8 @@ static int8_t block_code(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const
 {
     const int32_t first_voxel[3] = {b[0] * 8, b[1] * 8, b[2] * 8};
     uint32_t local;
-    const uint32_t *e = directory_chunk(&g->leaves, first_voxel, &local);
-    const uint32_t w = e ? e[local] : 0u;
+    const uint32_t *e;
+    const uint32_t w = directory_chunk(g, first_voxel, &local, &e) ? e[local] : 0u;
     const pnanovdb_coord_t o = {b[0] * 8 + (sub >= 0 ? 4 * (sub & 1) : 0),
                                 b[1] * 8 + (sub >= 0 ? 4 * (sub >> 1 & 1) : 0),
                                 b[2] * 8 + (sub >= 0 ? 4 * (sub >> 2) : 0)};

@@ -69,7 +69,9 @@ static void gather_signs(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const
 {
     const int32_t c0[3] = {8 * b[0], 8 * b[1], 8 * b[2]};
     uint32_t local = 0;
-    const uint32_t *e = directory_chunk(&g->leaves, c0, &local);
+    const uint32_t *e = NULL;
+    if (!directory_chunk(g, c0, &local, &e))
+        e = NULL;
     s->slope[0] = s->slope[1] = s->slope[2] = 0.0;
     for (int x = 0; x < 9; x++)
         for (int y = 0; y < 9; y++) {

@@ -9,6 +9,7 @@
 #include <nanovdb/PNanoVDB.h>
 
 #include "fail.h"
+#include "grid_layout.h"
 #include "sdftrace/grid.h"
 
 /* The far bound (grid_bound.c): cells of `cell`^3 voxels over the active
@@ -31,8 +32,8 @@ typedef struct grid_far {
     float bonus;      /* world units added to smin e(x): the band's guarantee */
 } grid_far;
 
-enum { FAR_DISTANCE_BITS = 14, FAR_EMPTY_POSITIVE = 1, FAR_EMPTY_NEGATIVE = 2 };
-#define FAR_DISTANCE_SCALE 4.0f /* corner words per index unit */
+/* FAR_DISTANCE_BITS, FAR_EMPTY_POSITIVE, FAR_EMPTY_NEGATIVE and
+ * FAR_DISTANCE_SCALE: grid_layout.h. */
 
 /* The leaf directory (grid_leaves.c): for each region of 8^3 blocks of
  * the active box, a chunk of 9^3 entries (the region's blocks and its
@@ -41,8 +42,9 @@ enum { FAR_DISTANCE_BITS = 14, FAR_EMPTY_POSITIVE = 1, FAR_EMPTY_NEGATIVE = 2 };
  * GRID_TILE_POSITIVE / GRID_TILE_NEGATIVE for a tile of value +background
  * / -background, else 0. Float, Fp16, Fp8 and Fp4 grids; top NULL: none
  * (the accessor serves). */
-enum { GRID_CHUNK_SIDE = 9, GRID_CHUNK_ENTRIES = 9 * 9 * 9 };
-enum { GRID_TILE_POSITIVE = 1, GRID_TILE_NEGATIVE = 2, GRID_TILE_MARKERS = 3 }; /* below any value table's word */
+/* GRID_CHUNK_SIDE, GRID_CHUNK_ENTRIES and the markers GRID_TILE_POSITIVE,
+ * GRID_TILE_NEGATIVE (below GRID_TILE_MARKERS, under any value table's
+ * word): grid_layout.h. */
 typedef struct grid_leaves {
     uint32_t *top;   /* nr[0] x nr[1] x nr[2] regions, x fastest: chunk index + 1, 0 none */
     uint32_t *chunk; /* chunks x GRID_CHUNK_ENTRIES, x fastest */
@@ -102,6 +104,11 @@ struct sdft_grid {
     sdft_aabb *hull_gradient; /* with each box, world bounds on its cells' gradients */
     size_t hull_count;
     sdft_field_accel accel; /* what its fields point to (grid_accel_init) */
+    /* Its surface's materials (sdft_grid_set_materials, grid_material.c): the grid of indices
+     * into the table; NULL: none. */
+    const sdft_grid *material_ids;
+    sdft_material *material_table;
+    size_t material_count;
     char name[256];
 };
 
@@ -179,8 +186,31 @@ void grid_hull_free(sdft_grid *g);
  * prefetch hints and hull (grid_sample.c). Last at load, after the hull. */
 void grid_accel_init(sdft_grid *g);
 
+/* The material at world point p of a grid with materials (grid_material.c):
+ * its fields' sdft_field.material, ctx the grid. */
+sdft_material grid_material(const void *ctx, sdft_vec3 p);
+
 /* Memory for a big table (grid_memory.c): 64-byte aligned; free() releases
  * it. */
 void *grid_table_alloc(size_t bytes);
+
+_Static_assert(sizeof(pnanovdb_readaccessor_t) <= SDFT_SCRATCH_BYTES, "a read accessor must fit a thread's scratch");
+
+/* A thread's read accessor, kept in its scratch. */
+static inline pnanovdb_readaccessor_t *accessor(sdft_scratch *s) { return (pnanovdb_readaccessor_t *)(void *)s->bytes; }
+
+/* A deferred grid's leaf at byte `at`, holding voxel ijk, filled if it is
+ * not yet (grid_deferred.c); nothing for a grid loaded whole, or for an
+ * address that is not one of its leaves (a corrupt child offset is then
+ * read as it stands, as in any grid, never filled out of place). */
+static inline __attribute__((always_inline)) void grid_leaf_ready(const sdft_grid *g, uint64_t at, pnanovdb_coord_t ijk)
+{
+    const grid_deferred *d = &g->deferred;
+    if (!d->state)
+        return;
+    const uint64_t i = deferred_leaf_index(d, at);
+    if (i < d->count && __atomic_load_n(&d->state[i], __ATOMIC_ACQUIRE) != LEAF_READY)
+        grid_leaf_fill(g, at, ijk);
+}
 
 #endif

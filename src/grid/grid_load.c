@@ -314,6 +314,7 @@ void sdft_grid_free(sdft_grid *g)
         grid_far_free(g);
         grid_leaves_free(g);
         grid_deferred_free(g);
+        free(g->material_table);
         if (g->owned)
             free(g->words);
         if (g->release)

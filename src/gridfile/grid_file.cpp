@@ -36,16 +36,29 @@ nanovdb::GridHandle<> nano_handle(const openvdb::FloatGrid &grid, sdft_quant qua
 sdft_error write_grid(const openvdb::FloatGrid &grid, bool nvdb, sdft_quant quant, const std::string &path,
                       const std::string &label, char *msg, size_t msg_len)
 {
+    return write_grids(grid, {}, nvdb, quant, path, label, msg, msg_len);
+}
+
+sdft_error write_grids(const openvdb::FloatGrid &grid, const std::vector<openvdb::FloatGrid::ConstPtr> &beside,
+                       bool nvdb, sdft_quant quant, const std::string &path, const std::string &label, char *msg,
+                       size_t msg_len)
+{
     try {
         openvdb::initialize(); // the grid and metadata types a file names
         if (nvdb) {
-            nanovdb::io::writeGrid(path, nano_handle(grid, quant));
+            std::vector<nanovdb::GridHandle<>> handles;
+            handles.push_back(nano_handle(grid, quant));
+            for (const auto &g : beside)
+                handles.push_back(nano_handle(*g, SDFT_QUANT_NONE));
+            nanovdb::io::writeGrids(path, handles);
         } else {
             // A shallow copy (own metadata, shared tree) carries the half-float flag.
             openvdb::FloatGrid::Ptr out = openvdb::ConstPtrCast<openvdb::FloatGrid>(grid.copy());
             out->setSaveFloatAsHalf(quant == SDFT_QUANT_FP16);
+            openvdb::GridCPtrVec grids{out};
+            grids.insert(grids.end(), beside.begin(), beside.end());
             openvdb::io::File file(path);
-            file.write({out});
+            file.write(grids);
             file.close();
         }
     } catch (const std::bad_alloc &) {

@@ -6,6 +6,7 @@
 #define SDFTRACE_GRIDFILE_GRID_FILE_H
 
 #include <string>
+#include <vector>
 
 #include <nanovdb/util/GridHandle.h>
 #include <openvdb/openvdb.h>
@@ -26,6 +27,12 @@ nanovdb::GridHandle<> nano_handle(const openvdb::FloatGrid &grid, sdft_quant qua
 // throw std::bad_alloc.
 sdft_error write_grid(const openvdb::FloatGrid &grid, bool nvdb, sdft_quant quant, const std::string &path,
                       const std::string &label, char *msg, size_t msg_len);
+
+// The same with more grids after `grid` in the file, each stored as float
+// whatever `quant` (a surface's material grids).
+sdft_error write_grids(const openvdb::FloatGrid &grid, const std::vector<openvdb::FloatGrid::ConstPtr> &beside,
+                       bool nvdb, sdft_quant quant, const std::string &path, const std::string &label, char *msg,
+                       size_t msg_len);
 
 } // namespace sdft_vdb
 

@@ -33,6 +33,10 @@ int io_write_exr_into(atomic_file *to, const sdft_image *img, char *msg, size_t 
 int io_read_exr_floats(const char *path, int n, const char *const names[], float *planes[], int *width, int *height,
                        char *msg, size_t msg_len);
 
+/* A linear value, clamped to [0, 1], on the sRGB transfer curve in 8 bits:
+ * what the PNG preview stores. */
+unsigned char io_srgb8(float linear);
+
 /* 8-bit sRGB PNG of the image's linear RGB, through libpng. */
 int io_write_png(const char *path, const sdft_image *img, char *msg, size_t msg_len);
 int io_write_png_into(atomic_file *to, const sdft_image *img, char *msg, size_t msg_len);

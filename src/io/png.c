@@ -90,8 +90,7 @@ int io_write_whole(const char *path, io_writer write, const void *ctx, char *msg
     return atomic_file_commit(&af, msg, msg_len) ? -1 : 0;
 }
 
-/* Linear [0, 1] to the sRGB transfer curve, 8 bits. */
-static unsigned char srgb8(float linear)
+unsigned char io_srgb8(float linear)
 {
     float c = fminf(fmaxf(linear, 0.0f), 1.0f);
     float s = c <= 0.0031308f ? 12.92f * c : 1.055f * powf(c, 1.0f / 2.4f) - 0.055f;
@@ -107,7 +106,7 @@ int io_write_png_into(atomic_file *to, const sdft_image *img, char *msg, size_t 
         return -1;
     }
     for (size_t i = 0; i < 3 * n; i++)
-        rgb[i] = srgb8(img->rgb[i]);
+        rgb[i] = io_srgb8(img->rgb[i]);
     int rc = io_png_write_rgb8(to, rgb, img->width, img->height, 1, msg, msg_len);
     free(rgb);
     return rc;

@@ -30,6 +30,7 @@
 #include <tbb/task_arena.h>
 
 #include "atomic_file.h"
+#include "sdftrace/grid.h"
 #include "vdb_internal.h"
 
 using LeafT = openvdb::FloatTree::LeafNodeType;
@@ -114,14 +115,15 @@ struct Output {
         open = rc == SDFT_OK;
         return rc;
     }
-    // Writes the grid (.vdb or .nvdb by the target's extension) and renames
-    // it into place.
-    sdft_error write(const openvdb::FloatGrid &grid, bool fp16, char *msg, size_t msg_len)
+    // Writes the grid and those beside it (.vdb or .nvdb by the target's
+    // extension) and renames the file into place.
+    sdft_error write(const openvdb::FloatGrid &grid, const std::vector<openvdb::FloatGrid::ConstPtr> &beside, bool fp16,
+                     char *msg, size_t msg_len)
     {
         const char *dot = std::strrchr(af.path, '.');
         const bool nvdb = dot && std::strcmp(dot, ".nvdb") == 0;
-        if (sdft_error rc = sdft_vdb::write_grid(grid, nvdb, fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE, af.tmp_path,
-                                                 af.path, msg, msg_len))
+        if (sdft_error rc = sdft_vdb::write_grids(grid, beside, nvdb, fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE,
+                                                  af.tmp_path, af.path, msg, msg_len))
             return rc;
         open = false;
         return atomic_file_commit(&af, msg, msg_len);
@@ -141,6 +143,10 @@ sdft_error check(const sdft_field *f, const sdft_bake_params *p, const char *pat
         return fail_with(msg, msg_len, SDFT_EINVAL, "band must be a number of voxels in (0, 1000]");
     if (p->threads < 0)
         return fail_with(msg, msg_len, SDFT_EINVAL, "threads must be >= 0, got %d", p->threads);
+    if (p->materials && !f->material)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "the field has no materials to bake (sdft_field.material is NULL)");
+    if (p->materials && !path)
+        return fail_with(msg, msg_len, SDFT_EINVAL, "materials are baked into a file: give a path");
     if (path) {
         const char *dot = std::strrchr(path, '.');
         if (!dot || (std::strcmp(dot, ".vdb") != 0 && std::strcmp(dot, ".nvdb") != 0))
@@ -265,6 +271,87 @@ openvdb::FloatGrid::Ptr make_tree(const Baker &bk, const sdft_bake_params *p, co
     return grid;
 }
 
+bool same_material(const sdft_material &a, const sdft_material &b)
+{
+    return a.colour.x == b.colour.x && a.colour.y == b.colour.y && a.colour.z == b.colour.z &&
+           a.reflectance == b.reflectance && a.ior == b.ior;
+}
+
+// The index of m in table, appended if new.
+float material_index(std::vector<sdft_material> &table, const sdft_material &m)
+{
+    for (size_t k = 0; k < table.size(); k++)
+        if (same_material(table[k], m))
+            return float(k);
+    table.push_back(m);
+    return float(table.size() - 1);
+}
+
+// 4. The surface's materials (sdftrace/grid.h's convention): the grid of
+// indices, active where the surface's voxels are and within 3 voxels of
+// it, each the index of f's material at the voxel's centre in the table of
+// the distinct materials, numbered as first met in the tree's leaf order
+// (so any thread count writes the same file); and the table as a grid.
+// SDFT_OK, or SDFT_EINVAL when there are too many distinct materials.
+sdft_error bake_materials(const Baker &bk, const sdft_bake_params *p, tbb::task_arena &arena,
+                          const openvdb::FloatGrid &surface, std::vector<openvdb::FloatGrid::ConstPtr> &out, char *msg,
+                          size_t msg_len)
+{
+    std::vector<const LeafT *> from;
+    for (auto it = surface.tree().cbeginLeaf(); it; ++it)
+        from.push_back(it.getLeaf());
+    const float reach = std::min(bk.band, 3.0f * bk.h);
+    std::vector<std::unique_ptr<LeafT>> ids(from.size());
+    std::vector<std::vector<sdft_material>> local(from.size()); // each leaf's materials, its values index them
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, from.size(), 64), [&](const tbb::blocked_range<size_t> &r) {
+            for (size_t i = r.begin(); i != r.end(); ++i) {
+                auto leaf = std::make_unique<LeafT>(from[i]->origin(), -1.0f, false);
+                for (auto v = from[i]->cbeginValueOn(); v; ++v)
+                    if (std::fabs(*v) < reach) {
+                        const openvdb::Vec3f c = bk.centre(v.getCoord());
+                        const sdft_material m = bk.f->material(bk.f->ctx, sdft_v3(c.x(), c.y(), c.z()));
+                        leaf->setValueOn(v.pos(), material_index(local[i], m));
+                    }
+                if (leaf->onVoxelCount())
+                    ids[i] = std::move(leaf);
+            }
+        });
+    });
+    std::vector<sdft_material> table;
+    std::vector<float> remap;
+    for (size_t i = 0; i < from.size(); i++) {
+        if (!ids[i])
+            continue;
+        remap.clear();
+        for (const sdft_material &m : local[i])
+            remap.push_back(material_index(table, m));
+        if (table.size() > SDFT_GRID_MAX_MATERIALS)
+            return fail_with(msg, msg_len, SDFT_EINVAL, "the field has more than %d distinct materials",
+                             SDFT_GRID_MAX_MATERIALS);
+        for (auto v = ids[i]->beginValueOn(); v; ++v)
+            v.setValue(remap[size_t(*v)]);
+    }
+    const std::string name = p->grid_name ? p->grid_name : "sdf";
+    openvdb::FloatGrid::Ptr idg = openvdb::FloatGrid::create(-1.0f);
+    idg->setTransform(surface.transform().copy());
+    idg->setName(name + ".material_ids");
+    for (auto &leaf : ids)
+        if (leaf)
+            idg->tree().addLeaf(leaf.release());
+    openvdb::FloatGrid::Ptr tg = openvdb::FloatGrid::create(0.0f);
+    tg->setName(name + ".material_table");
+    auto acc = tg->getAccessor();
+    for (size_t k = 0; k < table.size(); k++) {
+        const float v[5] = {table[k].colour.x, table[k].colour.y, table[k].colour.z, table[k].reflectance,
+                            table[k].ior};
+        for (int c = 0; c < 5; c++)
+            acc.setValueOn(openvdb::Coord(int(k), c, 0), v[c]);
+    }
+    out = {idg, tg};
+    return SDFT_OK;
+}
+
 sdft_error bake(const sdft_field *f, const sdft_bake_params *p, const char *path, sdft_grid **grid_out,
                 sdft_bake_stats *stats, char *msg, size_t msg_len)
 {
@@ -307,8 +394,12 @@ sdft_error bake(const sdft_field *f, const sdft_bake_params *p, const char *path
     }
     if (tree.activeVoxelCount() == 0)
         return fail_with(msg, msg_len, SDFT_EEMPTY, "the bake holds no surface: no voxel within the band");
+    std::vector<openvdb::FloatGrid::ConstPtr> beside;
+    if (p->materials)
+        if (sdft_error rc = bake_materials(bk, p, arena, *grid, beside, msg, msg_len))
+            return rc;
     if (path)
-        if (sdft_error rc = out.write(*grid, p->fp16 != 0, msg, msg_len))
+        if (sdft_error rc = out.write(*grid, beside, p->fp16 != 0, msg, msg_len))
             return rc;
     if (grid_out)
         return sdft_vdb::to_nano(*grid, p->fp16 ? SDFT_QUANT_FP16 : SDFT_QUANT_NONE, grid_out, msg, msg_len);
