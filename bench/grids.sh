@@ -9,6 +9,8 @@
 #     OpenVDB's vdb_render (its own timer, best of REPEAT), then in one
 #     process NanoVDB's HDDA caster with and without sub-voxel refinement
 #     and sdftrace's rows (bench/hdda_caster: warm frames, best of REPEAT);
+#     beside them one call of each from the .vdb, a new process (vdb_render,
+#     sdftrace render --no-shadows), its wall, best of REPEAT;
 #     the targets, row by row: sdftrace's default render (--no-shadows)
 #     within 1/5 of vdb_render's time and 1/1.5 of the plain caster's, its
 #     depth within 1.5 voxels of vdb_render's on 99% of the pixels both hit;
@@ -60,6 +62,11 @@ grids=${GRIDS:-temple figure spot fandisk bunny}
 export REPEAT="$repeat" OMP_NUM_THREADS=2
 log() { echo "grids.sh: $*" >&2; }
 
+now_ms() { echo $(($(date +%s%N) / 1000000)); }
+# call_view GRID VIEW: render's options for the view (a scene's camera, or
+# the front framing render gives a grid without a scene).
+call_view() { case $2 in front) ;; *) echo "--scene $2" ;; esac; }
+
 # Wall seconds and peak MiB of the last /usr/bin/time -v log.
 wall() { awk -F': ' '/Elapsed \(wall clock\)/ { n = split($2, a, ":"); s = 0; for (i = 1; i <= n; i++) s = s * 60 + a[i]; print s }' "$1"; }
 peak() { awk -F': ' '/Maximum resident set size/ { printf "%.0f", $2 / 1024 }' "$1"; }
@@ -97,17 +104,27 @@ trace_grids() {
     echo "\`bench/hdda_caster\` renders warm frames in one process and keeps the best of $repeat for each"
     echo "row; \`vdb_render\` times its own frame (best of $repeat runs). \`sdftrace-render\` is the"
     echo "default \`render --no-shadows\` (normals and shading, the hull, the exact root);"
-    echo "\`-papers\` counts the papers' way."
+    echo "\`-papers\` counts the papers' way. Beside them, in turns with \`vdb_render\`'s runs, one"
+    echo "\`sdftrace render --grid GRID.vdb --no-shadows\` call per run, a new process: its wall (best of $repeat)."
     for g in $grids; do
         case $g in temple | figure) view=$g ;; *) view=front ;; esac
         log "tracing $g.vdb (view: $view)"
         opts=$("$caster" --view "$out/$g.vdb" "$view" "$width" "$height")
         : >"$out/$g.vdb_render.log"
+        : >"$out/$g.calls"
         i=0
         while [ "$i" -lt "$repeat" ]; do
+            # One call each, in turns, from the .vdb: vdb_render's wall, then
+            # sdftrace render's (the default --no-shadows render, a new process).
+            start=$(now_ms)
             # shellcheck disable=SC2086 # $opts is a list of options
             vdb_render "$out/$g.vdb" "$out/${g}_vdb_render.exr" $opts -shader position -cpus 2 -v \
                 >>"$out/$g.vdb_render.log" 2>&1
+            vr_wall=$(($(now_ms) - start))
+            start=$(now_ms)
+            "$bin" render --grid "$out/$g.vdb" $(call_view "$g" "$view") -o "$out/${g}_call.exr" --threads 2 \
+                --no-shadows --width "$width" --height "$height" --quiet
+            echo "$vr_wall $(($(now_ms) - start))" >>"$out/$g.calls"
             i=$((i + 1))
         done
         # vdb_render -v prints "ray-tracing NAME..." then "...completed in S sec".
@@ -127,8 +144,11 @@ trace_grids() {
             $1 == "sdftrace-render" { s = $2; agree = $(NF - 3); ev = $NF }
             $1 == "sdftrace-render-no-exact-root" { evn = $NF }
             $1 == "sdftrace-render-papers" { evp = $NF }
-            END { printf "%s %s %s %s %s %s %s %s %s\n", g, vr, h, hr, s, agree, ev, evn, evp }' \
+            END { printf "%s %s %s %s %s %s %s %s %s", g, vr, h, hr, s, agree, ev, evn, evp }' \
             "$out/$g.trace.txt" >>"$out/summary"
+        # One call each, best of the runs: vdb_render's wall and sdftrace's.
+        echo " $(sort -n "$out/$g.calls" | awk 'NR == 1 { print $1 }') $(sort -n -k2 "$out/$g.calls" | awk 'NR == 1 { print $2 }')" \
+            >>"$out/summary"
     done
     echo
 }
@@ -139,15 +159,17 @@ targets() {
     echo "Targets: sdftrace within 1/5 of vdb_render's time (*x vdb_render* >= 5) and 1/1.5 of the plain"
     echo "caster's (*x HDDA* >= 1.5), its depth within 1.5 voxels of vdb_render's on 99% of the pixels"
     echo "both hit. *x vdb_render* is vdb_render's ms over sdftrace's, *x HDDA* the caster's over"
-    echo "sdftrace's; *met* names the targets a row misses."
+    echo "sdftrace's; *met* names the targets a row misses. The frames are warm frames in one process"
+    echo "(sdftrace's and the caster's; vdb_render's own timer); the last columns are one call of each"
+    echo "from the \`.vdb\`, a new process, its wall: reading the file, building, tracing, writing."
     echo
-    echo "| grid | vdb_render ms | HDDA ms | HDDA + refinement ms | sdftrace ms | x vdb_render (>= 5) | x HDDA (>= 1.5) | depth within 1.5 voxels of vdb_render (>= 0.99) | evals/px: default, no exact root, papers | met |"
-    echo "|---|---|---|---|---|---|---|---|---|---|"
+    echo "| grid | vdb_render ms | HDDA ms | HDDA + refinement ms | sdftrace ms | x vdb_render (>= 5) | x HDDA (>= 1.5) | depth within 1.5 voxels of vdb_render (>= 0.99) | evals/px: default, no exact root, papers | met | one call: vdb_render wall ms | one call: sdftrace wall ms | one call: x vdb_render |"
+    echo "|---|---|---|---|---|---|---|---|---|---|--:|--:|--:|"
     awk '{
         xv = $2 / $5; xh = $3 / $5
         met = (xv >= 5 ? "" : "x vdb_render ") (xh >= 1.5 ? "" : "x HDDA ") ($6 >= 0.99 ? "" : "depth ")
-        printf "| %s | %.1f | %.1f | %.1f | %.1f | %.2f | %.2f | %.4f | %.2f, %.2f, %.2f | %s |\n", $1, $2, $3, $4, $5, xv, xh, $6,
-               $7, $8, $9, met == "" ? "all" : "missed: " met
+        printf "| %s | %.1f | %.1f | %.1f | %.1f | %.2f | %.2f | %.4f | %.2f, %.2f, %.2f | %s | %.0f | %.0f | %.2f |\n", $1, $2, $3, $4,
+               $5, xv, xh, $6, $7, $8, $9, met == "" ? "all" : "missed: " met, $10, $11, $10 / $11
     }' "$out/summary"
     echo
 }

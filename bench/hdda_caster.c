@@ -11,7 +11,13 @@
  *
  * usage: hdda_caster GRID.vdb|GRID.nvdb SCENE [WIDTH HEIGHT [DEPTH.pfm [VDB_RENDER.exr]]]
  *        hdda_caster --view SCENE WIDTH HEIGHT    vdb_render's options for that view
- *        the camera is the scene's (sdftrace scenes lists them). */
+ *        hdda_caster --single GRID.nvdb SCENE|front WIDTH HEIGHT
+ *        the camera is the scene's (sdftrace scenes lists them).
+ *
+ * --single is the caster as a program of its own would run it once: the
+ * .nvdb's grid read with one fread into memory (nothing built from it),
+ * one frame traced, and a line of JSON: the read, the frame and the wall
+ * from the start of main, in ms (bench/scaling.sh times the process). */
 #define PNANOVDB_C
 #define PNANOVDB_HDDA
 #include <nanovdb/PNanoVDB.h>
@@ -34,12 +40,11 @@ typedef struct caster {
     float w2i[9], w2i_t[3];
 } caster;
 
-static caster caster_make(const sdft_grid *g)
+/* The caster of a NanoVDB grid's bytes. */
+static caster caster_of(const void *data, size_t size)
 {
-    size_t size;
-    const void *data = sdft_grid_data(g, &size);
     caster c;
-    c.buf = pnanovdb_make_buf((uint32_t *)data, size / 4);
+    c.buf = pnanovdb_make_buf((uint32_t *)(uintptr_t)data, size / 4);
     pnanovdb_grid_handle_t grid = {{0}};
     c.root = pnanovdb_tree_get_root(c.buf, pnanovdb_grid_get_tree(c.buf, grid));
     pnanovdb_map_handle_t map = pnanovdb_grid_get_map(c.buf, grid);
@@ -50,6 +55,13 @@ static caster caster_make(const sdft_grid *g)
                        c.w2i[3 * k + 1] * pnanovdb_map_get_vecf(c.buf, map, 1) +
                        c.w2i[3 * k + 2] * pnanovdb_map_get_vecf(c.buf, map, 2));
     return c;
+}
+
+static caster caster_make(const sdft_grid *g)
+{
+    size_t size;
+    const void *data = sdft_grid_data(g, &size);
+    return caster_of(data, size);
 }
 
 static pnanovdb_vec3_t apply(const float m[9], sdft_vec3 v, const float *t)
@@ -337,8 +349,110 @@ static int make_configs(const sdft_camera *cam, int w, int h, config *c, int *n)
     return 0;
 }
 
+/* ---- --single: one read, one frame ------------------------------------------------- */
+
+static double wall_ms(void) { return 1e3 * omp_get_wtime(); }
+
+/* The first grid of the .nvdb file at path (NanoVDB's uncompressed
+ * layout: a 16-byte segment header, 176 bytes of metadata, the name, the
+ * grid) read with one fread into 64-byte aligned memory; NULL on a
+ * failure, with a line on stderr. */
+static void *read_first_grid(const char *path, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    unsigned char head[16 + 176];
+    uint64_t grid_size, file_size;
+    uint32_t name_size;
+    if (!f || fread(head, 1, sizeof head, f) != sizeof head) {
+        fprintf(stderr, "hdda_caster: cannot read %s\n", path);
+        if (f)
+            fclose(f);
+        return NULL;
+    }
+    memcpy(&grid_size, head + 16, 8), memcpy(&file_size, head + 24, 8), memcpy(&name_size, head + 16 + 136, 4);
+    void *grid = grid_size == file_size && grid_size > 0 ? aligned_alloc(64, (grid_size + 63) & ~(uint64_t)63) : NULL;
+    if (!grid || fseek(f, (long)name_size, SEEK_CUR) != 0 || fread(grid, 1, grid_size, f) != grid_size) {
+        fprintf(stderr, "hdda_caster: %s is not an uncompressed NanoVDB file it can read\n", path);
+        free(grid);
+        fclose(f);
+        return NULL;
+    }
+    fclose(f);
+    *size = (size_t)grid_size;
+    return grid;
+}
+
+/* The world box of the grid's active voxels' cells, through its map: the
+ * box sdft_grid_world_bounds gives, so that `front` frames it as `sdftrace
+ * render` does. */
+static sdft_aabb caster_bounds(const caster *c)
+{
+    pnanovdb_grid_handle_t grid = {{0}};
+    const pnanovdb_coord_t lo = pnanovdb_root_get_bbox_min(c->buf, c->root),
+                           hi = pnanovdb_root_get_bbox_max(c->buf, c->root);
+    pnanovdb_map_handle_t map = pnanovdb_grid_get_map(c->buf, grid);
+    sdft_vec3 wlo = sdft_v3(INFINITY, INFINITY, INFINITY), whi = sdft_scale(wlo, -1.0f);
+    for (int k = 0; k < 8; k++) {
+        const float x[3] = {(k & 1) ? hi.x + 0.5f : lo.x - 0.5f, (k & 2) ? hi.y + 0.5f : lo.y - 0.5f,
+                            (k & 4) ? hi.z + 0.5f : lo.z - 0.5f};
+        float w[3];
+        for (int r = 0; r < 3; r++)
+            w[r] = (float)pnanovdb_map_get_matd(c->buf, map, 3u * (uint32_t)r) * x[0] +
+                   (float)pnanovdb_map_get_matd(c->buf, map, 3u * (uint32_t)r + 1u) * x[1] +
+                   (float)pnanovdb_map_get_matd(c->buf, map, 3u * (uint32_t)r + 2u) * x[2] +
+                   (float)pnanovdb_map_get_vecd(c->buf, map, (uint32_t)r);
+        const sdft_vec3 p = sdft_v3(w[0], w[1], w[2]);
+        wlo = sdft_min_v(wlo, p), whi = sdft_max_v(whi, p);
+    }
+    return (sdft_aabb){wlo, whi};
+}
+
+static int single_call(int argc, char **argv, double start)
+{
+    if (argc != 6) {
+        fprintf(stderr, "usage: hdda_caster --single GRID.nvdb SCENE|front WIDTH HEIGHT\n");
+        return 2;
+    }
+    const int w = atoi(argv[4]), h = atoi(argv[5]);
+    const sdft_scene *sc = sdft_scene_find(argv[3]);
+    if (w < 1 || h < 1 || (!sc && strcmp(argv[3], "front") != 0)) {
+        fprintf(stderr, "hdda_caster: unknown view or size\n");
+        return 2;
+    }
+    size_t size = 0;
+    const double t0 = wall_ms();
+    void *bytes = read_first_grid(argv[2], &size);
+    if (!bytes)
+        return 1;
+    const double t1 = wall_ms();
+    const caster c = caster_of(bytes, size);
+    if (pnanovdb_grid_get_grid_type(c.buf, (pnanovdb_grid_handle_t){{0}}) != PNANOVDB_GRID_TYPE_FLOAT) {
+        fprintf(stderr, "hdda_caster: NanoVDB's caster reads float grids\n");
+        return 1;
+    }
+    const sdft_camera cam = sc ? sc->camera : sdft_camera_front(caster_bounds(&c), w, h, 40.0f);
+    float *depth = malloc((size_t)w * (size_t)h * sizeof *depth);
+    if (!depth) {
+        fprintf(stderr, "hdda_caster: out of memory\n");
+        return 1;
+    }
+    const double frame = cast(&c, &cam, w, h, 0, depth);
+    size_t hits = 0;
+    for (size_t i = 0; i < (size_t)w * (size_t)h; i++)
+        hits += isfinite(depth[i]);
+    printf("{\"grid_bytes\": %zu, \"threads\": %d, \"read_ms\": %.3f, \"frame_ms\": %.3f, \"hit_fraction\": %.6f, "
+           "\"wall_ms\": %.3f}\n",
+           size, omp_get_max_threads(), t1 - t0, frame, (double)hits / ((double)w * h), wall_ms() - start);
+    free(depth);
+    free(bytes);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    const double start = wall_ms();
+    if (argc >= 2 && strcmp(argv[1], "--single") == 0)
+        return single_call(argc, argv, start);
     if (argc == 6 && strcmp(argv[1], "--view") == 0) {
         /* A .vdb's bounds from its metadata: no need to load a big grid. */
         char msg[512];
@@ -364,7 +478,8 @@ int main(int argc, char **argv)
     if (argc < 3) {
         fprintf(stderr,
                 "usage: hdda_caster GRID.vdb|GRID.nvdb SCENE|front [WIDTH HEIGHT [DEPTH.pfm [VDB_RENDER.exr]]]\n"
-                "       hdda_caster --view GRID SCENE|front WIDTH HEIGHT\n");
+                "       hdda_caster --view GRID SCENE|front WIDTH HEIGHT\n"
+                "       hdda_caster --single GRID.nvdb SCENE|front WIDTH HEIGHT\n");
         return 2;
     }
     const char *rep = getenv("REPEAT");

@@ -5,6 +5,8 @@
 #include "job.h"
 #include "points.h"
 #include "text.h"
+
+#include "atomic_file.h"
 #ifdef MESH2SDF_WITH_MPI
 #include "mpi_batch.h"
 #endif
@@ -68,6 +70,77 @@ bool makeFolder(const std::string &dir, std::string &error)
     return false;
 }
 
+} // namespace
+
+namespace
+{
+
+// The settings of params struct `params` (of kind `of`) as "name=value"
+// words, the library's table's rows in order, less those that change only
+// the speed (threads, simd).
+std::string settingWords(sdft_mesh_settings_of of, const void *params)
+{
+    size_t count = 0;
+    const sdft_mesh_setting *rows = sdft_mesh_settings(of, &count);
+    std::string words;
+    for (size_t i = 0; i < count; ++i) {
+        const sdft_mesh_setting &row = rows[i];
+        if (std::strcmp(row.name, "threads") == 0 || std::strcmp(row.name, "simd") == 0)
+            continue;
+        const char *at = static_cast<const char *>(params) + row.offset;
+        words += std::string(" ") + row.name + "=";
+        for (int k = 0; k < row.count; ++k) {
+            int number;
+            uint64_t whole;
+            double real;
+            const char *text;
+            switch (row.kind) {
+            case SDFT_MESH_SETTING_INT:
+            case SDFT_MESH_SETTING_FLAG:
+            case SDFT_MESH_SETTING_CHOICE:
+                std::memcpy(&number, at, sizeof number);
+                words += std::to_string(number);
+                break;
+            case SDFT_MESH_SETTING_COUNT:
+                std::memcpy(&whole, at, sizeof whole);
+                words += std::to_string(whole);
+                break;
+            case SDFT_MESH_SETTING_REAL:
+                std::memcpy(&real, at + k * sizeof real, sizeof real);
+                words += format("%s%.17g", k ? "," : "", real);
+                break;
+            case SDFT_MESH_SETTING_TEXT:
+                std::memcpy(&text, at, sizeof text);
+                words += text ? jsonString(text) : "null";
+                break;
+            }
+        }
+    }
+    return words;
+}
+
+} // namespace
+
+// The settings that change what a mesh's outputs hold (every setting of
+// the library's tables but the speed's, --fp16, --formats), as text,
+// hashed (FNV-1a, 64 bits) for the report: a rerun with other settings
+// converts again. The paths are left out (the rows are per mesh).
+std::string outputOptions(const Options &opt)
+{
+    const std::string text = settingWords(SDFT_MESH_SETTINGS_MESH, &opt.mesh) +
+                             settingWords(SDFT_MESH_SETTINGS_GRID, &opt.grid) +
+                             format(" fp16=%d formats=%d%d%d%d", int(opt.fp16), int(opt.batchVdb), int(opt.batchNvdb),
+                                    int(opt.batchNpy), int(opt.batchSamples)) +
+                             (opt.batchSamples ? settingWords(SDFT_MESH_SETTINGS_SAMPLES, &opt.sample) : std::string());
+    uint64_t hash = 14695981039346656037ull;
+    for (unsigned char c : text)
+        hash = (hash ^ c) * 1099511628211ull;
+    return format("%016llx", static_cast<unsigned long long>(hash));
+}
+
+namespace
+{
+
 std::string reportPath(const Options &opt)
 {
     if (opt.shards == 1)
@@ -87,8 +160,12 @@ std::string clock(double seconds)
     return text;
 }
 
-int fail(const std::string &error)
+// A batch that cannot run: its line, and with --json its object.
+int fail(const Options &opt, const std::string &error)
 {
+    if (opt.json)
+        std::printf("{\"batch\": %s, \"status\": \"failed\", \"error\": %s}\n", jsonString(opt.batch).c_str(),
+                    jsonString(error).c_str());
     std::fprintf(stderr, "mesh2sdf: %s\n", error.c_str());
     return 1;
 }
@@ -101,13 +178,23 @@ bool planBatch(const Options &opt, bool withReport, BatchPlan &plan, std::string
     if (!readBatchList(opt.batch, all, error) || !makeFolder(opt.outDir, error))
         return false;
     plan.entries = batchShard(all, opt.shard, opt.shards);
-    for (size_t i = 0; i < plan.entries.size(); ++i)
-        if (!allExist(entryOutputs(meshOptions(opt, plan.entries[i]))))
-            plan.pending.push_back(i);
     if (!withReport)
-        return true;
+        return true; // the rank that reports decides what is pending
+    // The temporary files of runs into DIR that were killed (not those of
+    // runs still writing there: other shards).
+    static const char *const ours[] = {".vdb", ".nvdb", ".npy", ".json", ".jsonl", nullptr};
+    atomic_file_sweep(opt.outDir.c_str(), nullptr, ours);
+    plan.options = outputOptions(opt);
     plan.report.reset(new BatchReport(reportPath(opt), plan.entries.size()));
-    return plan.report->loadEarlier(error);
+    if (!plan.report->loadEarlier(error))
+        return false;
+    // Done already: every output there, and the earlier row says it was
+    // converted with these options.
+    for (size_t i = 0; i < plan.entries.size(); ++i)
+        if (!allExist(entryOutputs(meshOptions(opt, plan.entries[i]))) ||
+            !rowMadeWith(plan.report->earlier(plan.entries[i].line), plan.options))
+            plan.pending.push_back(i);
+    return true;
 }
 
 int batchInterrupted()
@@ -157,7 +244,7 @@ BatchRow convertEntry(const Options &opt, const BatchEntry &entry)
     if (!r.ok && interruptSignal())
         r.error = interruptReason();
     r.seconds = seam::secondsSince(start);
-    return jobRow(entry, r);
+    return jobRow(entry, r, outputOptions(opt));
 }
 
 BatchSink::BatchSink(const Options &opt, BatchPlan &plan)
@@ -229,7 +316,7 @@ int BatchSink::finish()
     mProgress.finish();
     std::string error;
     if (!mPlan.report->write(true, error))
-        return fail(error);
+        return fail(mOpt, error);
     const double seconds = seam::secondsSince(mStart);
     if (!mOpt.quiet && !mOpt.json)
         std::printf("batch: %zu meshes, %zu converted, %zu skipped, %zu failed, %.2f s; report %s\n",
@@ -245,21 +332,21 @@ int runBatch(const Options &opt)
 #else
     const char *ranks = std::getenv("OMPI_COMM_WORLD_SIZE");
     if (ranks && std::atoi(ranks) > 1)
-        return fail("this mesh2sdf was built without MPI, so its ranks would each convert the whole list: run "
-                    "one process, or give each --shard $OMPI_COMM_WORLD_RANK/$OMPI_COMM_WORLD_SIZE");
+        return fail(opt, "this mesh2sdf was built without MPI, so its ranks would each convert the whole list: run "
+                         "one process, or give each --shard $OMPI_COMM_WORLD_RANK/$OMPI_COMM_WORLD_SIZE");
 #endif
     BatchPlan plan;
     std::string error;
     if (!planBatch(opt, true, plan, error))
-        return fail(error);
+        return fail(opt, error);
     BatchSink sink(opt, plan);
     if (!sink.start(error))
-        return fail(error);
+        return fail(opt, error);
     for (size_t i : plan.pending) {
         if (interruptSignal())
             break;
         if (!sink.add(i, convertEntry(opt, plan.entries[i]), error))
-            return fail(error);
+            return fail(opt, error);
     }
     const int status = sink.finish();
     return interruptSignal() ? batchInterrupted() : status;

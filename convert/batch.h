@@ -35,10 +35,14 @@ struct BatchPlan {
     std::vector<BatchEntry> entries;
     std::vector<size_t> pending; // indices into entries, in LIST's order
     std::unique_ptr<BatchReport> report;
+    std::string options; // the hash of the output options (outputOptions), as the rows record it
 };
 
-/// Reads LIST, takes the shard, creates DIR and reads the earlier report;
-/// `withReport` false (an MPI rank other than 0) leaves the report alone.
+/// Reads LIST, takes the shard, creates DIR, removes what killed runs left
+/// there and reads the earlier report; a mesh is pending unless all its
+/// outputs are there and its earlier row records the same output options.
+/// `withReport` false (an MPI rank other than 0) leaves DIR and the report
+/// alone, and plans nothing pending (rank 0 hands out the work).
 bool planBatch(const Options &opt, bool withReport, BatchPlan &plan, std::string &error);
 
 /// The end of a batch SIGINT or SIGTERM stopped (interrupt.h): its line on
@@ -47,6 +51,10 @@ int batchInterrupted();
 
 /// One mesh of the batch converted into DIR (quietly) and its row.
 BatchRow convertEntry(const Options &opt, const BatchEntry &entry);
+
+/// The hash of the settings that change what a mesh's outputs hold (16 hex
+/// digits), which each row records.
+std::string outputOptions(const Options &opt);
 
 /// Where the rows of a batch go as they come in, on the one process that
 /// reports: the report (kept current), a line each on stdout (the row

@@ -41,12 +41,13 @@ std::string rowMesh(const std::string &row)
 
 } // namespace
 
-BatchRow jobRow(const BatchEntry &entry, const JobResult &r)
+BatchRow jobRow(const BatchEntry &entry, const JobResult &r, const std::string &options)
 {
     BatchRow row;
     row.status = r.ok ? RowStatus::Ok : RowStatus::Failed;
     row.json = "{\"mesh\": " + jsonString(entry.line) + ", \"status\": \"" + (r.ok ? "ok" : "failed") +
-               "\", \"error\": " + (r.ok ? "null" : jsonString(r.error)) + format(", \"seconds\": %.3f", r.seconds);
+               "\", \"error\": " + (r.ok ? "null" : jsonString(r.error)) + ", \"options\": " + jsonString(options) +
+               format(", \"seconds\": %.3f", r.seconds);
     const bool grid = r.ok && r.gridBuilt; // a grid was written, not samples alone
     if (grid)
         row.json += format(", \"voxels\": %llu, \"dims\": [%d, %d, %d], \"voxel_size\": %.9g, \"ambiguous_voxels\": "
@@ -65,6 +66,15 @@ BatchRow jobRow(const BatchEntry &entry, const JobResult &r)
     row.text = r.ok ? format("ok %s: %s, %.2f s", entry.line.c_str(), what.c_str(), r.seconds)
                     : "failed " + entry.line + ": " + r.error;
     return row;
+}
+
+bool rowMadeWith(const std::string &row, const std::string &options)
+{
+    // Rows are written by jobRow: the status and the options appear once,
+    // as these exact fields (the mesh's own name comes first and is escaped,
+    // so it cannot hold them).
+    return row.find(", \"status\": \"ok\", ") != std::string::npos &&
+           row.find(", \"options\": " + jsonString(options) + ", ") != std::string::npos;
 }
 
 BatchRow skippedRow(const BatchEntry &entry, const std::vector<std::string> &outputs, const std::string &earlier)

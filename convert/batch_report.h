@@ -27,8 +27,12 @@ struct BatchRow {
     std::string text; // "ok MESH: ...", "failed MESH: ...", "skipped MESH: ..."
 };
 
-/// The row of a converted or failed mesh.
-BatchRow jobRow(const BatchEntry &entry, const JobResult &r);
+/// The row of a converted or failed mesh; `options`: the hash of its
+/// output options (outputOptions in batch.h).
+BatchRow jobRow(const BatchEntry &entry, const JobResult &r, const std::string &options);
+/// Whether report row `row` says its mesh was converted (status ok) with
+/// the output options whose hash is `options`.
+bool rowMadeWith(const std::string &row, const std::string &options);
 /// The row of a mesh whose outputs were all there already: its row from
 /// the earlier report (`earlier`, kept as it was) or, without one, a row
 /// with status "skipped".

@@ -7,13 +7,29 @@
 #include "text.h"
 
 #include <chrono>
+#include <cstring>
 #include <exception>
 #include <new>
 
+#include "atomic_file.h"
 #include "seam.h"
 
 namespace mesh2sdf
 {
+
+void sweepTemporaries(const std::string &path)
+{
+    if (path.empty())
+        return;
+    for (const std::string &file :
+         {path, path.size() > 4 && path.compare(path.size() - 4, 4, ".npy") == 0 ? sidecarPath(path) : std::string()}) {
+        if (file.empty())
+            continue;
+        const size_t slash = file.find_last_of('/');
+        const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : file.substr(0, slash);
+        atomic_file_sweep(dir.c_str(), file.c_str() + (slash == std::string::npos ? 0 : slash + 1), nullptr);
+    }
+}
 
 std::vector<std::string> jobOutputs(const Options &opt)
 {
@@ -67,6 +83,11 @@ MeshPtr loadJobMesh(const Options &opt, ProgressView &progress, int from, int to
     sdft_mesh_get_health(mesh, &r.health, nullptr, 0);
     sdft_mesh_get_frame(mesh, &r.frame, nullptr, 0);
     sdft_mesh_get_timings(mesh, &r.meshTimes, nullptr, 0);
+    std::string warnings(sdft_mesh_warnings(mesh, nullptr, 0) + 1, '\0');
+    sdft_mesh_warnings(mesh, &warnings[0], warnings.size());
+    r.warnings.clear();
+    for (size_t at = 0, end; (end = warnings.find('\n', at)) != std::string::npos; at = end + 1)
+        r.warnings.push_back(warnings.substr(at, end - at));
     r.meshRead = true;
     return MeshPtr(mesh);
 }
@@ -160,7 +181,10 @@ std::string healthJsonFields(const JobResult &r)
     std::string fields(sdft_mesh_health_json(&r.health, nullptr, 0) + 1, '\0');
     sdft_mesh_health_json(&r.health, &fields[0], fields.size());
     fields.pop_back();
-    return ", " + fields;
+    fields = ", " + fields + ", \"warnings\": [";
+    for (size_t i = 0; i < r.warnings.size(); ++i)
+        fields += (i ? ", " : "") + jsonString(r.warnings[i]);
+    return fields + "]";
 }
 
 } // namespace mesh2sdf

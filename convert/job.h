@@ -27,13 +27,14 @@ namespace mesh2sdf
 struct JobResult {
     bool ok = false;
     std::string error;
-    bool meshRead = false;         // the mesh's reports below describe it
-    sdft_mesh_health health{};     // what the mesh held, what orienting did
-    sdft_mesh_frame frame{};       // its box and sphere
-    sdft_mesh_timings meshTimes{}; // reading and orienting
-    bool gridBuilt = false;        // the grid's reports below describe the grid written
-    sdft_mesh_grid_box box{};      // its box
-    sdft_mesh_grid_stats stats{};  // voxel counts, surface, memory
+    bool meshRead = false;             // the mesh's reports below describe it
+    sdft_mesh_health health{};         // what the mesh held, what orienting did
+    std::vector<std::string> warnings; // what taking it in did with a doubt, a line each (sdft_mesh_warnings)
+    sdft_mesh_frame frame{};           // its box and sphere
+    sdft_mesh_timings meshTimes{};     // reading and orienting
+    bool gridBuilt = false;            // the grid's reports below describe the grid written
+    sdft_mesh_grid_box box{};          // its box
+    sdft_mesh_grid_stats stats{};      // voxel counts, surface, memory
     sdft_mesh_grid_timings gridTimes{};
     size_t samples = 0;               // training samples written (a batch's --formats samples)
     double writeSeconds = 0;          // writing the grid's files, wall clock
@@ -49,6 +50,11 @@ struct MeshFree {
 };
 using MeshPtr = std::unique_ptr<sdft_mesh, MeshFree>;
 
+/// Removes the temporary files a killed run left beside `path` (and beside
+/// its sidecar, for an .npy): those of no running writer
+/// (atomic_file_sweep). Nothing for an empty path.
+void sweepTemporaries(const std::string &path);
+
 /// The grid files a conversion writes: opt.output (.vdb), opt.nvdb, and
 /// opt.npy with its sidecar JSON, each where given (a batch may leave out
 /// the .vdb). A batch asks whether all of them exist before converting a
@@ -60,8 +66,8 @@ std::vector<std::string> jobOutputs(const Options &opt);
 bool reserveGridFiles(const Options &opt, std::unique_ptr<mesh_files, MeshFree> &files, std::string &error);
 
 /// opt.input read and oriented as `opt` says (--orient, --normalize,
-/// --threads, --simd), on `progress` from `from` to `to` percent. Fills
-/// its reports and r.meshRead, or r.error.
+/// --threads, --simd, --strict), on `progress` from `from` to `to` percent.
+/// Fills its reports, r.warnings and r.meshRead, or r.error.
 MeshPtr loadJobMesh(const Options &opt, ProgressView &progress, int from, int to, JobResult &r);
 
 /// Converts `mesh` as `opt` says and writes it into `files` (reserved by

@@ -26,14 +26,18 @@ namespace
 
 // The one line of a failure, and its exit status; an interrupted run's
 // says so (the library's cancellation is how the interrupt stopped it).
-int fail(const std::string &error)
+// With --json, stdout gets the object a failed run answers with: the mesh
+// and the error.
+int fail(const Options &opt, const std::string &error)
 {
-    if (interruptSignal()) {
-        std::fprintf(stderr, "mesh2sdf: %s; nothing was written\n", interruptReason().c_str());
-        return endInterrupted();
+    const std::string line = interruptSignal() ? interruptReason() + "; nothing was written" : error;
+    if (opt.json) {
+        std::printf("{\"mesh\": %s, \"status\": \"failed\", \"error\": %s}\n",
+                    opt.input.empty() ? "null" : jsonString(opt.input).c_str(), jsonString(line).c_str());
+        std::fflush(stdout);
     }
-    std::fprintf(stderr, "mesh2sdf: %s\n", error.c_str());
-    return 1;
+    std::fprintf(stderr, "mesh2sdf: %s\n", line.c_str());
+    return interruptSignal() ? endInterrupted() : 1;
 }
 
 void printHealth(const std::string &path, const JobResult &r)
@@ -49,7 +53,7 @@ void printJson(const Options &opt, const JobResult &r)
     const sdft_mesh_grid_stats &g = r.stats;
     std::printf("{\"mesh\": ");
     json_put_string(stdout, opt.input.c_str());
-    std::printf(", \"output\": ");
+    std::printf(", \"status\": \"ok\", \"output\": ");
     json_put_string(stdout, opt.output.c_str());
     std::printf("%s", healthJsonFields(r).c_str());
     std::printf(", \"dims\": [%d, %d, %d], \"voxel_size\": %.9g, \"active_voxels\": %llu, \"sign\": \"%s\", "
@@ -64,7 +68,9 @@ void printJson(const Options &opt, const JobResult &r)
 }
 
 // The closing line, or with --json the object; then, on stderr, what stays
-// uncertain: said, not written silently.
+// uncertain: said, not written silently. The reader's doubts and the
+// patches orienting left undecided come here too, at the end, not when the
+// mesh is read: a run that fails prints its one line only.
 void report(const Options &opt, const JobResult &r)
 {
     const sdft_mesh_grid_stats &g = r.stats;
@@ -81,13 +87,17 @@ void report(const Options &opt, const JobResult &r)
                         (unsigned long long)g.ambiguous_voxels);
         std::printf("\n");
     }
+    for (const std::string &line : r.warnings)
+        std::fprintf(stderr, "mesh2sdf: warning: %s\n", line.c_str());
     if (opt.grid.sign != SDFT_MESH_SIGN_WINDING)
         return;
     if (r.health.oriented && r.health.ambiguous_patches)
         std::fprintf(stderr,
-                     "mesh2sdf: warning: %llu open patches have no clear outside and keep the file's "
-                     "orientation; %llu voxels were signed from a winding number between 0.25 and 0.75\n",
-                     (unsigned long long)r.health.ambiguous_patches, (unsigned long long)g.ambiguous_voxels);
+                     "mesh2sdf: warning: %llu open patches have no clear outside and keep the file's orientation "
+                     "(%.3g%% of the surface area: the sign near them follows the file's faces); %llu of the %llu "
+                     "active voxels were signed from a winding number between 0.25 and 0.75\n",
+                     (unsigned long long)r.health.ambiguous_patches, 100 * r.health.ambiguous_area,
+                     (unsigned long long)g.ambiguous_voxels, (unsigned long long)g.active_voxels);
     if (!g.surface)
         std::fprintf(stderr, "mesh2sdf: warning: no voxel of the band is inside the mesh, so the grid has no "
                              "surface (an open sheet, or a mesh whose inside could not be told)\n");
@@ -106,18 +116,19 @@ void meshReady(const Options &opt, const JobResult &r)
                      (unsigned long long)r.health.boundary_edges, (unsigned long long)r.health.non_manifold_edges);
 }
 
-// --check-sign: the mesh as the file has it (no orienting, so that the
-// truth is the file's own faces), each grid's line.
+// --check-sign: the truth is the mesh oriented as --orient says, the way a
+// conversion with the same options orients it (outward by default: a grid
+// converted from an inside-out file is judged against the inside, not the
+// file's reversed faces); each grid's line names that orientation.
 int checkSigns(const Options &opt)
 {
-    Options raw = opt;
-    raw.mesh.orient = 0;
-    raw.mesh.normalize = 0;
+    Options truth = opt;
+    truth.mesh.normalize = 0;
     ProgressView progress(false);
     JobResult r;
-    const MeshPtr mesh = loadJobMesh(raw, progress, 0, 100, r);
+    const MeshPtr mesh = loadJobMesh(truth, progress, 0, 100, r);
     if (!mesh)
-        return fail(r.error);
+        return fail(opt, r.error);
     std::vector<const char *> paths;
     for (const std::string &g : opt.checkSign)
         paths.push_back(g.c_str());
@@ -125,12 +136,25 @@ int checkSigns(const Options &opt)
     char msg[1024];
     if (mesh_sign_check(mesh.get(), paths.data(), paths.size(), opt.checkPoints, checks.data(), msg, sizeof msg) !=
         SDFT_OK)
-        return fail(msg);
-    for (size_t i = 0; i < checks.size(); ++i)
-        std::printf("%s clear=%llu wrong=%llu wrong_fraction=%.6f wrong_far=%llu\n", paths[i],
-                    (unsigned long long)checks[i].clear, (unsigned long long)checks[i].wrong,
-                    checks[i].clear ? double(checks[i].wrong) / double(checks[i].clear) : 0.0,
-                    (unsigned long long)checks[i].wrong_far);
+        return fail(opt, msg);
+    const std::string orient = settingChoice(SDFT_MESH_SETTINGS_MESH, "orient", opt.mesh.orient);
+    if (opt.json)
+        std::printf("{\"mesh\": %s, \"status\": \"ok\", \"orient\": \"%s\", \"grids\": [",
+                    jsonString(opt.input).c_str(), orient.c_str());
+    for (size_t i = 0; i < checks.size(); ++i) {
+        const double fraction = checks[i].clear ? double(checks[i].wrong) / double(checks[i].clear) : 0.0;
+        if (opt.json)
+            std::printf("%s{\"grid\": %s, \"clear\": %llu, \"wrong\": %llu, \"wrong_fraction\": %.6f, "
+                        "\"wrong_far\": %llu}",
+                        i ? ", " : "", jsonString(paths[i]).c_str(), (unsigned long long)checks[i].clear,
+                        (unsigned long long)checks[i].wrong, fraction, (unsigned long long)checks[i].wrong_far);
+        else
+            std::printf("%s clear=%llu wrong=%llu wrong_fraction=%.6f wrong_far=%llu orient=%s\n", paths[i],
+                        (unsigned long long)checks[i].clear, (unsigned long long)checks[i].wrong, fraction,
+                        (unsigned long long)checks[i].wrong_far, orient.c_str());
+    }
+    if (opt.json)
+        std::printf("]}\n");
     return 0;
 }
 
@@ -141,7 +165,7 @@ int convertOne(const Options &opt)
     ProgressView progress(!opt.quiet && !opt.json);
     const JobResult r = convertMesh(opt, progress, [&](const JobResult &ready) { meshReady(opt, ready); });
     if (!r.ok)
-        return fail(r.error);
+        return fail(opt, r.error);
     report(opt, r);
     return 0;
 }
@@ -162,7 +186,7 @@ int main(int argc, char **argv)
             printHelp();
             return 0;
         }
-        return fail(error);
+        return fail(opt, error);
     }
     if (opt.help) {
         printHelp();
@@ -175,10 +199,15 @@ int main(int argc, char **argv)
         if (!opt.checkSign.empty())
             return checkSigns(opt); // writes nothing: Ctrl-C may end it as it is
         catchInterrupts();
+        // What a killed run left beside the outputs (its temporary files);
+        // a batch sweeps its folder once, itself.
+        if (opt.batch.empty())
+            for (const std::string &out : {opt.output, opt.nvdb, opt.npy, opt.samplesOut, opt.queryOut})
+                sweepTemporaries(out);
         if (opt.samples() || !opt.queryOut.empty())
-            return (opt.samples() ? runSamples(opt, error) : runQuery(opt, error)) ? 0 : fail(error);
+            return (opt.samples() ? runSamples(opt, error) : runQuery(opt, error)) ? 0 : fail(opt, error);
         return opt.batch.empty() ? convertOne(opt) : runBatch(opt);
     } catch (const std::bad_alloc &) {
-        return fail("out of memory");
+        return fail(opt, "out of memory");
     }
 }

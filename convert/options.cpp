@@ -258,14 +258,17 @@ void optionRows(Table &t, Options &o, int *sawRes, PointWords &words)
         call("quiet", 0, nullptr, "no health line, progress bar or summary", setTrue, &o.quiet),
         call("json", 0, nullptr,
              "the health counts and the summary as one JSON object\n"
-             "on stdout, instead of the text lines",
+             "on stdout, instead of the text lines (a failed run's:\n"
+             "the mesh and the error)",
              setTrue, &o.json),
         call("check-sign", 0, "GRID.vdb",
              "do not convert: sample points uniformly in the mesh's\n"
              "box grown by 5%, compute the exact winding number by\n"
              "brute force and print, per GRID (repeatable), the\n"
              "fraction of clearly inside (> 0.75) or outside\n"
-             "(< 0.25) points where GRID's sign is wrong",
+             "(< 0.25) points where GRID's sign is wrong; the truth\n"
+             "is the mesh oriented as --orient says (give the\n"
+             "conversion's), named on each line",
              addString, &o.checkSign),
         number("check-points", "N", "points for --check-sign", CMDLINE_INT, &o.checkPoints, 1, 100000000),
         twoWords("samples", "N OUT.npy",
@@ -306,7 +309,11 @@ void optionRows(Table &t, Options &o, int *sawRes, PointWords &words)
              "relative to LIST's folder; blank lines and # comments\n"
              "skipped) into --out-dir, with the other options;\n"
              "meshes that fail are reported and skipped; under\n"
-             "mpirun, spread over the ranks",
+             "mpirun, spread over the ranks. A rerun resumes: a\n"
+             "mesh whose outputs are all there and whose report row\n"
+             "records the same output options (all but --threads,\n"
+             "--simd and the paths) is skipped; any other is\n"
+             "converted again",
              setString, &o.batch, "none"),
         call("out-dir", 0, "DIR",
              "--batch: the folder for the outputs and report.jsonl\n"
@@ -393,11 +400,13 @@ cmdline_spec optionSpec(const Table &t, Options &o)
     spec.footer = "\n"
                   "Dense outputs (--full, --npy) are limited to 2^31 voxels.\n"
                   "Exit status: 0 on success, 1 on bad input or a failed write (one line on\n"
-                  "stderr; no partial output is left: files are written to a temporary name\n"
-                  "and renamed). --batch: 0 when every mesh was converted or skipped (its\n"
-                  "outputs were there), 2 when some failed (each has its row in the report),\n"
-                  "1 when the batch could not run (bad options, unreadable LIST, unwritable\n"
-                  "DIR).\n";
+                  "stderr, and with --json an object with the error on stdout; no partial\n"
+                  "output is left: files are written to a temporary name and renamed, and\n"
+                  "the temporary files a killed run left are removed by the next run into\n"
+                  "that folder). --batch: 0 when every mesh was converted or skipped (its\n"
+                  "outputs were there, made with the same options), 2 when some failed (each\n"
+                  "has its row in the report), 1 when the batch could not run (bad options,\n"
+                  "unreadable LIST, unwritable DIR).\n";
     spec.rows = t.rows.data();
     spec.column = 25;
     spec.width = 79;

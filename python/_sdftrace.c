@@ -512,17 +512,20 @@ static PyObject *mesh_info(MeshObject *self, PyObject *unused)
         e = sdft_mesh_get_frame(self->mesh, &f, msg, sizeof msg);
     if (e != SDFT_OK)
         return raise_error(e, msg);
-    /* The health report and the frame, member by member. */
-    return Py_BuildValue("{sKsKsKsKsKsKsKsOsOsKsKsKsKsKsKsKs(ddd)s(ddd)s(ddd)sdsO}", "vertices", i.vertices, "faces",
-                         i.faces, "triangles", i.triangles, "degenerate_faces", i.degenerate_faces, "welded_vertices",
-                         i.welded_vertices, "boundary_edges", i.boundary_edges, "non_manifold_edges",
+    /* The health report and the frame, member by member, and the warnings. */
+    char warnings[4096];
+    sdft_mesh_warnings(self->mesh, warnings, sizeof warnings);
+    return Py_BuildValue("{sKsKsKsKsKsKsKsOsOsKsKsKsKsKsKsKsKsKsdsss(ddd)s(ddd)s(ddd)sdsO}", "vertices", i.vertices,
+                         "faces", i.faces, "triangles", i.triangles, "degenerate_faces", i.degenerate_faces,
+                         "welded_vertices", i.welded_vertices, "boundary_edges", i.boundary_edges, "non_manifold_edges",
                          i.non_manifold_edges, "closed", i.closed ? Py_True : Py_False, "oriented",
                          i.oriented ? Py_True : Py_False, "duplicate_faces", i.duplicate_faces, "patches", i.patches,
                          "non_orientable_patches", i.non_orientable_patches, "reoriented_faces", i.reoriented_faces,
                          "outward_patches", i.outward_patches, "cavity_patches", i.cavity_patches, "ambiguous_patches",
-                         i.ambiguous_patches, "lo", f.lo[0], f.lo[1], f.lo[2], "hi", f.hi[0], f.hi[1], f.hi[2],
-                         "centre", f.centre[0], f.centre[1], f.centre[2], "radius", f.radius, "normalized",
-                         f.normalized ? Py_True : Py_False);
+                         i.ambiguous_patches, "skipped_faces", i.skipped_faces, "evidence_patches", i.evidence_patches,
+                         "ambiguous_area", i.ambiguous_area, "warnings", warnings, "lo", f.lo[0], f.lo[1], f.lo[2],
+                         "hi", f.hi[0], f.hi[1], f.hi[2], "centre", f.centre[0], f.centre[1], f.centre[2], "radius",
+                         f.radius, "normalized", f.normalized ? Py_True : Py_False);
 }
 
 static PyObject *MeshGrid_wrap(sdft_mesh_grid *handle);

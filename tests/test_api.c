@@ -372,6 +372,13 @@ static void test_grid_errors(void **state)
     vdb_file.path = "x.vdb";
     expect_code(sdft_grid_open(&vdb_file, &out, msg, sizeof msg), SDFT_EFORMAT);
 
+    /* Exporting: no grid or no place for the bytes. */
+    void *exported = (void *)&out;
+    size_t exported_size = 1;
+    expect_code(sdft_grid_export(NULL, &exported, &exported_size, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_grid_export(g, NULL, &exported_size, msg, sizeof msg), SDFT_EINVAL);
+    expect_code(sdft_grid_export(g, &exported, NULL, msg, sizeof msg), SDFT_EINVAL);
+
     /* Fields of no grid, or of an unknown bound, are empty; tracing refuses them. */
     sdft_field zero = sdft_grid_field(NULL, SDFT_GRID_BOUND_FAR), odd = sdft_grid_field(g, (sdft_grid_bound)3);
     assert_null(zero.distance);

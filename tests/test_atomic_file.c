@@ -24,16 +24,9 @@ static char dir[512];
 
 static const char *in_dir(char *buf, size_t len, const char *name)
 {
-    snprintf(buf, len, "%s/%s", dir, name);
+    const int n = snprintf(buf, len, "%s/%s", dir, name);
+    assert_true(n > 0 && (size_t)n < len);
     return buf;
-}
-
-static void put(const char *path, const char *text)
-{
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fputs(text, f);
-    fclose(f);
 }
 
 static void assert_holds(const char *path, const char *text)
@@ -51,7 +44,7 @@ static void all_or_none(void **state)
     in_dir(a, sizeof a, "set_a.txt");
     in_dir(b, sizeof b, "set_b.txt");
     in_dir(c, sizeof c, "no/such/folder/c.txt");
-    put(a, "old a");
+    tu_assert_write_text(a, "old a");
     unlink(b);
     atomic_file files[3];
 
@@ -65,8 +58,8 @@ static void all_or_none(void **state)
     /* Aborted after writing: the old files as they were. */
     const char *good[2] = {a, b};
     assert_int_equal(atomic_files_begin(files, good, 2, msg, sizeof msg), SDFT_OK);
-    put(files[0].tmp_path, "new a");
-    put(files[1].tmp_path, "new b");
+    tu_assert_write_text(files[0].tmp_path, "new a");
+    tu_assert_write_text(files[1].tmp_path, "new b");
     atomic_files_abort(files, 2);
     assert_holds(a, "old a");
     assert_false(tu_file_exists(b));
@@ -74,8 +67,8 @@ static void all_or_none(void **state)
 
     /* Committed: both, with the umask's mode. */
     assert_int_equal(atomic_files_begin(files, good, 2, msg, sizeof msg), SDFT_OK);
-    put(files[0].tmp_path, "new a");
-    put(files[1].tmp_path, "new b");
+    tu_assert_write_text(files[0].tmp_path, "new a");
+    tu_assert_write_text(files[1].tmp_path, "new b");
     assert_int_equal(atomic_files_commit(files, 2, msg, sizeof msg), SDFT_OK);
     assert_holds(a, "new a");
     assert_holds(b, "new b");
@@ -96,7 +89,7 @@ static void a_device_in_the_set(void **state)
     assert_int_equal(atomic_files_begin(files, paths, 2, msg, sizeof msg), SDFT_OK);
     assert_string_equal(files[0].tmp_path, "/dev/null");
     assert_int_equal(write(files[0].fd, "x", 1), 1);
-    put(files[1].tmp_path, "beside the device");
+    tu_assert_write_text(files[1].tmp_path, "beside the device");
     assert_int_equal(atomic_files_commit(files, 2, msg, sizeof msg), SDFT_OK);
     assert_holds(a, "beside the device");
     struct stat st;

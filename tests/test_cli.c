@@ -194,6 +194,67 @@ static void test_json_report(void **state)
     assert_true(json_number(json, "cone_steps") == 0);
 }
 
+/* The bytes of the file at path, *size of them. */
+static unsigned char *file_bytes(const char *path, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    fseek(f, 0, SEEK_END);
+    *size = (size_t)ftell(f);
+    rewind(f);
+    unsigned char *b = malloc(*size ? *size : 1);
+    assert_non_null(b);
+    assert_int_equal(fread(b, 1, *size, f), *size);
+    fclose(f);
+    return b;
+}
+
+/* --repeat N traces the frame N times in one process: the report counts
+ * the first frame (the counts of a render of one frame), times the first,
+ * the best and the warm frames and each phase before them, and the image
+ * is the one frame's, byte for byte. */
+static void test_repeat_report(void **state)
+{
+    (void)state;
+    char one[8192], three[8192], exr[2][512], grid[512];
+    tu_tmp(exr[0], sizeof exr[0], "repeat1.exr");
+    tu_tmp(exr[1], sizeof exr[1], "repeat3.exr");
+    const char *view = "--scene temple --width 48 --height 27 --threads 2 --json --quiet";
+    assert_int_equal(tu_run(one, sizeof one, "%s render %s -o %s", SDFT_CLI, view, exr[0]), 0);
+    assert_int_equal(tu_run(three, sizeof three, "%s render %s --repeat 3 -o %s", SDFT_CLI, view, exr[1]), 0);
+    assert_true(json_number(one, "frames") == 1 && json_number(three, "frames") == 3);
+    static const char *const counts[] = {"steps", "primary_steps", "cone_steps", "fallbacks", "hit_fraction", "rays"};
+    for (size_t i = 0; i < sizeof counts / sizeof counts[0]; i++)
+        assert_true(json_number(one, counts[i]) == json_number(three, counts[i]));
+    const double first = json_number(three, "first_frame_ms"), best = json_number(three, "best_frame_ms"),
+                 warm = json_number(three, "warm_frame_ms");
+    assert_true(first == json_number(three, "ms"));
+    assert_true(best > 0.0 && best <= first && warm >= best);
+    assert_true(best == (warm < first ? warm : first));
+    assert_non_null(strstr(one, "\"warm_frame_ms\": null"));
+    assert_true(json_number(three, "wall_ms") >= json_number(three, "open_ms") + first + warm);
+    size_t size[2];
+    unsigned char *bytes[2] = {file_bytes(exr[0], &size[0]), file_bytes(exr[1], &size[1])};
+    assert_int_equal(size[0], size[1]);
+    assert_memory_equal(bytes[0], bytes[1], size[0]);
+    free(bytes[0]), free(bytes[1]);
+    /* A grid's phases: `bake` stores its tables, so none is built. */
+    tu_tmp(grid, sizeof grid, "repeat.nvdb");
+    assert_int_equal(tu_run(one, sizeof one, "%s bake --scene figure --res 48 -o %s --quiet", SDFT_CLI, grid), 0);
+    assert_int_equal(tu_run(one, sizeof one,
+                            "%s render --grid %s --scene figure --width 32 --height 18 --json --quiet "
+                            "--repeat 2 -o %s",
+                            SDFT_CLI, grid, exr[0]),
+                     0);
+    assert_non_null(strstr(one, "\"far_bound_stored\": true"));
+    assert_non_null(strstr(one, "\"hull_stored\": true"));
+    assert_true(json_number(one, "far_bound_ms") < 1.0 && json_number(one, "hull_ms") < 1.0);
+    assert_true(json_number(one, "read_ms") >= 0.0 && json_number(one, "directory_ms") >= 0.0);
+    /* No frame at all is a bad option. */
+    assert_int_equal(tu_run(one, sizeof one, "%s render %s --repeat 0 -o %s 2>&1", SDFT_CLI, view, exr[0]), 2);
+    assert_int_equal(tu_lines(one), 1);
+}
+
 /* A render says what it made on stderr, one line, unless --quiet. */
 static void test_summary_line(void **state)
 {
@@ -242,7 +303,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_output_modes), cmocka_unit_test(test_help_lists_every_option),
         cmocka_unit_test(test_scenes),       cmocka_unit_test(test_bad_input),
-        cmocka_unit_test(test_json_report),  cmocka_unit_test(test_summary_line),
+        cmocka_unit_test(test_json_report),  cmocka_unit_test(test_repeat_report),
+        cmocka_unit_test(test_summary_line),
     };
     return cmocka_run_group_tests_name("cli", tests, NULL, NULL);
 }

@@ -172,6 +172,24 @@ static void test_deferred_where_exact_loads_small_grids_whole(void **state)
     remove(path);
 }
 
+/* The rule a loader asks before it reads leaves (sdft_grid_defers): with
+ * SDFT_DEFER_WHERE_EXACT, a level set is filled at load while its far
+ * bound's cells are 4 voxels (at most 2^24 of them over the box: a box of
+ * 1024^3 voxels, 256^3 cells), and deferred once they must be wider (one
+ * voxel more: 257 x 256 x 256 cells); anything but a level set with a
+ * positive background is deferred; NONE never, ALWAYS always. */
+static void test_defer_rule(void **state)
+{
+    (void)state;
+    const int32_t lo[3] = {-512, -512, -512}, hi[3] = {511, 511, 511}, wider[3] = {512, 511, 511};
+    assert_int_equal(sdft_grid_defers(SDFT_DEFER_WHERE_EXACT, 1, 0.1f, lo, hi), 0);
+    assert_int_equal(sdft_grid_defers(SDFT_DEFER_WHERE_EXACT, 1, 0.1f, lo, wider), 1);
+    assert_int_equal(sdft_grid_defers(SDFT_DEFER_WHERE_EXACT, 0, 0.1f, lo, hi), 1);
+    assert_int_equal(sdft_grid_defers(SDFT_DEFER_WHERE_EXACT, 1, 0.0f, lo, hi), 1);
+    assert_int_equal(sdft_grid_defers(SDFT_DEFER_NONE, 1, 0.1f, lo, wider), 0);
+    assert_int_equal(sdft_grid_defers(SDFT_DEFER_ALWAYS, 1, 0.1f, lo, hi), 1);
+}
+
 /* What a deferred grid's loader is handed: a reference grid's bytes to
  * copy leaves from, the leaf whose read fails, and a count of fills per
  * leaf. */
@@ -321,6 +339,7 @@ int main(void)
         cmocka_unit_test(test_deferred_leaves_match_whole_load),
         cmocka_unit_test(test_deferred_fill_and_failure),
         cmocka_unit_test(test_deferred_where_exact_loads_small_grids_whole),
+        cmocka_unit_test(test_defer_rule),
     };
     return cmocka_run_group_tests_name("grid_deferred", tests, NULL, NULL);
 }

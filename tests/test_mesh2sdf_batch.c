@@ -38,14 +38,6 @@ static __attribute__((format(printf, 2, 3))) char *path_of(char *buf, const char
     return buf;
 }
 
-static void write_text(const char *path, const char *text)
-{
-    FILE *f = fopen(path, "w");
-    assert_non_null(f);
-    fputs(text, f);
-    fclose(f);
-}
-
 /* A cube of side s centred on the origin, outward quads. */
 static void write_cube(const char *path, double s)
 {
@@ -184,17 +176,17 @@ static void make_batch_input(const char *dir, char *list, size_t len)
     path_of(path, "%s/in/sub/cube.obj", dir);
     write_cube(path, 2.0);
     path_of(path, "%s/in/corrupt.obj", dir);
-    write_text(path, "v 0 0 0\nv 1 0 0\nthis is not an OBJ line\nf 1 2 9\n");
+    tu_assert_write_text(path, "v 0 0 0\nv 1 0 0\nthis is not an OBJ line\nf 1 2 9\n");
     path_of(path, "%s/in/empty.obj", dir);
-    write_text(path, "");
+    tu_assert_write_text(path, "");
     path_of(path, "%s/in/nan.obj", dir);
-    write_text(path, "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n");
+    tu_assert_write_text(path, "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n");
     snprintf(list, len, "%s/in/list.txt", dir);
     char text[2048];
     snprintf(text, sizeof text,
              "# meshes of the batch test\ncube.obj\ncorrupt.obj\n\n  %s/spot.obj  \nempty.obj\nsub/cube.obj\nnan.obj\n",
              SDFT_MESH_DIR);
-    write_text(list, text);
+    tu_assert_write_text(list, text);
 }
 
 static int run_batch(const char *list, const char *out_dir, const char *extra, char *log, size_t log_len)
@@ -480,7 +472,7 @@ static void test_batch_samples(void **state)
     path_of(list, "%s/list.txt", dir);
     char text[PATH];
     path_of(text, "cube.obj\n%s/spot.obj\n", SDFT_MESH_DIR);
-    write_text(list, text);
+    tu_assert_write_text(list, text);
     for (int both = 0; both < 2; both++) {
         path_of(out, "%s/out%d", dir, both);
         const char *formats = both ? "vdb,samples" : "samples";
@@ -512,13 +504,17 @@ static void test_batch_samples(void **state)
         assert_true(row_number(row, "samples") == 700);
         assert_int_equal(strstr(row, "\"voxels\"") != NULL, both);
         free(row);
-        /* A rerun converts nothing: the samples stay as they were. */
+        /* A rerun with the same options converts nothing: the samples stay
+         * as they were; with another seed they are drawn again. */
         path_of(path, "%s/cube.samples.npy", out);
         const long long before = mtime_ns(path);
-        rc = tu_run(log, sizeof log, "%s --batch '%s' --out-dir '%s' --res %d --formats %s --sample-count 700 --quiet",
-                    SDFT_MESH2SDF, list, out, RES, formats);
-        assert_int_equal(rc, 0);
-        assert_true(mtime_ns(path) == before);
+        for (int seed = 5; seed <= 6; seed++) {
+            rc = tu_run(log, sizeof log,
+                        "%s --batch '%s' --out-dir '%s' --res %d --formats %s --sample-count 700 --seed %d --quiet",
+                        SDFT_MESH2SDF, list, out, RES, formats, seed);
+            assert_int_equal(rc, 0);
+            assert_int_equal(mtime_ns(path) == before, seed == 5);
+        }
     }
     /* Samples in a batch are asked for with --formats, not --samples. */
     assert_int_not_equal(
@@ -538,7 +534,7 @@ static void test_batch_normalize_and_memory(void **state)
     fresh_dir(dir, sizeof dir, "batch_normalize");
     path_of(list, "%s/list.txt", dir);
     path_of(text, "%s/spot.obj\n", SDFT_MESH_DIR);
-    write_text(list, text);
+    tu_assert_write_text(list, text);
     path_of(out, "%s/normalized", dir);
     path_of(plain, "%s/plain", dir);
     assert_int_equal(tu_run(log, sizeof log,
@@ -588,7 +584,7 @@ static void test_batch_progress_and_help(void **state)
     char dir[PATH], list[PATH], path[PATH];
     fresh_dir(dir, sizeof dir, "batch-progress");
     path_of(list, "%s/list.txt", dir);
-    write_text(list, "a.obj\nb.obj\nc.obj\n");
+    tu_assert_write_text(list, "a.obj\nb.obj\nc.obj\n");
     for (int i = 0; i < 3; i++) {
         path_of(path, "%s/%c.obj", dir, 'a' + i);
         write_cube(path, 1.0 + i);

@@ -704,10 +704,10 @@ static void health_report(void **state)
     assert_int_equal(j, strlen(json));
     assert_string_equal(json,
                         "\"vertices\": 5, \"faces\": 5, \"triangles\": 4, \"degenerate_faces\": 0, "
-                        "\"boundary_edges\": 0, \"non_manifold_edges\": 0, \"orient\": \"outward\", "
+                        "\"boundary_edges\": 0, \"non_manifold_edges\": 0, \"skipped_faces\": 0, \"orient\": \"outward\", "
                         "\"welded_vertices\": 1, \"duplicate_faces\": 1, \"patches\": 1, \"reoriented_faces\": 0, "
                         "\"outward_patches\": 0, \"cavity_patches\": 0, \"ambiguous_patches\": 0, "
-                        "\"non_orientable_patches\": 0");
+                        "\"non_orientable_patches\": 0, \"evidence_patches\": 0, \"ambiguous_area\": 0");
     /* Every count under its own name, in words and in JSON. */
     const sdft_mesh_health d = {.vertices = 1,
                                 .faces = 2,
@@ -732,10 +732,10 @@ static void health_report(void **state)
     sdft_mesh_health_json(&d, json, sizeof json);
     assert_string_equal(json,
                         "\"vertices\": 1, \"faces\": 2, \"triangles\": 3, \"degenerate_faces\": 4, "
-                        "\"boundary_edges\": 6, \"non_manifold_edges\": 7, \"orient\": \"outward\", "
+                        "\"boundary_edges\": 6, \"non_manifold_edges\": 7, \"skipped_faces\": 0, \"orient\": \"outward\", "
                         "\"welded_vertices\": 5, \"duplicate_faces\": 8, \"patches\": 9, \"reoriented_faces\": 11, "
                         "\"outward_patches\": 12, \"cavity_patches\": 13, \"ambiguous_patches\": 14, "
-                        "\"non_orientable_patches\": 10");
+                        "\"non_orientable_patches\": 10, \"evidence_patches\": 0, \"ambiguous_area\": 0");
     /* Cut short as snprintf cuts, the whole length returned; NULL counts. */
     char cut[8];
     assert_int_equal(sdft_mesh_health_text(&h, cut, sizeof cut), n);

@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include <cmocka.h>
+#include <omp.h>
 
 #include "grid_internal.h"
 #include "grid_support.h"
@@ -55,6 +56,101 @@ static void test_round_trip_nvdb(void **state)
 {
     (void)state;
     round_trip("roundtrip.nvdb");
+}
+
+/* ---- a .vdb loaded whole: the reader process's grid --------------------------------- */
+
+/* Whether the bytes at p lie in a mapping of the shared file the reader
+ * process writes (vdb_load.cpp), as /proc/self/maps names it. */
+static int in_reader_mapping(const void *p)
+{
+    FILE *maps = fopen("/proc/self/maps", "r");
+    assert_non_null(maps);
+    char line[1024];
+    int found = 0;
+    while (!found && fgets(line, sizeof line, maps)) {
+        unsigned long lo, hi;
+        if (sscanf(line, "%lx-%lx", &lo, &hi) == 2 && (uintptr_t)p >= lo && (uintptr_t)p < hi)
+            found = strstr(line, "memfd:sdftrace-grid") != NULL;
+    }
+    fclose(maps);
+    return found;
+}
+
+typedef struct progress_seen {
+    float last;
+    int calls, decreased, stop_at; /* stop_at > 0: say stop on that call */
+} progress_seen;
+
+static int watch_progress(void *user, float done)
+{
+    progress_seen *p = user;
+    p->decreased |= done < p->last;
+    p->last = done;
+    return ++p->calls == p->stop_at;
+}
+
+/* Loaded whole (streamed, not deferred), a .vdb grid is the one the reader
+ * process wrote into a shared file, mapped here without a copy: with 1, 2
+ * or 5 threads the same bytes, the voxels of NanoVDB's own converter (the
+ * whole OpenVDB grid in this process), and the same voxels deferred (this
+ * process reading the file itself); its progress climbs to 1, and a
+ * callback that says stop stops it. */
+static void test_whole_load_is_the_readers_grid(void **state)
+{
+    (void)state;
+    char path[512], msg[256];
+    tu_tmp(path, sizeof path, "reader.vdb");
+    remove(path);
+    const sdft_scene *sc = sdft_scene_find("figure");
+    assert_non_null(sc);
+    sdft_grid_free(bake(&sc->field, 256, 0, path));
+    static const int threads[3] = {1, 2, 5};
+    sdft_grid *g[3];
+    const int was = omp_get_max_threads();
+    for (int i = 0; i < 3; i++) {
+        omp_set_num_threads(threads[i]);
+        progress_seen seen = {0};
+        sdft_grid_options o = sdft_grid_options_defaults();
+        o.progress = watch_progress, o.progress_user = &seen;
+        assert_int_equal(tu_open_with(path, NULL, &o, &g[i], msg, sizeof msg), SDFT_OK);
+        size_t size;
+        const void *data = sdft_grid_data(g[i], &size);
+        assert_true(in_reader_mapping(data));
+        assert_true(seen.calls > 0 && !seen.decreased && seen.last == 1.0f);
+        if (i > 0) {
+            size_t first_size;
+            const void *first = sdft_grid_data(g[0], &first_size);
+            assert_int_equal(size, first_size);
+            assert_memory_equal(data, first, size);
+        }
+    }
+    omp_set_num_threads(was);
+    pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g[0]->buf, g[0]->grid);
+    print_message("%llu leaves\n", (unsigned long long)pnanovdb_tree_get_node_count_leaf(g[0]->buf, tree));
+    assert_true(pnanovdb_tree_get_node_count_leaf(g[0]->buf, tree) > 2048); /* several batches */
+    sdft_grid *other;
+    sdft_grid_options converter = sdft_grid_options_defaults();
+    converter.stream = 0;
+    assert_int_equal(tu_open_with(path, NULL, &converter, &other, msg, sizeof msg), SDFT_OK);
+    assert_false(in_reader_mapping(sdft_grid_data(other, NULL)));
+    same_voxels(other, g[0]);
+    sdft_grid_free(other);
+    sdft_grid_options deferred = sdft_grid_options_defaults();
+    deferred.defer = SDFT_DEFER_ALWAYS;
+    assert_int_equal(tu_open_with(path, NULL, &deferred, &other, msg, sizeof msg), SDFT_OK);
+    same_voxels(other, g[0]);
+    assert_false(in_reader_mapping(sdft_grid_data(other, NULL)));
+    sdft_grid_free(other);
+    for (int i = 0; i < 3; i++)
+        sdft_grid_free(g[i]);
+    /* Stopped by its callback: no grid, SDFT_ECANCELED. */
+    progress_seen stop = {.stop_at = 1};
+    sdft_grid_options o = sdft_grid_options_defaults();
+    o.progress = watch_progress, o.progress_user = &stop;
+    sdft_grid *none = NULL;
+    assert_int_equal(tu_open_with(path, NULL, &o, &none, msg, sizeof msg), SDFT_ECANCELED);
+    assert_null(none);
 }
 
 /* ---- which grid: .vdb and .nvdb alike ----------------------------------------------- */
@@ -213,6 +309,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_round_trip_vdb),
         cmocka_unit_test(test_round_trip_nvdb),
+        cmocka_unit_test(test_whole_load_is_the_readers_grid),
         cmocka_unit_test(test_grid_selection_is_the_same_for_vdb_and_nvdb),
         cmocka_unit_test(test_errors),
     };

@@ -138,6 +138,10 @@ typedef struct sdft_grid_options {
                                 * tests hold the stream to) [1] */
     sdft_progress_fn progress; /* NULL: no progress reports [NULL] */
     void *progress_user;       /* handed to progress */
+    /* A buffer's loader may say what reading it into memory took, in wall ms, for
+     * sdft_grid_load_phases to report with the grid's own phases: all of it, and the part that ran
+     * on one thread before the first parallel phase. [0, 0] */
+    double read_ms, read_serial_ms;
 } sdft_grid_options;
 
 /* No path, no buffer (set one), the first level set, copied, every leaf at
@@ -155,6 +159,44 @@ SDFT_API sdft_grid_options sdft_grid_options_defaults(void);
  * SDFT_EIO, SDFT_EFORMAT, SDFT_ENOTFOUND, SDFT_ENOTSCALAR, SDFT_EEMPTY,
  * SDFT_ENOMEM. */
 SDFT_API sdft_error sdft_grid_open(const sdft_grid_options *o, sdft_grid **out, char *msg, size_t msg_len);
+
+/* Whether a grid whose active voxels span the index box [lo, hi]
+ * (inclusive), a level set or not, with `background`, is deferred under
+ * `how`: the rule of sdft_defer, for a loader that lays a grid out and
+ * asks before it reads the leaves. 1 or 0. */
+SDFT_API int sdft_grid_defers(sdft_defer how, int level_set, float background, const int32_t lo[3],
+                              const int32_t hi[3]);
+
+/* What opening a grid took, phase by phase, in wall milliseconds: the
+ * work before its first ray. A loader outside this library (a `.vdb` read
+ * through OpenVDB) times its own part. */
+typedef struct sdft_grid_phases {
+    double read_ms;      /* the grid read into memory: a `.nvdb` file's bytes, a `.vdb` file's grid converted; 0 for a
+                          * buffer (or what its loader says: sdft_grid_options.read_ms) */
+    double serial_ms;    /* the part of read_ms on one thread before the first parallel phase */
+    double check_ms;     /* the tree's nodes checked against the buffer */
+    double fill_ms;      /* a deferred grid's leaves filled at load (sdft_grid_defers said no) */
+    double directory_ms; /* the leaf directory built */
+    double tables_ms;    /* the tables the grid stores (sdft_grid_export) found and checked */
+    double far_ms;       /* the far bound built (level sets), where the grid does not store it */
+    double hull_ms;      /* the hull built (level sets loaded whole), where the grid does not store it */
+    int far_stored;      /* 1: the far bound came from the grid's stored tables */
+    int hull_stored;     /* 1: the hull did */
+} sdft_grid_phases;
+
+/* The phases of g's opening into *phases. */
+SDFT_API void sdft_grid_load_phases(const sdft_grid *g, sdft_grid_phases *phases);
+
+/* The grid's NanoVDB bytes with its acceleration tables (the far bound's
+ * corners and the hull) stored after them, as NanoVDB blind data that
+ * NanoVDB's tools pass through: a grid opened from those bytes (a `.nvdb`
+ * file written from them) checks and takes the tables instead of building
+ * them, the same field to the bit. The grid's checksum becomes "none" (a
+ * writer may set one). A grid that already holds blind data is given as
+ * it is. *data: malloc'ed, the caller frees it; *size bytes. A deferred
+ * grid's leaves are filled first. SDFT_EINVAL (NULL argument),
+ * SDFT_ENOMEM. */
+SDFT_API sdft_error sdft_grid_export(const sdft_grid *g, void **data, size_t *size, char *msg, size_t msg_len);
 
 /* A deferred grid's leaves: how many there are, how many are filled so far,
  * and how many of those failed; for a grid loaded whole, all filled and 0

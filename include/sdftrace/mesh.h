@@ -167,7 +167,10 @@ SDFT_API const sdft_mesh_setting *sdft_mesh_settings(sdft_mesh_settings_of of, s
     X(simd, SDFT_MESH_SETTING_CHOICE, sdft_mesh_simd, 1, (SDFT_MESH_SIMD_AUTO), 0, 0, 0, "auto avx2 none", NULL,       \
       "LEVEL",                                                                                                         \
       "vector instructions, chosen at run time: auto, the widest the processor has (AVX-512 for the dense "            \
-      "search, else AVX2); avx2, no AVX-512; none; the answers are the same to rounding")
+      "search, else AVX2); avx2, no AVX-512; none; the answers are the same to rounding")                              \
+    X(strict, SDFT_MESH_SETTING_FLAG, int, 1, (0), 0, 0, 0, NULL, NULL, NULL,                                          \
+      "refuse a file its reader took with a doubt (faces it left out: a corner out of range, fewer than three "        \
+      "corners, a corner repeated; a PLY header's free text) instead of taking it with a warning")
 
 /* How to take a mesh in. It will grow: make one with
  * sdft_mesh_params_defaults() and set the members you change. */
@@ -184,13 +187,17 @@ typedef struct sdft_mesh_params {
 SDFT_API sdft_mesh_params sdft_mesh_params_defaults(void);
 
 /* Reads a mesh file (the formats above): polygons triangulated (fans),
- * zero-area triangles dropped and counted, vertices welded by position,
- * then normalized and oriented as p says (NULL p: the defaults). *out owns
- * the mesh: free it with sdft_mesh_free. SDFT_EINVAL (NULL path or out, a
- * setting out of its range), SDFT_EIO (missing, unreadable), SDFT_EFORMAT
- * (an unknown extension, a file its reader rejects, no faces, a non-finite
- * coordinate, a zero-size box), SDFT_ECANCELED, SDFT_ENOMEM,
- * SDFT_EINTERNAL. On failure *out is NULL. */
+ * zero-area triangles dropped and counted, faces the reader could not take
+ * (a corner out of range, fewer than three corners, a corner repeated) left
+ * out and counted (sdft_mesh_health.skipped_faces, sdft_mesh_warnings),
+ * vertices welded by position, then normalized and oriented as p says (NULL
+ * p: the defaults). *out owns the mesh: free it with sdft_mesh_free.
+ * SDFT_EINVAL (NULL path or out, a setting out of its range), SDFT_EIO
+ * (missing, unreadable), SDFT_EFORMAT (a folder, an unknown extension, a
+ * file its reader rejects or crashes on, a scene that fails the importer's
+ * validation or reads differently twice, no faces, a coordinate not finite
+ * or of absurd size, a zero-size box, a doubt with the strict setting),
+ * SDFT_ECANCELED, SDFT_ENOMEM, SDFT_EINTERNAL. On failure *out is NULL. */
 SDFT_API sdft_error sdft_mesh_load(const char *path, const sdft_mesh_params *p, sdft_mesh **out, char *msg,
                                    size_t msg_len);
 
@@ -229,6 +236,10 @@ typedef struct sdft_mesh_health {
     uint64_t outward_patches;   /* patches reversed whole to face outward */
     uint64_t cavity_patches;    /* inward-facing patches kept: they bound a cavity */
     uint64_t ambiguous_patches; /* open patches with no clear outside (left as given) */
+    double ambiguous_area;      /* their share of the surface area, 0..1 */
+    uint64_t evidence_patches;  /* open patches with no clear outside of their own, turned the way the rest
+                                 * of the mesh's winding number says (reversed ones count in outward_patches) */
+    uint64_t skipped_faces;     /* faces of the file its reader could not take (left out, not in faces) */
 } sdft_mesh_health;
 
 /* Fills *h. SDFT_EINVAL for a NULL argument. */
@@ -245,6 +256,12 @@ SDFT_API size_t sdft_mesh_health_text(const sdft_mesh_health *h, char *out, size
  * as snprintf writes: "\"vertices\": 5856, \"faces\": 5856, ..., \"orient\":
  * \"outward\"" and, when oriented, what orienting did. */
 SDFT_API size_t sdft_mesh_health_json(const sdft_mesh_health *h, char *out, size_t out_len);
+
+/* What taking the mesh in did with a doubt, a line each, each ending in
+ * '\n' ("" for none), into out as snprintf writes: faces the reader left
+ * out, a PLY header's free text, and the largest open patches orienting
+ * left as given (how much of the surface, where). */
+SDFT_API size_t sdft_mesh_warnings(const sdft_mesh *m, char *out, size_t out_len);
 
 /* Where a mesh is. */
 typedef struct sdft_mesh_frame {

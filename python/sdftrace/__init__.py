@@ -11,7 +11,8 @@ Ctrl-C stops them, and queries of many points, at their next progress step
 
 Meshes
     Every function that takes ``mesh`` takes any of: a file path (.obj .ply
-    .off .stl .om), a pair ``(vertices, faces)`` of arrays (vertices (n, 3)
+    .off .stl .om, and the scenes .gltf .glb .fbx .dae .3mf, each flattened:
+    every mesh of every node, moved by the node's transform), a pair ``(vertices, faces)`` of arrays (vertices (n, 3)
     float32 or float64, faces (m, 3) integers, any memory order), an object
     with ``.vertices`` and ``.faces`` (a trimesh mesh, say), or a
     :class:`Mesh`, which reads and orients the mesh once for many calls.
@@ -186,8 +187,10 @@ class Mesh:
     def info(self) -> Dict[str, Any]:
         """Health and orientation counts: vertices, faces, triangles, degenerate_faces,
         welded_vertices, boundary_edges, non_manifold_edges, closed, oriented, patches,
-        reoriented_faces, outward_patches, cavity_patches, ambiguous_patches, ...; the box
-        (lo, hi) in the mesh's frame and the sphere (centre, radius) in the input's units."""
+        reoriented_faces, outward_patches, cavity_patches, ambiguous_patches, ...,
+        skipped_faces (faces of the file its reader could not take) and warnings (what
+        reading and orienting took with a doubt, a line each); the box (lo, hi) in the
+        mesh's frame and the sphere (centre, radius) in the input's units."""
         return self._mesh.info()
 
     def signed_distance(self, points: Any, return_winding: bool = False):

@@ -408,3 +408,15 @@ def test_two_threads_convert_in_the_time_of_one():
         for _ in range(3)
     )
     assert best < 1.6, best
+
+
+def test_faces_left_out_and_strict():
+    """A file with faces its reader cannot take: the cube's twelve kept, the
+    five others counted and said; refused with strict=True."""
+    path = os.path.join(DATA, "real", "bad_indices.obj")
+    info = sdftrace.Mesh(path).info()
+    assert info["faces"] == 12 and info["skipped_faces"] == 5
+    assert "5 faces of the file were left out" in info["warnings"]
+    assert sdftrace.Mesh(os.path.join(DATA, "real", "cup_lid.off")).info()["skipped_faces"] == 0
+    with pytest.raises(ValueError, match="refused as strict"):
+        sdftrace.Mesh(path, strict=True)

@@ -3,14 +3,18 @@
  * whole new one, and after fsync a crash cannot leave a renamed but empty
  * file. */
 #define _POSIX_C_SOURCE 200809L
+#define _DEFAULT_SOURCE /* flock */
 #include "atomic_file.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "fail.h"
@@ -67,6 +71,9 @@ sdft_error atomic_file_begin(atomic_file *af, const char *path, char *msg, size_
         af->tmp_path[0] = '\0';
         return fail_with(msg, msg_len, SDFT_EIO, "cannot write %s: %s", path, strerror(err));
     }
+    /* The writer's lock, held while this process lives (atomic_file_sweep).
+     * A file system without locks writes all the same. */
+    (void)flock(af->fd, LOCK_EX | LOCK_NB);
     /* mkstemp makes 0600; give the file the mode a plain fopen would. */
     if (fchmod(af->fd, (mode_t)atomic_file_mode()) != 0) {
         const int err = errno;
@@ -180,4 +187,60 @@ sdft_error atomic_file_check_writable(const char *path, char *msg, size_t msg_le
     if (rc == SDFT_OK)
         atomic_file_abort(&af);
     return rc;
+}
+
+/* Whether `entry` is ".<inner>.tmp-XXXXXX" (mkstemp's six letters and
+ * digits) with <inner> `name`, or ending in one of `suffixes`. */
+static int sweepable(const char *entry, const char *name, const char *const *suffixes)
+{
+    const size_t n = strlen(entry), tail = strlen(".tmp-XXXXXX");
+    if (entry[0] != '.' || n < 1 + tail + 1 || strncmp(entry + n - tail, ".tmp-", 5) != 0)
+        return 0;
+    for (size_t i = n - 6; i < n; i++)
+        if (!((entry[i] >= 'a' && entry[i] <= 'z') || (entry[i] >= 'A' && entry[i] <= 'Z') ||
+              (entry[i] >= '0' && entry[i] <= '9')))
+            return 0;
+    const char *inner = entry + 1;
+    const size_t inner_len = n - 1 - tail;
+    if (name)
+        return strlen(name) == inner_len && strncmp(inner, name, inner_len) == 0;
+    for (; suffixes && *suffixes; suffixes++) {
+        const size_t k = strlen(*suffixes);
+        if (k < inner_len && strncmp(inner + inner_len - k, *suffixes, k) == 0)
+            return 1;
+    }
+    return 0;
+}
+
+int atomic_file_sweep(const char *dir, const char *name, const char *const *suffixes)
+{
+    const char *folder = dir && *dir ? dir : ".";
+    DIR *d = opendir(folder);
+    if (!d)
+        return 0;
+    int removed = 0;
+    const time_t now = time(NULL);
+    char path[4096];
+    for (struct dirent *e; (e = readdir(d)) != NULL;) {
+        if (!sweepable(e->d_name, name, suffixes))
+            continue;
+        if ((size_t)snprintf(path, sizeof path, "%s/%s", folder, e->d_name) >= sizeof path)
+            continue;
+        /* Opened without following a link, and only a regular file: the
+         * lock test needs a descriptor of the file itself. */
+        const int fd = open(path, O_RDONLY | O_NOFOLLOW | O_CLOEXEC | O_NONBLOCK);
+        if (fd < 0)
+            continue;
+        struct stat st;
+        if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && now - st.st_mtime >= 1 && flock(fd, LOCK_EX | LOCK_NB) == 0) {
+            /* Still the same file under that name (not replaced meanwhile). */
+            struct stat now_st;
+            if (lstat(path, &now_st) == 0 && now_st.st_ino == st.st_ino && now_st.st_dev == st.st_dev &&
+                unlink(path) == 0)
+                removed++;
+        }
+        close(fd);
+    }
+    closedir(d);
+    return removed;
 }

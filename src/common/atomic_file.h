@@ -25,7 +25,9 @@ typedef struct atomic_file {
 
 /* Creates the empty temporary file beside `path` (mode from the umask), so
  * that a missing folder, a folder in the target's place or a read-only
- * folder fails here, before any work. A target that exists and is neither
+ * folder fails here, before any work. The writer holds a lock on it
+ * (flock) until it is renamed or removed, or the process ends: that is how
+ * atomic_file_sweep tells a live writer's file from a killed one's. A target that exists and is neither
  * a regular file nor a folder (/dev/null, a named pipe) is opened and
  * written in place: renaming onto it would replace the device with a file. Write to af->tmp_path (by name, or
  * through af->fd). SDFT_OK; SDFT_EINVAL (empty or too long a path); SDFT_EIO
@@ -59,6 +61,17 @@ void atomic_files_abort(atomic_file *files, size_t count);
 /* Whether a file could be created at path: creates and removes a temporary
  * file beside it, touching nothing at path itself. SDFT_OK or as begin. */
 sdft_error atomic_file_check_writable(const char *path, char *msg, size_t msg_len);
+
+/* Removes the temporary files a killed writer left in folder `dir` (NULL
+ * or "": the current one): files named ".<name>.tmp-XXXXXX", as
+ * atomic_file_begin names them, where <name> is `name` or (name NULL) ends
+ * in one of the `suffixes` (NULL-terminated; NULL: none), that no process
+ * holds the writer's lock on and that are a second old or more (older than
+ * the moment between a temporary file's creation and its lock). Files of
+ * writers still running (another run into the same folder, a batch's other
+ * shards) are kept; so are those of a file system that takes no locks.
+ * Returns how many it removed. */
+int atomic_file_sweep(const char *dir, const char *name, const char *const *suffixes);
 
 /* The mode a new file gets from the process's umask: 0666 & ~umask. */
 unsigned atomic_file_mode(void);

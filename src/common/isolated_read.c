@@ -83,8 +83,8 @@ static uint64_t address_space_bytes(void)
 }
 #endif
 
-/* The child: quiet, limited, fn, _exit. */
-static void run_child(const char *path, int fd, isolated_fn fn, void *ctx)
+/* The child: quiet, limited (the file's allowance plus `extra` bytes), fn, _exit. */
+static void run_child(const char *path, int fd, isolated_fn fn, void *ctx, double extra)
 {
     /* A crash here ends the child with its signal, for the parent to
      * report: the caller's crash handlers (a crash reporter's, libFuzzer's
@@ -100,7 +100,7 @@ static void run_child(const char *path, int fd, isolated_fn fn, void *ctx)
     if (null >= 0)
         dup2(null, STDOUT_FILENO), dup2(null, STDERR_FILENO), close(null);
 #if defined(SDFT_UNDER_ASAN)
-    (void)path;
+    (void)path, (void)extra;
     /* The child's death is the parent's to report: a sanitizer's death
      * callback (libFuzzer's writes the input as a crash of its own) must
      * not run here. */
@@ -108,7 +108,8 @@ static void run_child(const char *path, int fd, isolated_fn fn, void *ctx)
 #else
     /* The mappings it inherits, plus what the file may unpack to. */
     struct rlimit as;
-    const double unpacked = 256.0 * 1024 * 1024 + 64.0 * file_size(path), machine = (double)memory_machine_bytes();
+    const double unpacked = 256.0 * 1024 * 1024 + 64.0 * file_size(path) + extra,
+                 machine = (double)memory_machine_bytes();
     const uint64_t limit = address_space_bytes() + (uint64_t)(unpacked < machine ? unpacked : machine);
     if (getrlimit(RLIMIT_AS, &as) == 0 && (as.rlim_cur == RLIM_INFINITY || limit < (uint64_t)as.rlim_cur)) {
         as.rlim_cur = (rlim_t)limit;
@@ -121,21 +122,55 @@ static void run_child(const char *path, int fd, isolated_fn fn, void *ctx)
     _exit(1);
 }
 
+/* The processor time child `pid` has spent, all its threads, in seconds;
+ * -1 where it cannot be read. */
+static double child_cpu_s(clockid_t clock)
+{
+    struct timespec t;
+    if (clock_gettime(clock, &t) != 0)
+        return -1.0;
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* Why collect stopped a child before its end. */
+typedef enum { RAN_PAST_PROCESSOR, RAN_PAST_WALL, STALLED } stop_reason;
+
 /* Appends what the child writes to *buf until it closes the pipe (1) or
- * the deadline passes (0); -1 when memory runs out. */
-static int collect(int fd, double deadline, char **buf, size_t *size)
+ * is stopped (0, *stopped says why): its processor time passes `limit`,
+ * it spends none for `limit` seconds of wall time in a row, or the wall
+ * time passes ISOLATED_WALL_FACTOR limit. -1 when memory runs out, -2 when
+ * the watch (NULL: none) says stop. The child's clock is looked at every
+ * 50 ms at most; where it cannot be read, `limit` is wall time. */
+static int collect(int fd, pid_t pid, double limit, const isolated_extra *x, char **buf, size_t *size,
+                   stop_reason *stopped)
 {
     size_t cap = 0;
+    const int watching = x && x->watch;
+    double start = now_s(), deadline = start + ISOLATED_WALL_FACTOR * limit, last = start;
+    clockid_t clock;
+    const int timed = clock_getcpuclockid(pid, &clock) == 0;
+    double spent = 0.0, working_at = start; /* the child's processor time, and when it last grew */
     for (;;) {
-        const double left = deadline - now_s();
-        if (left <= 0)
+        const double now = now_s();
+        if (now - last > 1.0) /* this process was stopped (^Z) or starved itself: that time is not the child's */
+            start += now - last, deadline += now - last, working_at += now - last;
+        last = now;
+        const double left = deadline - now;
+        const double cpu = timed ? child_cpu_s(clock) : -1.0;
+        if (cpu > spent)
+            spent = cpu, working_at = now;
+        *stopped = !timed || spent > limit ? RAN_PAST_PROCESSOR : left <= 0 ? RAN_PAST_WALL : STALLED;
+        if (timed ? spent > limit || left <= 0 || now - working_at > limit : now - start > limit)
             return 0;
+        if (watching && x->watch(x->watch_ctx))
+            return -2;
         struct pollfd p = {fd, POLLIN, 0};
-        const int r = poll(&p, 1, (int)(left * 1000) + 1);
+        const int wait_ms = (int)(left * 1000) + 1, most = watching ? 20 : 50;
+        const int r = poll(&p, 1, wait_ms > most ? most : wait_ms);
         if (r < 0 && errno == EINTR)
             continue;
         if (r == 0)
-            return 0;
+            continue; /* the limits, or the next watch, decide */
         if (*size + 65536 > cap) {
             cap = 2 * (*size + 65536);
             char *grown = realloc(*buf, cap);
@@ -173,6 +208,12 @@ static int reap(pid_t pid, char *why, size_t why_len)
 
 int isolated_read(const char *path, isolated_fn fn, void *ctx, char **answer, size_t *size, char *why, size_t why_len)
 {
+    return isolated_read_with(path, fn, ctx, NULL, answer, size, why, why_len);
+}
+
+int isolated_read_with(const char *path, isolated_fn fn, void *ctx, const isolated_extra *extra, char **answer,
+                       size_t *size, char *why, size_t why_len)
+{
     const double time_limit = isolated_time_limit(path);
     *answer = NULL, *size = 0;
     int fds[2];
@@ -189,21 +230,28 @@ int isolated_read(const char *path, isolated_fn fn, void *ctx, char **answer, si
     }
     if (pid == 0) {
         close(fds[0]);
-        run_child(path, fds[1], fn, ctx);
+        run_child(path, fds[1], fn, ctx, extra ? extra->bytes : 0.0);
     }
     close(fds[1]);
-    const int done = collect(fds[0], now_s() + time_limit, answer, size);
+    stop_reason stopped = RAN_PAST_PROCESSOR;
+    const int done = collect(fds[0], pid, time_limit, extra, answer, size, &stopped);
     close(fds[0]);
     if (done <= 0)
         kill(pid, SIGKILL);
     const int ended = reap(pid, why, why_len);
-    if (done == 0)
-        snprintf(why, why_len, "ran past %.0f s", time_limit);
-    else if (done < 0)
+    if (done == 0 && stopped == RAN_PAST_PROCESSOR)
+        snprintf(why, why_len, "ran past %g s of processor time", time_limit);
+    else if (done == 0 && stopped == RAN_PAST_WALL)
+        snprintf(why, why_len, "ran past %g s", ISOLATED_WALL_FACTOR * time_limit);
+    else if (done == 0)
+        snprintf(why, why_len, "stalled for %g s", time_limit);
+    else if (done == -1)
         snprintf(why, why_len, "out of memory for its answer");
+    else if (done == -2)
+        snprintf(why, why_len, "stopped");
     if (done > 0 && ended == 0)
         return 0;
     free(*answer);
     *answer = NULL, *size = 0;
-    return -1;
+    return done == -2 ? -2 : -1;
 }

@@ -86,6 +86,22 @@ void sdft_render_papers(sdft_render_params *p)
     p->trace.exact_root = 0;
 }
 
+/* The pages of a new image's planes faulted in now, in parallel, a byte
+ * written per page: a frame writes every pixel, and a first frame would
+ * otherwise take those first touches (on some machines as slow as the
+ * trace) one store at a time. */
+static void touch_planes(void *const planes[], const size_t bytes[], int count)
+{
+    enum { PAGE = 4096 };
+    for (int p = 0; p < count; p++) {
+        unsigned char *b = planes[p];
+        const long pages = (long)((bytes[p] + PAGE - 1) / PAGE);
+#pragma omp parallel for schedule(static)
+        for (long i = 0; i < pages; i++)
+            b[(size_t)i * PAGE] = 0;
+    }
+}
+
 sdft_error sdft_image_alloc(sdft_image *img, int width, int height, char *msg, size_t msg_len)
 {
     if (!img)
@@ -109,6 +125,12 @@ sdft_error sdft_image_alloc(sdft_image *img, int width, int height, char *msg, s
         sdft_image_free(img);
         return fail_with(msg, msg_len, SDFT_ENOMEM, "out of memory for a %dx%d image", width, height);
     }
+    void *const planes[] = {img->rgb,       img->depth,         img->normal, img->steps,
+                            img->fallbacks, img->primary_steps, img->status};
+    const size_t bytes[] = {3 * n * sizeof *img->rgb, n * sizeof *img->depth,     3 * n * sizeof *img->normal,
+                            n * sizeof *img->steps,   n * sizeof *img->fallbacks, n * sizeof *img->primary_steps,
+                            n * sizeof *img->status};
+    touch_planes(planes, bytes, 7);
     return SDFT_OK;
 }
 

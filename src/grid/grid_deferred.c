@@ -94,6 +94,18 @@ uint64_t grid_deferred_fill_now(sdft_grid *g)
     return failed;
 }
 
+int sdft_grid_defers(sdft_defer how, int level_set, float background, const int32_t lo[3], const int32_t hi[3])
+{
+    if (how != SDFT_DEFER_WHERE_EXACT)
+        return how == SDFT_DEFER_ALWAYS;
+    /* Where the far bound's cells are narrower than a leaf (boxes up to
+     * about 1024^3), it reads the active states of a leaf's sub-blocks, and
+     * deferring would loosen it (an unread leaf counts as occupied): such a
+     * grid is filled at load. Wider cells look at a leaf as one block,
+     * read or not. */
+    return !(level_set && background > 0.0f && grid_far_cell(lo, hi) < 8);
+}
+
 void sdft_grid_leaf_counts(const sdft_grid *g, uint64_t *leaves, uint64_t *filled, uint64_t *failed)
 {
     const grid_deferred *d = &g->deferred;

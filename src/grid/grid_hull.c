@@ -41,6 +41,7 @@
  * (such grids keep the cones, render.c). */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "grid_cell.h"
 
@@ -57,13 +58,32 @@ typedef struct hull_fill {
 typedef struct block_signs {
     uint16_t neg[9][9], pos[9][9];
     float value[9][9][9];
-    double slope[3]; /* sum of v (x - 4, y - 4, z - 4) over the 9^3 finite values: along the gradient */
 } block_signs;
 
-/* The signs of the voxels of block b and of its apron, and their values'
- * slope: its own leaf's values (table word w), the next blocks' leaves or
- * tiles through the directory, the accessor where the directory has no
- * entry. */
+/* The values of voxels 8b + (x, y, z) for x, y, z in xs, ys, zs (ranges
+ * [first, last] of 0..8, all on one side of 8 each: one block's) into
+ * value[x][y][z]: from the directory entry w of their block (a leaf's
+ * table, or a tile), or, where it has none (w 0), through the accessor. */
+static void gather_part(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const int32_t b[3], uint32_t w,
+                        const int r[3][2], float value[9][9][9])
+{
+    for (int x = r[0][0]; x <= r[0][1]; x++)
+        for (int y = r[1][0]; y <= r[1][1]; y++)
+            for (int z = r[2][0]; z <= r[2][1]; z++) {
+                if (w) {
+                    value[x][y][z] = entry_value(g, g->type, w,
+                                                 64u * (uint32_t)(x & 7) + 8u * (uint32_t)(y & 7) + (uint32_t)(z & 7));
+                } else {
+                    uint32_t level;
+                    value[x][y][z] = read_value(g, g->type, acc,
+                                                (pnanovdb_coord_t){8 * b[0] + x, 8 * b[1] + y, 8 * b[2] + z}, &level);
+                }
+            }
+}
+
+/* The values of the voxels of block b and of its apron, and their signs:
+ * its own leaf's values (table word w), the next blocks' leaves or tiles
+ * through the directory, the accessor where the directory has no entry. */
 static void gather_signs(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const int32_t b[3], uint32_t w,
                          block_signs *s)
 {
@@ -72,33 +92,47 @@ static void gather_signs(const sdft_grid *g, pnanovdb_readaccessor_t *acc, const
     const uint32_t *e = NULL;
     if (!directory_chunk(g, c0, &local, &e))
         e = NULL;
-    s->slope[0] = s->slope[1] = s->slope[2] = 0.0;
+    if (g->type == PNANOVDB_GRID_TYPE_FLOAT) { /* the leaf's own 512 floats, rows of 8 along z */
+        const uint32_t *v = g->words + w;
+        for (int x = 0; x < 8; x++)
+            for (int y = 0; y < 8; y++)
+                memcpy(s->value[x][y], v + 64 * x + 8 * y, 8 * sizeof(float));
+    } else {
+        const int own[3][2] = {{0, 7}, {0, 7}, {0, 7}};
+        gather_part(g, acc, b, w, own, s->value);
+    }
+    for (int k = 1; k < 8; k++) { /* the apron: the chunk holds the next blocks too */
+        const int ax = k & 1, ay = k >> 1 & 1, az = k >> 2;
+        const int r[3][2] = {{ax ? 8 : 0, ax ? 8 : 7}, {ay ? 8 : 0, ay ? 8 : 7}, {az ? 8 : 0, az ? 8 : 7}};
+        const uint32_t entry = e ? e[local + (uint32_t)ax + GRID_CHUNK_SIDE * (uint32_t)ay +
+                                     GRID_CHUNK_SIDE * GRID_CHUNK_SIDE * (uint32_t)az]
+                                 : 0u;
+        gather_part(g, acc, b, entry, r, s->value);
+    }
     for (int x = 0; x < 9; x++)
         for (int y = 0; y < 9; y++) {
             uint16_t neg = 0, pos = 0;
             for (int z = 0; z < 9; z++) {
-                const int ax = x == 8, ay = y == 8, az = z == 8;
-                float v;
-                uint32_t entry = w;
-                if (ax | ay | az) /* the apron: the chunk holds the next blocks too */
-                    entry = e ? e[local + (uint32_t)ax + GRID_CHUNK_SIDE * (uint32_t)ay +
-                                  GRID_CHUNK_SIDE * GRID_CHUNK_SIDE * (uint32_t)az]
-                              : 0u;
-                if (entry) {
-                    v = entry_value(g, g->type, entry,
-                                    64u * (uint32_t)(x & 7) + 8u * (uint32_t)(y & 7) + (uint32_t)(z & 7));
-                } else {
-                    uint32_t level;
-                    v = read_value(g, g->type, acc, (pnanovdb_coord_t){c0[0] + x, c0[1] + y, c0[2] + z}, &level);
-                }
-                s->value[x][y][z] = v;
+                const float v = s->value[x][y][z];
                 neg |= (uint16_t)((v <= 0.0f) << z); /* NaN: neither, so its cells count as mixed */
                 pos |= (uint16_t)((v > 0.0f) << z);
-                if (isfinite(v))
-                    s->slope[0] += v * (x - 4), s->slope[1] += v * (y - 4), s->slope[2] += v * (z - 4);
             }
             s->neg[x][y] = neg, s->pos[x][y] = pos;
         }
+}
+
+/* The block's values' slope: the sum of v (x - 4, y - 4, z - 4) over its
+ * 9^3 finite values, in that order (the sums' rounding is the hull's). */
+static void block_slope(const block_signs *s, double slope[3])
+{
+    slope[0] = slope[1] = slope[2] = 0.0;
+    for (int x = 0; x < 9; x++)
+        for (int y = 0; y < 9; y++)
+            for (int z = 0; z < 9; z++) {
+                const float v = s->value[x][y][z];
+                if (isfinite(v))
+                    slope[0] += v * (x - 4), slope[1] += v * (y - 4), slope[2] += v * (z - 4);
+            }
 }
 
 /* A box for the cells whose lowest corners span [first, last]: those
@@ -149,21 +183,44 @@ static void add_cells(hull_fill *h, const int32_t first[3], const int32_t last[3
  * axis k is the bilinear blend, over the cell's other two coordinates, of
  * its four k edges' differences (cell_edges), so at every point of the
  * closed cell it lies between the least and the greatest of the four.
- * Widens [lo, hi] to hold them, on each axis; a NaN value leaves the axis
- * unbounded. */
-static void widen_gradient(const block_signs *s, int x, int y, int z, double lo[3], double hi[3])
+ * Over the mixed cells (mixed[x][y], bit z), [lo, hi] on each axis is
+ * the least and the greatest difference along an edge of one of them,
+ * each edge taken once; a NaN there leaves the axis unbounded. */
+static void gradient_bounds(const block_signs *s, const uint8_t mixed[8][8], double lo[3], double hi[3])
 {
-    float v[8];
-    for (int c = 0; c < 8; c++)
-        v[c] = s->value[x + (c & 1)][y + (c >> 1 & 1)][z + (c >> 2 & 1)];
+    /* For each axis k, edges (a, a + e_k) with a_k in 0..7 and the other
+     * two coordinates in 0..8; an edge belongs to the cells c with c_k =
+     * a_k and each other c_p in {a_p - 1, a_p}. The loops go over (u, w), u
+     * the first axis that is not k (0..8) and w the edge's k coordinate,
+     * with the cells of each such row as bits over the last axis. t[x][z]:
+     * mixed's bits turned to run over y, for edges along z. */
+    uint16_t t[8][8] = {{0}};
+    for (int x = 0; x < 8; x++)
+        for (int y = 0; y < 8; y++)
+            for (int z = 0; z < 8; z++)
+                t[x][z] |= (uint16_t)((mixed[x][y] >> z & 1u) << y);
     for (int k = 0; k < 3; k++) {
-        double e[4];
-        cell_edges(v, k, e);
-        for (int i = 0; i < 4; i++) {
-            if (e[i] != e[i])
-                lo[k] = -INFINITY, hi[k] = INFINITY;
-            lo[k] = e[i] < lo[k] ? e[i] : lo[k], hi[k] = e[i] > hi[k] ? e[i] : hi[k];
-        }
+        double l = INFINITY, h = -INFINITY;
+        int nan = 0;
+        for (int w = 0; w < 8; w++)
+            for (int u = 0; u < 9; u++) {
+                unsigned cells = 0; /* over the last axis: cells at u - 1 and u */
+                for (int c = u - 1; c <= u; c++)
+                    if (c >= 0 && c < 8)
+                        cells |= k == 0 ? mixed[w][c] : k == 1 ? mixed[c][w] : t[c][w];
+                const unsigned edges = cells | cells << 1;
+                for (int v = 0; v < 9; v++) {
+                    if (!(edges >> v & 1u))
+                        continue;
+                    /* (x, y, z) of the edge's start: k = 0: (w, u, v); 1: (u, w, v); 2: (u, v, w). */
+                    const int x = k == 0 ? w : u, y = k == 0 ? u : k == 1 ? w : v, z = k == 2 ? w : v;
+                    const double d =
+                        (double)s->value[x + (k == 0)][y + (k == 1)][z + (k == 2)] - (double)s->value[x][y][z];
+                    nan |= d != d;
+                    l = d < l ? d : l, h = d > h ? d : h;
+                }
+            }
+        lo[k] = nan ? -INFINITY : l, hi[k] = nan ? INFINITY : h;
     }
 }
 
@@ -185,6 +242,13 @@ static void add_leaf(void *ctx, const int32_t b[3], uint64_t at, uint32_t word)
     pnanovdb_readaccessor_init(&acc, g->root);
     block_signs s;
     gather_signs(g, &acc, b, word, &s);
+    uint8_t mixed[8][8];
+    unsigned any = 0;
+    for (int x = 0; x < 8; x++)
+        for (int y = 0; y < 8; y++)
+            any |= mixed[x][y] = (uint8_t)mixed_cells(&s, x, y);
+    if (!any)
+        return;
     /* THE SLAB. With n the unit vector along the block's values' slope (the
      * least-squares gradient of a linear field over the 9^3 voxels), cell
      * (x, y, z) spans n . (x, y, z) + [sum of n's negative components, sum
@@ -193,29 +257,26 @@ static void add_leaf(void *ctx, const int32_t b[3], uint64_t at, uint32_t word)
      * cell whatever n is; n along the surface makes it thinner than the
      * box where the surface runs aslant of the axes. No slope (all values
      * equal, or not finite): the box alone. */
-    const double len = sqrt(s.slope[0] * s.slope[0] + s.slope[1] * s.slope[1] + s.slope[2] * s.slope[2]);
+    double slope[3];
+    block_slope(&s, slope);
+    const double len = sqrt(slope[0] * slope[0] + slope[1] * slope[1] + slope[2] * slope[2]);
     const int sloped = len > 0.0 && isfinite(len);
-    const double n[3] = {sloped ? s.slope[0] / len : 0.0, sloped ? s.slope[1] / len : 0.0,
-                         sloped ? s.slope[2] / len : 0.0};
+    const double n[3] = {sloped ? slope[0] / len : 0.0, sloped ? slope[1] / len : 0.0, sloped ? slope[2] / len : 0.0};
     int lo[3] = {8, 8, 8}, hi[3] = {-1, -1, -1};
-    double p_lo = INFINITY, p_hi = -INFINITY, g_lo[3] = {INFINITY, INFINITY, INFINITY},
-           g_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double p_lo = INFINITY, p_hi = -INFINITY, g_lo[3], g_hi[3];
     for (int x = 0; x < 8; x++)
         for (int y = 0; y < 8; y++) {
-            const unsigned mixed = mixed_cells(&s, x, y);
-            if (!mixed)
+            const unsigned m = mixed[x][y];
+            if (!m)
                 continue;
-            const int z0 = __builtin_ctz(mixed), z1 = 31 - __builtin_clz(mixed);
+            const int z0 = __builtin_ctz(m), z1 = 31 - __builtin_clz(m);
             lo[0] = x < lo[0] ? x : lo[0], hi[0] = x > hi[0] ? x : hi[0];
             lo[1] = y < lo[1] ? y : lo[1], hi[1] = y > hi[1] ? y : hi[1];
             lo[2] = z0 < lo[2] ? z0 : lo[2], hi[2] = z1 > hi[2] ? z1 : hi[2];
             const double at = n[0] * x + n[1] * y, a0 = at + n[2] * z0, a1 = at + n[2] * z1;
             p_lo = fmin(p_lo, fmin(a0, a1)), p_hi = fmax(p_hi, fmax(a0, a1));
-            for (unsigned m = mixed; m; m &= m - 1)
-                widen_gradient(&s, x, y, __builtin_ctz(m), g_lo, g_hi);
         }
-    if (hi[0] < 0)
-        return;
+    gradient_bounds(&s, mixed, g_lo, g_hi);
     int32_t first[3], last[3];
     for (int k = 0; k < 3; k++)
         first[k] = 8 * b[k] + lo[k], last[k] = 8 * b[k] + hi[k];
@@ -283,21 +344,31 @@ static int scan_faces(const sdft_grid *g, hull_fill *h)
     return ok;
 }
 
-sdft_error grid_hull_build(sdft_grid *g)
+int grid_hull_wanted(const sdft_grid *g)
 {
-    g->hull = NULL, g->hull_slab = NULL, g->hull_gradient = NULL, g->hull_count = 0;
-    if (g->grid_class != PNANOVDB_GRID_CLASS_LEVEL_SET || !(g->background > 1.7320508f * g->sigma_max) ||
-        !g->leaves.top || g->deferred.state)
-        return SDFT_OK;
-    pnanovdb_tree_handle_t tree = pnanovdb_grid_get_tree(g->buf, g->grid);
-    const uint64_t leaves = pnanovdb_tree_get_node_count_leaf(g->buf, tree);
-    uint64_t most = leaves; /* a box per leaf and per face patch at most */
-    for (int k = 0; k < 3; k++) {
+    return g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET && g->background > 1.7320508f * g->sigma_max &&
+           g->leaves.top && !g->deferred.state &&
+           pnanovdb_tree_get_node_count_leaf(g->buf, pnanovdb_grid_get_tree(g->buf, g->grid)) > 0;
+}
+
+uint64_t grid_hull_most(const sdft_grid *g)
+{
+    uint64_t most = pnanovdb_tree_get_node_count_leaf(g->buf, pnanovdb_grid_get_tree(g->buf, g->grid));
+    for (int k = 0; k < 3; k++) { /* a box per leaf and per face patch at most */
         const int u = (k + 1) % 3, v = (k + 2) % 3;
         most += 2 * (uint64_t)(last_patch(g, u) - first_patch(g, u) + 1) *
                 (uint64_t)(last_patch(g, v) - first_patch(g, v) + 1);
     }
-    if (leaves == 0 || most > SIZE_MAX / sizeof(sdft_aabb))
+    return most;
+}
+
+sdft_error grid_hull_build(sdft_grid *g)
+{
+    g->hull = NULL, g->hull_slab = NULL, g->hull_gradient = NULL, g->hull_count = 0, g->hull_stored = 0;
+    if (!grid_hull_wanted(g))
+        return SDFT_OK;
+    const uint64_t most = grid_hull_most(g);
+    if (most > SIZE_MAX / sizeof(sdft_aabb))
         return SDFT_OK;
     hull_fill h = {g,
                    malloc((size_t)most * sizeof(sdft_aabb)),
@@ -321,6 +392,7 @@ sdft_error grid_hull_build(sdft_grid *g)
 
 void grid_hull_free(sdft_grid *g)
 {
-    free(g->hull), free(g->hull_slab), free(g->hull_gradient);
-    g->hull = NULL, g->hull_slab = NULL, g->hull_gradient = NULL, g->hull_count = 0;
+    if (!g->hull_stored)
+        free(g->hull), free(g->hull_slab), free(g->hull_gradient);
+    g->hull = NULL, g->hull_slab = NULL, g->hull_gradient = NULL, g->hull_count = 0, g->hull_stored = 0;
 }

@@ -30,6 +30,7 @@ typedef struct grid_far {
     float inv_cell;   /* 1 / S */
     float origin[3];  /* index coordinates of corner 0: c0 S - 1/2 */
     float bonus;      /* world units added to smin e(x): the band's guarantee */
+    int stored;       /* 1: corner lies in the grid's own bytes (grid_tables.c), not ours to free */
 } grid_far;
 
 /* FAR_DISTANCE_BITS, FAR_EMPTY_POSITIVE, FAR_EMPTY_NEGATIVE and
@@ -103,7 +104,9 @@ struct sdft_grid {
     sdft_slab *hull_slab;     /* with each box, a world slab that holds its cells too */
     sdft_aabb *hull_gradient; /* with each box, world bounds on its cells' gradients */
     size_t hull_count;
-    sdft_field_accel accel; /* what its fields point to (grid_accel_init) */
+    int hull_stored;         /* 1: the hull's arrays lie in the grid's own bytes (grid_tables.c) */
+    sdft_field_accel accel;  /* what its fields point to (grid_accel_init) */
+    sdft_grid_phases phases; /* what loading it took (sdft_grid_load_phases) */
     /* Its surface's materials (sdft_grid_set_materials, grid_material.c): the grid of indices
      * into the table; NULL: none. */
     const sdft_grid *material_ids;
@@ -140,7 +143,11 @@ sdft_error grid_init(sdft_grid *g, char *msg, size_t msg_len);
 /* Builds / frees g->far (grid_bound.c). Needs g fully decoded, its
  * directory included. SDFT_OK or SDFT_ENOMEM. */
 sdft_error grid_far_build(sdft_grid *g);
-int grid_far_cell(const sdft_grid *g);                            /* the S grid_far_build picks: voxels per cell edge */
+/* Lays far's cells and constants over g (no table), as grid_far_build
+ * would; 1 when g gets a far bound (a level set, background > 0). */
+int grid_far_plan(const sdft_grid *g, grid_far *far);
+int grid_far_cell(const int32_t lo[3],
+                  const int32_t hi[3]); /* the S grid_far_build picks for a box: voxels per cell edge */
 sdft_error grid_far_build_cells(sdft_grid *g, size_t most_cells); /* cells of 4 * 2^k voxels, at most most_cells */
 void grid_far_free(sdft_grid *g);
 
@@ -181,6 +188,17 @@ int grid_cell_root(const float v[8], const double u0[3], const double du[3], dou
  * (also when the grid gets none) or SDFT_ENOMEM. */
 sdft_error grid_hull_build(sdft_grid *g);
 void grid_hull_free(sdft_grid *g);
+int grid_hull_wanted(const sdft_grid *g);    /* whether g gets a hull */
+uint64_t grid_hull_most(const sdft_grid *g); /* the most boxes it can have: a leaf's and the face patches' */
+
+/* Takes the far bound and the hull from the tables stored in g's own bytes
+ * (grid_tables.c), each where it holds every check; what it does not take
+ * is left as it was (NULL), to be built. */
+void grid_tables_take(sdft_grid *g);
+/* Sets the hashes in the header of the tables that the grid buffer `bytes`
+ * (size bytes) stores, for what it holds now (sdft_grid_export; a test's
+ * forged tables). Nothing when it stores none. */
+void grid_tables_seal(void *bytes, size_t size);
 
 /* Fills g->accel, which every field of g points to: its exact root,
  * prefetch hints and hull (grid_sample.c). Last at load, after the hull. */

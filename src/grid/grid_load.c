@@ -2,7 +2,7 @@
  * plain C. Every size and offset is checked against the bytes actually
  * present before PNanoVDB.h follows it, so a corrupt or truncated input is
  * an error with a reason, never a wild read. */
-#define _POSIX_C_SOURCE 200809L /* fileno */
+#define _POSIX_C_SOURCE 200809L /* fileno, pread */
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -10,6 +10,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
+
+#include <omp.h>
 
 #include "grid_choose.h"
 #include "grid_internal.h"
@@ -235,33 +238,44 @@ static sdft_error build_tables(sdft_grid *g, char *msg, size_t msg_len)
         if (drc)
             return fail_with(msg, msg_len, drc, "grid '%s': %s", g->name,
                              drc == SDFT_ENOMEM ? "out of memory for its leaves' states" : "its leaf array is corrupt");
-        /* Where the far bound's cells are narrower than a leaf (boxes up to
-         * about 1024^3), it reads the active states of a leaf's sub-blocks,
-         * and deferring would loosen it (an unread leaf counts as occupied):
-         * such a grid is filled now, whole, and is then a grid like any
-         * other. Wider cells look at a leaf as one block, read or not. */
-        if (g->deferred.how == SDFT_DEFER_WHERE_EXACT && g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET &&
-            g->background > 0.0f && grid_far_cell(g) < 8) {
+        /* A grid that sdft_grid_defers says is not deferred is filled now,
+         * whole, and is then a grid like any other. */
+        if (!sdft_grid_defers(g->deferred.how, g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET, g->background, g->ilo,
+                              g->ihi)) {
+            const double t0 = omp_get_wtime();
             const uint64_t failed = grid_deferred_fill_now(g);
+            g->phases.fill_ms = 1e3 * (omp_get_wtime() - t0);
             if (failed)
                 return fail_with(msg, msg_len, SDFT_EIO, "grid '%s': %llu leaves could not be read", g->name,
                                  (unsigned long long)failed);
         }
     }
     /* The directory first: the far bound reads the cells' signs through it. */
+    double t0 = omp_get_wtime();
     if (grid_leaves_build(g))
         return fail_with(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its leaf directory", g->name);
-    if (g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET && g->background > 0.0f && grid_far_build(g))
+    double t1 = omp_get_wtime();
+    g->phases.directory_ms = 1e3 * (t1 - t0);
+    grid_tables_take(g); /* what the grid stores of the rest */
+    t0 = omp_get_wtime();
+    g->phases.tables_ms = 1e3 * (t0 - t1);
+    g->phases.far_stored = g->far.stored, g->phases.hull_stored = g->hull_stored;
+    if (!g->far.corner && g->grid_class == PNANOVDB_GRID_CLASS_LEVEL_SET && g->background > 0.0f && grid_far_build(g))
         return fail_with(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its far bound", g->name);
-    if (grid_hull_build(g))
+    t1 = omp_get_wtime();
+    g->phases.far_ms = 1e3 * (t1 - t0);
+    if (!g->hull_stored && grid_hull_build(g))
         return fail_with(msg, msg_len, SDFT_ENOMEM, "grid '%s': out of memory for its hull", g->name);
+    g->phases.hull_ms = 1e3 * (omp_get_wtime() - t1);
     grid_accel_init(g);
     return SDFT_OK;
 }
 
 sdft_error grid_init(sdft_grid *g, char *msg, size_t msg_len)
 {
+    const double t0 = omp_get_wtime();
     sdft_error rc = decode_header(g, msg, msg_len);
+    g->phases.check_ms = 1e3 * (omp_get_wtime() - t0);
     if (!rc)
         rc = decode_map(g, msg, msg_len);
     if (!rc)
@@ -384,7 +398,8 @@ static sdft_error buffer_grid(const void *data, size_t size, const char *name, s
 /* A grid from a buffer's chosen grid: its bytes copied into the grid, or
  * (borrow) read in place, which needs NanoVDB's 32-byte alignment. */
 static sdft_error grid_of_buffer(const void *data, size_t size, const char *name, int borrow,
-                                 const grid_deferred *deferred, sdft_grid **out, char *msg, size_t msg_len)
+                                 const grid_deferred *deferred, double read_ms, double serial_ms, sdft_grid **out,
+                                 char *msg, size_t msg_len)
 {
     grid_entry e;
     const sdft_error rc = buffer_grid(data, size, name, out, &e, msg, msg_len);
@@ -403,6 +418,7 @@ static sdft_error grid_of_buffer(const void *data, size_t size, const char *name
         memcpy(g->words, at, e.size);
     if (deferred)
         g->deferred = *deferred; /* grid_init completes it */
+    g->phases.read_ms = read_ms, g->phases.serial_ms = serial_ms;
     return finish(g, out, msg, msg_len);
 }
 
@@ -477,9 +493,36 @@ static sdft_error read_segment(FILE *f, const char *path, uint64_t end, grid_ent
     return SDFT_OK;
 }
 
-/* The grid `name` (chosen as grid.h says) of the .nvdb file at path. */
+/* n bytes of the file fd from byte `at` into dst: chunks read in
+ * parallel, so that each thread copies its part from the page cache and
+ * takes the first touches of its part of dst. 0, or -1 on a read error or
+ * a short file. */
+static int read_parallel(int fd, void *dst, uint64_t n, uint64_t at)
+{
+    enum { CHUNK = 4 << 20 };
+    const long chunks = (long)((n + CHUNK - 1) / CHUNK);
+    int failed = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(| : failed)
+    for (long c = 0; c < chunks; c++) {
+        uint64_t off = (uint64_t)c * CHUNK, len = n - off < CHUNK ? n - off : CHUNK;
+        while (len && !failed) {
+            const ssize_t r = pread(fd, (char *)dst + off, (size_t)len, (off_t)(at + off));
+            if (r < 0 && errno == EINTR)
+                continue;
+            if (r <= 0)
+                failed = 1;
+            else
+                off += (uint64_t)r, len -= (uint64_t)r;
+        }
+    }
+    return failed ? -1 : 0;
+}
+
+/* The grid `name` (chosen as grid.h says) of the .nvdb file at path: its
+ * headers read in turn, then its bytes in parallel (read_parallel). */
 static sdft_error load_nvdb(const char *path, const char *name, sdft_grid **out, char *msg, size_t msg_len)
 {
+    const double t0 = omp_get_wtime();
     FILE *f = fopen(path, "rb");
     if (!f)
         return fail_with(msg, msg_len, SDFT_EIO, "cannot open %s: %s", path, strerror(errno));
@@ -502,9 +545,12 @@ static sdft_error load_nvdb(const char *path, const char *name, sdft_grid **out,
     if (!rc && !(g = grid_alloc(entries[pick].size)))
         rc = fail_with(msg, msg_len, SDFT_ENOMEM, "out of memory for a %llu-byte grid",
                        (unsigned long long)entries[pick].size);
-    if (!rc && (fseek(f, (long)entries[pick].offset, SEEK_SET) != 0 || !read_exact(f, g->words, g->size)))
+    const double t1 = omp_get_wtime();
+    if (!rc && read_parallel(fileno(f), g->words, g->size, entries[pick].offset))
         rc = fail_with(msg, msg_len, SDFT_EIO, "cannot read grid '%s' from %s", entries[pick].name, path);
     fclose(f);
+    if (g)
+        g->phases.read_ms = 1e3 * (omp_get_wtime() - t0), g->phases.serial_ms = 1e3 * (t1 - t0);
     if (rc) {
         sdft_grid_free(g);
         return rc;
@@ -540,8 +586,8 @@ static sdft_error open_buffer(const sdft_grid_options *o, sdft_grid **out, char 
                          "deferred leaves need a fill function, a way to defer and an "
                          "adopted buffer");
     const grid_deferred d = {.fill = o->fill, .user = o->fill_user, .how = o->defer};
-    const sdft_error rc =
-        grid_of_buffer(o->data, o->size, o->name, o->memory != SDFT_GRID_COPY, o->fill ? &d : NULL, out, msg, msg_len);
+    const sdft_error rc = grid_of_buffer(o->data, o->size, o->name, o->memory != SDFT_GRID_COPY, o->fill ? &d : NULL,
+                                         o->read_ms, o->read_serial_ms, out, msg, msg_len);
     if (!rc && o->memory == SDFT_GRID_ADOPT) {
         (*out)->release = o->release;
         (*out)->release_data = (void *)(uintptr_t)o->data;
@@ -601,6 +647,8 @@ void sdft_grid_index_bounds(const sdft_grid *g, int32_t lo[3], int32_t hi[3])
 }
 
 size_t sdft_grid_size(const sdft_grid *g) { return g->size; }
+
+void sdft_grid_load_phases(const sdft_grid *g, sdft_grid_phases *phases) { *phases = g->phases; }
 
 const void *sdft_grid_data(const sdft_grid *g, size_t *size)
 {

@@ -3,11 +3,17 @@
 // OpenVDB's. See grid_file.h.
 #include "grid_file.h"
 
+#include <cstdlib>
+#include <cstring>
+#include <new>
+
+#include <nanovdb/util/GridChecksum.h>
 #include <nanovdb/util/IO.h>
 #include <nanovdb/util/OpenToNanoVDB.h>
 #include <openvdb/openvdb.h>
 
 #include "fail.h"
+#include "sdftrace/grid.h"
 
 namespace sdft_vdb
 {
@@ -33,6 +39,57 @@ nanovdb::GridHandle<> nano_handle(const openvdb::FloatGrid &grid, sdft_quant qua
     }
 }
 
+// The checksum `grid` (a buffer's grid of type `type`) had, in the mode it
+// was made (none, partial or full), computed again over its bytes.
+template <typename BuildT> static void checksum_again(nanovdb::GridHandle<> &handle, uint64_t was)
+{
+    if (auto *grid = handle.grid<BuildT>())
+        nanovdb::updateChecksum(*grid, nanovdb::GridChecksum(was).mode());
+}
+
+nanovdb::GridHandle<> with_tables(nanovdb::GridHandle<> handle)
+{
+    sdft_grid_options o = sdft_grid_options_defaults();
+    o.data = handle.data(), o.size = handle.size(), o.memory = SDFT_GRID_BORROW;
+    sdft_grid *g = nullptr;
+    void *bytes = nullptr;
+    size_t size = 0;
+    sdft_error rc = sdft_grid_open(&o, &g, nullptr, 0);
+    if (rc == SDFT_OK)
+        rc = sdft_grid_export(g, &bytes, &size, nullptr, 0);
+    sdft_grid_free(g);
+    if (rc == SDFT_ENOMEM)
+        throw std::bad_alloc();
+    if (rc != SDFT_OK) // a grid the tracer does not take (not scalar, empty): as it is
+        return handle;
+    nanovdb::HostBuffer buffer = nanovdb::HostBuffer::create(size);
+    std::memcpy(buffer.data(), bytes, size);
+    std::free(bytes);
+    const uint64_t was = handle.gridMetaData()->checksum();
+    const nanovdb::GridType type = handle.gridMetaData()->gridType();
+    nanovdb::GridHandle<> out(std::move(buffer));
+    switch (type) {
+    case nanovdb::GridType::Float:
+        checksum_again<float>(out, was);
+        break;
+    case nanovdb::GridType::Fp16:
+        checksum_again<nanovdb::Fp16>(out, was);
+        break;
+    case nanovdb::GridType::Fp8:
+        checksum_again<nanovdb::Fp8>(out, was);
+        break;
+    case nanovdb::GridType::Fp4:
+        checksum_again<nanovdb::Fp4>(out, was);
+        break;
+    case nanovdb::GridType::FpN:
+        checksum_again<nanovdb::FpN>(out, was);
+        break;
+    default:
+        break;
+    }
+    return out;
+}
+
 sdft_error write_grid(const openvdb::FloatGrid &grid, bool nvdb, sdft_quant quant, const std::string &path,
                       const std::string &label, char *msg, size_t msg_len)
 {
@@ -47,7 +104,7 @@ sdft_error write_grids(const openvdb::FloatGrid &grid, const std::vector<openvdb
         openvdb::initialize(); // the grid and metadata types a file names
         if (nvdb) {
             std::vector<nanovdb::GridHandle<>> handles;
-            handles.push_back(nano_handle(grid, quant));
+            handles.push_back(with_tables(nano_handle(grid, quant)));
             for (const auto &g : beside)
                 handles.push_back(nano_handle(*g, SDFT_QUANT_NONE));
             nanovdb::io::writeGrids(path, handles);

@@ -19,8 +19,15 @@ namespace sdft_vdb
 // NanoVDB's own conversion of a float grid, leaves stored as `quant`.
 nanovdb::GridHandle<> nano_handle(const openvdb::FloatGrid &grid, sdft_quant quant);
 
+// The grid of `handle` with sdftrace's acceleration tables stored after it
+// (sdft_grid_export: NanoVDB blind data; its checksum made again in the
+// mode it had), or the handle as it is where the tracer does not take the
+// grid. May throw std::bad_alloc.
+nanovdb::GridHandle<> with_tables(nanovdb::GridHandle<> handle);
+
 // Writes `grid` to `path`: NanoVDB (.nvdb, leaves as `quant`) or OpenVDB
-// (.vdb, halves when quant is SDFT_QUANT_FP16), chosen by `nvdb`. Writes in
+// (.vdb, halves when quant is SDFT_QUANT_FP16), chosen by `nvdb`; a
+// NanoVDB file carries the tracer's tables (with_tables). Writes in
 // place: callers write to a temporary file (src/common/atomic_file.h) and
 // rename it. SDFT_OK, or SDFT_EIO with "cannot write LABEL: reason" (label:
 // the name to report, the final path rather than the temporary one). May

@@ -38,10 +38,11 @@ struct sdft_mesh {
     bool oriented = false;
     meshsdf::MeshSphere sphere; // in the input's units
     bool normalized = false;
-    std::string source; // the grids' provenance
-    std::string stem;   // the grids' default name
-    int threads = 0;    // sdft_mesh_params.threads
-    meshsdf::Simd simd; // sdft_mesh_params.simd
+    std::string warnings; // sdft_mesh_warnings
+    std::string source;   // the grids' provenance
+    std::string stem;     // the grids' default name
+    int threads = 0;      // sdft_mesh_params.threads
+    meshsdf::Simd simd;   // sdft_mesh_params.simd
     double readSeconds = 0, orientSeconds = 0;
 
     // The mesh's sphere where the mesh now is: the unit sphere once

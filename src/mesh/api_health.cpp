@@ -40,6 +40,8 @@ size_t sdft_mesh_health_text(const sdft_mesh_health *h, char *out, size_t out_le
            "degenerate faces skipped",
            ull(h->vertices), ull(h->faces), ull(h->triangles), ull(h->boundary_edges), ull(h->non_manifold_edges),
            ull(h->degenerate_faces));
+    if (h->skipped_faces)
+        append(out, out_len, &at, ", %llu faces left out (unreadable)", ull(h->skipped_faces));
     if (h->oriented) {
         append(out, out_len, &at,
                "; %llu vertices welded, %llu duplicate faces dropped, %llu patches, %llu faces reoriented, %llu "
@@ -48,8 +50,13 @@ size_t sdft_mesh_health_text(const sdft_mesh_health *h, char *out, size_t out_le
                ull(h->outward_patches));
         if (h->cavity_patches)
             append(out, out_len, &at, ", %llu inward patches kept as cavity walls", ull(h->cavity_patches));
+        if (h->evidence_patches)
+            append(out, out_len, &at, ", %llu open patches turned by the rest's winding number",
+                   ull(h->evidence_patches));
         if (h->ambiguous_patches)
             append(out, out_len, &at, ", %llu open patches with no clear outside", ull(h->ambiguous_patches));
+        if (h->ambiguous_patches && h->ambiguous_area > 0)
+            append(out, out_len, &at, " (%.3g%% of the area)", 100 * h->ambiguous_area);
         if (h->non_orientable_patches)
             append(out, out_len, &at, ", %llu non-orientable patches", ull(h->non_orientable_patches));
     }
@@ -67,9 +74,9 @@ size_t sdft_mesh_health_json(const sdft_mesh_health *h, char *out, size_t out_le
     const int n = int(meshsdf::api::choiceText(SDFT_MESH_SETTINGS_MESH, "orient", h->oriented ? 1 : 0, &orient));
     append(out, out_len, &at,
            "\"vertices\": %llu, \"faces\": %llu, \"triangles\": %llu, \"degenerate_faces\": %llu, "
-           "\"boundary_edges\": %llu, \"non_manifold_edges\": %llu, \"orient\": \"%.*s\"",
+           "\"boundary_edges\": %llu, \"non_manifold_edges\": %llu, \"skipped_faces\": %llu, \"orient\": \"%.*s\"",
            ull(h->vertices), ull(h->faces), ull(h->triangles), ull(h->degenerate_faces), ull(h->boundary_edges),
-           ull(h->non_manifold_edges), n, orient);
+           ull(h->non_manifold_edges), ull(h->skipped_faces), n, orient);
     if (h->oriented)
         append(out, out_len, &at,
                ", \"welded_vertices\": %llu, \"duplicate_faces\": %llu, \"patches\": %llu, \"reoriented_faces\": "
@@ -78,6 +85,9 @@ size_t sdft_mesh_health_json(const sdft_mesh_health *h, char *out, size_t out_le
                ull(h->welded_vertices), ull(h->duplicate_faces), ull(h->patches), ull(h->reoriented_faces),
                ull(h->outward_patches), ull(h->cavity_patches), ull(h->ambiguous_patches),
                ull(h->non_orientable_patches));
+    if (h->oriented)
+        append(out, out_len, &at, ", \"evidence_patches\": %llu, \"ambiguous_area\": %.6g", ull(h->evidence_patches),
+               h->ambiguous_area);
     return at;
 }
 

@@ -1,9 +1,11 @@
 // sdftrace — taking a mesh in (sdft_mesh_load, sdft_mesh_from_arrays) and
-// what it holds (sdft_mesh_get_health, _frame, _timings): read or copied,
+// what it holds (sdft_mesh_get_health, _warnings, _frame, _timings): read or copied,
 // its sphere taken, normalized where asked, then oriented.
 #include "api.h"
 
 #include "io/mesh_io.h"
+
+#include <cstdio>
 
 using namespace meshsdf::api;
 
@@ -24,6 +26,8 @@ void finishMesh(sdft_mesh &m, const sdft_mesh_params &p, meshsdf::Progress &prog
     if (p.orient) {
         m.orient = meshsdf::orientMesh(m.mesh, m.simd.vector);
         m.oriented = true;
+        for (const std::string &note : m.orient.notes)
+            m.warnings += note + "\n";
     } else {
         meshsdf::countEdges(m.mesh, meshsdf::edgeUses(m.mesh));
     }
@@ -51,9 +55,10 @@ namespace
 {
 
 // A mesh taken in, the one way for a file and for arrays: p checked,
-// `read(mesh, error)` filling the triangles (SDFT_OK, or a code and one
-// line in error), timed, then finishMesh, all on the mesh's share of the
-// cores. `path`: the file (the default source and grid name), or NULL.
+// `read(mesh, warnings, error)` filling the triangles and the reader's
+// doubts (SDFT_OK, or a code and one line in error), timed, then
+// finishMesh, all on the mesh's share of the cores. `path`: the file (the
+// default source and grid name), or NULL.
 template <class Read>
 sdft_error takeIn(const char *what, const char *context, const sdft_mesh_params *params, const char *path,
                   sdft_mesh **out, char *msg, size_t msg_len, Read &&read)
@@ -69,9 +74,15 @@ sdft_error takeIn(const char *what, const char *context, const sdft_mesh_params 
         return inArena(p.threads, [&] {
             const auto start = std::chrono::steady_clock::now();
             std::string error;
-            const sdft_error e = read(m->mesh, error);
+            std::vector<std::string> doubts;
+            const sdft_error e = read(m->mesh, doubts, error);
             if (e != SDFT_OK)
                 return fail_with(msg, msg_len, e, "%s", error.c_str());
+            if (p.strict && !doubts.empty())
+                return fail_with(msg, msg_len, SDFT_EFORMAT, "%s (refused as strict): %s", doubts[0].c_str(),
+                                 path ? path : "mesh from arrays");
+            for (const std::string &doubt : doubts)
+                m->warnings += doubt + "\n";
             m->readSeconds = secondsSince(start);
             listened.progress.report(100);
             m->source = p.source ? p.source : path ? path : "";
@@ -101,8 +112,8 @@ sdft_error sdft_mesh_load(const char *path, const sdft_mesh_params *params, sdft
     if (!path || !out)
         return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_load: %s is NULL", path ? "out" : "path");
     return takeIn("sdft_mesh_load", path, params, path, out, msg, msg_len,
-                  [&](meshsdf::TriangleMesh &mesh, std::string &error) {
-                      return meshsdf::loadMesh(path, mesh, error) ? SDFT_OK : readError(error);
+                  [&](meshsdf::TriangleMesh &mesh, std::vector<std::string> &doubts, std::string &error) {
+                      return meshsdf::loadMesh(path, mesh, error, &doubts) ? SDFT_OK : readError(error);
                   });
 }
 
@@ -118,7 +129,7 @@ sdft_error sdft_mesh_from_arrays(const void *vertices, sdft_mesh_dtype vertex_ty
                          : !faces  ? "faces"
                                    : "out");
     return takeIn("sdft_mesh_from_arrays", "mesh from arrays", params, nullptr, out, msg, msg_len,
-                  [&](meshsdf::TriangleMesh &mesh, std::string &error) {
+                  [&](meshsdf::TriangleMesh &mesh, std::vector<std::string> &, std::string &error) {
                       return meshFromArrays(vertices, vertex_type, vertex_count, faces, face_type, face_count, mesh,
                                             error);
                   });
@@ -148,8 +159,22 @@ sdft_error sdft_mesh_get_health(const sdft_mesh *m, sdft_mesh_health *health, ch
     i.outward_patches = m->orient.outwardPatches;
     i.cavity_patches = m->orient.cavityPatches;
     i.ambiguous_patches = m->orient.ambiguousPatches;
+    i.ambiguous_area = m->orient.ambiguousArea;
+    i.evidence_patches = m->orient.evidencePatches;
+    i.skipped_faces = h.skippedFaces;
     *health = i;
     return SDFT_OK;
+}
+
+size_t sdft_mesh_warnings(const sdft_mesh *m, char *out, size_t out_len)
+{
+    if (out && out_len)
+        out[0] = '\0';
+    if (!m)
+        return 0;
+    if (out && out_len)
+        std::snprintf(out, out_len, "%s", m->warnings.c_str());
+    return m->warnings.size();
 }
 
 sdft_error sdft_mesh_get_frame(const sdft_mesh *m, sdft_mesh_frame *frame, char *msg, size_t msg_len)

@@ -16,6 +16,7 @@
 
 #include "fail.h"
 #include "grid_file.h" /* nano_handle, write_grid: sdftrace_gridfile */
+#include "isolated_read.h"
 #include "sdftrace/vdb.h"
 #include "seam.h"
 
@@ -44,14 +45,34 @@ using seam::guarded;
 using IsolatedRead = std::function<sdft_error(void *out, char *msg, size_t msg_len)>;
 
 // Runs `read` of `path` in a forked child under a time and an address-space
-// limit (vdb_isolate.cpp): its code, message and out_size bytes of out, or
-// SDFT_EFORMAT with one line when the child crashed, was killed or ran past
-// the time limit.
+// limit (vdb_isolate.cpp), with `extra` (NULL: none; isolated_read.h): its
+// code, message and out_size bytes of out, or SDFT_EFORMAT with one line
+// when the child crashed, was killed or ran past the time limit, or
+// SDFT_ECANCELED when extra's watch stopped it.
 sdft_error read_isolated(const char *path, void *out, size_t out_size, const IsolatedRead &read, char *msg,
-                         size_t msg_len);
+                         size_t msg_len, const isolated_extra *extra = nullptr);
+
+// In read_isolated's child, where no thread pool survives fork: body(i)
+// for every i < n on `threads` threads of the child's own, the calling one
+// among them, each taking the next i. The first exception a body throws
+// is thrown again here, once every thread has stopped.
+void run_in_threads(int threads, uint64_t n, const std::function<void(uint64_t)> &body);
+
+// Address space each of run_in_threads' threads may take: its stack and a
+// malloc arena (read_isolated's limit grows by this per thread).
+constexpr double thread_bytes = double(72u << 20);
+
+// What reading a `.vdb` grid has taken so far, for the grid's phases
+// (sdft_grid_options.read_ms, read_serial_ms): when it began (seconds_now)
+// and how much of it ran on one thread.
+struct ReadTimes {
+    double start = 0.0, serial_ms = 0.0;
+};
+double seconds_now(); // the steady clock, which the reader process shares
 
 // NanoVDB copy of a float grid, leaves stored as `quant`, as an sdft_grid.
-sdft_error to_nano(const openvdb::FloatGrid &grid, sdft_quant quant, sdft_grid **out, char *msg, size_t msg_len);
+sdft_error to_nano(const openvdb::FloatGrid &grid, sdft_quant quant, sdft_grid **out, char *msg, size_t msg_len,
+                   const ReadTimes *times = nullptr);
 
 // A delay-loaded float grid (read from `path`) streamed into a NanoVDB grid
 // of float or Fp16 leaves (vdb_stream.cpp); the grid's leaves are deleted
@@ -59,7 +80,17 @@ sdft_error to_nano(const openvdb::FloatGrid &grid, sdft_quant quant, sdft_grid *
 // the OpenVDB grid and copies each leaf when first read. progress may be
 // NULL.
 sdft_error stream_to_nano(openvdb::FloatGrid::Ptr grid, const char *path, sdft_quant quant, sdft_defer defer,
-                          sdft_progress_fn progress, void *progress_user, sdft_grid **out, char *msg, size_t msg_len);
+                          sdft_progress_fn progress, void *progress_user, sdft_grid **out, char *msg, size_t msg_len,
+                          const ReadTimes *times = nullptr);
+
+// The child's side of loading a `.vdb` grid whole (vdb_load.cpp): `grid`,
+// delay-loaded from `path`, streamed into the NanoVDB grid of float or
+// Fp16 leaves (quant) that place(size) gives room for (NULL: no room,
+// SDFT_ENOMEM), as stream_to_nano lays it out, leaves on `threads` threads
+// (run_in_threads); progress counts its leaves. Its size in *size.
+struct Progress;
+sdft_error stream_into(openvdb::FloatGrid &grid, const char *path, sdft_quant quant, int threads, Progress &progress,
+                       const std::function<void *(uint64_t)> &place, uint64_t *size, char *msg, size_t msg_len);
 
 // The caller's progress callback (sdftrace/vdb.h), called about once per
 // percent, one call at a time, with a fraction that never decreases; and

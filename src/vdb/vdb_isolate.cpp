@@ -11,26 +11,33 @@
 // format (header, metadata, descriptors, the three node levels' masks and
 // compressed values, blosc's internal offsets) would be a second reader
 // to keep in step with OpenVDB's, and still not prove that blosc holds.
-// Here the child reads the file the way the caller
-// is about to (the same delayed loading, every leaf's values decompressed
-// once) under a time limit and an address-space limit; only when it
-// finishes does the caller read the file itself. A crash, a signal, an
-// allocation past the limit or a loop past the time limit kills the child
-// alone, and the caller reports the file as corrupt.
+// Here a child reads the file with OpenVDB under a time limit and an
+// address-space limit, and the caller uses OpenVDB on the file only once
+// the child has finished; a crash, a signal, an allocation past the limit
+// or a loop past the time limit kills the child alone, and the caller
+// reports the file as corrupt. What the child reads is the caller's
+// business (vdb_load.cpp): loaded whole, the child's read is the only one,
+// its result a NanoVDB grid in memory the caller maps; else every leaf is
+// decompressed once before the caller reads the file itself.
 //
-// COST. One more read of the chosen grid, serial, in a process that keeps
-// one lower node's leaves (at most 128^3 values) at a time; the file's
-// pages are in the page cache for the caller's read. The child uses no
-// thread pool: TBB's and OpenMP's workers do not survive fork(), so
-// nothing there may wait on them.
+// THREADS. No thread pool survives fork() (TBB's and OpenMP's workers
+// stay behind, and waiting on them hangs), so the child runs its parallel
+// work on threads of its own (run_in_threads), each allowed thread_bytes
+// more address space (a stack, a malloc arena).
 //
 // LIMITS (src/common/isolated_read.h): 10 s plus 1 s per 8 MiB of file;
 // 256 MiB plus 64 bytes per byte of file (a leaf's 2 KiB of values come
-// with at least its 64-byte value mask in the file).
+// with at least its 64-byte value mask in the file), plus the threads'.
+#include <algorithm>
+#include <atomic>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <system_error>
+#include <thread>
 #include <vector>
 
 #include "isolated_read.h"
@@ -67,13 +74,16 @@ int run_read(void *ctx, int fd)
 } // namespace
 
 sdft_error read_isolated(const char *path, void *out, size_t out_size, const IsolatedRead &read, char *msg,
-                         size_t msg_len)
+                         size_t msg_len, const isolated_extra *extra)
 {
     openvdb::initialize(); // once, here, rather than in every child
     Job job{path, out_size, &read};
     char *answer = nullptr, why[128];
     size_t size = 0;
-    if (isolated_read(path, run_read, &job, &answer, &size, why, sizeof why) != 0)
+    const int ran = isolated_read_with(path, run_read, &job, extra, &answer, &size, why, sizeof why);
+    if (ran == -2)
+        return fail_with(msg, msg_len, SDFT_ECANCELED, "loading %s stopped by its progress callback", path);
+    if (ran != 0)
         return fail_with(msg, msg_len, SDFT_EFORMAT, "%s: OpenVDB's reader failed on it (%s): a corrupt .vdb file?",
                          path, why);
     std::unique_ptr<char, decltype(&std::free)> owned(answer, &std::free);
@@ -86,6 +96,39 @@ sdft_error read_isolated(const char *path, void *out, size_t out_size, const Iso
     if (out)
         std::memcpy(out, answer + sizeof rc, out_size);
     return SDFT_OK;
+}
+
+void run_in_threads(int threads, uint64_t n, const std::function<void(uint64_t)> &body)
+{
+    std::atomic<uint64_t> next{0};
+    std::atomic<bool> failed{false};
+    std::exception_ptr first;
+    std::mutex first_lock;
+    auto work = [&] {
+        try {
+            for (uint64_t i; !failed && (i = next.fetch_add(1)) < n;)
+                body(i);
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(first_lock);
+            if (!first)
+                first = std::current_exception();
+            failed = true;
+        }
+    };
+    std::vector<std::thread> pool;
+    const uint64_t helpers = std::min<uint64_t>(threads > 1 ? uint64_t(threads) - 1 : 0, n > 1 ? n - 1 : 0);
+    for (uint64_t t = 0; t < helpers; t++) {
+        try {
+            pool.emplace_back(work);
+        } catch (const std::system_error &) { // no room for another thread: fewer do the work
+            break;
+        }
+    }
+    work();
+    for (std::thread &t : pool)
+        t.join();
+    if (first)
+        std::rethrow_exception(first);
 }
 
 } // namespace sdft_vdb

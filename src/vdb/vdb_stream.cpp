@@ -19,7 +19,11 @@
 // (malloc_trim), so that resident memory stays near the NanoVDB grid's
 // size plus the OpenVDB tree's internal nodes.
 //
-// DEFERRED (sdft_grid_options.defer, what `render` uses): the same layout
+// WHERE. In the process that keeps the grid (deferred leaves) on TBB's
+// pool; loaded whole, in the reader process (vdb_load.cpp, stream_into),
+// on threads of its own, into the memory the caller will map.
+//
+// DEFERRED (sdft_grid_options.defer, what `render` uses on big grids): the same layout
 // and every node above the leaves, but no leaf is read here. The NanoVDB
 // grid keeps the OpenVDB grid and a list of its leaves in NanoVDB's order,
 // and fills a leaf from the file the first time it is read
@@ -53,7 +57,6 @@
 #include <nanovdb/NanoVDB.h>
 #include <openvdb/openvdb.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
 #include "vdb_internal.h"
 
@@ -93,6 +96,19 @@ Mapping find_mapping(const char *path)
             m = {reinterpret_cast<void *>(lo), hi - lo};
     }
     return m;
+}
+
+// body(l) for every l in [l0, l1), in parallel: on TBB's pool in the
+// process that keeps the grid, on threads of its own in read_isolated's
+// child (run_in_threads), where no pool survives fork.
+using Runner = std::function<void(uint64_t l0, uint64_t l1, const std::function<void(uint64_t)> &body)>;
+
+void run_on_tbb(uint64_t l0, uint64_t l1, const std::function<void(uint64_t)> &body)
+{
+    tbb::parallel_for(tbb::blocked_range<uint64_t>(l0, l1, 1), [&](const tbb::blocked_range<uint64_t> &r) {
+        for (uint64_t l = r.begin(); l != r.end(); ++l)
+            body(l);
+    });
 }
 
 template <typename BuildT> struct Stream {
@@ -176,24 +192,21 @@ template <typename BuildT> struct Stream {
     // so the lower nodes go in parallel, and a leaf's box comes from its
     // mask's words (OpenVDB visits every active voxel, serially: about
     // 0.1 s for the million leaves of a 4096^3 level set).
-    openvdb::CoordBBox active_box() const
+    openvdb::CoordBBox active_box(const Runner &run) const
     {
         const OpenRoot &root = grid.tree().root();
-        openvdb::CoordBBox box = tbb::parallel_reduce(
-            tbb::blocked_range<size_t>(0, lowers.size(), 64), openvdb::CoordBBox(),
-            [&](const tbb::blocked_range<size_t> &r, openvdb::CoordBBox b) {
-                for (size_t i = r.begin(); i != r.end(); ++i) {
-                    for (auto it = lowers[i]->cbeginValueOn(); it; ++it)
-                        b.expand(it.getCoord(), OpenLeaf::DIM);
-                    for (auto it = lowers[i]->cbeginChildOn(); it; ++it)
-                        b.expand(leaf_active_box(*it));
-                }
-                return b;
-            },
-            [](openvdb::CoordBBox a, const openvdb::CoordBBox &b) {
-                a.expand(b);
-                return a;
-            });
+        std::vector<openvdb::CoordBBox> per_lower(lowers.size());
+        run(0, lowers.size(), [&](uint64_t i) {
+            openvdb::CoordBBox b;
+            for (auto it = lowers[i]->cbeginValueOn(); it; ++it)
+                b.expand(it.getCoord(), OpenLeaf::DIM);
+            for (auto it = lowers[i]->cbeginChildOn(); it; ++it)
+                b.expand(leaf_active_box(*it));
+            per_lower[i] = b;
+        });
+        openvdb::CoordBBox box;
+        for (const openvdb::CoordBBox &b : per_lower)
+            box.expand(b);
         for (const OpenUpper *u : uppers)
             for (auto it = u->cbeginValueOn(); it; ++it)
                 box.expand(it.getCoord(), OpenLower::DIM);
@@ -385,6 +398,44 @@ template <typename BuildT> struct Stream {
         data->mWorldBBox =
             nanovdb::BBox<nanovdb::Vec3R>(nanovdb::Vec3R(lo[0], lo[1], lo[2]), nanovdb::Vec3R(hi[0], hi[1], hi[2]));
     }
+
+    // Every lower node written, its leaves copied (or with `listed`, only
+    // listed there), in batches of an eighth of the leaves, at most 32768
+    // (64 MiB of values); after each, the file pages read so far and the
+    // deleted leaves leave this process's resident memory. false: stopped
+    // by the progress callback.
+    bool write_lowers(const char *path, Progress &shown, const OpenLeaf **listed, const Runner &run)
+    {
+        const Mapping mapping = listed ? Mapping() : find_mapping(path);
+        const uint64_t per_batch =
+            listed ? leaves + 1 : std::min<uint64_t>(32768, std::max<uint64_t>(1024, leaves / 8));
+        for (uint64_t l0 = 0; l0 < lowers.size();) {
+            uint64_t l1 = l0;
+            while (l1 < lowers.size() && first_leaf[l1] - first_leaf[l0] < per_batch)
+                l1++;
+            run(l0, l1, [&](uint64_t l) { write_lower(l, shown, listed); });
+            if (mapping.at)
+                madvise(mapping.at, mapping.size, MADV_DONTNEED); // a read-only file mapping: re-read on demand
+#if defined(__GLIBC__)
+            if (!listed)
+                malloc_trim(0); // the deleted leaves' memory back to the system, not kept in malloc's free lists
+#endif
+            l0 = l1;
+            if (shown.stop)
+                return false;
+        }
+        return true;
+    }
+
+    // Every node above the lower nodes, the tree and the grid.
+    void write_top(const openvdb::CoordBBox &active, uint64_t voxels)
+    {
+        for (uint64_t u = 0; u < uppers.size(); u++)
+            write_upper(u);
+        write_root(active);
+        write_tree(voxels);
+        write_grid(active);
+    }
 };
 
 // The grid's release function for the buffer it adopts.
@@ -439,22 +490,30 @@ void release_deferred(void *user) noexcept
     }
 }
 
+// The layout of `grid`, checked: an affine transform, a size this machine
+// can hold.
+template <typename BuildT> sdft_error plan(Stream<BuildT> &s, char *msg, size_t msg_len)
+{
+    if (!s.grid.transform().baseMap()->isLinear())
+        return fail(msg, msg_len, SDFT_EFORMAT, "grid '" + s.grid.getName() + "' has a non-affine transform");
+    s.layout();
+    return SDFT_OK;
+}
+
 template <typename BuildT>
 sdft_error stream(openvdb::FloatGrid::Ptr grid_ptr, const char *path, sdft_defer defer, sdft_progress_fn progress,
-                  void *progress_user, sdft_grid **out, char *msg, size_t msg_len)
+                  void *progress_user, sdft_grid **out, char *msg, size_t msg_len, const ReadTimes *times)
 {
     openvdb::FloatGrid &grid = *grid_ptr;
-    if (!grid.transform().baseMap()->isLinear())
-        return fail(msg, msg_len, SDFT_EFORMAT, "grid '" + grid.getName() + "' has a non-affine transform");
     Stream<BuildT> s(grid);
-    s.layout();
-    const openvdb::CoordBBox active = s.active_box();
+    if (sdft_error rc = plan(s, msg, msg_len))
+        return rc;
+    const openvdb::CoordBBox active = s.active_box(run_on_tbb);
     const uint64_t voxels = grid.tree().activeVoxelCount();
     s.buf = static_cast<uint8_t *>(std::aligned_alloc(64, (s.size + 63) & ~uint64_t(63)));
     if (!s.buf)
         return fail(msg, msg_len, SDFT_ENOMEM,
                     "out of memory for a " + std::to_string(s.size >> 20) + " MiB grid '" + grid.getName() + "'");
-    const Mapping mapping = defer ? Mapping() : find_mapping(path);
     std::unique_ptr<Deferred> deferred(defer ? new Deferred{grid_ptr, {}} : nullptr);
     if (deferred)
         deferred->leaves.resize(s.leaves);
@@ -464,35 +523,9 @@ sdft_error stream(openvdb::FloatGrid::Ptr grid_ptr, const char *path, sdft_defer
     shown.fn = progress;
     shown.user = progress_user;
     shown.total = s.leaves ? s.leaves : 1;
-    // Lower nodes in batches of an eighth of the leaves, at most 32768
-    // (64 MiB of values); after each, the file pages read so far and the
-    // deleted leaves leave this process's resident memory.
-    const uint64_t per_batch = defer ? s.leaves + 1 : std::min<uint64_t>(32768, std::max<uint64_t>(1024, s.leaves / 8));
-    const OpenLeaf **listed = deferred ? deferred->leaves.data() : nullptr;
-    for (uint64_t l0 = 0; l0 < s.lowers.size();) {
-        uint64_t l1 = l0;
-        while (l1 < s.lowers.size() && s.first_leaf[l1] - s.first_leaf[l0] < per_batch)
-            l1++;
-        tbb::parallel_for(tbb::blocked_range<uint64_t>(l0, l1, 1), [&](const tbb::blocked_range<uint64_t> &r) {
-            for (uint64_t l = r.begin(); l != r.end(); ++l)
-                s.write_lower(l, shown, listed);
-        });
-        if (mapping.at)
-            madvise(mapping.at, mapping.size, MADV_DONTNEED); // a read-only file mapping: re-read on demand
-#if defined(__GLIBC__)
-        if (!defer)
-            malloc_trim(0); // the deleted leaves' memory back to the system, not kept in malloc's free lists
-#endif
-        l0 = l1;
-        if (shown.stop)
-            return fail(msg, msg_len, SDFT_ECANCELED,
-                        std::string("loading ") + path + " stopped by its progress callback");
-    }
-    for (uint64_t u = 0; u < s.uppers.size(); u++)
-        s.write_upper(u);
-    s.write_root(active);
-    s.write_tree(voxels);
-    s.write_grid(active);
+    if (!s.write_lowers(path, shown, deferred ? deferred->leaves.data() : nullptr, run_on_tbb))
+        return fail(msg, msg_len, SDFT_ECANCELED, std::string("loading ") + path + " stopped by its progress callback");
+    s.write_top(active, voxels);
     sdft_grid_options o = sdft_grid_options_defaults();
     o.memory = SDFT_GRID_ADOPT;
     o.release = release_buffer;
@@ -504,17 +537,52 @@ sdft_error stream(openvdb::FloatGrid::Ptr grid_ptr, const char *path, sdft_defer
         grid.clear(); // the OpenVDB tree's nodes (~100 MB at 4096^3) go before the bounds are built
     }
     o.data = owned.release();
+    if (times)
+        o.read_ms = 1e3 * (seconds_now() - times->start), o.read_serial_ms = times->serial_ms;
     return sdft_grid_open(&o, out, msg, msg_len);
+}
+
+template <typename BuildT>
+sdft_error stream_into_as(openvdb::FloatGrid &grid, const char *path, int threads, Progress &shown,
+                          const std::function<void *(uint64_t)> &place, uint64_t *size, char *msg, size_t msg_len)
+{
+    Stream<BuildT> s(grid);
+    if (sdft_error rc = plan(s, msg, msg_len))
+        return rc;
+    const Runner run = [threads](uint64_t l0, uint64_t l1, const std::function<void(uint64_t)> &body) {
+        run_in_threads(threads, l1 - l0, [&](uint64_t i) { body(l0 + i); });
+    };
+    const openvdb::CoordBBox active = s.active_box(run);
+    const uint64_t voxels = grid.tree().activeVoxelCount();
+    s.buf = static_cast<uint8_t *>(place(s.size));
+    if (!s.buf)
+        return fail(msg, msg_len, SDFT_ENOMEM,
+                    "out of memory for a " + std::to_string(s.size >> 20) + " MiB grid '" + grid.getName() + "'");
+    shown.total = s.leaves ? s.leaves : 1;
+    if (!s.write_lowers(path, shown, nullptr, run))
+        return fail(msg, msg_len, SDFT_ECANCELED, std::string("loading ") + path + " stopped");
+    s.write_top(active, voxels);
+    *size = s.size;
+    return SDFT_OK;
 }
 
 } // namespace
 
 sdft_error stream_to_nano(openvdb::FloatGrid::Ptr grid, const char *path, sdft_quant quant, sdft_defer defer,
-                          sdft_progress_fn progress, void *progress_user, sdft_grid **out, char *msg, size_t msg_len)
+                          sdft_progress_fn progress, void *progress_user, sdft_grid **out, char *msg, size_t msg_len,
+                          const ReadTimes *times)
 {
     return quant == SDFT_QUANT_FP16
-               ? stream<nanovdb::Fp16>(grid, path, defer, progress, progress_user, out, msg, msg_len)
-               : stream<float>(grid, path, defer, progress, progress_user, out, msg, msg_len);
+               ? stream<nanovdb::Fp16>(grid, path, defer, progress, progress_user, out, msg, msg_len, times)
+               : stream<float>(grid, path, defer, progress, progress_user, out, msg, msg_len, times);
+}
+
+sdft_error stream_into(openvdb::FloatGrid &grid, const char *path, sdft_quant quant, int threads, Progress &progress,
+                       const std::function<void *(uint64_t)> &place, uint64_t *size, char *msg, size_t msg_len)
+{
+    return quant == SDFT_QUANT_FP16
+               ? stream_into_as<nanovdb::Fp16>(grid, path, threads, progress, place, size, msg, msg_len)
+               : stream_into_as<float>(grid, path, threads, progress, place, size, msg, msg_len);
 }
 
 } // namespace sdft_vdb

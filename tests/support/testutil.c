@@ -49,6 +49,15 @@ int tu_file_exists(const char *path)
     return stat(path, &st) == 0;
 }
 
+int tu_write_text(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return -1;
+    const int ok = fputs(text, f) >= 0;
+    return fclose(f) == 0 && ok ? 0 : -1;
+}
+
 int tu_lines(const char *s)
 {
     int n = 0;

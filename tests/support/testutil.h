@@ -25,6 +25,10 @@ int tu_lines(const char *s);
  * cannot be read. */
 char *tu_slurp(const char *path);
 
+/* Writes `text` as the whole of a file: 0, or -1 if it cannot. */
+int tu_write_text(const char *path, const char *text);
+#define tu_assert_write_text(path, text) assert_int_equal(tu_write_text(path, text), 0)
+
 /* 1 when README.md holds the whole of the repository's file `path` (a
  * path from the repository's root), so that what it shows cannot rot. */
 int tu_readme_shows(const char *path);

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace meshsdf
@@ -15,6 +16,11 @@ struct PolygonSoup {
     std::vector<std::array<float, 3>> points;
     std::vector<uint32_t> corners; // every face's corners, face after face, indices into points
     std::vector<size_t> ends;      // where each face's corners end
+    // Faces of the file the reader left out: malformed ones (a corner out of
+    // range, fewer than three corners, a corner repeated), and zero-area ones
+    // it could not hand over (an STL facet whose corners coincide).
+    size_t skippedFaces = 0, degenerateFaces = 0;
+    std::string warnings; // what the reader took with a doubt, one line each, '\n' after each
 
     void addPolygon(const uint32_t *first, size_t n)
     {

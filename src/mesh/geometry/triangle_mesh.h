@@ -20,6 +20,8 @@ struct MeshHealth {
     size_t boundaryEdges = 0;    // edges used by one triangle
     size_t nonManifoldEdges = 0; // edges used by three or more triangles
     size_t degenerateFaces = 0;  // zero-area triangles (skipped)
+    size_t skippedFaces = 0;     // faces of the file left out as malformed: a corner out of range, fewer
+                                 // than three corners, a corner repeated
     size_t weldedVertices = 0;   // used vertices at the position of an earlier one
     bool closed() const { return boundaryEdges == 0 && nonManifoldEdges == 0; }
 };

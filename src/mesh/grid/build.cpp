@@ -461,8 +461,11 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
         const auto t0 = std::chrono::steady_clock::now();
         progress.stage(winding ? "exact distance, sign" : "exact distance", 0, winding ? bandEnd : signEnd);
         std::unique_ptr<WindingSign> sign;
+        // The ambiguous voxels counted are the grid's active ones: the band's,
+        // and with --full the whole box's.
         if (winding)
-            sign.reset(new WindingSign(std::move(*edges), *tree, box.origin, box.voxelSize, band, simd.vector));
+            sign.reset(new WindingSign(std::move(*edges), *tree, box.origin, box.voxelSize, band, simd.vector,
+                                       p.full ? box.dims : std::array<int, 3>{0, 0, 0}));
         grid = exactBandGrid(mesh, box, band, sign.get(), simd.vector, progress);
         if (winding) {
             progress.stage("sign off the band", bandEnd, signEnd);

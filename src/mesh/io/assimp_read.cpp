@@ -6,9 +6,17 @@
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/version.h>
+
+#include <nlohmann/json.hpp>
+
+#include <malloc.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cstring>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <sstream>
 
@@ -40,6 +48,15 @@ struct Affine {
         return r;
     }
 
+    /// Whether the transform mirrors (a negative determinant): then it
+    /// turns every face inside out, and the face's corners are reversed.
+    bool mirrors() const
+    {
+        return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                   m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]) <
+               0;
+    }
+
     std::array<float, 3> apply(const aiVector3D &p) const
     {
         std::array<float, 3> out;
@@ -67,10 +84,13 @@ std::string oneLine(const char *message)
 }
 
 // Appends `mesh`'s vertices moved by `world` and its polygons (three or
-// more corners) on them.
+// more corners) on them, their corners reversed where `world` mirrors: a
+// mirrored instance keeps its outside out (glTF requires it; so does every
+// format whose importer leaves the node transforms to us).
 bool addInstance(const aiMesh &mesh, const Affine &world, PolygonSoup &soup, const std::string &path,
                  std::string &error)
 {
+    const bool mirrored = world.mirrors();
     // A mesh of points or lines only (glTF's POINTS and LINES primitives)
     // adds nothing, not even its vertices.
     if (!(mesh.mPrimitiveTypes & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_POLYGON)))
@@ -101,6 +121,8 @@ bool addInstance(const aiMesh &mesh, const Affine &world, PolygonSoup &soup, con
             }
             corners.push_back(uint32_t(base + face.mIndices[k]));
         }
+        if (mirrored)
+            std::reverse(corners.begin(), corners.end());
         soup.addPolygon(corners.data(), corners.size());
     }
     return true;
@@ -145,10 +167,82 @@ bool flattenScene(const aiScene &scene, PolygonSoup &soup, const std::string &pa
     return true;
 }
 
-// The import itself, run in the child process.
-bool importScene(const std::string &path, PolygonSoup &soup, std::string &error)
+// The format's name, for messages.
+std::string formatName(const std::string &path)
 {
-    Assimp::Importer importer;
+    std::string ext = extensionOf(path);
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext == "gltf" ? "glTF" : ext == "glb" ? "GLB" : ext == "dae" ? "Collada" : ext == "fbx" ? "FBX" : "3MF";
+}
+
+// The JSON of a .gltf file, or of a .glb file's first chunk (read alone:
+// the binary chunk after it may be most of the file); "" if there is none.
+std::string gltfJson(const std::string &path)
+{
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    const std::streamoff size = in.tellg();
+    char header[20];
+    if (!in.seekg(0) || !in.read(header, sizeof header) || std::memcmp(header, "glTF", 4) != 0) {
+        in.clear();
+        in.seekg(0);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    }
+    uint32_t length = 0, type = 0;
+    std::memcpy(&length, header + 12, 4);
+    std::memcpy(&type, header + 16, 4);
+    if (type != 0x4E4F534Au || std::streamoff(length) > size - 20)
+        return "";
+    std::string json(length, '\0');
+    return in.read(&json[0], length) ? json : "";
+}
+
+// The faces glTF primitives declare that assimp's importer left out: it
+// drops a triangle with an index out of range, with a warning that says
+// no count. Each triangle primitive's faces as its accessor's count
+// declares them (TRIANGLES: count / 3; STRIP and FAN: count - 2), less
+// the faces of the scene's mesh made of it (the importer makes one mesh
+// per primitive, in the file's order). 0 where the file is not glTF 2 or
+// the meshes do not match the primitives one to one.
+size_t gltfFacesLeftOut(const std::string &path, const aiScene &scene)
+{
+    const nlohmann::json doc = nlohmann::json::parse(gltfJson(path), nullptr, false);
+    if (!doc.is_object() || !doc.contains("meshes") || !doc["meshes"].is_array() || !doc.contains("accessors") ||
+        !doc["accessors"].is_array())
+        return 0;
+    const nlohmann::json &accessors = doc["accessors"];
+    // The faces of each primitive, or -1 for one that makes no faces.
+    std::vector<int64_t> declared;
+    for (const auto &mesh : doc["meshes"]) {
+        if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array())
+            return 0;
+        for (const auto &prim : mesh["primitives"]) {
+            if (!prim.is_object())
+                return 0;
+            const int64_t mode = prim.value("mode", int64_t(4));
+            int64_t accessor = -1;
+            if (prim.contains("indices") && prim["indices"].is_number_integer())
+                accessor = prim["indices"].get<int64_t>();
+            else if (prim.contains("attributes") && prim["attributes"].is_object() &&
+                     prim["attributes"].contains("POSITION") && prim["attributes"]["POSITION"].is_number_integer())
+                accessor = prim["attributes"]["POSITION"].get<int64_t>();
+            if (accessor < 0 || size_t(accessor) >= accessors.size() || !accessors[size_t(accessor)].is_object())
+                return 0;
+            const int64_t count = accessors[size_t(accessor)].value("count", int64_t(0));
+            declared.push_back(mode == 4 ? count / 3 : (mode == 5 || mode == 6) ? std::max<int64_t>(count - 2, 0) : -1);
+        }
+    }
+    if (declared.size() != scene.mNumMeshes)
+        return 0;
+    size_t leftOut = 0;
+    for (size_t i = 0; i < declared.size(); ++i)
+        if (declared[i] > 0 && scene.mMeshes[i] && int64_t(scene.mMeshes[i]->mNumFaces) < declared[i])
+            leftOut += size_t(declared[i] - int64_t(scene.mMeshes[i]->mNumFaces));
+    return leftOut;
+}
+
+// One import of `path`: the scene, or null with one line in `error`.
+const aiScene *importOnce(Assimp::Importer &importer, const std::string &path, std::string &error)
+{
     // The coordinates as the file stores them, as for every other format:
     // Collada's up axis is not applied (its unit is: assimp 5.2 cannot be
     // told otherwise).
@@ -168,13 +262,56 @@ bool importScene(const std::string &path, PolygonSoup &soup, std::string &error)
                  : why == "std::bad_alloc" ? "a count the file's data does not hold, or more than memory allows"
                                            : why) +
                 "): " + path;
-        return false;
+        return nullptr;
     }
     if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || !scene->mRootNode) {
         error = "cannot read mesh (the scene is incomplete): " + path;
+        return nullptr;
+    }
+    return scene;
+}
+
+// glibc fills memory it hands out with the complement of this byte, and
+// memory it takes back with the byte itself (mallopt's M_PERTURB): a read
+// of memory nobody wrote sees it. Another allocator ignores it.
+void fillFreshMemory(int byte)
+{
+#ifdef M_PERTURB
+    mallopt(M_PERTURB, byte);
+#else
+    (void)byte;
+#endif
+}
+
+// The import itself, run in the child process: twice, the first scene kept
+// while the second is read (so that the two imports' arrays lie apart),
+// fresh and freed memory filled with another byte each time. An importer
+// that reads past the file's data (assimp 5.2's Collada reader, for an
+// accessor longer than its array) or memory it never wrote then reads
+// other bytes each time, and the two scenes differ: the file is refused,
+// not turned into a grid of whatever memory held (loadMesh also refuses
+// coordinates such bytes make, subnormal or absurdly large ones).
+bool importScene(const std::string &path, PolygonSoup &soup, std::string &error)
+{
+    Assimp::Importer first, second;
+    fillFreshMemory(0xA5);
+    const aiScene *scene = importOnce(first, path, error);
+    if (!scene || !flattenScene(*scene, soup, path, error))
+        return false;
+    PolygonSoup again;
+    fillFreshMemory(0x3C);
+    const aiScene *rescene = importOnce(second, path, error);
+    if (!rescene || !flattenScene(*rescene, again, path, error))
+        return false;
+    if (again.points != soup.points || again.corners != soup.corners || again.ends != soup.ends) {
+        error = "cannot read mesh (the " + formatName(path) +
+                " importer read it twice into two different scenes: it reads past the file's data): " + path;
         return false;
     }
-    return flattenScene(*scene, soup, path, error);
+    const std::string ext = formatName(path);
+    if (ext == "glTF" || ext == "GLB")
+        soup.skippedFaces += gltfFacesLeftOut(path, *scene);
+    return true;
 }
 
 } // namespace
@@ -195,8 +332,11 @@ bool readAssimp(const std::string &path, PolygonSoup &soup, std::string &error)
     // Debian's build: a 3MF whose zip CRC is wrong), crashes on others and
     // loops on some Collada, or allocates without end: it reads in a child
     // process, within the time and memory isolated_read.h allows.
-    return readInChildProcess([&path](PolygonSoup &s, std::string &e) { return importScene(path, s, e); }, path, soup,
-                              error);
+    const std::string reader = "the " + formatName(path) + " importer (assimp " + std::to_string(aiGetVersionMajor()) +
+                               "." + std::to_string(aiGetVersionMinor()) + "." + std::to_string(aiGetVersionPatch()) +
+                               ")";
+    return readInChildProcess([&path](PolygonSoup &s, std::string &e) { return importScene(path, s, e); }, path, reader,
+                              soup, error);
 }
 
 } // namespace meshsdf

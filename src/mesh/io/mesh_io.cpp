@@ -11,8 +11,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <limits>
+#include <sys/stat.h>
 
 namespace meshsdf
 {
@@ -51,6 +54,16 @@ bool isPolygon(const uint32_t *corners, size_t n)
     return std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
 }
 
+// Whether a coordinate is one no model has: beyond kAbsurdCoordinate, or
+// subnormal (below float's smallest normal number and not zero: the
+// integers and pointers a reader that read past its data turns into
+// floats look so).
+bool absurd(float x)
+{
+    const float m = std::abs(x);
+    return m > kAbsurdCoordinate || (m > 0 && m < std::numeric_limits<float>::min());
+}
+
 // The soup's polygons as fans of triangles, zero-area ones skipped and
 // counted, the box and the welding: the loader's checks, the same for every
 // reader. Corner indices are within soup.points (each reader's promise).
@@ -65,12 +78,24 @@ bool finishMesh(const std::string &path, PolygonSoup &soup, TriangleMesh &mesh, 
             error = "mesh has a non-finite coordinate (vertex " + std::to_string(v) + "): " + path;
             return false;
         }
+        for (int k = 0; k < 3; ++k)
+            if (absurd(p[k])) {
+                char value[32];
+                std::snprintf(value, sizeof value, "%.3g", double(p[k]));
+                error = "mesh has a coordinate of absurd size (vertex " + std::to_string(v) + ": " + value +
+                        "; garbage from a broken file or reader?): " + path;
+                return false;
+            }
     }
+    mesh.health.skippedFaces = soup.skippedFaces;
+    mesh.health.faces = mesh.health.degenerateFaces = soup.degenerateFaces;
     for (size_t f = 0, begin = 0; f < soup.ends.size(); begin = soup.ends[f++]) {
         const uint32_t *corners = soup.corners.data() + begin;
         const size_t n = soup.ends[f] - begin;
-        if (!isPolygon(corners, n))
+        if (!isPolygon(corners, n)) {
+            ++mesh.health.skippedFaces;
             continue;
+        }
         ++mesh.health.faces;
         for (size_t k = 1; k + 1 < n; ++k) {
             const std::array<uint32_t, 3> t{corners[0], corners[k], corners[k + 1]};
@@ -105,9 +130,14 @@ bool isMeshExtension(const std::string &path)
     return ext == "obj" || ext == "ply" || ext == "off" || ext == "stl" || ext == "om" || isAssimpExtension(ext);
 }
 
-bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
+bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error, std::vector<std::string> *warnings)
 {
     const std::string ext = lowerExtension(path);
+    struct stat st;
+    if (stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) {
+        error = "mesh is a folder, not a file: " + path;
+        return false;
+    }
     if (!isMeshExtension(path)) {
         std::string known = std::string("obj ply off stl om ") + kAssimpExtensions;
         for (size_t at = 0; (at = known.find(' ', at)) != std::string::npos; at += 2)
@@ -125,7 +155,20 @@ bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error)
                           : ext == "obj"           ? readObj(path, soup, error)
                           : isAssimpExtension(ext) ? readAssimp(path, soup, error)
                                                    : readOpenMesh(path, ext, soup, error);
-        return read && finishMesh(path, soup, mesh, error);
+        const std::string doubts = soup.warnings;
+        if (!read || !finishMesh(path, soup, mesh, error))
+            return false;
+        if (warnings) {
+            warnings->clear();
+            for (size_t at = 0, end; (end = doubts.find('\n', at)) != std::string::npos; at = end + 1)
+                warnings->push_back(doubts.substr(at, end - at));
+            const size_t n = mesh.health.skippedFaces;
+            if (n)
+                warnings->push_back(std::to_string(n) + (n == 1 ? " face of the file was" : " faces of the file were") +
+                                    " left out: a corner out of range, fewer than three corners or a corner "
+                                    "repeated");
+        }
+        return true;
     } catch (const std::bad_alloc &) {
         error = "mesh is larger than memory allows: " + path;
         return false;

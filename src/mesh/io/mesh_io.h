@@ -8,6 +8,7 @@
 #include "geometry/triangle_mesh.h"
 
 #include <string>
+#include <vector>
 
 namespace meshsdf
 {
@@ -18,10 +19,21 @@ namespace meshsdf
 /// keeping every face the file has on the file's vertices, whatever their
 /// orientation; triangulates its polygons (fans), drops zero-area triangles,
 /// welds the vertices by position and computes the health counts but the
-/// edges' (countEdges, or orientMesh, gives those). Returns false and sets `error` to one line on a missing or
-/// unreadable file, an unknown extension, no faces, non-finite coordinates
-/// or a zero-size bounding box.
-bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error);
+/// edges' (countEdges, or orientMesh, gives those). Faces the reader could
+/// not take (a corner out of range, fewer than three corners, a corner
+/// repeated) are left out and counted (health.skippedFaces); what was taken
+/// with a doubt (those faces, a PLY header's free text) is said in
+/// `warnings`, one line each, when given. Returns false and sets `error` to
+/// one line on a missing or unreadable file, a folder, an unknown
+/// extension, no faces, a coordinate that is not finite or of absurd size
+/// (beyond kAbsurdCoordinate, or subnormal: what a reader that read past
+/// its data makes of other bytes), or a zero-size bounding box.
+bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error,
+              std::vector<std::string> *warnings = nullptr);
+
+/// Coordinates beyond this magnitude are refused as garbage: 1e15 of any
+/// unit is no model's.
+constexpr double kAbsurdCoordinate = 1e15;
 
 /// True if `path` ends in an extension loadMesh reads (case-insensitive).
 bool isMeshExtension(const std::string &path);

@@ -166,6 +166,9 @@ class LineWords
     const char *mAt, *mEnd;
 };
 
+// Faces a file declares, when it says: kUnknown otherwise.
+constexpr size_t kUnknown = SIZE_MAX;
+
 // OpenMesh's text readers do not report a coordinate they cannot parse
 // ("nan", "inf", 1e999): the OBJ reader drops the vertex line, shifting
 // every later index, the OFF reader stops and finds no faces, the STL
@@ -173,12 +176,17 @@ class LineWords
 // checked here first: OBJ "v" lines, every number after OFF's keyword line,
 // and STL "vertex" lines (PLY's reader is our own and checks its numbers).
 // Binary formats carry NaN and Inf through and are caught after reading.
+// Nor do they report a face they leave out (an OBJ corner out of range):
+// the faces an OBJ or ascii STL declares ("f" lines, "facet" lines) are
+// counted on the way into `declared`, so that those left out can be.
 // Each line's words are scanned in place (a string stream per line cost
 // more than the reading).
-bool checkTextCoordinates(const std::string &path, const std::string &ext, std::string &error)
+bool checkTextCoordinates(const std::string &path, const std::string &ext, size_t &declared, std::string &error)
 {
     if (ext != "obj" && ext != "off" && ext != "stl")
         return true;
+    if (ext != "off")
+        declared = 0;
     std::ifstream in(path);
     std::string text, word; // a line at a time: a binary file is left after its header
     bool data = false;      // OFF: past the header
@@ -192,7 +200,9 @@ bool checkTextCoordinates(const std::string &path, const std::string &ext, std::
         LineWords words(line, end);
         int check = 0; // words to check on this line; -1: all
         if (ext == "obj") {
-            if (end - line < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t'))
+            const bool blank = end - line >= 2 && (line[1] == ' ' || line[1] == '\t');
+            declared += blank && line[0] == 'f';
+            if (!blank || line[0] != 'v')
                 continue;
             words.next(word); // "v"
             for (int k = 0; k < 3; ++k) {
@@ -218,7 +228,10 @@ bool checkTextCoordinates(const std::string &path, const std::string &ext, std::
             }
             check = -1;
         } else { // stl
-            if (!words.next(word) || word != "vertex")
+            if (!words.next(word))
+                continue;
+            declared += word == "facet";
+            if (word != "vertex")
                 continue;
             check = 3;
         }
@@ -236,7 +249,7 @@ bool checkTextCoordinates(const std::string &path, const std::string &ext, std::
 // claims (2^40 vertices: killed for memory, or std::bad_alloc). Every
 // element takes at least one byte of the file, in any encoding. (PLY's
 // reader checks its own header the same way, and more closely.)
-bool checkHeaderCounts(const std::string &path, const std::string &ext, std::string &error)
+bool checkHeaderCounts(const std::string &path, const std::string &ext, size_t &declared, std::string &error)
 {
     if (ext != "off")
         return true;
@@ -253,8 +266,12 @@ bool checkHeaderCounts(const std::string &path, const std::string &ext, std::str
         double v, f;
         if (words.next(word) && word.find("OFF") != std::string::npos && !words.next(word))
             continue;
+        if (word == "BINARY")
+            return true; // its counts are binary: OpenMesh's reader checks them
         if (wholeNumber(word, &v) && words.next(word) && wholeNumber(word, &f)) {
             claimed = v + f;
+            if (f >= 0 && f == std::floor(f) && f < 1e18)
+                declared = size_t(f);
             break;
         }
     }
@@ -267,12 +284,41 @@ bool checkHeaderCounts(const std::string &path, const std::string &ext, std::str
     return true;
 }
 
+// The facets a binary STL declares, as OpenMesh's reader tells the two
+// kinds apart (a file of exactly 84 + 50 n bytes, n the count after the
+// 80-byte header, is binary), or kUnknown for an ascii one.
+size_t binaryStlFacets(const std::string &path)
+{
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    const uint64_t length = uint64_t(in.tellg());
+    unsigned char count[4];
+    if (length < 84 || !in.seekg(80) || !in.read(reinterpret_cast<char *>(count), 4))
+        return kUnknown;
+    const uint64_t n =
+        uint64_t(count[0]) | uint64_t(count[1]) << 8 | uint64_t(count[2]) << 16 | uint64_t(count[3]) << 24;
+    return length == 84 + 50 * n ? size_t(n) : kUnknown;
+}
+
+// The names readers go by in errors.
+std::string readerName(const std::string &ext)
+{
+    std::string upper = ext;
+    std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return char(std::toupper(c)); });
+    return "OpenMesh's " + upper + " reader";
+}
+
 } // namespace
 
 bool readOpenMesh(const std::string &path, const std::string &ext, PolygonSoup &soup, std::string &error)
 {
-    if (!checkTextCoordinates(path, ext, error) || !checkHeaderCounts(path, ext, error))
+    size_t textFaces = kUnknown, offFaces = kUnknown;
+    if (!checkTextCoordinates(path, ext, textFaces, error) || !checkHeaderCounts(path, ext, offFaces, error))
         return false;
+    const size_t binaryFacets = ext == "stl" ? binaryStlFacets(path) : kUnknown;
+    const size_t declared = ext == "obj"   ? textFaces
+                            : ext == "off" ? offFaces
+                            : ext == "stl" ? (binaryFacets != kUnknown ? binaryFacets : textFaces)
+                                           : kUnknown;
     const auto read = [&path, &ext](PolygonSoup &s, std::string &e) {
         // OpenMesh reports complex edges and parse problems on its own
         // streams; the health line says what matters, once.
@@ -292,7 +338,15 @@ bool readOpenMesh(const std::string &path, const std::string &ext, PolygonSoup &
         s.ends = std::move(faces.ends);
         return true;
     };
-    return readInChildProcess(read, path, soup, error);
+    if (!readInChildProcess(read, path, readerName(ext), soup, error))
+        return false;
+    // What the file declares and OpenMesh did not hand over: an STL facet
+    // only ever for corners at one position (its reader joins vertices by
+    // position), a zero-area facet; an OBJ or OFF face for a corner out of
+    // range, fewer than three corners or a corner repeated.
+    if (declared != kUnknown && declared > soup.ends.size())
+        (ext == "stl" ? soup.degenerateFaces : soup.skippedFaces) += declared - soup.ends.size();
+    return true;
 }
 
 } // namespace meshsdf

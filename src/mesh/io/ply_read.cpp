@@ -13,7 +13,10 @@
 //   room from its count.
 // - every value: a read past the end is an error, never a default.
 // - indices: each one is checked against the header's vertex count (strips'
-//   -1 excepted), so the loader can index the points unchecked.
+//   -1 excepted), so the loader can index the points unchecked; a face with
+//   one out of range is left out and counted (PolygonSoup::skippedFaces).
+// A header line that is no PLY keyword (a free-text line an old exporter
+// wrote without `comment`) is read as a comment, and said in a warning.
 #include "io/ply_read.h"
 
 #include <algorithm>
@@ -91,6 +94,8 @@ struct Header {
     Encoding encoding = Encoding::Ascii;
     std::vector<Element> elements;
     size_t bodyStart = 0;
+    size_t freeTextLines = 0;                     // lines that are no keyword, read as comments
+    std::pair<size_t, std::string> firstFreeText; // the first of them: its number, its text
 };
 
 std::vector<std::string> words(const char *begin, const char *end)
@@ -129,6 +134,7 @@ bool parseHeader(const std::string &file, Header &header, std::string &problem)
         if (stop > at && file[stop - 1] == '\r')
             --stop;
         const std::vector<std::string> w = words(file.data() + at, file.data() + stop);
+        const size_t begin = at;
         at = newline + 1;
         if (line == 0) {
             if (w.size() != 1 || w[0] != "ply") {
@@ -179,8 +185,9 @@ bool parseHeader(const std::string &file, Header &header, std::string &problem)
             p.name = w.back();
             header.elements.back().properties.push_back(p);
         } else {
-            problem = "PLY header line not understood (line " + std::to_string(line + 1) + ")";
-            return false;
+            // No keyword: free text an old exporter wrote without `comment`.
+            if (header.freeTextLines++ == 0)
+                header.firstFreeText = {line + 1, file.substr(begin, std::min<size_t>(stop - begin, 60))};
         }
     }
 }
@@ -337,6 +344,20 @@ uint64_t leastBytes(const Element &element, Encoding encoding)
     return bytes;
 }
 
+// The warning for a header's free-text lines: how many, and the first.
+std::string freeTextWarning(const Header &header)
+{
+    std::string text = header.firstFreeText.second;
+    for (char &c : text)
+        if (static_cast<unsigned char>(c) < 32 || static_cast<unsigned char>(c) > 126)
+            c = '?';
+    const std::string first = "line " + std::to_string(header.firstFreeText.first) + ", '" + text + "'";
+    return header.freeTextLines == 1
+               ? "the PLY header's " + first + " is no PLY keyword: read as a comment\n"
+               : "the PLY header has " + std::to_string(header.freeTextLines) +
+                     " lines that are no PLY keyword (the first: " + first + "): read as comments\n";
+}
+
 class PlyReader
 {
   public:
@@ -374,6 +395,8 @@ class PlyReader
         for (const Element &e : header.elements)
             if (!readElement(e, body))
                 return false;
+        if (header.freeTextLines > 0)
+            mSoup.warnings += freeTextWarning(header);
         return true;
     }
 
@@ -437,7 +460,7 @@ class PlyReader
                 if (roles[k] == Role::Indices) {
                     if (!readIndices(body, p.type, uint64_t(count)))
                         return bodyFailed(body, e, i);
-                    if (!(strips ? addStrip(e, i, p.type) : addFace(e, i)))
+                    if (!(strips ? addStrip(p.type) : addFace()))
                         return false;
                 } else if (roles[k] == Role::Skip) {
                     if (!body.skip(p.type, p.list ? uint64_t(count) : 1))
@@ -465,22 +488,17 @@ class PlyReader
         return true;
     }
 
-    bool indexInRange(double v, const Element &e, uint64_t i)
-    {
-        if (v >= 0 && v < double(mVertices))
-            return true;
-        mError = "PLY " + e.name + " " + std::to_string(i) + " has vertex index " +
-                 std::to_string(static_cast<long long>(v)) + ", outside the file's " + std::to_string(mVertices) +
-                 " vertices: " + mPath;
-        return false;
-    }
+    bool indexInRange(double v) const { return v >= 0 && v < double(mVertices); }
 
-    bool addFace(const Element &e, uint64_t i)
+    // A face with a corner out of range is left out and counted.
+    bool addFace()
     {
         mCorners.clear();
         for (double v : mIndices) {
-            if (!indexInRange(v, e, i))
-                return false;
+            if (!indexInRange(v)) {
+                ++mSoup.skippedFaces;
+                return true;
+            }
             mCorners.push_back(uint32_t(v));
         }
         mSoup.addPolygon(mCorners.data(), mCorners.size());
@@ -490,23 +508,28 @@ class PlyReader
     // Triangle k of a strip is (s[k], s[k+1], s[k+2]) for even k and
     // (s[k+1], s[k], s[k+2]) for odd k, so that all face one way; -1
     // starts a new strip (in an unsigned 16- or 32-bit list, -1 written in
-    // that type: the restart index of graphics APIs).
-    bool addStrip(const Element &e, uint64_t i, Scalar type)
+    // that type: the restart index of graphics APIs). A triangle with a
+    // corner repeated joins two runs of a strip (a zero-area stitch): no
+    // face of the file, it is left out uncounted; one with a corner out of
+    // range is left out and counted.
+    bool addStrip(Scalar type)
     {
         const double restart = type == Scalar::UInt32 ? 4294967295.0 : type == Scalar::UInt16 ? 65535.0 : -1;
-        uint32_t a = 0, b = 0;
+        double a = 0, b = 0;
         size_t length = 0; // of the current strip
-        for (double v : mIndices) {
-            if (v == -1 || v == restart) {
+        for (double c : mIndices) {
+            if (c == -1 || c == restart) {
                 length = 0;
                 continue;
             }
-            if (!indexInRange(v, e, i))
-                return false;
-            const uint32_t c = uint32_t(v);
             if (length >= 2) {
-                const uint32_t t[3] = {length % 2 ? b : a, length % 2 ? a : b, c};
-                mSoup.addPolygon(t, 3);
+                const double t[3] = {length % 2 ? b : a, length % 2 ? a : b, c};
+                if (!indexInRange(a) || !indexInRange(b) || !indexInRange(c))
+                    ++mSoup.skippedFaces;
+                else if (a != b && b != c && a != c) {
+                    const uint32_t corners[3] = {uint32_t(t[0]), uint32_t(t[1]), uint32_t(t[2])};
+                    mSoup.addPolygon(corners, 3);
+                }
             }
             a = b;
             b = c;

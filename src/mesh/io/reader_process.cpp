@@ -1,8 +1,9 @@
 // sdftrace — a reader in a child process (see reader_process.h).
 //
 // The child writes one answer: a byte (1 soup, 0 error, 2 out of memory),
-// then for a soup the three counts and arrays (points, corners, ends), for
-// an error its length and text. The parent takes nothing on trust: every
+// then for a soup the three counts and arrays (points, corners, ends), the
+// two counts of faces left out and the warnings' length and text, for an
+// error its length and text. The parent takes nothing on trust: every
 // count is checked against the bytes that came back before it is used.
 #include "io/reader_process.h"
 
@@ -42,9 +43,11 @@ int answer(void *ctx, int fd)
         return 1;
     if (tag == 1) {
         const std::vector<uint64_t> ends(soup.ends.begin(), soup.ends.end());
+        const uint64_t skipped[2] = {soup.skippedFaces, soup.degenerateFaces};
         return writeArray(fd, soup.points.data(), soup.points.size()) &&
                        writeArray(fd, soup.corners.data(), soup.corners.size()) &&
-                       writeArray(fd, ends.data(), ends.size())
+                       writeArray(fd, ends.data(), ends.size()) && writeArray(fd, skipped, 2) &&
+                       writeArray(fd, soup.warnings.data(), soup.warnings.size())
                    ? 0
                    : 1;
     }
@@ -86,22 +89,28 @@ class AnswerReader
 
 } // namespace
 
-bool readInChildProcess(const SoupReader &read, const std::string &path, PolygonSoup &soup, std::string &error)
+bool readInChildProcess(const SoupReader &read, const std::string &path, const std::string &reader, PolygonSoup &soup,
+                        std::string &error)
 {
     ChildWork work{&read};
     char *data = nullptr, why[128];
     size_t size = 0;
     if (isolated_read(path.c_str(), answer, &work, &data, &size, why, sizeof why) != 0) {
-        error = "cannot read mesh (the reader failed on it: " + std::string(why) + "; a corrupt file?): " + path;
+        // A reader that crashes or never ends is at fault whatever the file
+        // holds: a valid file can do it too (assimp 5.2 on some 3MF).
+        const bool crashed = std::strncmp(why, "signal", 6) == 0;
+        error = "cannot read mesh (" + reader + (crashed ? " crashed on it: " : " failed on it: ") + why +
+                "; the file may be valid): " + path;
         return false;
     }
     AnswerReader in(data, size);
     unsigned char tag = 3;
-    std::vector<char> text;
-    std::vector<uint64_t> ends;
+    std::vector<char> text, warnings;
+    std::vector<uint64_t> ends, skipped;
     soup = PolygonSoup{};
     const bool answered =
-        in.bytes(&tag, 1) && (tag == 1 ? in.array(soup.points) && in.array(soup.corners) && in.array(ends) && in.done()
+        in.bytes(&tag, 1) && (tag == 1 ? in.array(soup.points) && in.array(soup.corners) && in.array(ends) &&
+                                             in.array(skipped) && skipped.size() == 2 && in.array(warnings) && in.done()
                               : tag == 0 ? in.array(text) && in.done()
                                          : tag == 2 && in.done());
     std::free(data);
@@ -115,6 +124,9 @@ bool readInChildProcess(const SoupReader &read, const std::string &path, Polygon
             consistent = soup.corners[c] < soup.points.size();
         if (consistent) {
             soup.ends.assign(ends.begin(), ends.end());
+            soup.skippedFaces = size_t(skipped[0]);
+            soup.degenerateFaces = size_t(skipped[1]);
+            soup.warnings.assign(warnings.begin(), warnings.end());
             return true;
         }
     }

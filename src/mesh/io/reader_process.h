@@ -17,11 +17,13 @@ namespace meshsdf
 using SoupReader = std::function<bool(PolygonSoup &soup, std::string &error)>;
 
 /// Runs `read` on `path` in a forked child, with the time and the memory
-/// isolated_read() allows for the file's size, and takes back its soup or
-/// its error. A child that crashes, runs out of time or memory, or answers
-/// short gives an error naming `path`. Returns what `read` returned
-/// otherwise; the soup's corners are not yet checked against its points.
-bool readInChildProcess(const SoupReader &read, const std::string &path, PolygonSoup &soup, std::string &error);
+/// isolated_read() allows for the file's size, and takes back its soup (its
+/// counts and warnings too) or its error. A child that crashes, runs out of
+/// time or memory, or answers short gives an error naming `path` and the
+/// reader (`reader`: "the glTF importer"), which is at fault then, whatever
+/// the file holds. Returns what `read` returned otherwise.
+bool readInChildProcess(const SoupReader &read, const std::string &path, const std::string &reader, PolygonSoup &soup,
+                        std::string &error);
 
 } // namespace meshsdf
 

@@ -59,19 +59,37 @@
 //    evidence of a cavity, and a wall lies inside the solid around it. Only
 //    meshes with such a patch pay for the test (one winding tree); a
 //    well-oriented mesh never gets here.
+// 5. Open patches with no clear outside of their own (step 3: a flat cap,
+//    a saddle) ask the rest of the mesh: the winding number w_R of the
+//    patches steps 3 and 4 decided, at points a tenth of the patch's
+//    diagonal (kEvidenceReach) in front of and behind it at its probes
+//    (evidenceSide). A face of a solid has the solid behind it: w_R is
+//    larger behind than in front (a lid on a cup: the cup's w_R is about
+//    1/2 at the lid, more below it, less above), and the patch is turned so
+//    where the mean difference exceeds kEvidence. Just off the patch, as in
+//    step 4, would not do: there w_R is about 1/2 on both sides of a lid,
+//    and the lid's own +-1/2 fits a solid either way round. The patches
+//    still undecided are left out of w_R, so that the file's orientation of
+//    one never decides another's: two files of one model whose open patches
+//    are oriented differently (an OFF and an STL copy) get one orientation
+//    wherever the evidence decides. A patch alone in space (a sheet) has no
+//    rest to ask, and keeps the file's orientation.
 //
 // What is not decided: a patch facing outward inside another solid is kept
 // (a part inside a part, the winding number 2 there is still inside); a
 // whole inside-out hollow ball becomes a solid ball with a solid core (its
 // outer wall is turned outward, its inner wall then faces outward too and
-// is kept). Patches with no clear outside are left as they are.
+// is kept). Patches that neither step 3 nor step 5 decides are left as they
+// are, counted, and the largest named (OrientCounts::notes).
 #include "orient/orient.h"
 
 #include "sign/winding.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
+#include <string>
 
 namespace meshsdf
 {
@@ -85,6 +103,8 @@ constexpr double kFlat = 1e-9;          // terms this small against |c_t - o| |N
 constexpr int kProbes = 16;             // see THE STEPS, 4
 constexpr double kCavityShare = 0.9;    // see THE STEPS, 4
 constexpr double kProbeOffset = 1e-2;   // of a triangle's size: how far off it a probe stands
+constexpr double kEvidence = 0.1;       // see THE STEPS, 5: the least mean difference that decides
+constexpr double kEvidenceReach = 0.1;  // see THE STEPS, 5: how far off a patch, of its diagonal
 constexpr uint32_t kNone = UINT32_MAX;
 
 using Vec = std::array<double, 3>;
@@ -263,21 +283,18 @@ int outwardSide(const TriangleMesh &mesh, const Patches &p, uint32_t id, const s
     return flux > 0 ? 1 : -1;
 }
 
-// Step 4: whether reversing the inward-facing patch `id` makes the whole
-// mesh's winding number (`winding`, as oriented now) look more like a solid's
-// just off the patch: 0 in front of each face and 1 behind it. Reversing the
-// patch subtracts twice its own winding number and swaps front and back;
-// the squared misfits of both choices
-// are summed over up to kProbes of its triangles, chosen along its
-// cumulative area.
-bool turnsOutward(const TriangleMesh &mesh, const Patches &p, uint32_t id, const std::vector<Vec> &areaVec,
-                  const std::vector<double> &area, const FastWinding &winding)
+// Points in front of and behind up to kProbes of patch `id`'s triangles
+// (front, back, front, back, ...), as the patch is oriented now, chosen
+// along its cumulative area: `reach` (world units) off each centroid along
+// its normal, or, for reach 0, just off it (kProbeOffset of its size).
+std::vector<Vec> patchProbes(const TriangleMesh &mesh, const Patches &p, uint32_t id, const std::vector<Vec> &areaVec,
+                             const std::vector<double> &area, double reach = 0)
 {
     const uint32_t first = p.start[id], last = p.start[id + 1];
     double total = 0;
     for (uint32_t i = first; i < last; ++i)
         total += area[p.order[i]];
-    std::vector<Vec> probes; // front, back, front, back, ...
+    std::vector<Vec> probes;
     double reached = 0;
     for (uint32_t i = first; i < last && probes.size() < 2 * kProbes; ++i) {
         const uint32_t t = p.order[i];
@@ -286,7 +303,8 @@ bool turnsOutward(const TriangleMesh &mesh, const Patches &p, uint32_t id, const
         if (reached < (probes.size() / 2 + 0.5) / kProbes * total)
             continue;
         const Vec c = centroid(mesh, t);
-        const double offset = kProbeOffset / std::sqrt(area[t]) * (p.reversed[t] ? -1 : 1);
+        const double offset =
+            (reach > 0 ? reach / area[t] : kProbeOffset / std::sqrt(area[t])) * (p.reversed[t] ? -1 : 1);
         Vec front, back;
         for (int k = 0; k < 3; ++k) {
             front[k] = c[k] + offset * areaVec[t][k];
@@ -295,9 +313,50 @@ bool turnsOutward(const TriangleMesh &mesh, const Patches &p, uint32_t id, const
         probes.push_back(front);
         probes.push_back(back);
     }
-    // The patch's own winding number as oriented now, summed by brute force
-    // over the patch, or, when the patch is most of the mesh, as the whole
-    // mesh's less the rest's (the fewer triangles either way).
+    return probes;
+}
+
+// Triangle t's corners as the patches orient it now.
+std::array<uint32_t, 3> orientedTriangle(const TriangleMesh &mesh, const Patches &p, uint32_t t)
+{
+    std::array<uint32_t, 3> tri = mesh.triangles[t];
+    if (p.reversed[t])
+        std::swap(tri[1], tri[2]);
+    return tri;
+}
+
+// How unlike a solid's the whole mesh's winding number looks just off a
+// patch, kept as it is and reversed: a solid's faces see 0 in front of them
+// and 1 behind. `whole` is the whole mesh's winding (the patch as oriented
+// now) and `own` the patch's own at the probes (front, back, ...).
+// Reversing the patch subtracts twice its own winding number and swaps
+// front and back. The squared misfits of both choices, summed.
+struct Misfits {
+    double keep = 0, turn = 0;
+};
+Misfits solidMisfits(const std::vector<double> &whole, const std::vector<double> &own)
+{
+    Misfits m;
+    for (size_t q = 0; q + 1 < whole.size(); q += 2) {
+        const double front = whole[q], back = whole[q + 1];
+        m.keep += front * front + (back - 1) * (back - 1);
+        const double newFront = back - 2 * own[q + 1], newBack = front - 2 * own[q];
+        m.turn += newFront * newFront + (newBack - 1) * (newBack - 1);
+    }
+    return m;
+}
+
+// Step 4: whether reversing the inward-facing patch `id` makes the whole
+// mesh's winding number (`winding`, as oriented now) look more like a
+// solid's just off the patch (solidMisfits). The patch's own winding number
+// is summed by brute force over the patch, or, when the patch is most of
+// the mesh, taken as the whole mesh's less the rest's (the fewer triangles
+// either way).
+bool turnsOutward(const TriangleMesh &mesh, const Patches &p, uint32_t id, const std::vector<Vec> &areaVec,
+                  const std::vector<double> &area, const FastWinding &winding)
+{
+    const uint32_t first = p.start[id], last = p.start[id + 1];
+    const std::vector<Vec> probes = patchProbes(mesh, p, id, areaVec, area);
     const bool most = 2 * size_t(last - first) > mesh.triangles.size();
     std::vector<double> whole(probes.size()), own(probes.size(), 0.0);
     for (size_t q = 0; q < probes.size(); ++q)
@@ -318,15 +377,25 @@ bool turnsOutward(const TriangleMesh &mesh, const Patches &p, uint32_t id, const
         for (size_t q = 0; q < probes.size(); ++q)
             own[q] = whole[q] - own[q];
     }
-    double keep = 0, turn = 0;
-    for (size_t q = 0; q < probes.size(); q += 2) {
-        const double front = whole[q], back = whole[q + 1];
-        keep += front * front + (back - 1) * (back - 1);
-        // Reversed: the back is the new front, and the front the new back.
-        const double newFront = back - 2 * own[q + 1], newBack = front - 2 * own[q];
-        turn += newFront * newFront + (newBack - 1) * (newBack - 1);
-    }
-    return turn < keep;
+    const Misfits m = solidMisfits(whole, own);
+    return m.turn < m.keep;
+}
+
+// Step 5: the side the rest of the mesh gives an open patch with no clear
+// outside of its own: the winding number of the decided patches (`rest`,
+// as oriented, no undecided patch in it), a reach of kEvidenceReach of the
+// patch's diagonal in front of and behind it at its probes. A solid's face
+// has more of the solid behind it than in front: +1 keep the patch as it
+// is, -1 reverse it, 0 when the mean difference is within kEvidence.
+int evidenceSide(const TriangleMesh &mesh, const Patches &p, uint32_t id, const std::vector<Vec> &areaVec,
+                 const std::vector<double> &area, const Vec &diagonal, const FastWinding &rest)
+{
+    const std::vector<Vec> probes = patchProbes(mesh, p, id, areaVec, area, kEvidenceReach * norm(diagonal));
+    double behind = 0;
+    for (size_t q = 0; q + 1 < probes.size(); q += 2)
+        behind += rest(probes[q + 1]) - rest(probes[q]);
+    behind /= std::max<double>(1, probes.size() / 2);
+    return behind > kEvidence ? 1 : behind < -kEvidence ? -1 : 0;
 }
 
 struct Box {
@@ -361,6 +430,87 @@ bool withinAnother(const std::vector<Box> &bounds, uint32_t id)
     return false;
 }
 
+// "(0.5, 0.25, 1)".
+std::string pointText(const Vec &v)
+{
+    char text[96];
+    std::snprintf(text, sizeof text, "(%.4g, %.4g, %.4g)", v[0], v[1], v[2]);
+    return text;
+}
+
+// Step 5 for the patches with no clear outside of their own (`undecided`):
+// each one the rest of the mesh decides (evidenceSide) is turned as it
+// says; the others are left as the file has them, counted, with their
+// share of the area and a line each for the largest (counts.notes).
+void orientByEvidence(const TriangleMesh &mesh, Patches &p, const std::vector<uint32_t> &undecided,
+                      const std::vector<Vec> &areaVec, const std::vector<double> &area, const std::vector<Box> &bounds,
+                      bool simd, OrientCounts &counts)
+{
+    std::vector<uint8_t> open(p.count(), 0);
+    for (uint32_t id : undecided)
+        open[id] = 1;
+    std::vector<std::array<uint32_t, 3>> rest;
+    for (uint32_t t = 0; t < mesh.triangles.size(); ++t)
+        if (!open[p.of[t]])
+            rest.push_back(orientedTriangle(mesh, p, t));
+    std::vector<uint32_t> left;
+    if (rest.empty())
+        left = undecided;
+    else {
+        const FastWinding tree(mesh.points, rest, 2.0, simd);
+        for (uint32_t id : undecided) {
+            const Vec diagonal{bounds[id].hi[0] - bounds[id].lo[0], bounds[id].hi[1] - bounds[id].lo[1],
+                               bounds[id].hi[2] - bounds[id].lo[2]};
+            const int side = evidenceSide(mesh, p, id, areaVec, area, diagonal, tree);
+            if (side == 0) {
+                left.push_back(id);
+                continue;
+            }
+            ++counts.evidencePatches;
+            if (side < 0) {
+                ++counts.outwardPatches;
+                for (uint32_t i = p.start[id]; i < p.start[id + 1]; ++i)
+                    p.reversed[p.order[i]] ^= 1;
+            }
+        }
+    }
+    counts.ambiguousPatches = left.size();
+    if (left.empty())
+        return;
+    double total = 0;
+    std::vector<double> patchArea(p.count(), 0.0);
+    for (uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+        total += area[t];
+        patchArea[p.of[t]] += area[t];
+    }
+    std::sort(left.begin(), left.end(), [&](uint32_t a, uint32_t b) {
+        return patchArea[a] > patchArea[b] || (patchArea[a] == patchArea[b] && a < b);
+    });
+    double leftArea = 0;
+    for (uint32_t id : left)
+        leftArea += patchArea[id];
+    counts.ambiguousArea = total > 0 ? leftArea / total : 0;
+    constexpr size_t kNamed = 3;
+    for (size_t i = 0; i < left.size() && i < kNamed; ++i) {
+        const uint32_t id = left[i];
+        const Box &b = bounds[id];
+        char share[32];
+        std::snprintf(share, sizeof share, "%.3g%%", 100 * patchArea[id] / total);
+        counts.notes.push_back("an open patch of " + std::to_string(p.start[id + 1] - p.start[id]) + " triangles (" +
+                               share + " of the surface area, from " + pointText(b.lo) + " to " + pointText(b.hi) +
+                               ") keeps the file's orientation: no side of it is clearly out");
+    }
+    if (left.size() > kNamed) {
+        double rest = 0;
+        for (size_t i = kNamed; i < left.size(); ++i)
+            rest += patchArea[left[i]];
+        char share[32];
+        std::snprintf(share, sizeof share, "%.3g%%", 100 * rest / total);
+        counts.notes.push_back(std::to_string(left.size() - kNamed) + " smaller open patches (" + share +
+                               " of the surface area in all) keep the file's orientation too");
+    }
+}
+
 } // namespace
 
 OrientCounts orientMesh(TriangleMesh &mesh, bool simd)
@@ -380,11 +530,12 @@ OrientCounts orientMesh(TriangleMesh &mesh, bool simd)
     }
     Patches p = findPatches(mesh, edges, area);
     counts.patches = p.count();
-    std::vector<uint32_t> inward;
+    std::vector<uint32_t> inward, undecided;
     for (uint32_t id = 0; id < p.count(); ++id) {
         counts.nonOrientablePatches += !p.orientable[id];
         const int side = outwardSide(mesh, p, id, areaVec, area);
-        counts.ambiguousPatches += side == 0;
+        if (side == 0)
+            undecided.push_back(id);
         if (side < 0)
             inward.push_back(id);
     }
@@ -414,6 +565,8 @@ OrientCounts orientMesh(TriangleMesh &mesh, bool simd)
         for (uint32_t i = p.start[id]; i < p.start[id + 1]; ++i)
             p.reversed[p.order[i]] ^= 1;
     }
+    if (!undecided.empty())
+        orientByEvidence(mesh, p, undecided, areaVec, area, bounds, simd, counts);
     for (uint32_t t = 0; t < n; ++t)
         if (p.reversed[t]) {
             std::swap(mesh.triangles[t][1], mesh.triangles[t][2]);

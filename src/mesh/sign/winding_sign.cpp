@@ -486,12 +486,12 @@ class BlockGradientBound
 // and `reach` are signBlock's; `lo` is the block's first voxel centre;
 // `clearance` the distance from the mesh that every point within sqrt(3)/2
 // voxel of a voxel off the band keeps; `windingAt(v)` evaluates w at voxel
-// v. Returns false, having changed nothing, when the bound is infinite or
-// some component reaches farther from its evaluated voxel than the bound
-// allows.
-template <typename Winding>
+// v; `counted(v)` says whether voxel v counts in `ambiguousVoxels`. Returns false, having changed nothing, when the
+// bound is infinite or some component reaches farther from its evaluated voxel than the bound allows.
+template <typename Winding, typename Counted>
 bool signByComponents(float *distance, const float *reach, const BlockGradientBound &gradient, const double lo[3],
-                      double voxelSize, double clearance, Winding &&windingAt, uint64_t &ambiguousVoxels)
+                      double voxelSize, double clearance, Winding &&windingAt, Counted &&counted,
+                      uint64_t &ambiguousVoxels)
 {
     bool anyBand = false;
     for (int v = 0; v < kBlockSize; ++v)
@@ -527,7 +527,7 @@ bool signByComponents(float *distance, const float *reach, const BlockGradientBo
         if (w > 0.5)
             inside = inside | component;
         if (ambiguous(w))
-            component.forEach([&](int) { ++ambiguousVoxels; });
+            component.forEach([&](int v) { ambiguousVoxels += counted(v); });
         remaining = remaining.without(component);
     }
     for (int v = 0; v < kBlockSize; ++v)
@@ -539,10 +539,18 @@ bool signByComponents(float *distance, const float *reach, const BlockGradientBo
 } // namespace
 
 WindingSign::WindingSign(EdgeField field, const FastWinding &winding, const std::array<double, 3> &origin,
-                         double voxelSize, double halfWidth, bool simd)
+                         double voxelSize, double halfWidth, bool simd, const std::array<int, 3> &counted)
     : mWinding(winding), mOrigin(origin), mVoxelSize(voxelSize), mOffBand(halfWidth * voxelSize),
-      mField(std::move(field)), mVectorized(simd && rowsVectorizable())
+      mField(std::move(field)), mVectorized(simd && rowsVectorizable()), mCounted(counted)
 {
+}
+
+uint64_t WindingSign::countedOffBand(const std::array<int, 3> &origin, int size) const
+{
+    uint64_t voxels = 1;
+    for (int k = 0; k < 3; ++k)
+        voxels *= uint64_t(std::max(0, std::min(origin[k] + size, mCounted[k]) - std::max(origin[k], 0)));
+    return voxels;
 }
 
 int WindingSign::cubeSide(const std::array<int, 3> &origin, int size) const
@@ -569,7 +577,7 @@ int WindingSign::cubeSide(const std::array<int, 3> &origin, int size) const
     if (!(std::abs(w - 0.5) > rho * gradient * (1 + 1e-6) + kMargin))
         return 0;
     if (ambiguous(w))
-        countAmbiguous(uint64_t(size) * uint64_t(size) * uint64_t(size));
+        countAmbiguous(countedOffBand(origin, size));
     return w > 0.5 ? -1 : 1;
 }
 
@@ -653,8 +661,16 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
             evaluated[v] = windingAt(v);
         return evaluated[v];
     };
+    // The voxels the ambiguous count counts: the band's, and those off it
+    // within mCounted's box.
+    auto counted = [&](int v) {
+        const int x = origin[0] + (v >> (2 * kBlockLog2)), y = origin[1] + ((v >> kBlockLog2) & (kBlockDim - 1)),
+                  z = origin[2] + (v & (kBlockDim - 1));
+        return std::isfinite(distance[v]) ||
+               (x >= 0 && y >= 0 && z >= 0 && x < mCounted[0] && y < mCounted[1] && z < mCounted[2]);
+    };
     uint64_t uncertain = 0;
-    if (signByComponents(distance, reach, gradient, lo, h, clearance, windingOnce, uncertain)) {
+    if (signByComponents(distance, reach, gradient, lo, h, clearance, windingOnce, counted, uncertain)) {
         countAmbiguous(uncertain);
         return;
     }
@@ -832,7 +848,7 @@ void WindingSign::signBlock(const std::array<int, 3> &origin, float *distance) c
     for (int v = 0; v < kBlockSize; ++v) {
         if (anchorW[v] > 0.5)
             distance[v] = -distance[v];
-        uncertain += ambiguous(anchorW[v]);
+        uncertain += ambiguous(anchorW[v]) && counted(v);
     }
     countAmbiguous(uncertain);
 }

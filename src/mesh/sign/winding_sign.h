@@ -80,9 +80,12 @@ class WindingSign
     /// has its centre at origin + (i, j, k) * voxelSize. `halfWidth` is the
     /// exact band's (distance/band.h), in voxels: every voxel off the band is at
     /// least that far from the mesh. `simd`: the near field four voxels at
-    /// a time with AVX2 where the processor has it.
+    /// a time with AVX2 where the processor has it. `counted`: the box of
+    /// voxels [0, counted) whose voxels off the band count in
+    /// ambiguousVoxels (a grid with a distance in every voxel of its box);
+    /// band voxels always count.
     WindingSign(EdgeField field, const FastWinding &winding, const std::array<double, 3> &origin, double voxelSize,
-                double halfWidth, bool simd = true);
+                double halfWidth, bool simd = true, const std::array<int, 3> &counted = {0, 0, 0});
 
     /// Signs every voxel of the block at `origin` (distance/band.h's layout) by
     /// whether the winding number exceeds 1/2 there: band voxels (finite
@@ -98,10 +101,15 @@ class WindingSign
 
     /// How many voxels signBlock and cubeSide have signed from a winding
     /// number between 1/2 - kAmbiguous and 1/2 + kAmbiguous (0.25 to 0.75):
-    /// near holes, or where a patch has no clear outside.
+    /// near holes, or where a patch has no clear outside. Only band voxels
+    /// and those off the band in the `counted` box count: the voxels a
+    /// grid stores (a narrow band's are its band's).
     uint64_t ambiguousVoxels() const { return mAmbiguous.load(); }
 
   private:
+    // The voxels of the cube of size^3 from `origin` within mCounted's box.
+    uint64_t countedOffBand(const std::array<int, 3> &origin, int size) const;
+
     void countAmbiguous(uint64_t voxels) const
     {
         if (voxels)
@@ -115,6 +123,7 @@ class WindingSign
     double mOffBand; // world distance that every voxel off the band keeps from the mesh
     EdgeField mField;
     bool mVectorized;
+    std::array<int, 3> mCounted;
 };
 
 } // namespace meshsdf
