@@ -129,10 +129,12 @@ bool convertJobMesh(const Options &opt, const sdft_mesh *mesh, mesh_files *files
     }
     progress.stage("writing", written, 100);
     progress.show(0);
+    const auto writeStart = std::chrono::steady_clock::now();
     if (files && mesh_files_write_grid(files, grid, opt.fp16, msg, sizeof msg) != SDFT_OK) {
         r.error = msg;
         return false;
     }
+    r.writeSeconds = seam::secondsSince(writeStart);
     progress.show(1);
     sdft_mesh_grid_get_box(grid, &r.box, nullptr, 0);
     sdft_mesh_grid_get_stats(grid, &r.stats, nullptr, 0);

@@ -37,6 +37,7 @@ struct JobResult {
     sdft_mesh_grid_stats stats{};      // voxel counts, surface, memory
     sdft_mesh_grid_timings gridTimes{};
     size_t samples = 0;               // training samples written (a batch's --formats samples)
+    double writeSeconds = 0;          // writing the grid's files, wall clock
     double seconds = 0;               // the whole job, wall clock
     std::vector<std::string> outputs; // the files in place, in the order reserved
 };

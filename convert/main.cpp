@@ -57,12 +57,14 @@ void printJson(const Options &opt, const JobResult &r)
     json_put_string(stdout, opt.output.c_str());
     std::printf("%s", healthJsonFields(r).c_str());
     std::printf(", \"dims\": [%d, %d, %d], \"voxel_size\": %.9g, \"active_voxels\": %llu, \"sign\": \"%s\", "
-                "\"ambiguous_voxels\": %llu, \"surface\": %s, \"orient_seconds\": %.6f, \"winding_seconds\": %.6f, "
+                "\"ambiguous_voxels\": %llu, \"surface\": %s, \"read_seconds\": %.6f, \"orient_seconds\": %.6f, "
+                "\"index_seconds\": %.6f, \"sweep_seconds\": %.6f, \"write_seconds\": %.6f, \"winding_seconds\": %.6f, "
                 "\"seconds\": %.6f, \"peak_mib\": %.1f}\n",
                 r.box.dims[0], r.box.dims[1], r.box.dims[2], r.box.voxel_size, (unsigned long long)g.active_voxels,
                 settingChoice(SDFT_MESH_SETTINGS_GRID, "sign", opt.grid.sign).c_str(),
-                (unsigned long long)g.ambiguous_voxels, g.surface ? "true" : "false", r.meshTimes.orient_seconds,
-                r.gridTimes.winding_seconds, r.seconds, peakMiB());
+                (unsigned long long)g.ambiguous_voxels, g.surface ? "true" : "false", r.meshTimes.read_seconds,
+                r.meshTimes.orient_seconds, r.gridTimes.index_seconds, r.gridTimes.seconds - r.gridTimes.index_seconds,
+                r.writeSeconds, r.gridTimes.winding_seconds, r.seconds, peakMiB());
 }
 
 // The closing line, or with --json the object; then, on stderr, what stays

@@ -157,8 +157,11 @@ bool writeSamples(const Options &opt, const sdft_mesh *mesh, PointFiles &files, 
     sdft_mesh_health health;
     sdft_mesh_get_frame(mesh, &frame, nullptr, 0);
     sdft_mesh_get_health(mesh, &health, nullptr, 0);
-    return files.write("(" + std::to_string(count) + ", 4)", rows.data(), rows.size(), members, opt, frame,
-                       health.oriented, error);
+    const auto writeStart = Clock::now();
+    const bool ok = files.write("(" + std::to_string(count) + ", 4)", rows.data(), rows.size(), members, opt, frame,
+                                health.oriented, error);
+    run.writeSeconds = seam::secondsSince(writeStart);
+    return ok;
 }
 
 bool runSamples(const Options &opt, std::string &error)
@@ -186,12 +189,14 @@ bool runSamples(const Options &opt, std::string &error)
         json_put_string(stdout, opt.input.c_str());
         std::printf(", \"output\": ");
         json_put_string(stdout, opt.samplesOut.c_str());
-        std::printf(", \"samples\": %zu, \"near_samples\": [%zu, %zu], \"uniform_samples\": %zu, \"triangles\": %llu, "
-                    "\"normalized\": %s, \"read_seconds\": %.6f, \"orient_seconds\": %.6f, \"index_seconds\": %.6f, "
-                    "\"samples_seconds\": %.6f, \"samples_per_second\": %.0f, \"seconds\": %.6f, \"peak_mib\": %.1f}\n",
-                    count, run.near[0], run.near[1], run.uniform, (unsigned long long)r.health.triangles,
-                    opt.mesh.normalize ? "true" : "false", r.meshTimes.read_seconds, r.meshTimes.orient_seconds,
-                    run.indexSeconds, run.sampleSeconds, rate, seconds, peakMiB());
+        std::printf(
+            ", \"samples\": %zu, \"near_samples\": [%zu, %zu], \"uniform_samples\": %zu, \"triangles\": %llu, "
+            "\"normalized\": %s, \"read_seconds\": %.6f, \"orient_seconds\": %.6f, \"index_seconds\": %.6f, "
+            "\"samples_seconds\": %.6f, \"write_seconds\": %.6f, \"samples_per_second\": %.0f, \"seconds\": %.6f, "
+            "\"peak_mib\": %.1f}\n",
+            count, run.near[0], run.near[1], run.uniform, (unsigned long long)r.health.triangles,
+            opt.mesh.normalize ? "true" : "false", r.meshTimes.read_seconds, r.meshTimes.orient_seconds,
+            run.indexSeconds, run.sampleSeconds, run.writeSeconds, rate, seconds, peakMiB());
     } else if (!opt.quiet) {
         std::printf("wrote %s: %zu samples, %.2f s, sampling %.3f s (%.0f samples/s)\n", opt.samplesOut.c_str(), count,
                     seconds, run.sampleSeconds, rate);

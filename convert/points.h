@@ -54,7 +54,7 @@ class PointFiles
 /// What drawing samples took and made, for the summary line, --json and
 /// the sidecar.
 struct SampleRun {
-    double indexSeconds = 0, sampleSeconds = 0;
+    double indexSeconds = 0, sampleSeconds = 0, writeSeconds = 0;
     size_t near[2] = {0, 0}, uniform = 0; // rows of each kind (mesh_sample_counts)
 };
 

@@ -586,6 +586,8 @@ static void reports(void **state)
      * 512 active voxels. */
     assert_true(box.memory_bytes >= box.active_voxels * 4);
     assert_true(took.seconds > 0 && took.winding_seconds > 0 && took.winding_seconds <= took.seconds);
+    /* The winding tree is built before the band: a part of the whole. */
+    assert_true(took.index_seconds > 0 && took.index_seconds < took.seconds);
     sdft_mesh_grid_free(g);
 
     sdft_mesh_grid_params unsigned_params = sdft_mesh_grid_params_defaults();
@@ -596,6 +598,7 @@ static void reports(void **state)
     assert_int_equal(sdft_mesh_grid_get_timings(g, &took, msg, sizeof msg), SDFT_OK);
     assert_int_equal(box.surface, 0);
     assert_true(took.winding_seconds == 0);
+    assert_true(took.index_seconds == 0); /* unsigned, not full: no hierarchy */
     sdft_mesh_grid_free(g);
     sdft_mesh_free(m);
 

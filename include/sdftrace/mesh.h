@@ -457,6 +457,8 @@ SDFT_API sdft_error sdft_mesh_grid_get_stats(const sdft_mesh_grid *g, sdft_mesh_
 typedef struct sdft_mesh_grid_timings {
     double seconds;         /* building it */
     double winding_seconds; /* of which the winding numbers' sign (SDFT_MESH_SIGN_WINDING) */
+    double index_seconds;   /* of which the hierarchies built before the first distance: the winding
+                             * tree and the open edges for the sign, the nearest-triangle tree with full */
 } sdft_mesh_grid_timings;
 
 /* Fills *t. SDFT_EINVAL for a NULL argument. */

@@ -132,7 +132,7 @@ sdft_error sdft_mesh_grid_get_timings(const sdft_mesh_grid *g, sdft_mesh_grid_ti
 {
     if (!g || !t)
         return fail_with(msg, msg_len, SDFT_EINVAL, "sdft_mesh_grid_get_timings: %s is NULL", g ? "t" : "g");
-    *t = sdft_mesh_grid_timings{g->seconds, g->stats.windingSeconds};
+    *t = sdft_mesh_grid_timings{g->seconds, g->stats.windingSeconds, g->stats.indexSeconds};
     return SDFT_OK;
 }
 

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 
 // Last: cmocka's macros would rename members of the headers above.
@@ -36,6 +37,33 @@ void box_and_welding(void **)
     flat.points = {{1, 1, 1}, {1, 1, 1}, {1, 1, 1}};
     flat.triangles = {{0, 1, 2}};
     assert_false(meshsdf::finishTriangles(flat));
+}
+
+// Welding many points, few of them distinct (long runs of one position,
+// across the blocks the parallel weld is cut into, -0 beside +0), against
+// a map of each position's first point.
+void welding_many(void **)
+{
+    TriangleMesh m;
+    m.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    m.triangles = {{0, 1, 2}};
+    std::mt19937 random(7);
+    for (int i = 0; i < 50000; ++i) {
+        std::array<float, 3> p;
+        for (float &c : p) {
+            const unsigned pick = random() % 6;
+            c = pick == 0 ? -0.0f : float(pick - 1) * 0.25f;
+        }
+        m.points.push_back(p);
+    }
+    assert_true(meshsdf::finishTriangles(m));
+    std::map<std::array<float, 3>, uint32_t> first; // -0 < +0 is false: one key for both
+    for (uint32_t i = 0; i < m.points.size(); ++i) {
+        const uint32_t expected = first.emplace(m.points[i], i).first->second;
+        if (m.welded[i] != expected)
+            fail_msg("point %u welded to %u, not %u", i, m.welded[i], expected);
+    }
+    assert_int_equal(first.size(), 5 * 5 * 5);
 }
 
 // Twice the squared area: a right triangle of legs 3 and 4 has area 6.
@@ -144,11 +172,8 @@ void median_split(void **)
 int main()
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(box_and_welding),
-        cmocka_unit_test(areas),
-        cmocka_unit_test(edges),
-        cmocka_unit_test(sphere),
-        cmocka_unit_test(triangle_distance),
+        cmocka_unit_test(box_and_welding), cmocka_unit_test(welding_many), cmocka_unit_test(areas),
+        cmocka_unit_test(edges),           cmocka_unit_test(sphere),       cmocka_unit_test(triangle_distance),
         cmocka_unit_test(median_split),
     };
     return cmocka_run_group_tests_name("mesh_geometry", tests, nullptr, nullptr);

@@ -2,10 +2,13 @@
 // whose contents are known: the same tetrahedron as OBJ (a quad for two of
 // its faces' worth), OFF, ASCII STL, ASCII and binary PLY (faces and
 // triangle strips), glTF through assimp; the loader's checks; the reader
-// process's answers, a crash and a short answer among them.
+// process's answers, a crash and a short answer among them; the parallel
+// OBJ reader against OpenMesh's, soup for soup.
 #include "geometry/polygon_soup.h"
 #include "io/assimp_read.h"
 #include "io/mesh_io.h"
+#include "io/obj_read.h"
+#include "io/openmesh_read.h"
 #include "io/ply_read.h"
 #include "io/reader_process.h"
 
@@ -189,6 +192,91 @@ void reader_process(void **)
     assert_true(error == "the reader's own words");
 }
 
+// readObj's soup against OpenMesh's reader's for the file at `path`, bit
+// for bit; or the same error. `plain`: whether the parallel parser takes
+// the file itself (else it hands it to OpenMesh's reader).
+void assert_same_soup(const std::string &path, bool plain)
+{
+    std::ifstream in(path, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    PolygonSoup parsed, mine, theirs;
+    if (meshsdf::parsePlainObj(text.data(), text.size(), parsed) != plain)
+        fail_msg("%s: plain should be %d", path.c_str(), int(plain));
+    std::string mineError, theirError;
+    const bool read = meshsdf::readObj(path, mine, mineError);
+    assert_int_equal(read, meshsdf::readOpenMesh(path, "obj", theirs, theirError));
+    assert_string_equal(mineError.c_str(), theirError.c_str());
+    assert_int_equal(mine.points.size(), theirs.points.size());
+    if (!mine.points.empty())
+        assert_memory_equal(mine.points.data(), theirs.points.data(), mine.points.size() * sizeof mine.points[0]);
+    assert_true(mine.corners == theirs.corners);
+    assert_true(mine.ends == theirs.ends);
+    if (plain)
+        assert_true(parsed.points == mine.points && parsed.corners == mine.corners && parsed.ends == mine.ends);
+}
+
+// The test meshes; a file of every form a plain OBJ takes (comments, CRLF,
+// tabs and leading blanks, texture and normal indices, negative indices,
+// polygons, colours after a point, decimals longer than a float holds),
+// long enough to be parsed in many pieces with negative indices across
+// their seams; and files the parser leaves to OpenMesh's reader.
+void obj_reader_matches_openmesh(void **)
+{
+    for (const char *name : {"fandisk", "spot", "stanford-bunny", "suzanne", "teapot"})
+        assert_same_soup(std::string(SDFT_SOURCE_DIR) + "/tests/data/meshes/" + name + ".obj", true);
+    std::string big = "# a grid of rows, each row's faces on the row before it\r\nmtllib none.mtl\no grid\n";
+    uint64_t state = 12345;
+    auto coordinate = [&state](char *out, size_t n, int row) {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        const double r = double(state >> 11) / 9007199254740992.0;
+        std::snprintf(out, n, row % 3 ? "%.17g" : "%.6f", (row % 2 ? -1 : 1) * r * 100);
+    };
+    const int rows = 160, columns = 160;
+    char x[40], y[40], z[40], line[200];
+    for (int i = 0; i < rows; ++i) {
+        for (int j = 0; j < columns; ++j) {
+            coordinate(x, sizeof x, i), coordinate(y, sizeof y, i + 1), coordinate(z, sizeof z, i + j);
+            std::snprintf(line, sizeof line, j % 7 == 0 ? "v\t%s %s\t%s 0.5 0.5 0.5\r\n" : "  v %s %s %s\n", x, y, z);
+            big += line;
+        }
+        big += i % 2 ? "vt 0.25 0.75\nvn 0 0 1\ng row\ns off\nusemtl none\n" : "# a row\n\n";
+        for (int j = 1; i > 0 && j < columns; ++j) {
+            // Corners of the quad (i - 1, j - 1) .. (i, j), 1-based; every
+            // third face as negative indices from the points so far.
+            const int a = (i - 1) * columns + j, b = a + 1, c = b + columns, d = a + columns, n = (i + 1) * columns;
+            if (j % 3 == 0)
+                std::snprintf(line, sizeof line, "f %d %d %d %d\n", a - n - 1, b - n - 1, c - n - 1, d - n - 1);
+            else if (j % 3 == 1)
+                std::snprintf(line, sizeof line, "f %d/1/1 %d/1/1 %d/1/1\r\nf\t%d//1 %d//1 %d//1\n", a, b, c, a, c, d);
+            else
+                std::snprintf(line, sizeof line, "f %d/1 %d/1 %d/1 %d/1 \n", a, b, c, d);
+            big += line;
+        }
+    }
+    const std::string path = unit::tmp("io_grid.obj");
+    write(path, big);
+    assert_true(big.size() > (size_t(1) << 20)); // several pieces of 256 KiB
+    assert_same_soup(path, true);
+
+    const char *tetra = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+    const struct {
+        const char *name, *faces;
+    } others[] = {{"io_obj_range.obj", "f 1 2 9\nf 1 2 3\n"},
+                  {"io_obj_zero.obj", "f 0 1 2\nf 1 2 3\n"},
+                  {"io_obj_twice.obj", "f 1 1 2 3\nf 1 2 3\n"},
+                  {"io_obj_two.obj", "f 1 2\nf 1 2 3\n"},
+                  {"io_obj_plus.obj", "f +1 2 3\n"},
+                  {"io_obj_text.obj", "f 1 2 3 # face\n"},
+                  {"io_obj_vt.obj", "vt 0.5\nf 1 2 3\n"},
+                  {"io_obj_nan.obj", "v nan 0 0\nf 1 2 3\n"},
+                  {"io_obj_back.obj", "f -9 -1 -2\nf 1 2 3\n"},
+                  {"io_obj_none.obj", ""}};
+    for (const auto &o : others) {
+        write(unit::tmp(o.name), std::string(tetra) + o.faces);
+        assert_same_soup(unit::tmp(o.name), false);
+    }
+}
+
 } // namespace
 
 int main()
@@ -197,6 +285,7 @@ int main()
         cmocka_unit_test(each_format),
         cmocka_unit_test(the_loaders_checks),
         cmocka_unit_test(reader_process),
+        cmocka_unit_test(obj_reader_matches_openmesh),
     };
     return cmocka_run_group_tests_name("mesh_io", tests, nullptr, nullptr);
 }

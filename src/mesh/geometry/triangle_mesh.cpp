@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <unordered_map>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 namespace meshsdf
 {
@@ -25,29 +27,42 @@ namespace
 {
 
 // TriangleMesh::welded for `points`: per point, the first point at the same
-// position (-0 and +0 alike).
+// position (-0 and +0 alike). The points sorted by position, then by
+// index, in parallel: each run of one position starts with its first
+// point. Coordinates are finite here, and finite floats are equal exactly
+// when their bits are, once + 0.0f has made -0 +0.
 std::vector<uint32_t> weldByPosition(const std::vector<std::array<float, 3>> &points)
 {
-    struct Key {
-        float x, y, z;
-        bool operator==(const Key &o) const { return x == o.x && y == o.y && z == o.z; }
+    struct Keyed {
+        uint64_t xy;
+        uint32_t z, index;
+        bool samePlace(const Keyed &o) const { return xy == o.xy && z == o.z; }
+        bool operator<(const Keyed &o) const { return xy != o.xy ? xy < o.xy : z != o.z ? z < o.z : index < o.index; }
     };
-    struct KeyHash {
-        size_t operator()(const Key &k) const
-        {
+    const size_t n = points.size();
+    std::vector<Keyed> keyed(n);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t> &r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
             uint32_t b[3];
-            std::memcpy(b, &k, sizeof b);
-            return (size_t(b[0]) * 73856093u) ^ (size_t(b[1]) * 19349663u) ^ (size_t(b[2]) * 83492791u);
+            for (int k = 0; k < 3; ++k) {
+                const float c = points[i][k] + 0.0f;
+                std::memcpy(&b[k], &c, sizeof c);
+            }
+            keyed[i] = {uint64_t(b[0]) << 32 | b[1], b[2], uint32_t(i)};
         }
-    };
-    std::unordered_map<Key, uint32_t, KeyHash> first;
-    first.reserve(points.size());
-    std::vector<uint32_t> welded(points.size());
-    for (size_t i = 0; i < points.size(); ++i) {
-        const auto &p = points[i];
-        // + 0.0f makes -0 +0, so that equal keys hash alike.
-        welded[i] = first.emplace(Key{p[0] + 0.0f, p[1] + 0.0f, p[2] + 0.0f}, uint32_t(i)).first->second;
-    }
+    });
+    tbb::parallel_sort(keyed.begin(), keyed.end()); // keys distinct: one order for any thread count
+    std::vector<uint32_t> welded(n);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t> &r) {
+        size_t first = r.begin(); // the start of the run r begins in
+        while (first > 0 && keyed[first - 1].samePlace(keyed[r.begin()]))
+            --first;
+        for (size_t k = r.begin(); k != r.end(); ++k) {
+            if (!keyed[k].samePlace(keyed[first]))
+                first = k;
+            welded[keyed[k].index] = keyed[first].index;
+        }
+    });
     return welded;
 }
 

@@ -430,6 +430,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
     std::unique_ptr<FastWinding> tree;
     std::unique_ptr<EdgeField> edges;
     std::unique_ptr<NearestTriangle> nearest;
+    const auto indexStart = std::chrono::steady_clock::now();
     tbb::parallel_invoke(
         [&] {
             if (winding)
@@ -443,6 +444,8 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
             if (p.full)
                 nearest.reset(new NearestTriangle(mesh, simd.vector, simd.wide));
         });
+    if (winding || p.full)
+        stats.indexSeconds = seam::secondsSince(indexStart);
 
     // The bar: the band (with its leaves' signs) and the tiles' signs, then
     // dense distances with --full, each its share of the run's time on the

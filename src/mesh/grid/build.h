@@ -51,6 +51,7 @@ bool planBox(const TriangleMesh &mesh, const sdft_mesh_grid_params &p, BoxGeomet
 
 struct BuildStats {
     double windingSeconds = 0;    // exact band distances and winding sign (SDFT_MESH_SIGN_WINDING only)
+    double indexSeconds = 0;      // the hierarchies built before the first distance
     uint64_t ambiguousVoxels = 0; // active voxels signed from a winding number in (0.25, 0.75)
 };
 

@@ -4,6 +4,7 @@
 #include "io/mesh_io.h"
 
 #include "io/assimp_read.h"
+#include "io/obj_read.h"
 #include "io/openmesh_read.h"
 #include "io/ply_read.h"
 
@@ -151,6 +152,7 @@ bool loadMesh(const std::string &path, TriangleMesh &mesh, std::string &error, s
     PolygonSoup soup;
     try {
         const bool read = ext == "ply"             ? readPly(path, soup, error)
+                          : ext == "obj"           ? readObj(path, soup, error)
                           : isAssimpExtension(ext) ? readAssimp(path, soup, error)
                                                    : readOpenMesh(path, ext, soup, error);
         const std::string doubts = soup.warnings;
