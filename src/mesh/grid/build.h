@@ -55,13 +55,13 @@ struct BuildStats {
     uint64_t ambiguousVoxels = 0; // active voxels signed from a winding number in (0.25, 0.75)
 };
 
+/// Where on the progress bar building ends and writing begins, in percent.
+int buildGridEnd(const sdft_mesh_grid_params &p);
+
 /// The signed (or, with SDFT_MESH_SIGN_NONE, unsigned) distance grid in world
 /// units: a GRID_LEVEL_SET with background band * voxelSize and the box's
 /// transform. Its stages fill `progress` from 0 to buildGridEnd(p) %.
 /// `accuracy`: the winding sign's (WindingSign).
-/// Where on the progress bar building ends and writing begins, in percent.
-int buildGridEnd(const sdft_mesh_grid_params &p);
-
 openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &box, const sdft_mesh_grid_params &p,
                                   Simd simd, WindingAccuracy accuracy, Progress &progress, BuildStats &stats);
 
