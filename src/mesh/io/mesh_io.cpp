@@ -34,26 +34,6 @@ std::string lowerExtension(const std::string &path)
     return ext;
 }
 
-// True if the n corners are a polygon: three or more, all distinct.
-// OpenMesh's importer refuses the others, and every reader is held to that.
-// A long polygon is checked sorted, so that a face of a million corners
-// costs n log n, not n^2.
-bool isPolygon(const uint32_t *corners, size_t n)
-{
-    if (n < 3)
-        return false;
-    if (n <= 16) {
-        for (size_t i = 0; i < n; ++i)
-            for (size_t j = i + 1; j < n; ++j)
-                if (corners[i] == corners[j])
-                    return false;
-        return true;
-    }
-    std::vector<uint32_t> sorted(corners, corners + n);
-    std::sort(sorted.begin(), sorted.end());
-    return std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
-}
-
 // Whether a coordinate is one no model has: beyond kAbsurdCoordinate, or
 // subnormal (below float's smallest normal number and not zero: the
 // integers and pointers a reader that read past its data turns into
@@ -123,6 +103,26 @@ bool finishMesh(const std::string &path, PolygonSoup &soup, TriangleMesh &mesh, 
 }
 
 } // namespace
+
+// True if the n corners are a polygon: three or more, all distinct.
+// OpenMesh's importer refuses the others, and every reader is held to that.
+// A long polygon is checked sorted, so that a face of a million corners
+// costs n log n, not n^2.
+bool isPolygon(const uint32_t *corners, size_t n)
+{
+    if (n < 3)
+        return false;
+    if (n <= 16) {
+        for (size_t i = 0; i < n; ++i)
+            for (size_t j = i + 1; j < n; ++j)
+                if (corners[i] == corners[j])
+                    return false;
+        return true;
+    }
+    std::vector<uint32_t> sorted(corners, corners + n);
+    std::sort(sorted.begin(), sorted.end());
+    return std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
+}
 
 bool isMeshExtension(const std::string &path)
 {

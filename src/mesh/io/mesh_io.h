@@ -7,6 +7,8 @@
 
 #include "geometry/triangle_mesh.h"
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -37,6 +39,10 @@ constexpr double kAbsurdCoordinate = 1e15;
 
 /// True if `path` ends in an extension loadMesh reads (case-insensitive).
 bool isMeshExtension(const std::string &path);
+
+/// True if the n corners are a polygon: three or more, all distinct (what
+/// OpenMesh's importer takes; every reader is held to it).
+bool isPolygon(const uint32_t *corners, size_t n);
 
 } // namespace meshsdf
 

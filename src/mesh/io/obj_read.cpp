@@ -25,6 +25,7 @@
 // whole.
 #include "io/obj_read.h"
 
+#include "io/mesh_io.h"
 #include "io/openmesh_read.h"
 
 #include <tbb/blocked_range.h>
@@ -158,21 +159,6 @@ void parsePiece(Piece &piece)
     }
 }
 
-// Whether the n corners are distinct.
-bool distinct(const uint32_t *corners, size_t n)
-{
-    if (n <= 16) {
-        for (size_t i = 0; i < n; ++i)
-            for (size_t j = i + 1; j < n; ++j)
-                if (corners[i] == corners[j])
-                    return false;
-        return true;
-    }
-    std::vector<uint32_t> sorted(corners, corners + n);
-    std::sort(sorted.begin(), sorted.end());
-    return std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
-}
-
 // The whole file, or false.
 bool readWhole(const std::string &path, std::vector<char> &text)
 {
@@ -235,7 +221,7 @@ bool parsePlainObj(const char *text, size_t size, PolygonSoup &soup)
         }
         size_t at = corners[i];
         for (size_t f = 0; f < piece.faceSizes.size(); ++f) {
-            if (!distinct(soup.corners.data() + at, piece.faceSizes[f])) {
+            if (!isPolygon(soup.corners.data() + at, piece.faceSizes[f])) {
                 plain = false;
                 return;
             }
