@@ -304,6 +304,55 @@ static void test_errors(void **state)
     assert_int_not_equal(tu_open_file("plain.txt", NULL, SDFT_QUANT_NONE, &g, msg, sizeof msg), 0);
 }
 
+/* Every prefix of a .vdb file is refused the same way: OpenVDB reads
+ * uninitialized lengths past the end of a file, so a truncation it met
+ * itself could allocate, loop or fail differently on each run. Two files:
+ * one grid written by sdftrace, three by OpenVDB's vdb_tool (a prefix
+ * may end inside any of them). */
+static void test_every_truncation_is_refused(void **state)
+{
+    (void)state;
+    char files[2][512], cut[512], cmd_out[4096];
+    sdft_field f = spheres_field();
+    sdft_grid_free(bake(&f, 32, 0, tu_tmp(files[0], sizeof files[0], "whole1.vdb")));
+    tu_tmp(files[1], sizeof files[1], "whole3.vdb");
+    remove(files[1]);
+    int rc = tu_run(cmd_out, sizeof cmd_out,
+                    "vdb_tool -quiet -sphere radius=1 dim=32 name=a -sphere radius=0.5 dim=24 name=b "
+                    "-sphere radius=0.7 dim=40 name=c -o %s",
+                    files[1]);
+    if (rc)
+        print_error("%s\n", cmd_out);
+    assert_int_equal(rc, 0);
+    tu_tmp(cut, sizeof cut, "cut.vdb");
+    for (int k = 0; k < 2; k++) {
+        FILE *in = fopen(files[k], "rb");
+        assert_non_null(in);
+        fseek(in, 0, SEEK_END);
+        const long size = ftell(in);
+        fclose(in);
+        int refused = 0;
+        /* every byte of the header and descriptors, then steps through the grids */
+        for (long keep = 0; keep < size; keep += keep < 1024 ? 1 : 1 + size / 97) {
+            copy_prefix(files[k], cut, keep, 0);
+            sdft_grid *g = (sdft_grid *)1;
+            char msg[512] = "";
+            const sdft_error e = tu_open_file(cut, NULL, SDFT_QUANT_NONE, &g, msg, sizeof msg);
+            if (e != SDFT_EFORMAT || !strstr(msg, "cannot read"))
+                print_error("%ld of %ld bytes: %s %s\n", keep, size, sdft_error_name(e), msg);
+            assert_int_equal(e, SDFT_EFORMAT);
+            assert_null(g);
+            assert_non_null(strstr(msg, "cannot read"));
+            refused++;
+        }
+        print_message("%s: %d prefixes of %ld bytes refused\n", files[k], refused, size);
+        sdft_grid *g = NULL;
+        char msg[512] = "";
+        assert_int_equal(tu_open_file(files[k], NULL, SDFT_QUANT_NONE, &g, msg, sizeof msg), SDFT_OK);
+        sdft_grid_free(g);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -312,6 +361,7 @@ int main(void)
         cmocka_unit_test(test_whole_load_is_the_readers_grid),
         cmocka_unit_test(test_grid_selection_is_the_same_for_vdb_and_nvdb),
         cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_every_truncation_is_refused),
     };
     return cmocka_run_group_tests_name("vdb_load", tests, NULL, NULL);
 }

@@ -11,7 +11,10 @@
 // format (header, metadata, descriptors, the three node levels' masks and
 // compressed values, blosc's internal offsets) would be a second reader
 // to keep in step with OpenVDB's, and still not prove that blosc holds.
-// Here a child reads the file with OpenVDB under a time limit and an
+// A truncated file is caught before any of that, by a walk of the
+// header and the grids' offsets (vdb_extent.c): past the end of the file
+// OpenVDB reads uninitialized lengths, and would fail differently from
+// one run to the next. Here a child reads the file with OpenVDB under a time limit and an
 // address-space limit, and the caller uses OpenVDB on the file only once
 // the child has finished; a crash, a signal, an allocation past the limit
 // or a loop past the time limit kills the child alone, and the caller
@@ -41,6 +44,7 @@
 #include <vector>
 
 #include "isolated_read.h"
+#include "vdb_extent.h"
 #include "vdb_internal.h"
 
 namespace sdft_vdb
@@ -76,9 +80,12 @@ int run_read(void *ctx, int fd)
 sdft_error read_isolated(const char *path, void *out, size_t out_size, const IsolatedRead &read, char *msg,
                          size_t msg_len, const isolated_extra *extra)
 {
+    char why[160];
+    if (vdb_check_extent(path, why, sizeof why) != 0)
+        return fail_with(msg, msg_len, SDFT_EFORMAT, "cannot read %s: %s", path, why);
     openvdb::initialize(); // once, here, rather than in every child
     Job job{path, out_size, &read};
-    char *answer = nullptr, why[128];
+    char *answer = nullptr;
     size_t size = 0;
     const int ran = isolated_read_with(path, run_read, &job, extra, &answer, &size, why, sizeof why);
     if (ran == -2)
