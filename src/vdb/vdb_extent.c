@@ -62,10 +62,7 @@ static int skip_to(walk *w, uint64_t to)
     return 0;
 }
 
-static int skip(walk *w, uint64_t n)
-{
-    return n > w->size - w->at ? -1 : skip_to(w, w->at + n);
-}
+static int skip(walk *w, uint64_t n) { return n > w->size - w->at ? -1 : skip_to(w, w->at + n); }
 
 /* A string: its length, then that many bytes; the first `keep` - 1 of
  * them into `kept` (NULL: none). */

@@ -1,12 +1,11 @@
 // sdftrace — grid building (see build.h).
 #include "grid/build.h"
+#include "grid/flood_grid.h"
 
 #include "distance/band.h"
 #include "distance/nearest_triangle.h"
 #include "sign/winding.h"
 #include "sign/winding_sign.h"
-
-#include <openvdb/tools/MeshToVolume.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -26,27 +25,6 @@ namespace meshsdf
 
 namespace
 {
-
-// The mesh as OpenVDB's MeshDataAdapter wants it: triangles with points in
-// the grid's index space, converted on the fly in double precision.
-class IndexSpaceMesh
-{
-  public:
-    IndexSpaceMesh(const TriangleMesh &mesh, const BoxGeometry &box) : mMesh(mesh), mBox(box) {}
-    size_t polygonCount() const { return mMesh.triangles.size(); }
-    size_t pointCount() const { return mMesh.points.size(); }
-    size_t vertexCount(size_t) const { return 3; }
-    void getIndexSpacePoint(size_t n, size_t v, openvdb::Vec3d &pos) const
-    {
-        const auto &p = mMesh.points[mMesh.triangles[n][v]];
-        for (int k = 0; k < 3; ++k)
-            pos[k] = (double(p[k]) - mBox.origin[k]) / mBox.voxelSize;
-    }
-
-  private:
-    const TriangleMesh &mMesh;
-    const BoxGeometry &mBox;
-};
 
 Vec3 worldOf(const BoxGeometry &box, const openvdb::Coord &ijk)
 {
@@ -455,8 +433,7 @@ openvdb::FloatGrid::Ptr buildGrid(const TriangleMesh &mesh, const BoxGeometry &b
     if (p.sign == SDFT_MESH_SIGN_FLOOD) {
         // OpenVDB's own band and sign, for comparison.
         progress.stage("distances", 0, signEnd);
-        IndexSpaceMesh adapter(mesh, box);
-        grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(progress, adapter, *xform, band, band, 0);
+        grid = floodGrid(mesh, box, *xform, band, progress);
     } else {
         const auto t0 = std::chrono::steady_clock::now();
         progress.stage(winding ? "exact distance, sign" : "exact distance", 0, winding ? bandEnd : signEnd);
