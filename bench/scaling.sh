@@ -210,6 +210,34 @@ render_targets() {
         done
     done
     echo
+    render_wall_parts
+}
+
+# Why the wall and serial goals are missed: where one call's wall goes at
+# the most threads, its phases by their medians, largest first, beside
+# vdb_render's wall; and the serial part of a 1-thread call.
+render_wall_parts() {
+    echo "Where one call's wall goes, medians in ms, the largest phases first: at $max_threads threads beside"
+    echo "vdb_render's wall (the goal is half of it), and at 1 thread the serial part (the process's start"
+    echo "and the read's serial part, against 5% of the wall)."
+    echo
+    for g in $grids; do
+        vr=$(samples render "$g.vdb" vdb_render "$max_threads" wall | median)
+        for kind in vdb nvdb; do
+            s="$g.$kind"
+            parts=$(for m in start read directory tables far_bound hull first_frame write; do
+                printf '%s %s\n' "$m" "$(samples render "$s" sdftrace "$max_threads" "$m" | median)"
+            done | sort -k2 -g -r | awk 'NF == 2 && $2 >= 0.5 { printf "%s%s %.0f", n++ ? ", " : "", $1, $2 }')
+            wall=$(samples render "$s" sdftrace "$max_threads" wall | median)
+            wall1=$(samples render "$s" sdftrace 1 wall | median)
+            start1=$(samples render "$s" sdftrace 1 start | median)
+            serial1=$(samples render "$s" sdftrace 1 serial | median)
+            awk -v s="$s" -v w="$wall" -v v="$vr" -v p="$parts" -v w1="$wall1" -v a="$start1" -v b="$serial1" 'BEGIN {
+                printf "- %s: wall %.0f against vdb_render'"'"'s %.0f (goal %.0f): %s. At 1 thread: start %.0f + serial read %.0f = %.1f%% of %.0f.\n",
+                    s, w, v, v / 2, p, a, b, 100 * (a + b) / w1, w1 }'
+        done
+    done
+    echo
 }
 
 max_threads=$(echo "$THREADS" | awk '{ print $NF }')
