@@ -146,6 +146,31 @@ static void test_stored_tables_are_the_built_ones(void **state)
     free(bytes);
 }
 
+/* The same grid makes the same bytes whatever order its hull was found
+ * in (the leaves are visited in parallel, so the order changes from run
+ * to run): here the same hull reversed in memory. */
+static void test_export_does_not_depend_on_the_hull_order(void **state)
+{
+    (void)state;
+    void *bytes, *again;
+    size_t size, again_size;
+    sdft_grid *g = tables_grid(&bytes, &size);
+    const size_t n = g->hull_count;
+    for (size_t i = 0, j = n - 1; i < j; i++, j--) {
+        const sdft_aabb b = g->hull[i], gr = g->hull_gradient[i];
+        const sdft_slab s = g->hull_slab[i];
+        g->hull[i] = g->hull[j], g->hull_gradient[i] = g->hull_gradient[j], g->hull_slab[i] = g->hull_slab[j];
+        g->hull[j] = b, g->hull_gradient[j] = gr, g->hull_slab[j] = s;
+    }
+    char msg[256];
+    assert_int_equal(sdft_grid_export(g, &again, &again_size, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(again_size, size);
+    assert_memory_equal(again, bytes, size);
+    free(again);
+    free(bytes);
+    sdft_grid_free(g);
+}
+
 /* A `.nvdb` that `sdftrace bake` writes carries the tables, and one that
  * NanoVDB's own writer made of the same grid (no tables) gets the same
  * ones built. */
@@ -363,6 +388,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_stored_tables_are_the_built_ones),
+        cmocka_unit_test(test_export_does_not_depend_on_the_hull_order),
         cmocka_unit_test(test_bake_writes_the_tables),
         cmocka_unit_test(test_damaged_tables_are_rebuilt),
         cmocka_unit_test(test_forged_tables_are_checked),

@@ -288,6 +288,43 @@ void grid_tables_seal(void *bytes, size_t size)
     memcpy((unsigned char *)bytes + (blob - (const unsigned char *)bytes), &h, sizeof h);
 }
 
+/* ---- the hull, in a fixed order ----------------------------------------
+ * The hull's boxes are found by leaves on many threads, so they come in an
+ * order that changes from run to run; a renderer takes the least entry
+ * and the greatest exit over them (render_hull.c), which no order changes.
+ * A file is written with them sorted by their bytes, so that the same grid
+ * makes the same file every time. */
+
+typedef struct hull_entry {
+    sdft_aabb box;
+    sdft_slab slab;
+    sdft_aabb gradient;
+} hull_entry;
+
+static int hull_entry_order(const void *a, const void *b) { return memcmp(a, b, sizeof(hull_entry)); }
+
+/* g's n hull entries, sorted, into the three arrays at `box`, `slab` and
+ * `gradient`; 0, or -1 out of memory. */
+static int write_hull_sorted(const sdft_grid *g, uint64_t n, unsigned char *box, unsigned char *slab,
+                             unsigned char *gradient)
+{
+    hull_entry *e = malloc((size_t)n * sizeof *e);
+    if (!e)
+        return -1;
+    for (uint64_t i = 0; i < n; i++) {
+        memset(&e[i], 0, sizeof e[i]);
+        e[i].box = g->hull[i], e[i].slab = g->hull_slab[i], e[i].gradient = g->hull_gradient[i];
+    }
+    qsort(e, (size_t)n, sizeof *e, hull_entry_order);
+    for (uint64_t i = 0; i < n; i++) {
+        memcpy(box + i * sizeof(sdft_aabb), &e[i].box, sizeof(sdft_aabb));
+        memcpy(slab + i * sizeof(sdft_slab), &e[i].slab, sizeof(sdft_slab));
+        memcpy(gradient + i * sizeof(sdft_aabb), &e[i].gradient, sizeof(sdft_aabb));
+    }
+    free(e);
+    return 0;
+}
+
 sdft_error sdft_grid_export(const sdft_grid *g, void **data, size_t *size, char *msg, size_t msg_len)
 {
     if (!g || !data || !size)
@@ -341,10 +378,11 @@ sdft_error sdft_grid_export(const sdft_grid *g, void **data, size_t *size, char 
             h.far_cell = g->far.cell;
             memcpy(out + blob_at + h.far_at, g->far.corner, (size_t)far_bytes);
         }
-        if (n) {
-            memcpy(out + blob_at + h.box_at, g->hull, (size_t)n * sizeof(sdft_aabb));
-            memcpy(out + blob_at + h.slab_at, g->hull_slab, (size_t)n * sizeof(sdft_slab));
-            memcpy(out + blob_at + h.gradient_at, g->hull_gradient, (size_t)n * sizeof(sdft_aabb));
+        if (n && write_hull_sorted(g, n, out + blob_at + h.box_at, out + blob_at + h.slab_at,
+                                   out + blob_at + h.gradient_at) != 0) {
+            free(out);
+            return fail_with(msg, msg_len, SDFT_ENOMEM, "out of memory for a grid's %llu hull boxes",
+                             (unsigned long long)n);
         }
         h.hull_count = n;
         memcpy(out + blob_at, &h, sizeof h);
