@@ -207,6 +207,37 @@ mesh2sdf_targets() {
         echo "| $s | $xv | $intake | $whole | ${miss:+missed:}${miss:-all} |"
     done
     echo
+    mesh2sdf_wall_parts
+}
+
+# Why: each call's serial intake at 1 thread, part by part, and where its
+# wall goes at the most threads (medians, ms, largest first), beside
+# vdb_tool's wall for the band.
+mesh2sdf_wall_parts() {
+    echo "Where the time goes, medians in ms: at 1 thread the serial intake part by part against 5% of"
+    echo "the wall, and at $max_threads threads the process's start, then the phases, largest first (beside"
+    echo "vdb_tool's wall and the goal, 0.4 of it, for the band)."
+    echo
+    for s in $(awk -F'\t' '$1 == "mesh2sdf" { print $2 }' "$rows" | sort -u | tr ' ' '~'); do
+        s=$(echo "$s" | tr '~' ' ')
+        med() { samples mesh2sdf "$s" mesh2sdf "$1" "$2" | median; }
+        r1=$(med 1 read) rp=$(med "$max_threads" read)
+        parts=$(for m in $(awk -F'\t' -v s="$s" '$1 == "mesh2sdf" && $2 == s && $3 == "mesh2sdf" { print $6 }' "$rows" |
+                    sort -u | grep -v -e '^wall$' -e '^start$'); do
+                printf '%s %s\n' "$m" "$(med "$max_threads" "$m")"
+            done | sort -k2 -g -r | awk 'NF == 2 && $2 >= 0.5 { printf "%s%s %.0f", n++ ? ", " : "", $1, $2 }')
+        vt=-
+        [ "${s##* }" != band ] || vt=$(samples mesh2sdf "$s" vdb_tool "$max_threads" wall | median)
+        awk -v s="$s" -v w1="$(med 1 wall)" -v a="$(med 1 start)" -v r1="${r1:-0}" -v rp="${rp:-0}" \
+            -v o="$(med 1 orient)" -v p="$max_threads" -v w="$(med "$max_threads" wall)" -v st="$(med "$max_threads" start)" \
+            -v parts="$parts" -v vt="$vt" 'BEGIN {
+            f = (p > 1 && r1 > 0) ? (rp / r1 - 1 / p) / (1 - 1 / p) : 1; f = f < 0 ? 0 : f > 1 ? 1 : f
+            printf "- %s: at 1 thread start %.0f + serial read %.0f + orient %.0f = %.1f%% of %.0f; at %d threads wall %.0f",
+                s, a, f * r1, o, 100 * (a + f * r1 + o) / w1, w1, p, w
+            if (vt != "-") printf " against vdb_tool'"'"'s %.0f (goal %.0f)", vt, 0.4 * vt
+            printf ": start %.0f, %s.\n", st, parts }'
+    done
+    echo
 }
 
 
