@@ -196,7 +196,7 @@ for name in $MESHES; do
         T[vdb$kind]=${vdb%% *} T[wind$kind]=${wind%% *} T[none$kind]=${none%% *}
         grids+=(--check-sign "$OUT/$name-$kind-vdbtool.vdb" --check-sign "$OUT/$name-$kind-winding.vdb")
     done
-    while read -r grid _ _ frac far; do
+    while read -r grid _ _ frac far _; do
         W[$grid]=${frac#wrong_fraction=} F[$grid]=${far#wrong_far=}
     done < <("$M2S" "$mesh" "${grids[@]}" --check-points "$SAMPLES")
     faces=$(grep -c '^f ' "$mesh")
