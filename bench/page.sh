@@ -28,6 +28,15 @@
 page_load() { cut -d' ' -f1-3 /proc/loadavg; }
 _page_load_start=$(page_load)
 
+# The commit the run is from, "-dirty" when a tracked file outside
+# bench/results differs from it (the pages a run writes are not a change
+# to what made them).
+page_commit() {
+    _c=$(git -C "$root" rev-parse --short HEAD 2>/dev/null) || { echo unknown; return; }
+    git -C "$root" diff --quiet HEAD -- . ':(exclude)bench/results' 2>/dev/null || _c="$_c-dirty"
+    echo "$_c"
+}
+
 page_header() {
     printf '# %s\n\n' "$1"
     printf 'Made by `%s`\n\n' "$2"
@@ -35,7 +44,7 @@ page_header() {
     printf -- '- machine: %s, %s cores (`nproc`)\n' \
         "$(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo)" "$(nproc)"
     printf -- '- load average (1, 5, 15 minutes) when the run began: %s\n' "$_page_load_start"
-    printf -- '- commit: %s\n\n' "$(git -C "$root" describe --always --dirty 2>/dev/null || echo unknown)"
+    printf -- '- commit: %s\n\n' "$(page_commit)"
 }
 
 page_stats() { "${PAGE_STATS:-$root/build/bench/stats}" "$@"; }

@@ -125,7 +125,7 @@ page_header "The study's tables" "$command" >"$stage/header.md"
 {
     echo "command:         $command"
     echo "date (UTC):      $(date -u '+%Y-%m-%d %H:%M')"
-    echo "commit:          $(git -C "$root" describe --always --dirty 2>/dev/null || echo '?')"
+    echo "commit:          $(page_commit)"
     echo "CPU:             $(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo), $(nproc) cores"
     echo "memory:          $(awk '/^MemTotal/ { printf "%.1f GiB", $2 / 1048576 }' /proc/meminfo)"
     echo "kernel:          $(uname -srm)"
