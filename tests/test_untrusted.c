@@ -201,12 +201,33 @@ static void test_check_sign_on_corrupt_grids(void **state)
     snprintf(mesh, sizeof mesh, "%s/suzanne.obj", SDFT_MESH_DIR);
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
         const int rc =
-            tu_run(out, sizeof out, "%s '%s' --check-sign '%s/tests/fuzz/regressions/vdb/%s' --samples 100 2>&1",
+            tu_run(out, sizeof out, "%s '%s' --check-sign '%s/tests/fuzz/regressions/vdb/%s' --check-points 100 2>&1",
                    SDFT_MESH2SDF, mesh, SDFT_SOURCE_DIR, names[i]);
         if (rc != 0 && tu_lines(out) != 1)
             fail_msg("--check-sign %s: exit %d: %s", names[i], rc, out);
         if (rc == 0 && strstr(out, "wrong=") == NULL) /* a mutation OpenVDB reads through is a grid */
             fail_msg("--check-sign %s: exit 0 without a result: %s", names[i], out);
+    }
+}
+
+/* A truncated .vdb is refused before OpenVDB reads past its end (where it
+ * would read lengths it never got, and fail differently on each run): by
+ * --check-sign as by the loader, the same line every time. */
+static void test_check_sign_on_truncated_grid(void **state)
+{
+    (void)state;
+    char mesh[1024], whole[1024], cut[1024];
+    snprintf(mesh, sizeof mesh, "%s/suzanne.obj", SDFT_MESH_DIR);
+    tu_tmp(whole, sizeof whole, "check-sign-whole.vdb");
+    tu_tmp(cut, sizeof cut, "check-sign-cut.vdb");
+    assert_int_equal(tu_run(out, sizeof out, "%s '%s' -o '%s' --res 32 --quiet 2>&1 && head -c 600 '%s' > '%s'",
+                            SDFT_MESH2SDF, mesh, whole, whole, cut),
+                     0);
+    for (int run = 0; run < 2; run++) {
+        const int rc =
+            tu_run(out, sizeof out, "%s '%s' --check-sign '%s' --check-points 100 2>&1", SDFT_MESH2SDF, mesh, cut);
+        if (rc == 0 || tu_lines(out) != 1 || !strstr(out, "but the file ends at byte 600"))
+            fail_msg("--check-sign on a truncated .vdb: exit %d: %s", rc, out);
     }
 }
 
@@ -326,6 +347,7 @@ int main(void)
         cmocka_unit_test(test_zero_length_and_cut_files),
         cmocka_unit_test(test_absurd_counts),
         cmocka_unit_test(test_check_sign_on_corrupt_grids),
+        cmocka_unit_test(test_check_sign_on_truncated_grid),
         cmocka_unit_test(test_hostile_sizes_refused),
         cmocka_unit_test(test_limit_follows_rlimit_as),
         cmocka_unit_test(test_estimates_match_measured_peaks),

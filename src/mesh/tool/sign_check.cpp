@@ -5,6 +5,7 @@
 
 #include "isolated_read.h"
 #include "memory_limit.h"
+#include "vdb_extent.h"
 
 #include <openvdb/openvdb.h>
 
@@ -40,8 +41,12 @@ openvdb::FloatGrid::Ptr readFirstFloatGrid(const std::string &path, std::string 
     // OpenVDB's reader is not safe on a corrupt file: a child reads it
     // first (src/common/isolated_read.h), and only a file it read whole is
     // read here.
-    char *answer = nullptr, why[128];
+    char *answer = nullptr, why[160];
     size_t size = 0;
+    if (vdb_check_extent(path.c_str(), why, sizeof why) != 0) { // a truncated file, before OpenVDB reads past its end
+        error = "cannot read grid " + path + ": " + why;
+        return nullptr;
+    }
     if (isolated_read(path.c_str(), readInChild, const_cast<std::string *>(&path), &answer, &size, why, sizeof why)) {
         error = "cannot read grid " + path + " (OpenVDB's reader failed on it: " + why + "; a corrupt file?)";
         return nullptr;
