@@ -102,6 +102,18 @@ static void same_field(const sdft_grid *a, const sdft_grid *b, uint32_t seed)
     }
 }
 
+/* g exported is exactly `bytes`, `size` of them. */
+static void exports_as(const sdft_grid *g, const void *bytes, size_t size)
+{
+    void *again;
+    size_t again_size;
+    char msg[256];
+    assert_int_equal(sdft_grid_export(g, &again, &again_size, msg, sizeof msg), SDFT_OK);
+    assert_int_equal(again_size, size);
+    assert_memory_equal(again, bytes, size);
+    free(again);
+}
+
 /* The test grid: the union of spheres at 96^3 (a narrow band: a far bound
  * and a hull), built from scratch; and its bytes with the tables. */
 static sdft_grid *tables_grid(void **bytes, size_t *size)
@@ -134,13 +146,7 @@ static void test_stored_tables_are_the_built_ones(void **state)
     same_field(built, stored, 7);
     /* The same voxels: the tables sit after the tree, which is unchanged. */
     same_voxels(built, stored);
-    void *again;
-    size_t again_size;
-    char msg[256];
-    assert_int_equal(sdft_grid_export(stored, &again, &again_size, msg, sizeof msg), SDFT_OK);
-    assert_int_equal(again_size, size);
-    assert_memory_equal(again, bytes, size);
-    free(again);
+    exports_as(stored, bytes, size);
     sdft_grid_free(stored);
     sdft_grid_free(built);
     free(bytes);
@@ -152,8 +158,8 @@ static void test_stored_tables_are_the_built_ones(void **state)
 static void test_export_does_not_depend_on_the_hull_order(void **state)
 {
     (void)state;
-    void *bytes, *again;
-    size_t size, again_size;
+    void *bytes;
+    size_t size;
     sdft_grid *g = tables_grid(&bytes, &size);
     const size_t n = g->hull_count;
     for (size_t i = 0, j = n - 1; i < j; i++, j--) {
@@ -162,11 +168,7 @@ static void test_export_does_not_depend_on_the_hull_order(void **state)
         g->hull[i] = g->hull[j], g->hull_gradient[i] = g->hull_gradient[j], g->hull_slab[i] = g->hull_slab[j];
         g->hull[j] = b, g->hull_gradient[j] = gr, g->hull_slab[j] = s;
     }
-    char msg[256];
-    assert_int_equal(sdft_grid_export(g, &again, &again_size, msg, sizeof msg), SDFT_OK);
-    assert_int_equal(again_size, size);
-    assert_memory_equal(again, bytes, size);
-    free(again);
+    exports_as(g, bytes, size);
     free(bytes);
     sdft_grid_free(g);
 }

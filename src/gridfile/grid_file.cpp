@@ -5,6 +5,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <new>
 
 #include <nanovdb/util/GridChecksum.h>
@@ -62,20 +63,14 @@ nanovdb::GridHandle<> with_tables(nanovdb::GridHandle<> handle)
         throw std::bad_alloc();
     if (rc != SDFT_OK) // a grid the tracer does not take (not scalar, empty): as it is
         return handle;
+    const std::unique_ptr<void, decltype(&std::free)> exported(bytes, &std::free);
     const uint64_t was = handle.gridMetaData()->checksum();
     const nanovdb::GridType type = handle.gridMetaData()->gridType();
     // The grid without its tables goes before the copy with them is made:
     // two copies of the grid in memory at a time, not three.
     handle.reset();
-    nanovdb::HostBuffer buffer;
-    try {
-        buffer = nanovdb::HostBuffer::create(size);
-    } catch (...) {
-        std::free(bytes);
-        throw;
-    }
-    std::memcpy(buffer.data(), bytes, size);
-    std::free(bytes);
+    nanovdb::HostBuffer buffer = nanovdb::HostBuffer::create(size);
+    std::memcpy(buffer.data(), exported.get(), size);
     nanovdb::GridHandle<> out(std::move(buffer));
     switch (type) {
     case nanovdb::GridType::Float:
