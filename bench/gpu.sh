@@ -42,11 +42,7 @@ for tool in "$bin" "$bench" "$build/mesh2sdf" vdb_tool; do
 done
 out=${OUT:-/tmp/sdftrace-grids}
 mkdir -p "$out"
-command="bench/gpu.sh${1:+ $*}"
-for var in FRAMES GRIDS STUDY FULL KEEP DEVICE; do
-    eval "val=\${$var:-}"
-    [ -z "$val" ] || command="$var=\"$val\" $command"
-done
+command=$(page_command "bench/gpu.sh${1:+ $*}" FRAMES GRIDS STUDY FULL KEEP DEVICE)
 frames=${FRAMES:-5}
 grids=${GRIDS:-temple figure spot fandisk bunny}
 study=${STUDY:-temple figure}

@@ -52,11 +52,7 @@ done
 out=${OUT:-/tmp/sdftrace-grids}
 mkdir -p "$out"
 # The command that made the page, with the settings given in the environment.
-command="bench/grids.sh${1:+ $*}"
-for var in REPEAT GRIDS ROWS KEEP BIG; do
-    eval "val=\${$var:-}"
-    [ -z "$val" ] || command="$var=\"$val\" $command"
-done
+command=$(page_command "bench/grids.sh${1:+ $*}" REPEAT GRIDS ROWS KEEP BIG)
 repeat=${REPEAT:-3}
 grids=${GRIDS:-temple figure spot fandisk bunny}
 export REPEAT="$repeat" OMP_NUM_THREADS=2

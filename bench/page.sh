@@ -28,6 +28,19 @@
 page_load() { cut -d' ' -f1-3 /proc/loadavg; }
 _page_load_start=$(page_load)
 
+# page_command BASE VAR...: BASE, the command that made a page, with each
+# VAR that is set and not empty in front of it (VAR="value"), so that the
+# page says how to run it again.
+page_command() {
+    _cmd=$1
+    shift
+    for _var in "$@"; do
+        eval "_val=\${$_var:-}"
+        [ -z "$_val" ] || _cmd="$_var=\"$_val\" $_cmd"
+    done
+    echo "$_cmd"
+}
+
 # The commit the run is from, "-dirty" when a tracked file outside
 # bench/results differs from it (the pages a run writes are not a change
 # to what made them).

@@ -56,21 +56,11 @@ for tool in "$bin" "$caster" vdb_render vdb_tool nanovdb_convert; do
 done
 out=${OUT:-/tmp/sdftrace-scaling}
 mkdir -p "$out"
-cores=$(nproc)
-if [ -z "${THREADS:-}" ]; then
-    THREADS=1
-    t=2
-    while [ "$t" -lt "$cores" ]; do THREADS="$THREADS $t" && t=$((t * 2)); done
-    [ "$cores" = 1 ] || THREADS="$THREADS $cores"
-fi
+[ -n "${THREADS:-}" ] || THREADS=$(thread_counts)
 repeat=${REPEAT:-5}
 grids=${GRIDS:-spot fandisk}
 sections=${SECTIONS:-render}
-command="bench/scaling.sh${1:+ $*}"
-for var in THREADS REPEAT GRIDS SECTIONS KEEP; do
-    eval "val=\${$var:-}"
-    [ -z "$val" ] || command="$var=\"$val\" $command"
-done
+command=$(page_command "bench/scaling.sh${1:+ $*}" THREADS REPEAT GRIDS SECTIONS KEEP)
 rows=$out/rows.tsv
 : >"$rows"
 log() { echo "scaling.sh: $*" >&2; }
@@ -227,7 +217,7 @@ render_wall_parts() {
             s="$g.$kind"
             parts=$(for m in start read directory tables far_bound hull first_frame write; do
                 printf '%s %s\n' "$m" "$(samples render "$s" sdftrace "$max_threads" "$m" | median)"
-            done | sort -k2 -g -r | awk 'NF == 2 && $2 >= 0.5 { printf "%s%s %.0f", n++ ? ", " : "", $1, $2 }')
+            done | largest_first)
             wall=$(samples render "$s" sdftrace "$max_threads" wall | median)
             wall1=$(samples render "$s" sdftrace 1 wall | median)
             start1=$(samples render "$s" sdftrace 1 start | median)

@@ -49,24 +49,14 @@ for tool in "$m2s" vdb_tool taskset; do
 done
 out=${OUT:-/tmp/sdftrace-scaling-mesh}
 mkdir -p "$out"
-cores=$(nproc)
-if [ -z "${THREADS:-}" ]; then
-    THREADS=1
-    t=2
-    while [ "$t" -lt "$cores" ]; do THREADS="$THREADS $t" && t=$((t * 2)); done
-    [ "$cores" = 1 ] || THREADS="$THREADS $cores"
-fi
+[ -n "${THREADS:-}" ] || THREADS=$(thread_counts)
 repeat=${REPEAT:-5}
 meshes=${MESHES:-spot-x16 stanford-bunny}
 res=${RES:-1024}
 full_res=${FULL_RES:-256}
 sample_rows=${ROWS:-250000}
 modes=${MODES:-band full samples}
-command="bench/scaling_mesh.sh"
-for var in THREADS REPEAT MESHES RES FULL_RES ROWS MODES; do
-    eval "val=\${$var:-}"
-    [ -z "$val" ] || command="$var=\"$val\" $command"
-done
+command=$(page_command "bench/scaling_mesh.sh" THREADS REPEAT MESHES RES FULL_RES ROWS MODES)
 rows=$out/rows.tsv
 : >"$rows"
 log() { echo "scaling_mesh.sh: $*" >&2; }
@@ -225,7 +215,7 @@ mesh2sdf_wall_parts() {
         parts=$(for m in $(awk -F'\t' -v s="$s" '$1 == "mesh2sdf" && $2 == s && $3 == "mesh2sdf" { print $6 }' "$rows" |
                     sort -u | grep -v -e '^wall$' -e '^start$'); do
                 printf '%s %s\n' "$m" "$(med "$max_threads" "$m")"
-            done | sort -k2 -g -r | awk 'NF == 2 && $2 >= 0.5 { printf "%s%s %.0f", n++ ? ", " : "", $1, $2 }')
+            done | largest_first)
         vt=-
         [ "${s##* }" != band ] || vt=$(samples mesh2sdf "$s" vdb_tool "$max_threads" wall | median)
         awk -v s="$s" -v w1="$(med 1 wall)" -v a="$(med 1 start)" -v r1="${r1:-0}" -v rp="${rp:-0}" \

@@ -4,6 +4,14 @@
 # page_stats); `rows` (the rows' file) and `round` are the caller's.
 
 now_ms() { echo $(($(date +%s%N) / 1000000)); }
+# The thread counts a run takes when THREADS is not set: 1, the powers of
+# two below nproc, and nproc.
+thread_counts() {
+    _cores=$(nproc) _list=1 _t=2
+    while [ "$_t" -lt "$_cores" ]; do _list="$_list $_t" && _t=$((_t * 2)); done
+    [ "$_cores" = 1 ] || _list="$_list $_cores"
+    echo "$_list"
+}
 # json FILE KEY: the number KEY has in the JSON object of FILE.
 json() { sed -n "s/.*\"$2\": \([-0-9.e]*\).*/\1/p" "$1"; }
 # row SECTION SUBJECT TOOL THREADS METRIC VALUE: one number of this round.
@@ -64,3 +72,7 @@ table() {
 
 # met VALUE-TEXT OP BAR: "yes" or "no" for the median (the text's first word).
 met() { awk -v v="${1%% *}" -v op="$2" -v bar="$3" 'BEGIN { ok = op == "<=" ? v + 0 <= bar : v + 0 >= bar; print ok ? "yes" : "no" }'; }
+
+# largest_first: "NAME MS" lines on standard input as "NAME MS, NAME MS"
+# (whole ms), the largest first, those under half a millisecond left out.
+largest_first() { sort -k2 -g -r | awk 'NF == 2 && $2 >= 0.5 { printf "%s%s %.0f", n++ ? ", " : "", $1, $2 }'; }
